@@ -1,0 +1,1 @@
+//! Instant line of contact.
