@@ -1,1 +1,431 @@
-//! Instant line of contact.
+//! The instant line of contact (paper §3, Fig. 3) from the true, undeformed geometry.
+//!
+//! For hub angles (φp, φg), every axial slice ζ and every tooth pair that can be in mesh, this
+//! module finds the points P1 (pinion flank) and P2 (gear flank) with a common normal in the
+//! transverse plane and the signed **overlap** Δ0t·m_n = (P1 − P2)·n along it (n: outward normal
+//! of the pinion flank; positive = the teeth interpenetrate and must deform, negative = gap).
+//! Contacts outside the plane of action (tip rounding on involute, relief on involute, corner
+//! contacts) come out of the same construction; nothing is approximated by a profile deviation.
+//!
+//! ## Common normal, explicitly
+//! Each flank is a chain of involutes and circular arcs (see [`crate::geometry::flank`]). With
+//! m = n rotated by −90°, a pinion piece satisfies `P1·m = A1·m + K1` and a gear piece (outward
+//! normal −n) `P2·m = A2·m − K2`, where A is the piece's anchor (gear axis or arc centre) and K
+//! its offset (base radius or 0). A common normal needs P1·m = P2·m, i.e.
+//! `|D|·sin(ν − δ) = K1 + K2` with D = A2 − A1 = |D|·(cos δ, sin δ): ν is explicit for every
+//! combination of pieces, and the overlap is `Δ = L1 + L2 − D·n` with L the pieces' normal
+//! reach (roll length of an involute, radius of an arc). For two involutes this is the line of
+//! action and Δ = TE minus the profile deviations. A fast walk over the pieces finds the valid
+//! combination; an exhaustive search over all combinations is the fallback.
+//!
+//! ## Outputs per contact
+//! Moment arms `s_p = (P1 − O_p)·m` and `s_g = −(P2 − O_g)·m` are the distances from each axis
+//! to the contact normal, signed so that a compressive normal force F gives the mesh torques
+//! M_F,p = F·s_p and M_F,g = F·s_g of Eqs. 2–3 (positive for normal drive); in the plane of
+//! action they equal the base radii. Radii of curvature: roll length on an involute, arc radius
+//! on the rounding and tip, 0 at a corner. Flank coordinates for the compliance: η* (distance
+//! along the tooth centre line from the reference point where a rounding of the same radius
+//! would be tangent to the unrelieved involute, positive towards the root, in units of m_n) and
+//! τ (angle turned by the normal past the start of the rounding, 0 below it, rad).
+
+use std::f64::consts::PI;
+
+use crate::geometry::{GearGeometry, PairGeometry, Primitive, SegmentKind};
+
+/// One contact (or gap) between a pinion and a gear flank in one transverse slice.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ContactPoint {
+    /// Non-dimensional axial coordinate ζ = z/m_n of the slice, in [0, b₀].
+    pub zeta: f64,
+    /// Tooth-pair number: the absolute index j of the pinion tooth, whose centre line is at
+    /// φp + 2π·j/z_p (+ the fixed offset and helix twist); pinion tooth j meets gear tooth −j.
+    /// A pair keeps its number as the gears turn; the pair found at a given place in the mesh
+    /// one pinion pitch later has the number one lower.
+    pub pair: i64,
+    /// Surface of the pinion flank at P1.
+    pub kind_p: SegmentKind,
+    /// Surface of the gear flank at P2.
+    pub kind_g: SegmentKind,
+    /// Signed overlap Δ0t·m_n along the common normal, m (positive = teeth must deform).
+    pub overlap_m: f64,
+    /// Angle of the pinion's outward unit normal n in the fixed frame, rad.
+    pub normal_angle: f64,
+    /// P1 in the fixed frame, m.
+    pub point_p: [f64; 2],
+    /// P2 in the fixed frame, m.
+    pub point_g: [f64; 2],
+    /// Radius of curvature of the pinion flank at P1 (transverse), m.
+    pub rho_p_m: f64,
+    /// Radius of curvature of the gear flank at P2 (transverse), m.
+    pub rho_g_m: f64,
+    /// Moment arm s_p of the normal force about the pinion axis, m.
+    pub arm_p_m: f64,
+    /// Moment arm s_g of the normal force about the gear axis, m.
+    pub arm_g_m: f64,
+    /// Distance of P1 from the pinion axis, m.
+    pub radius_p_m: f64,
+    /// Distance of P2 from the gear axis, m.
+    pub radius_g_m: f64,
+    /// η* of P1 on the pinion tooth, in units of m_n.
+    pub eta_star_p: f64,
+    /// τ of P1 on the pinion tooth, rad.
+    pub tau_p: f64,
+    /// η* of P2 on the gear tooth, in units of m_n.
+    pub eta_star_g: f64,
+    /// τ of P2 on the gear tooth, rad.
+    pub tau_g: f64,
+}
+
+impl ContactPoint {
+    /// Contact kind as `"<pinion surface>/<gear surface>"`, e.g. `"involute/rounding"`.
+    pub fn kind_name(&self) -> String {
+        format!("{}/{}", self.kind_p.name(), self.kind_g.name())
+    }
+
+    /// Residual of the common-normal condition: distance of P2 from the normal line through P1,
+    /// m (zero for an exact solution).
+    pub fn normal_residual(&self) -> f64 {
+        let (s, c) = self.normal_angle.sin_cos();
+        let d = [self.point_g[0] - self.point_p[0], self.point_g[1] - self.point_p[1]];
+        (d[0] * s - d[1] * c).abs()
+    }
+}
+
+/// Settings of the contact search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactSettings {
+    /// Candidate tooth pairs are those whose rigid involute contact lies within the path of
+    /// contact extended by this many base pitches at both ends.
+    pub pair_margin_pitches: f64,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        Self { pair_margin_pitches: 0.5 }
+    }
+}
+
+/// Angles reduced to one mesh cycle: φp − k·2π/z_p and φg + k·2π/z_g, with `k` whole pitches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReducedAngles {
+    /// Pinion angle reduced to [−π/z_p, π/z_p], rad.
+    pub phi_p: f64,
+    /// Gear angle shifted by the same number of (gear) pitches, rad.
+    pub phi_g: f64,
+    /// Number of whole pinion pitches removed.
+    pub pitches: i64,
+    /// Transmission error TE = φp·r_bp + φg·r_bg, m.
+    pub te: f64,
+}
+
+/// Instant-line-of-contact solver for one gear pair.
+#[derive(Debug, Clone)]
+pub struct ContactSolver<'a> {
+    geo: &'a PairGeometry,
+    settings: ContactSettings,
+    psi0_p: f64,
+    psi0_g: f64,
+    center_g: [f64; 2],
+}
+
+#[inline]
+fn rot(a: f64, p: [f64; 2]) -> [f64; 2] {
+    let (s, c) = a.sin_cos();
+    [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+}
+
+/// `angle` wrapped into (ref − π, ref + π].
+#[inline]
+fn wrap_near(angle: f64, reference: f64) -> f64 {
+    let d = angle - reference;
+    reference + (d - 2.0 * PI * ((d + PI) / (2.0 * PI)).floor())
+}
+
+/// A trial solution for one combination of pieces.
+#[derive(Debug, Clone, Copy)]
+struct Trial {
+    nu: f64,
+    nu_p_local: f64,
+    nu_g_local: f64,
+    /// −1 / +1 when ν lies rootward (larger ν) / tipward of the pinion piece, 0 inside.
+    side_p: i8,
+    side_g: i8,
+}
+
+impl<'a> ContactSolver<'a> {
+    /// A solver for the pair `geo` with default settings.
+    pub fn new(geo: &'a PairGeometry) -> Self {
+        Self::with_settings(geo, ContactSettings::default())
+    }
+
+    /// A solver for the pair `geo` with `settings`.
+    pub fn with_settings(geo: &'a PairGeometry, settings: ContactSettings) -> Self {
+        let inv_w = crate::geometry::inv(geo.alpha_wt);
+        Self {
+            geo,
+            settings,
+            psi0_p: inv_w - geo.pinion.lambda0,
+            psi0_g: PI + inv_w - geo.gear.lambda0,
+            center_g: [geo.center_distance, 0.0],
+        }
+    }
+
+    /// The geometry this solver works on.
+    pub fn geometry(&self) -> &PairGeometry {
+        self.geo
+    }
+
+    /// Reduces (φp, φg) to one mesh cycle without changing the contact set; TE is computed from
+    /// the reduced angles.
+    pub fn reduce(&self, phi_p: f64, phi_g: f64) -> ReducedAngles {
+        let pp = self.geo.pinion.angular_pitch();
+        let pg = self.geo.gear.angular_pitch();
+        let k = (phi_p / pp).round();
+        let rp = (-k).mul_add(pp, phi_p);
+        let rg = k.mul_add(pg, phi_g);
+        ReducedAngles {
+            phi_p: rp,
+            phi_g: rg,
+            pitches: k as i64,
+            te: self.geo.transmission_error(rp, rg),
+        }
+    }
+
+    /// Mid-slice coordinates ζ_i = (i + ½)·b₀/n of `n` equal axial slices.
+    pub fn slice_zetas(&self, n: usize) -> Vec<f64> {
+        let b0 = self.geo.b0();
+        (0..n).map(|i| (i as f64 + 0.5) * b0 / n as f64).collect()
+    }
+
+    /// Range of tooth-pair indices (relative to the reduced angles) that can be in mesh for
+    /// reduced pinion angle `phi_p` over axial coordinates `zetas`.
+    fn pair_range(&self, phi_p: f64, zeta_min: f64, zeta_max: f64) -> (i64, i64) {
+        let g = self.geo;
+        let rb = g.pinion.rb;
+        let mn = g.params.normal_module_m;
+        let margin = self.settings.pair_margin_pitches * g.base_pitch;
+        let l_at =
+            |zeta: f64| rb * (phi_p + g.pinion.twist_rate * zeta * mn) + rb * g.alpha_wt.tan();
+        let (l_a, l_b) = (l_at(zeta_min), l_at(zeta_max));
+        let (l_min, l_max) = (l_a.min(l_b), l_a.max(l_b));
+        let lo = ((g.path_start - margin - l_max) / g.base_pitch).ceil() as i64;
+        let hi = ((g.path_end + margin - l_min) / g.base_pitch).floor() as i64;
+        (lo, hi)
+    }
+
+    /// All contacts (and gaps) for hub angles (`phi_p`, `phi_g`) at the axial coordinates
+    /// `zetas`, appended to `out` (which is cleared first). Returns the reduced angles.
+    ///
+    /// At most one contact per slice and tooth pair; pairs whose flanks have no common normal
+    /// in a slice (out of mesh there) are absent.
+    pub fn contacts(
+        &self,
+        phi_p: f64,
+        phi_g: f64,
+        zetas: &[f64],
+        out: &mut Vec<ContactPoint>,
+    ) -> ReducedAngles {
+        out.clear();
+        let red = self.reduce(phi_p, phi_g);
+        if zetas.is_empty() {
+            return red;
+        }
+        let zmin = zetas.iter().copied().fold(f64::INFINITY, f64::min);
+        let zmax = zetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let (lo, hi) = self.pair_range(red.phi_p, zmin, zmax);
+        for k in lo..=hi {
+            for &zeta in zetas {
+                if let Some(mut c) = self.contact_fast(red.phi_p, red.phi_g, k, zeta) {
+                    c.pair = k - red.pitches;
+                    out.push(c);
+                }
+            }
+        }
+        red
+    }
+
+    /// Tooth rotation angles (Θp, Θg) of pair `k` at slice `zeta` for reduced angles.
+    fn theta(&self, phi_p: f64, phi_g: f64, k: i64, zeta: f64) -> (f64, f64) {
+        let g = self.geo;
+        let z_m = zeta * g.params.normal_module_m;
+        let tp =
+            phi_p + self.psi0_p + g.pinion.angular_pitch() * k as f64 + g.pinion.twist_rate * z_m;
+        let tg = phi_g + self.psi0_g - g.gear.angular_pitch() * k as f64 + g.gear.twist_rate * z_m;
+        (tp, tg)
+    }
+
+    /// Solves one combination of pieces; returns up to two trial normals.
+    fn trials(
+        &self,
+        pp: &Primitive,
+        pg: &Primitive,
+        tp: f64,
+        tg: f64,
+        buf: &mut [Option<Trial>; 2],
+    ) {
+        *buf = [None, None];
+        let a1 = rot(tp, pp.anchor());
+        let ag = rot(tg, pg.anchor());
+        let a2 = [self.center_g[0] + ag[0], self.center_g[1] + ag[1]];
+        let d = [a2[0] - a1[0], a2[1] - a1[1]];
+        let dist = d[0].hypot(d[1]);
+        if dist <= 0.0 {
+            return;
+        }
+        let s = (pp.offset() + pg.offset()) / dist;
+        if !(-1.0..=1.0).contains(&s) {
+            return;
+        }
+        let delta = d[1].atan2(d[0]);
+        let asin = s.asin();
+        for (slot, nu) in buf.iter_mut().zip([delta + asin, delta + PI - asin]) {
+            // The pinion's outward normal must point towards the gear side.
+            let (sn, cn) = nu.sin_cos();
+            if cn * self.center_g[0] + sn * self.center_g[1] <= 0.0 {
+                continue;
+            }
+            let mid_p = 0.5 * (pp.nu_min + pp.nu_max);
+            let mid_g = 0.5 * (pg.nu_min + pg.nu_max);
+            let nu_p_local = wrap_near(nu - tp, mid_p);
+            let nu_g_local = wrap_near(nu + PI - tg, mid_g);
+            let side = |x: f64, p: &Primitive| {
+                if x > p.nu_max {
+                    -1
+                } else if x < p.nu_min {
+                    1
+                } else {
+                    0
+                }
+            };
+            *slot = Some(Trial {
+                nu,
+                nu_p_local,
+                nu_g_local,
+                side_p: side(nu_p_local, pp),
+                side_g: side(nu_g_local, pg),
+            });
+        }
+    }
+
+    /// Builds the contact record of a valid trial.
+    fn build(
+        &self,
+        pp: &Primitive,
+        pg: &Primitive,
+        tr: &Trial,
+        tp: f64,
+        tg: f64,
+        zeta: f64,
+    ) -> ContactPoint {
+        let g = self.geo;
+        let (s, c) = tr.nu.sin_cos();
+        let n = [c, s];
+        let m = [s, -c];
+        let a1 = rot(tp, pp.anchor());
+        let ag = rot(tg, pg.anchor());
+        let a2 = [self.center_g[0] + ag[0], self.center_g[1] + ag[1]];
+        let d = [a2[0] - a1[0], a2[1] - a1[1]];
+        let l1 = pp.reach(tr.nu_p_local);
+        let l2 = pg.reach(tr.nu_g_local);
+        let (k1, k2) = (pp.offset(), pg.offset());
+        let p1 = [a1[0] + k1 * m[0] + l1 * n[0], a1[1] + k1 * m[1] + l1 * n[1]];
+        let p2 = [a2[0] - k2 * m[0] - l2 * n[0], a2[1] - k2 * m[1] - l2 * n[1]];
+        let overlap = l1 + l2 - (d[0] * n[0] + d[1] * n[1]);
+        let arm_p = p1[0] * m[0] + p1[1] * m[1];
+        let r2 = [p2[0] - self.center_g[0], p2[1] - self.center_g[1]];
+        let arm_g = -(r2[0] * m[0] + r2[1] * m[1]);
+        let mn = g.params.normal_module_m;
+        let flank_coords = |gear: &GearGeometry, local: [f64; 2], nu_local: f64, kind| {
+            let eta = (gear.eta_reference_x - local[0]) / mn;
+            let tau = match kind {
+                SegmentKind::Rounding | SegmentKind::Tip => {
+                    (gear.nu_rounding_start - nu_local).max(0.0)
+                }
+                _ => 0.0,
+            };
+            (eta, tau)
+        };
+        let (eta_p, tau_p) = flank_coords(&g.pinion, rot(-tp, p1), tr.nu_p_local, pp.kind);
+        let (eta_g, tau_g) = flank_coords(&g.gear, rot(-tg, r2), tr.nu_g_local, pg.kind);
+        ContactPoint {
+            zeta,
+            pair: 0,
+            kind_p: pp.kind,
+            kind_g: pg.kind,
+            overlap_m: overlap,
+            normal_angle: tr.nu,
+            point_p: p1,
+            point_g: p2,
+            rho_p_m: l1,
+            rho_g_m: l2,
+            arm_p_m: arm_p,
+            arm_g_m: arm_g,
+            radius_p_m: p1[0].hypot(p1[1]),
+            radius_g_m: r2[0].hypot(r2[1]),
+            eta_star_p: eta_p,
+            tau_p,
+            eta_star_g: eta_g,
+            tau_g,
+        }
+    }
+
+    /// Contact of pair `k` (relative to the reduced angles) at slice `zeta`: a walk over the
+    /// pieces from the involute/involute combination, with the exhaustive search as fallback.
+    pub fn contact_fast(&self, phi_p: f64, phi_g: f64, k: i64, zeta: f64) -> Option<ContactPoint> {
+        let (tp, tg) = self.theta(phi_p, phi_g, k, zeta);
+        let fp = &self.geo.pinion.flank.primitives;
+        let fg = &self.geo.gear.flank.primitives;
+        let (mut i, mut j) = (0usize, 0usize);
+        let mut buf = [None, None];
+        for _ in 0..(2 * (fp.len() + fg.len())) {
+            self.trials(&fp[i], &fg[j], tp, tg, &mut buf);
+            // Pick the trial closest to valid.
+            let best = buf.iter().flatten().min_by_key(|t| t.side_p.abs() + t.side_g.abs());
+            let Some(t) = best else { break };
+            if t.side_p == 0 && t.side_g == 0 {
+                return Some(self.build(&fp[i], &fg[j], t, tp, tg, zeta));
+            }
+            let ni = i as i64 + t.side_p as i64;
+            let nj = j as i64 + t.side_g as i64;
+            let ni_ok = (0..fp.len() as i64).contains(&ni);
+            let nj_ok = (0..fg.len() as i64).contains(&nj);
+            if (t.side_p != 0 && !ni_ok) || (t.side_g != 0 && !nj_ok) {
+                // The solution runs off the active flank: no contact in this slice.
+                return self.contact_exhaustive(phi_p, phi_g, k, zeta);
+            }
+            i = ni as usize;
+            j = nj as usize;
+        }
+        self.contact_exhaustive(phi_p, phi_g, k, zeta)
+    }
+
+    /// Contact of pair `k` at slice `zeta` by trying every combination of pieces (reference
+    /// implementation; used as fallback and in tests).
+    pub fn contact_exhaustive(
+        &self,
+        phi_p: f64,
+        phi_g: f64,
+        k: i64,
+        zeta: f64,
+    ) -> Option<ContactPoint> {
+        let (tp, tg) = self.theta(phi_p, phi_g, k, zeta);
+        let fp = &self.geo.pinion.flank.primitives;
+        let fg = &self.geo.gear.flank.primitives;
+        let mut best: Option<ContactPoint> = None;
+        let mut buf = [None, None];
+        for pp in fp {
+            for pg in fg {
+                self.trials(pp, pg, tp, tg, &mut buf);
+                for t in buf.iter().flatten() {
+                    if t.side_p == 0 && t.side_g == 0 {
+                        let c = self.build(pp, pg, t, tp, tg, zeta);
+                        if best.is_none_or(|b| c.overlap_m > b.overlap_m) {
+                            best = Some(c);
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}

@@ -1,5 +1,188 @@
 //! `helical-gear`: command-line front end of the helical_gear_mesh library.
-fn main() {
-    let p = helical_gear_mesh::GearPair::paper_table1();
-    println!("{}", serde_json::to_string_pretty(&p).unwrap());
+//!
+//! Every subcommand takes `--params FILE` (JSON in the schema of [`GearPair`]; default: the
+//! paper's Table 1) and `--json` (one JSON object on stdout; human-readable text otherwise).
+//! JSON keys are snake_case with units in the name.
+
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use helical_gear_mesh::contact::ContactSolver;
+use helical_gear_mesh::{GearPair, PairGeometry};
+use serde_json::json;
+
+#[derive(Parser)]
+#[command(name = "helical-gear", version, about = "Andersson–Vedmar helical-gear mesh model")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Args, Clone)]
+struct Common {
+    /// Gear-pair parameters as JSON (schema of `GearPair`); default: the paper's Table 1.
+    #[arg(long, value_name = "FILE")]
+    params: Option<std::path::PathBuf>,
+    /// Print one JSON object on stdout instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Derived geometry: contact ratios, radii, centre distance, inertias.
+    Geometry {
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Per-slice table of the instant line of contact at a pinion angle and transmission error.
+    Contact {
+        #[command(flatten)]
+        common: Common,
+        /// Pinion hub angle φp, rad.
+        #[arg(long, allow_hyphen_values = true)]
+        phi_p: f64,
+        /// Transmission error TE = φp·g_p + φg·g_g, m (sets φg).
+        #[arg(long, allow_hyphen_values = true)]
+        te: f64,
+        /// Number of axial slices.
+        #[arg(long, default_value_t = 20)]
+        slices: usize,
+    },
+    /// Print the default parameters (Table 1) as JSON, a template for `--params`.
+    Params,
+}
+
+fn load_params(common: &Common) -> Result<GearPair, String> {
+    match &common.params {
+        None => Ok(GearPair::paper_table1()),
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            GearPair::from_json(&text)
+        }
+    }
+}
+
+fn geometry_cmd(common: &Common) -> Result<(), String> {
+    let p = load_params(common)?;
+    let g = PairGeometry::new(&p).map_err(|e| e.to_string())?;
+    let out = json!({
+        "eps_alpha": g.eps_alpha,
+        "eps_beta": g.eps_beta,
+        "base_radius_p_m": g.pinion.rb,
+        "base_radius_g_m": g.gear.rb,
+        "tip_radius_p_m": g.pinion.ra,
+        "tip_radius_g_m": g.gear.ra,
+        "root_radius_p_m": g.pinion.rf,
+        "root_radius_g_m": g.gear.rf,
+        "reference_radius_p_m": g.pinion.r,
+        "reference_radius_g_m": g.gear.r,
+        "form_radius_p_m": g.pinion.r_form,
+        "form_radius_g_m": g.gear.r_form,
+        "relief_start_radius_p_m": g.pinion.r_relief_start,
+        "relief_start_radius_g_m": g.gear.r_relief_start,
+        "rounding_start_radius_p_m": g.pinion.r_rounding_start,
+        "rounding_start_radius_g_m": g.gear.r_rounding_start,
+        "center_distance_m": g.center_distance,
+        "transverse_pressure_angle_rad": g.alpha_t,
+        "operating_pressure_angle_rad": g.alpha_wt,
+        "base_helix_angle_rad": g.base_helix_angle,
+        "base_pitch_m": g.base_pitch,
+        "backlash_te_m": g.backlash_te,
+        "j_p_kgm2": g.j_p,
+        "j_g_kgm2": g.j_g,
+    });
+    if common.json {
+        println!("{out}");
+    } else {
+        println!(
+            "Gear pair geometry (z = {}/{}, m_n = {} mm)",
+            p.z_p,
+            p.z_g,
+            p.normal_module_m * 1e3
+        );
+        for (k, v) in out.as_object().into_iter().flatten() {
+            println!("  {k:32} {v}");
+        }
+    }
+    Ok(())
+}
+
+fn contact_cmd(common: &Common, phi_p: f64, te: f64, slices: usize) -> Result<(), String> {
+    if !phi_p.is_finite() || !te.is_finite() {
+        return Err(format!("--phi-p ({phi_p}) and --te ({te}) must be finite"));
+    }
+    if slices == 0 || slices > 100_000 {
+        return Err(format!("--slices = {slices}: allowed 1..=100000"));
+    }
+    let p = load_params(common)?;
+    let g = PairGeometry::new(&p).map_err(|e| e.to_string())?;
+    let solver = ContactSolver::new(&g);
+    let phi_g = g.phi_g_for_te(phi_p, te);
+    let zetas = solver.slice_zetas(slices);
+    let mut cs = Vec::new();
+    let red = solver.contacts(phi_p, phi_g, &zetas, &mut cs);
+    if common.json {
+        let rows: Vec<_> = cs
+            .iter()
+            .map(|c| {
+                json!({
+                    "zeta": c.zeta, "pair": c.pair, "kind": c.kind_name(),
+                    "overlap_m": c.overlap_m, "rho_p_m": c.rho_p_m, "rho_g_m": c.rho_g_m,
+                    "arm_p_m": c.arm_p_m, "arm_g_m": c.arm_g_m,
+                    "radius_p_m": c.radius_p_m, "radius_g_m": c.radius_g_m,
+                    "eta_star_p": c.eta_star_p, "tau_p_rad": c.tau_p,
+                    "eta_star_g": c.eta_star_g, "tau_g_rad": c.tau_g,
+                    "normal_angle_rad": c.normal_angle,
+                })
+            })
+            .collect();
+        println!(
+            "{}",
+            json!({"phi_p_rad": phi_p, "phi_g_rad": phi_g, "te_m": red.te, "slices": rows})
+        );
+    } else {
+        println!("φp = {phi_p} rad, φg = {phi_g} rad, TE = {:.3} µm", red.te * 1e6);
+        println!(
+            "{:>8} {:>5} {:>22} {:>12} {:>10} {:>10} {:>10} {:>10}",
+            "zeta", "pair", "kind", "overlap_um", "rho_p_mm", "rho_g_mm", "arm_p_mm", "arm_g_mm"
+        );
+        for c in &cs {
+            println!(
+                "{:8.4} {:5} {:>22} {:12.4} {:10.4} {:10.4} {:10.5} {:10.5}",
+                c.zeta,
+                c.pair,
+                c.kind_name(),
+                c.overlap_m * 1e6,
+                c.rho_p_m * 1e3,
+                c.rho_g_m * 1e3,
+                c.arm_p_m * 1e3,
+                c.arm_g_m * 1e3
+            );
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Geometry { common } => geometry_cmd(common),
+        Command::Contact { common, phi_p, te, slices } => contact_cmd(common, *phi_p, *te, *slices),
+        Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
+            Ok(s) => {
+                println!("{s}");
+                Ok(())
+            }
+            Err(e) => Err(e.to_string()),
+        },
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("helical-gear: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
