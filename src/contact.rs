@@ -385,16 +385,15 @@ impl<'a> ContactSolver<'a> {
             if t.side_p == 0 && t.side_g == 0 {
                 return Some(self.build(&fp[i], &fg[j], t, tp, tg, zeta));
             }
-            let ni = i as i64 + t.side_p as i64;
-            let nj = j as i64 + t.side_g as i64;
-            let ni_ok = (0..fp.len() as i64).contains(&ni);
-            let nj_ok = (0..fg.len() as i64).contains(&nj);
-            if (t.side_p != 0 && !ni_ok) || (t.side_g != 0 && !nj_ok) {
-                // The solution runs off the active flank: no contact in this slice.
-                return self.contact_exhaustive(phi_p, phi_g, k, zeta);
+            let ni = (i as i64 + t.side_p as i64).clamp(0, fp.len() as i64 - 1) as usize;
+            let nj = (j as i64 + t.side_g as i64).clamp(0, fg.len() as i64 - 1) as usize;
+            if (ni, nj) == (i, j) {
+                // The solution runs off the active flank: no contact in this slice (the test
+                // `fast_walk_equals_exhaustive_search` checks this against the full search).
+                return None;
             }
-            i = ni as usize;
-            j = nj as usize;
+            i = ni;
+            j = nj;
         }
         self.contact_exhaustive(phi_p, phi_g, k, zeta)
     }

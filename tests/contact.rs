@@ -149,7 +149,7 @@ fn fast_walk_equals_exhaustive_search() {
     let g = table1();
     let s = ContactSolver::new(&g);
     let mut rng = Rng(11);
-    for _ in 0..3000 {
+    for _ in 0..30000 {
         let phi_p = (rng.next() - 0.5) * 0.3;
         let te = (rng.next() - 0.5) * 400e-6;
         let phi_g = g.phi_g_for_te(phi_p, te);
