@@ -604,3 +604,19 @@ fn dopri5_callback_break_and_uniform_sampling_with_dense_output() {
     assert_eq!(stats2.rhs_evals, 6 * (stats2.accepted + stats2.rejected) + 1);
     assert!(sys_exact_err(omega, 3.0, &y) < 1e-7);
 }
+
+#[test]
+fn dopri5_pure_relative_tolerance_with_a_zero_component() {
+    // atol = 0: the component that stays exactly 0 must not make the error norm 0/0.
+    let mut sys = FnSystem::new(2, |_t: f64, y: &[f64], d: &mut [f64]| -> Result<(), OdeError> {
+        d[0] = -y[0];
+        d[1] = 0.0;
+        Ok(())
+    });
+    let mut solver = Dopri5::new(2, Dopri5Options::with_tolerances(1e-8, 0.0)).unwrap();
+    let mut y = [1.0, 0.0];
+    let stats = solver.integrate(&mut sys, 0.0, 2.0, &mut y, |_| cont()).unwrap();
+    assert!((y[0] - (-2.0f64).exp()).abs() < 1e-7);
+    assert_eq!(y[1], 0.0);
+    assert!(stats.accepted < 100);
+}

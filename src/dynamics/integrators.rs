@@ -780,7 +780,8 @@ impl Dopri5 {
         let mut s = 0.0;
         for (i, ((vi, ai), bi)) in v.iter().zip(a).zip(b).enumerate() {
             let sc = self.opts.atol.get(i) + self.opts.rtol * ai.abs().max(bi.abs());
-            let r = vi / sc;
+            // sc = 0 only for a zero component with atol = 0: an exact zero error is no error.
+            let r = if *vi == 0.0 { 0.0 } else { vi / sc };
             s += r * r;
         }
         (s / n as f64).sqrt()
