@@ -241,10 +241,11 @@ pub fn stiffness(
             }
         }
     }
-    // Mirror the upper block triangle (b ≥ a) to the lower one: K_ba = K_abᵀ.
-    for r in 3..DOFS {
+    // Mirror the upper triangle to the lower one (K_ba = K_abᵀ), so that Kₑ is exactly
+    // symmetric also inside the diagonal blocks, where rounding differs between (p, q) and (q, p).
+    for r in 1..DOFS {
         let (upper, lower) = ke.split_at_mut(r);
-        for (c, v) in lower[0].iter_mut().enumerate().take(3 * (r / 3)) {
+        for (c, v) in lower[0].iter_mut().enumerate().take(r) {
             *v = upper[c][r];
         }
     }
