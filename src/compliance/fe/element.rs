@@ -26,7 +26,7 @@
 //! Element DOFs are node-major, 3a + i for node a and direction i ∈ {x, y, z}. For isotropic
 //! elasticity (Lamé λ, μ) the 3×3 block coupling nodes a and b is
 //!
-//! Kₐᵦ[i][j] = ∫ ( λ gₐᵢ gᵦⱼ + μ gₐⱼ gᵦᵢ + μ δᵢⱼ gₐ·gᵦ ) dV,  gₐ = ∇Nₐ (physical gradient),
+//! Kₐᵦ\[i\]\[j\] = ∫ ( λ gₐᵢ gᵦⱼ + μ gₐⱼ gᵦᵢ + μ δᵢⱼ gₐ·gᵦ ) dV,  gₐ = ∇Nₐ (physical gradient),
 //!
 //! which equals ∫ Bᵀ D B dV. It is integrated with the full 3×3×3 Gauss–Legendre rule
 //! (points 0, ±√(3/5), weights 8/9, 5/9), which leaves exactly the six rigid-body modes as the
