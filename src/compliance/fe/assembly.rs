@@ -1,0 +1,235 @@
+//! Global stiffness assembly with Dirichlet constraints by elimination.
+//!
+//! Global DOF numbering: node n has DOFs 3n, 3n + 1, 3n + 2 for x, y, z. Fixed nodes have all
+//! three displacement components held at zero; their DOFs are *eliminated*: the remaining
+//! (free) DOFs are renumbered 0, 1, … in increasing global order ([`DofMap`]) and only the
+//! free–free block K_ff of K = Σₑ Kₑ is assembled. No penalty terms are used, so the
+//! conditioning of K_ff is that of the physical problem.
+//!
+//! K_ff is stored as a faer compressed-sparse-column matrix holding the **lower triangle**
+//! (row ≥ column, diagonal included), the half read by the Cholesky factorisation. Its
+//! pattern is built first from the node graph (two nodes couple when they share an element),
+//! with sorted row indices; element matrices are then added in place. This costs one entry per
+//! stored non-zero instead of one triplet per element-matrix entry (≈ 1830 per hex20 element,
+//! several times the final non-zero count), which matters for gear meshes of 10⁵ DOFs.
+
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+
+use super::element::{self, DOFS, NODES};
+use super::error::FeError;
+use super::material::Material;
+use super::mesh::Mesh;
+
+/// Marker for a fixed (eliminated) DOF in [`DofMap`].
+const FIXED: usize = usize::MAX;
+
+/// Numbering of the free DOFs after elimination of the fixed nodes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DofMap {
+    /// Global DOF → free index, or `FIXED`.
+    free_of: Vec<usize>,
+    /// Free index → global DOF.
+    global_of: Vec<usize>,
+}
+
+impl DofMap {
+    /// Numbering for a mesh of `nodes` nodes with all three DOFs of each node in `fixed_nodes`
+    /// held at zero (duplicates allowed). Error: a fixed node index ≥ `nodes`.
+    pub fn new(nodes: usize, fixed_nodes: &[usize]) -> Result<Self, FeError> {
+        let mut fixed = vec![false; nodes];
+        for &n in fixed_nodes {
+            *fixed.get_mut(n).ok_or(FeError::FixedNodeOutOfRange { node: n, nodes })? = true;
+        }
+        let mut free_of = vec![FIXED; 3 * nodes];
+        let mut global_of = Vec::with_capacity(3 * nodes);
+        for (n, &f) in fixed.iter().enumerate() {
+            if !f {
+                for (i, slot) in free_of[3 * n..3 * n + 3].iter_mut().enumerate() {
+                    *slot = global_of.len();
+                    global_of.push(3 * n + i);
+                }
+            }
+        }
+        Ok(Self { free_of, global_of })
+    }
+
+    /// Total number of DOFs (3 × nodes).
+    pub fn dof_count(&self) -> usize {
+        self.free_of.len()
+    }
+
+    /// Number of free DOFs.
+    pub fn free_count(&self) -> usize {
+        self.global_of.len()
+    }
+
+    /// Free index of global DOF `dof`, or `None` if it is fixed or does not exist.
+    pub fn free_index(&self, dof: usize) -> Option<usize> {
+        self.free_of.get(dof).copied().filter(|&i| i != FIXED)
+    }
+
+    /// Global DOF of each free index, ascending.
+    pub fn free_dofs(&self) -> &[usize] {
+        &self.global_of
+    }
+}
+
+/// Assembles the lower triangle of the free–free stiffness block K_ff (N/m) of `mesh`.
+///
+/// The mesh must satisfy [`Mesh::validate`] and `dofs` must be built for its node count.
+/// Errors: [`FeError::NonPositiveJacobian`] naming the first bad element, or an invalid mesh.
+pub fn assemble_lower(
+    mesh: &Mesh,
+    material: &Material,
+    dofs: &DofMap,
+) -> Result<SparseColMat<usize, f64>, FeError> {
+    material.validate()?;
+    mesh.validate()?;
+    if dofs.dof_count() != 3 * mesh.nodes.len() {
+        return Err(FeError::InvalidInput(format!(
+            "DOF map for {} DOFs used with a mesh of {} nodes",
+            dofs.dof_count(),
+            mesh.nodes.len()
+        )));
+    }
+    let (col_ptr, row_idx) = lower_pattern(mesh, dofs);
+    let mut values = vec![0.0; row_idx.len()];
+    let mut ke = [[0.0; DOFS]; DOFS];
+    let mut coords = [[0.0; 3]; NODES];
+    let mut g = [FIXED; DOFS];
+    for (e, conn) in mesh.elements.iter().enumerate() {
+        for (a, &n) in conn.iter().enumerate() {
+            coords[a] = mesh.nodes[n];
+            for i in 0..3 {
+                g[3 * a + i] = dofs.free_of[3 * n + i];
+            }
+        }
+        element::stiffness(&coords, material, &mut ke).map_err(|err| err.in_element(e))?;
+        for (c, &jc) in g.iter().enumerate() {
+            if jc == FIXED {
+                continue;
+            }
+            let (start, end) = (col_ptr[jc], col_ptr[jc + 1]);
+            let rows = &row_idx[start..end];
+            for (r, &ir) in g.iter().enumerate() {
+                if ir == FIXED || ir < jc {
+                    continue;
+                }
+                let k = rows.binary_search(&ir).map_err(|_| {
+                    FeError::Solver(format!("internal: entry ({ir}, {jc}) missing from pattern"))
+                })?;
+                values[start + k] += ke[r][c];
+            }
+        }
+    }
+    let n = dofs.free_count();
+    let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    Ok(SparseColMat::new(symbolic, values))
+}
+
+/// Column pointers and sorted row indices of the lower triangle of K_ff.
+fn lower_pattern(mesh: &Mesh, dofs: &DofMap) -> (Vec<usize>, Vec<usize>) {
+    let nn = mesh.nodes.len();
+    // Node → elements incidence in compressed form.
+    let mut start = vec![0usize; nn + 1];
+    for conn in &mesh.elements {
+        for &n in conn {
+            start[n + 1] += 1;
+        }
+    }
+    for i in 0..nn {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut incident = vec![0usize; start[nn]];
+    for (e, conn) in mesh.elements.iter().enumerate() {
+        for &n in conn {
+            incident[fill[n]] = e;
+            fill[n] += 1;
+        }
+    }
+    let mut col_ptr = Vec::with_capacity(dofs.free_count() + 1);
+    col_ptr.push(0);
+    let mut row_idx = Vec::new();
+    let mut mark = vec![usize::MAX; nn];
+    let mut neigh: Vec<usize> = Vec::new();
+    for c in 0..nn {
+        neigh.clear();
+        for &e in &incident[start[c]..start[c + 1]] {
+            for &r in &mesh.elements[e] {
+                if r >= c && mark[r] != c {
+                    mark[r] = c;
+                    neigh.push(r);
+                }
+            }
+        }
+        neigh.sort_unstable();
+        for b in 0..3 {
+            let jc = dofs.free_of[3 * c + b];
+            if jc == FIXED {
+                continue;
+            }
+            for &r in &neigh {
+                for q in 0..3 {
+                    let ir = dofs.free_of[3 * r + q];
+                    if ir != FIXED && ir >= jc {
+                        row_idx.push(ir);
+                    }
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+    }
+    (col_ptr, row_idx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::sparse::Triplet;
+
+    /// The pattern-based assembly equals a plain triplet assembly of the element matrices.
+    #[test]
+    fn matches_triplet_assembly() {
+        let mesh = Mesh::structured_block([2, 2, 1], |u, v, w| {
+            [u + 0.1 * v * v, v + 0.05 * u * w, 0.5 * w + 0.1 * u * v]
+        })
+        .expect("block");
+        let material = Material { e: 200e9, nu: 0.3 };
+        let fixed = mesh.nodes_where(|x| x[0] < 1e-12);
+        let dofs = DofMap::new(mesh.nodes.len(), &fixed).expect("dofs");
+        let k = assemble_lower(&mesh, &material, &dofs).expect("assemble");
+        let n = dofs.free_count();
+        let mut triplets = Vec::new();
+        let mut ke = [[0.0; DOFS]; DOFS];
+        for (e, conn) in mesh.elements.iter().enumerate() {
+            let coords = mesh.element_coords(e).expect("coords");
+            element::stiffness(&coords, &material, &mut ke).expect("element");
+            for (a, &na) in conn.iter().enumerate() {
+                for (b, &nb) in conn.iter().enumerate() {
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            if let (Some(r), Some(c)) =
+                                (dofs.free_index(3 * na + i), dofs.free_index(3 * nb + j))
+                            {
+                                if r >= c {
+                                    triplets.push(Triplet::new(r, c, ke[3 * a + i][3 * b + j]));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let reference =
+            SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).expect("triplets");
+        let dense_a = k.to_dense();
+        let dense_b = reference.to_dense();
+        let scale = dense_b.norm_max();
+        assert!((&dense_a - &dense_b).norm_max() <= 1e-14 * scale);
+        // Free numbering skips exactly the fixed nodes' DOFs.
+        assert_eq!(n, 3 * (mesh.nodes.len() - fixed.len()));
+        assert_eq!(dofs.free_index(3 * fixed[0]), None);
+        assert!(DofMap::new(3, &[3]).is_err());
+    }
+}
