@@ -92,6 +92,7 @@ fn geometry_cmd(common: &Common) -> Result<(), String> {
         "backlash_te_m": g.backlash_te,
         "j_p_kgm2": g.j_p,
         "j_g_kgm2": g.j_g,
+        "assumptions": p.assumptions(),
     });
     if common.json {
         println!("{out}");
@@ -103,7 +104,13 @@ fn geometry_cmd(common: &Common) -> Result<(), String> {
             p.normal_module_m * 1e3
         );
         for (k, v) in out.as_object().into_iter().flatten() {
-            println!("  {k:32} {v}");
+            if k != "assumptions" {
+                println!("  {k:32} {v}");
+            }
+        }
+        println!("Assumptions:");
+        for a in p.assumptions() {
+            println!("  - {a}");
         }
     }
     Ok(())

@@ -173,6 +173,37 @@ impl GearPair {
         }
     }
 
+    /// The modelling assumptions behind these parameters that the paper does not state, as
+    /// human-readable lines (printed in every run summary). Lists the values actually used.
+    pub fn assumptions(&self) -> Vec<String> {
+        let m = |mat: &Material| {
+            format!(
+                "E = {:.0} GPa, ν = {}, ρ = {} kg/m³",
+                mat.youngs_modulus_pa / 1e9,
+                mat.poisson_ratio,
+                mat.density_kg_m3
+            )
+        };
+        vec![
+            format!("pinion material: {} (paper: not given)", m(&self.material_p)),
+            format!("gear material: {} (paper: not given)", m(&self.material_g)),
+            format!(
+                "profile shifts x_p = {}, x_g = {} (paper: not given; centre distance is the \
+                 zero-backlash operating one)",
+                self.profile_shift_p, self.profile_shift_g
+            ),
+            format!(
+                "basic rack addendum {}·m_n, dedendum {}·m_n (paper: not given; ISO 53 values)",
+                self.addendum_mn, self.dedendum_mn
+            ),
+            "tip relief depth δ measured normal to the rack flank at the rack tip; backlash by \
+             equal thinning of both gears"
+                .to_string(),
+            "J_p, J_g: toothed discs of face width b down to the bore (paper: not given)"
+                .to_string(),
+        ]
+    }
+
     /// Reads a gear pair from JSON text (the schema of this struct; unknown keys are an error).
     pub fn from_json(text: &str) -> Result<Self, String> {
         serde_json::from_str(text).map_err(|e| format!("gear-pair JSON: {e}"))
