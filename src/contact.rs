@@ -42,6 +42,8 @@ pub struct ContactPoint {
     /// A pair keeps its number as the gears turn; the pair found at a given place in the mesh
     /// one pinion pitch later has the number one lower.
     pub pair: i64,
+    /// Which flanks touch: the driving flanks, or the back flanks through the backlash.
+    pub side: FlankSide,
     /// Surface of the pinion flank at P1.
     pub kind_p: SegmentKind,
     /// Surface of the gear flank at P2.
@@ -89,6 +91,17 @@ impl ContactPoint {
         let d = [self.point_g[0] - self.point_p[0], self.point_g[1] - self.point_p[1]];
         (d[0] * s - d[1] * c).abs()
     }
+}
+
+/// Which pair of flanks a contact is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FlankSide {
+    /// The driving flanks (the positive flank of each tooth; loaded when TE > 0).
+    Drive,
+    /// The back flanks (mirror images of the driving flanks), which touch when TE falls below
+    /// −[`PairGeometry::backlash_te`]. Pinion tooth j's back flank meets gear tooth 1 − j.
+    Back,
 }
 
 /// Settings of the contact search.
@@ -141,13 +154,59 @@ fn wrap_near(angle: f64, reference: f64) -> f64 {
     reference + (d - 2.0 * PI * ((d + PI) / (2.0 * PI)).floor())
 }
 
+/// One flank piece as seen on a given side: the back flank is the mirror image (y → −y in
+/// the tooth-local frame) of the driving flank, so its anchor is mirrored, its offset changes
+/// sign, its normal angles change sign and it runs root to tip with increasing ν.
+#[derive(Debug, Clone, Copy)]
+struct Piece<'p> {
+    prim: &'p Primitive,
+    mirror: bool,
+}
+
+impl Piece<'_> {
+    #[inline]
+    fn anchor(&self) -> [f64; 2] {
+        let a = self.prim.anchor();
+        if self.mirror { [a[0], -a[1]] } else { a }
+    }
+    #[inline]
+    fn offset(&self) -> f64 {
+        if self.mirror { -self.prim.offset() } else { self.prim.offset() }
+    }
+    #[inline]
+    fn reach(&self, nu: f64) -> f64 {
+        self.prim.reach(if self.mirror { -nu } else { nu })
+    }
+    #[inline]
+    fn nu_min(&self) -> f64 {
+        if self.mirror { -self.prim.nu_max } else { self.prim.nu_min }
+    }
+    #[inline]
+    fn nu_max(&self) -> f64 {
+        if self.mirror { -self.prim.nu_min } else { self.prim.nu_max }
+    }
+    /// Step in the chain index (root to tip) towards normal angle `nu` outside the piece.
+    #[inline]
+    fn step_towards(&self, nu: f64) -> i8 {
+        // Driving flank: ν decreases root→tip, so ν above the piece means "towards the root".
+        let s = if nu > self.nu_max() {
+            -1
+        } else if nu < self.nu_min() {
+            1
+        } else {
+            0
+        };
+        if self.mirror { -s } else { s }
+    }
+}
+
 /// A trial solution for one combination of pieces.
 #[derive(Debug, Clone, Copy)]
 struct Trial {
     nu: f64,
     nu_p_local: f64,
     nu_g_local: f64,
-    /// −1 / +1 when ν lies rootward (larger ν) / tipward of the pinion piece, 0 inside.
+    /// Chain-index step towards the solution on the pinion (−1 rootward, +1 tipward, 0 inside).
     side_p: i8,
     side_g: i8,
 }
@@ -199,7 +258,7 @@ impl<'a> ContactSolver<'a> {
 
     /// Range of tooth-pair indices (relative to the reduced angles) that can be in mesh for
     /// reduced pinion angle `phi_p` over axial coordinates `zetas`.
-    fn pair_range(&self, phi_p: f64, zeta_min: f64, zeta_max: f64) -> (i64, i64) {
+    fn pair_range(&self, phi_p: f64, zeta_min: f64, zeta_max: f64, side: FlankSide) -> (i64, i64) {
         let g = self.geo;
         let rb = g.pinion.rb;
         let mn = g.params.normal_module_m;
@@ -210,16 +269,32 @@ impl<'a> ContactSolver<'a> {
         let (l_min, l_max) = (l_a.min(l_b), l_a.max(l_b));
         let lo = ((g.path_start - margin - l_max) / g.base_pitch).ceil() as i64;
         let hi = ((g.path_end + margin - l_min) / g.base_pitch).floor() as i64;
-        (lo, hi)
+        match side {
+            FlankSide::Drive => (lo, hi),
+            // The back line of action is the mirror image: a wider, safe window.
+            FlankSide::Back => (lo - 2, hi + 2),
+        }
     }
 
-    /// All contacts (and gaps) for hub angles (`phi_p`, `phi_g`) at the axial coordinates
-    /// `zetas`, appended to `out` (which is cleared first). Returns the reduced angles.
+    /// All driving-flank contacts (and gaps) for hub angles (`phi_p`, `phi_g`) at the axial
+    /// coordinates `zetas`, written to `out` (cleared first). Returns the reduced angles.
     ///
     /// At most one contact per slice and tooth pair; pairs whose flanks have no common normal
     /// in a slice (out of mesh there) are absent.
     pub fn contacts(
         &self,
+        phi_p: f64,
+        phi_g: f64,
+        zetas: &[f64],
+        out: &mut Vec<ContactPoint>,
+    ) -> ReducedAngles {
+        self.contacts_on(FlankSide::Drive, phi_p, phi_g, zetas, out)
+    }
+
+    /// Like [`ContactSolver::contacts`] for the flanks `side` (driving or back flanks).
+    pub fn contacts_on(
+        &self,
+        side: FlankSide,
         phi_p: f64,
         phi_g: f64,
         zetas: &[f64],
@@ -232,10 +307,10 @@ impl<'a> ContactSolver<'a> {
         }
         let zmin = zetas.iter().copied().fold(f64::INFINITY, f64::min);
         let zmax = zetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let (lo, hi) = self.pair_range(red.phi_p, zmin, zmax);
+        let (lo, hi) = self.pair_range(red.phi_p, zmin, zmax, side);
         for k in lo..=hi {
             for &zeta in zetas {
-                if let Some(mut c) = self.contact_fast(red.phi_p, red.phi_g, k, zeta) {
+                if let Some(mut c) = self.contact_fast_on(side, red.phi_p, red.phi_g, k, zeta) {
                     c.pair = k - red.pitches;
                     out.push(c);
                 }
@@ -245,24 +320,24 @@ impl<'a> ContactSolver<'a> {
     }
 
     /// Tooth rotation angles (Θp, Θg) of pair `k` at slice `zeta` for reduced angles.
-    fn theta(&self, phi_p: f64, phi_g: f64, k: i64, zeta: f64) -> (f64, f64) {
+    fn theta(&self, side: FlankSide, phi_p: f64, phi_g: f64, k: i64, zeta: f64) -> (f64, f64) {
         let g = self.geo;
         let z_m = zeta * g.params.normal_module_m;
+        let gear_tooth = match side {
+            FlankSide::Drive => -k,
+            FlankSide::Back => 1 - k,
+        };
         let tp =
             phi_p + self.psi0_p + g.pinion.angular_pitch() * k as f64 + g.pinion.twist_rate * z_m;
-        let tg = phi_g + self.psi0_g - g.gear.angular_pitch() * k as f64 + g.gear.twist_rate * z_m;
+        let tg = phi_g
+            + self.psi0_g
+            + g.gear.angular_pitch() * gear_tooth as f64
+            + g.gear.twist_rate * z_m;
         (tp, tg)
     }
 
     /// Solves one combination of pieces; returns up to two trial normals.
-    fn trials(
-        &self,
-        pp: &Primitive,
-        pg: &Primitive,
-        tp: f64,
-        tg: f64,
-        buf: &mut [Option<Trial>; 2],
-    ) {
+    fn trials(&self, pp: Piece, pg: Piece, tp: f64, tg: f64, buf: &mut [Option<Trial>; 2]) {
         *buf = [None, None];
         let a1 = rot(tp, pp.anchor());
         let ag = rot(tg, pg.anchor());
@@ -284,34 +359,27 @@ impl<'a> ContactSolver<'a> {
             if cn * self.center_g[0] + sn * self.center_g[1] <= 0.0 {
                 continue;
             }
-            let mid_p = 0.5 * (pp.nu_min + pp.nu_max);
-            let mid_g = 0.5 * (pg.nu_min + pg.nu_max);
+            let mid_p = 0.5 * (pp.nu_min() + pp.nu_max());
+            let mid_g = 0.5 * (pg.nu_min() + pg.nu_max());
             let nu_p_local = wrap_near(nu - tp, mid_p);
             let nu_g_local = wrap_near(nu + PI - tg, mid_g);
-            let side = |x: f64, p: &Primitive| {
-                if x > p.nu_max {
-                    -1
-                } else if x < p.nu_min {
-                    1
-                } else {
-                    0
-                }
-            };
             *slot = Some(Trial {
                 nu,
                 nu_p_local,
                 nu_g_local,
-                side_p: side(nu_p_local, pp),
-                side_g: side(nu_g_local, pg),
+                side_p: pp.step_towards(nu_p_local),
+                side_g: pg.step_towards(nu_g_local),
             });
         }
     }
 
     /// Builds the contact record of a valid trial.
+    #[allow(clippy::too_many_arguments)]
     fn build(
         &self,
-        pp: &Primitive,
-        pg: &Primitive,
+        side: FlankSide,
+        pp: Piece,
+        pg: Piece,
         tr: &Trial,
         tp: f64,
         tg: f64,
@@ -335,23 +403,24 @@ impl<'a> ContactSolver<'a> {
         let r2 = [p2[0] - self.center_g[0], p2[1] - self.center_g[1]];
         let arm_g = -(r2[0] * m[0] + r2[1] * m[1]);
         let mn = g.params.normal_module_m;
-        let flank_coords = |gear: &GearGeometry, local: [f64; 2], nu_local: f64, kind| {
+        // Flank coordinates in the unmirrored tooth frame (η* uses x only, τ the normal angle).
+        let flank_coords = |gear: &GearGeometry, piece: Piece, local: [f64; 2], nu_local: f64| {
+            let nu = if piece.mirror { -nu_local } else { nu_local };
             let eta = (gear.eta_reference_x - local[0]) / mn;
-            let tau = match kind {
-                SegmentKind::Rounding | SegmentKind::Tip => {
-                    (gear.nu_rounding_start - nu_local).max(0.0)
-                }
+            let tau = match piece.prim.kind {
+                SegmentKind::Rounding | SegmentKind::Tip => (gear.nu_rounding_start - nu).max(0.0),
                 _ => 0.0,
             };
             (eta, tau)
         };
-        let (eta_p, tau_p) = flank_coords(&g.pinion, rot(-tp, p1), tr.nu_p_local, pp.kind);
-        let (eta_g, tau_g) = flank_coords(&g.gear, rot(-tg, r2), tr.nu_g_local, pg.kind);
+        let (eta_p, tau_p) = flank_coords(&g.pinion, pp, rot(-tp, p1), tr.nu_p_local);
+        let (eta_g, tau_g) = flank_coords(&g.gear, pg, rot(-tg, r2), tr.nu_g_local);
         ContactPoint {
             zeta,
             pair: 0,
-            kind_p: pp.kind,
-            kind_g: pg.kind,
+            side,
+            kind_p: pp.prim.kind,
+            kind_g: pg.prim.kind,
             overlap_m: overlap,
             normal_angle: tr.nu,
             point_p: p1,
@@ -369,21 +438,38 @@ impl<'a> ContactSolver<'a> {
         }
     }
 
-    /// Contact of pair `k` (relative to the reduced angles) at slice `zeta`: a walk over the
-    /// pieces from the involute/involute combination, with the exhaustive search as fallback.
+    /// Driving-flank contact of pair `k` (relative to the reduced angles) at slice `zeta`.
     pub fn contact_fast(&self, phi_p: f64, phi_g: f64, k: i64, zeta: f64) -> Option<ContactPoint> {
-        let (tp, tg) = self.theta(phi_p, phi_g, k, zeta);
+        self.contact_fast_on(FlankSide::Drive, phi_p, phi_g, k, zeta)
+    }
+
+    /// Contact of pair `k` on flanks `side` at slice `zeta`: a walk over the pieces from the
+    /// involute/involute combination towards the valid one (at most a few steps); `None` when
+    /// the common normal runs off an active flank (the pair is out of mesh in this slice), with
+    /// the exhaustive search as fallback if the walk does not settle.
+    pub fn contact_fast_on(
+        &self,
+        side: FlankSide,
+        phi_p: f64,
+        phi_g: f64,
+        k: i64,
+        zeta: f64,
+    ) -> Option<ContactPoint> {
+        let (tp, tg) = self.theta(side, phi_p, phi_g, k, zeta);
+        let mirror = side == FlankSide::Back;
         let fp = &self.geo.pinion.flank.primitives;
         let fg = &self.geo.gear.flank.primitives;
         let (mut i, mut j) = (0usize, 0usize);
         let mut buf = [None, None];
         for _ in 0..(2 * (fp.len() + fg.len())) {
-            self.trials(&fp[i], &fg[j], tp, tg, &mut buf);
+            let pp = Piece { prim: &fp[i], mirror };
+            let pg = Piece { prim: &fg[j], mirror };
+            self.trials(pp, pg, tp, tg, &mut buf);
             // Pick the trial closest to valid.
             let best = buf.iter().flatten().min_by_key(|t| t.side_p.abs() + t.side_g.abs());
             let Some(t) = best else { break };
             if t.side_p == 0 && t.side_g == 0 {
-                return Some(self.build(&fp[i], &fg[j], t, tp, tg, zeta));
+                return Some(self.build(side, pp, pg, t, tp, tg, zeta));
             }
             let ni = (i as i64 + t.side_p as i64).clamp(0, fp.len() as i64 - 1) as usize;
             let nj = (j as i64 + t.side_g as i64).clamp(0, fg.len() as i64 - 1) as usize;
@@ -395,11 +481,10 @@ impl<'a> ContactSolver<'a> {
             i = ni;
             j = nj;
         }
-        self.contact_exhaustive(phi_p, phi_g, k, zeta)
+        self.contact_exhaustive_on(side, phi_p, phi_g, k, zeta)
     }
 
-    /// Contact of pair `k` at slice `zeta` by trying every combination of pieces (reference
-    /// implementation; used as fallback and in tests).
+    /// Driving-flank contact of pair `k` at slice `zeta` by trying every combination of pieces.
     pub fn contact_exhaustive(
         &self,
         phi_p: f64,
@@ -407,17 +492,31 @@ impl<'a> ContactSolver<'a> {
         k: i64,
         zeta: f64,
     ) -> Option<ContactPoint> {
-        let (tp, tg) = self.theta(phi_p, phi_g, k, zeta);
-        let fp = &self.geo.pinion.flank.primitives;
-        let fg = &self.geo.gear.flank.primitives;
+        self.contact_exhaustive_on(FlankSide::Drive, phi_p, phi_g, k, zeta)
+    }
+
+    /// Contact of pair `k` on flanks `side` at slice `zeta` by trying every combination of
+    /// pieces (reference implementation; used as fallback and in tests).
+    pub fn contact_exhaustive_on(
+        &self,
+        side: FlankSide,
+        phi_p: f64,
+        phi_g: f64,
+        k: i64,
+        zeta: f64,
+    ) -> Option<ContactPoint> {
+        let (tp, tg) = self.theta(side, phi_p, phi_g, k, zeta);
+        let mirror = side == FlankSide::Back;
         let mut best: Option<ContactPoint> = None;
         let mut buf = [None, None];
-        for pp in fp {
-            for pg in fg {
+        for prim_p in &self.geo.pinion.flank.primitives {
+            for prim_g in &self.geo.gear.flank.primitives {
+                let pp = Piece { prim: prim_p, mirror };
+                let pg = Piece { prim: prim_g, mirror };
                 self.trials(pp, pg, tp, tg, &mut buf);
                 for t in buf.iter().flatten() {
                     if t.side_p == 0 && t.side_g == 0 {
-                        let c = self.build(pp, pg, t, tp, tg, zeta);
+                        let c = self.build(side, pp, pg, t, tp, tg, zeta);
                         if best.is_none_or(|b| c.overlap_m > b.overlap_m) {
                             best = Some(c);
                         }

@@ -7,7 +7,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use helical_gear_mesh::contact::ContactSolver;
+use helical_gear_mesh::contact::{ContactSolver, FlankSide};
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde_json::json;
 
@@ -48,6 +48,9 @@ enum Command {
         /// Number of axial slices.
         #[arg(long, default_value_t = 20)]
         slices: usize,
+        /// List the back-flank contacts (through the backlash) instead of the driving flanks.
+        #[arg(long)]
+        back: bool,
     },
     /// Print the default parameters (Table 1) as JSON, a template for `--params`.
     Params,
@@ -116,7 +119,13 @@ fn geometry_cmd(common: &Common) -> Result<(), String> {
     Ok(())
 }
 
-fn contact_cmd(common: &Common, phi_p: f64, te: f64, slices: usize) -> Result<(), String> {
+fn contact_cmd(
+    common: &Common,
+    phi_p: f64,
+    te: f64,
+    slices: usize,
+    back: bool,
+) -> Result<(), String> {
     if !phi_p.is_finite() || !te.is_finite() {
         return Err(format!("--phi-p ({phi_p}) and --te ({te}) must be finite"));
     }
@@ -129,13 +138,14 @@ fn contact_cmd(common: &Common, phi_p: f64, te: f64, slices: usize) -> Result<()
     let phi_g = g.phi_g_for_te(phi_p, te);
     let zetas = solver.slice_zetas(slices);
     let mut cs = Vec::new();
-    let red = solver.contacts(phi_p, phi_g, &zetas, &mut cs);
+    let side = if back { FlankSide::Back } else { FlankSide::Drive };
+    let red = solver.contacts_on(side, phi_p, phi_g, &zetas, &mut cs);
     if common.json {
         let rows: Vec<_> = cs
             .iter()
             .map(|c| {
                 json!({
-                    "zeta": c.zeta, "pair": c.pair, "kind": c.kind_name(),
+                    "zeta": c.zeta, "pair": c.pair, "side": c.side, "kind": c.kind_name(),
                     "overlap_m": c.overlap_m, "rho_p_m": c.rho_p_m, "rho_g_m": c.rho_g_m,
                     "arm_p_m": c.arm_p_m, "arm_g_m": c.arm_g_m,
                     "radius_p_m": c.radius_p_m, "radius_g_m": c.radius_g_m,
@@ -176,7 +186,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Geometry { common } => geometry_cmd(common),
-        Command::Contact { common, phi_p, te, slices } => contact_cmd(common, *phi_p, *te, *slices),
+        Command::Contact { common, phi_p, te, slices, back } => {
+            contact_cmd(common, *phi_p, *te, *slices, *back)
+        }
         Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
             Ok(s) => {
                 println!("{s}");

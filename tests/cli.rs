@@ -43,7 +43,8 @@ fn contact_json_lists_slices() {
     let slices = v["slices"].as_array().unwrap();
     assert!(!slices.is_empty());
     for s in slices {
-        for key in ["zeta", "pair", "kind", "overlap_m", "rho_p_m", "rho_g_m", "arm_p_m", "arm_g_m"] {
+        for key in ["zeta", "pair", "kind", "overlap_m", "rho_p_m", "rho_g_m", "arm_p_m", "arm_g_m"]
+        {
             assert!(!s[key].is_null(), "missing {key}");
         }
         if s["kind"] == "involute/involute" {
@@ -62,7 +63,8 @@ fn bad_parameters_give_a_clear_error() {
     let (ok, stdout, stderr) = run(&["geometry", "--json", "--params", file.to_str().unwrap()]);
     assert!(!ok && stdout.is_empty());
     assert!(stderr.contains("z_p") && stderr.contains("undercut"), "{stderr}");
-    let (ok, _, stderr) = run(&["geometry", "--params", dir.join("missing.json").to_str().unwrap()]);
+    let (ok, _, stderr) =
+        run(&["geometry", "--params", dir.join("missing.json").to_str().unwrap()]);
     assert!(!ok && stderr.contains("cannot read"), "{stderr}");
     let (ok, _, stderr) = run(&["contact", "--phi-p", "NaN", "--te", "0"]);
     assert!(!ok && stderr.contains("finite"), "{stderr}");

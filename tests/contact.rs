@@ -320,3 +320,51 @@ fn tip_rounding_and_relief_contacts_have_true_arms_and_radii() {
     }
     assert!(seen_rounding);
 }
+
+#[test]
+fn back_flanks_touch_through_the_backlash() {
+    use helical_gear_mesh::contact::FlankSide;
+    let g = table1();
+    let s = ContactSolver::new(&g);
+    let zetas = s.slice_zetas(30);
+    let mut cs = Vec::new();
+    let mut n_inv = 0;
+    let mut kinds = std::collections::BTreeSet::new();
+    for i in 0..60 {
+        let phi_p = -0.2 + 0.4 * i as f64 / 60.0;
+        for te in [-g.backlash_te - 30e-6, -g.backlash_te, -g.backlash_te + 20e-6, 0.0] {
+            s.contacts_on(FlankSide::Back, phi_p, g.phi_g_for_te(phi_p, te), &zetas, &mut cs);
+            for c in &cs {
+                assert_eq!(c.side, FlankSide::Back);
+                assert!(c.normal_residual() < 1e-10);
+                kinds.insert(c.kind_name());
+                if c.kind_p == SegmentKind::Involute && c.kind_g == SegmentKind::Involute {
+                    n_inv += 1;
+                    // Overlap of the back flanks: −(TE + backlash along the base tangent).
+                    assert!((c.overlap_m + te + g.backlash_te).abs() < 1e-12, "{}", c.overlap_m);
+                    // The torques reverse: the arms are minus the base radii.
+                    assert!((c.arm_p_m + g.pinion.rb).abs() < 1e-9 * g.pinion.rb);
+                    assert!((c.arm_g_m + g.gear.rb).abs() < 1e-9 * g.gear.rb);
+                }
+            }
+        }
+    }
+    assert!(n_inv > 500, "{n_inv}");
+    assert!(kinds.contains("relief/involute") && kinds.contains("involute/rounding"), "{kinds:?}");
+    // Fast walk against exhaustive search on the back flanks.
+    let mut rng = Rng(5);
+    for _ in 0..20000 {
+        let phi_p = (rng.next() - 0.5) * 0.3;
+        let te = -g.backlash_te + (rng.next() - 0.5) * 400e-6;
+        let phi_g = g.phi_g_for_te(phi_p, te);
+        let zeta = rng.next() * g.b0();
+        let k = (rng.next() * 7.0) as i64 - 3;
+        let a = s.contact_fast_on(FlankSide::Back, phi_p, phi_g, k, zeta);
+        let b = s.contact_exhaustive_on(FlankSide::Back, phi_p, phi_g, k, zeta);
+        match (a, b) {
+            (None, None) => {}
+            (Some(a), Some(b)) => assert!((a.overlap_m - b.overlap_m).abs() < 1e-13),
+            (a, b) => panic!("fast {a:?} vs exhaustive {b:?}"),
+        }
+    }
+}
