@@ -22,6 +22,7 @@
 
 pub mod fe;
 pub mod hertz;
+pub mod interpolated;
 pub mod lm;
 
 use serde::{Deserialize, Serialize};
