@@ -21,6 +21,7 @@
 //! for the gear it is −j.
 
 pub mod fe;
+pub mod fitted;
 pub mod hertz;
 pub mod interpolated;
 pub mod lm;
