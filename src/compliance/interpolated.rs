@@ -44,11 +44,25 @@ impl fmt::Display for InvalidGrid {
 
 impl std::error::Error for InvalidGrid {}
 
+impl TryFrom<InfluenceGrid> for InterpolatedInfluence {
+    type Error = InvalidGrid;
+
+    fn try_from(grid: InfluenceGrid) -> Result<Self, InvalidGrid> {
+        Self::new(grid)
+    }
+}
+
+impl From<InterpolatedInfluence> for InfluenceGrid {
+    fn from(i: InterpolatedInfluence) -> Self {
+        i.grid
+    }
+}
+
 /// Slope stencil of one node: d_k = Σ coefficient · v_index (unused entries have coefficient 0).
 type Stencil = [(usize, f64); 3];
 
 /// One interpolation axis: nodes and the finite-difference slope stencil of every node.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 struct Axis {
     nodes: Vec<f64>,
     slopes: Vec<Stencil>,
@@ -139,7 +153,10 @@ struct PointWeights {
 }
 
 /// Tensor-product cubic interpolation of an [`InfluenceGrid`] (see the module docs).
+///
+/// Serialised as its grid; deserialisation validates the grid and rebuilds the interpolant.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "InfluenceGrid", into = "InfluenceGrid")]
 pub struct InterpolatedInfluence {
     grid: InfluenceGrid,
     rows: Axis,
@@ -171,7 +188,7 @@ impl InterpolatedInfluence {
     }
 
     /// α*, m/N, for many observation and load points at once: returns the row-major
-    /// `obs.len() × load.len()` matrix (`out[i * load.len() + j]` = α*(obs[i], load[j])).
+    /// `obs.len() × load.len()` matrix (`out[i * load.len() + j]` = α*(`obs[i]`, `load[j]`)).
     ///
     /// Faster than calling [`Compliance::alpha`] per pair: the observation weights are
     /// contracted once per observation point. Equal to it up to rounding.
