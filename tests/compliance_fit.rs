@@ -257,6 +257,26 @@ fn fit_recovers_exact_family_data() {
     }
     eprintln!("exact data: max off-node |e_rel| vs the true function = {worst:.3e}");
     assert!(worst < 1e-2);
+    // Evaluation cost of the formula (same 200 × 200 pattern as the interpolation test).
+    let pts: Vec<FlankCoord> = (0..200)
+        .map(|k| {
+            let s = k as f64 / 199.0;
+            FlankCoord { eta_star: 0.1 + 1.8 * s, tau: 0.0, zeta: 5.0 * s }
+        })
+        .collect();
+    let t = Instant::now();
+    let mut sum = 0.0;
+    for &o in &pts {
+        for &l in &pts {
+            sum += fit.alpha(o, l, 0);
+        }
+    }
+    let el = t.elapsed();
+    assert!(sum.is_finite() && sum > 0.0);
+    eprintln!(
+        "fitted formula: 200×200 matrix in {el:.2?} ({:.0} ns/evaluation)",
+        el.as_nanos() as f64 / 40_000.0
+    );
 }
 
 #[test]
@@ -361,6 +381,15 @@ fn invalid_grids_are_errors() {
         assert!(matches!(FittedInfluence::fit(&g, B0), Err(FitError::Grid(_))), "{what}");
     }
     assert!(matches!(FittedInfluence::fit(&good, -1.0), Err(FitError::Input(_))));
+    // A cached interpolant is validated when it is read back.
+    let mut bad = good.clone();
+    bad.profile.reverse();
+    let json = serde_json::to_string(&bad).expect("serialises");
+    assert!(serde_json::from_str::<InterpolatedInfluence>(&json).is_err());
+    let ok = serde_json::to_string(&InterpolatedInfluence::new(good.clone()).expect("valid"));
+    let back: InterpolatedInfluence =
+        serde_json::from_str(&ok.expect("serialises")).expect("valid grid reads back");
+    assert_eq!(back.grid().teeth, good.teeth);
     let mut g = good.clone();
     g.alpha[1][0] = -1e-11;
     assert!(matches!(FittedInfluence::fit(&g, B0), Err(FitError::Input(_))));
