@@ -21,7 +21,10 @@
 //! for the gear it is −j.
 
 pub mod fe;
+pub mod fitted;
 pub mod hertz;
+pub mod interpolated;
+pub mod lm;
 
 use serde::{Deserialize, Serialize};
 
