@@ -33,6 +33,7 @@
 pub mod assembly;
 pub mod element;
 pub mod error;
+pub mod gear_mesh;
 pub mod material;
 pub mod mesh;
 pub mod solver;
