@@ -22,6 +22,7 @@
 
 pub mod fe;
 pub mod hertz;
+pub mod influence_fe;
 
 use serde::{Deserialize, Serialize};
 
