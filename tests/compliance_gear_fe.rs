@@ -87,7 +87,7 @@ fn mesh_volume_jacobians_and_flank_nodes() {
         let r_tip = f0.local[0][0].hypot(f0.local[0][1]);
         let r_root = f0.local[f0.rows - 1][0].hypot(f0.local[f0.rows - 1][1]);
         assert!((r_tip - g.ra).abs() < 1e-9 && (r_root - g.r_form).abs() < 1e-9);
-        assert!(gm.bore_nodes.len() > 0);
+        assert!(!gm.bore_nodes.is_empty());
     }
 }
 

@@ -354,10 +354,8 @@ fn coons(a: &[P2], c: &[P2], d: &[P2], b: &[P2]) -> Vec<Vec<P2>> {
         x[i][0] = a[i];
         x[i][gj - 1] = c[i];
     }
-    for j in 0..gj {
-        x[0][j] = d[j];
-        x[gi - 1][j] = b[j];
-    }
+    x[0].copy_from_slice(d);
+    x[gi - 1].copy_from_slice(b);
     x
 }
 
@@ -543,7 +541,9 @@ impl GearMesh {
         let b = p.face_width_m;
         let r_bore = 0.5 * p.bore_diameter_m;
         let r_k = g.rf - d.rim_depth_mn * mn;
-        if !(r_k > 1.05 * r_bore) || !(b > 0.0) {
+        if r_k.partial_cmp(&(1.05 * r_bore)) != Some(std::cmp::Ordering::Greater)
+            || b.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        {
             return Err(FeError::InvalidInput(format!(
                 "gear mesh: rim radius r_f − rim_depth = {r_k} m must exceed 1.05 × the bore \
                  radius {r_bore} m (and b = {b} m > 0)"
