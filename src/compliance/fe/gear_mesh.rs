@@ -88,8 +88,11 @@ pub struct GearMeshDensity {
 }
 
 impl Default for GearMeshDensity {
-    /// The default density for production influence data (≈ 50–60k DOFs per gear of the
-    /// Table 1 pair).
+    /// The default density for production influence data: 9 × 13 flank grid (rows × axial
+    /// node levels); for the Table 1 pair 64k DOFs (pinion) and 87k DOFs (gear), about 1 s of
+    /// factorisation and < 0.5 GB each. Six axial layers: the same-tooth α* is governed by the
+    /// axial element length (4 → 6 → 8 layers change it by +4 % and +1.5 %), so the layers are
+    /// spent there; with `layers: 4` the pair has 45k/61k DOFs and α* ≈ 4 % lower.
     fn default() -> Self {
         Self {
             involute: 6,
@@ -103,13 +106,14 @@ impl Default for GearMeshDensity {
             fine_teeth: 1,
             web_ring_ratio: 0.6,
             web_min_divisions: 12,
-            layers: 4,
+            layers: 6,
         }
     }
 }
 
 impl GearMeshDensity {
-    /// A coarse mesh for tests (≲ 15k DOFs per gear of the Table 1 pair).
+    /// A coarse mesh for tests: 5 × 5 flank grid; for the Table 1 pair ≈ 20k DOFs (pinion)
+    /// and 30k DOFs (gear), well under a second of factorisation.
     pub fn coarse() -> Self {
         Self {
             involute: 3,
@@ -127,7 +131,8 @@ impl GearMeshDensity {
         }
     }
 
-    /// A refined mesh for convergence checks (several times the default DOFs).
+    /// A refined mesh for convergence checks: 13 × 17 flank grid, five fine teeth; for the
+    /// Table 1 pair 160k DOFs (pinion, ≈ 4 s factorisation) and 206k DOFs (gear).
     pub fn refined() -> Self {
         Self {
             involute: 9,
@@ -141,7 +146,7 @@ impl GearMeshDensity {
             fine_teeth: 2,
             web_ring_ratio: 0.65,
             web_min_divisions: 16,
-            layers: 6,
+            layers: 8,
         }
     }
 
