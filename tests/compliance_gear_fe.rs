@@ -356,3 +356,19 @@ fn alpha_mesh_convergence() {
         );
     }
 }
+
+#[test]
+fn invalid_inputs_are_errors() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    let g = &geo.pinion;
+    let bad = GearMeshDensity { layers: 0, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &bad).is_err());
+    let bad = GearMeshDensity { web_ring_ratio: 1.5, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &bad).is_err());
+    let deep = GearMeshDensity { rim_depth_mn: 100.0, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &deep).is_err());
+    for h in [0.0, -1e-3, f64::NAN, 1.0] {
+        assert!(fe_influence(g, &p, &GearMeshDensity::coarse(), h, false).is_err());
+    }
+}

@@ -454,6 +454,30 @@ mod tests {
     }
 
     #[test]
+    fn natural_coordinates_invert_the_isoparametric_map() {
+        // A distorted, curved element: the unit cube with a quadratic bulge and a shear.
+        let mut c = [[0.0; 3]; NODES];
+        for (ca, xa) in c.iter_mut().zip(NODE_NATURAL.iter()) {
+            let [u, v, w] = *xa;
+            *ca = [u + 0.2 * v * v + 0.1 * w, v - 0.1 * u * u, 0.5 * w + 0.1 * u * v];
+        }
+        let xi = [0.37, -0.81, 0.55];
+        let n = shape(xi);
+        let mut x = [0.0; 3];
+        for (na, ca) in n.iter().zip(c.iter()) {
+            for k in 0..3 {
+                x[k] += na * ca[k];
+            }
+        }
+        let back = natural_coordinates(&c, x).expect("converges");
+        for k in 0..3 {
+            assert!((back[k] - xi[k]).abs() < 1e-10, "{back:?} vs {xi:?}");
+        }
+        // A point far outside maps outside [−1, 1]³ (or fails to converge).
+        assert!(natural_coordinates(&c, [5.0, 0.0, 0.0]).is_none_or(|v| v[0] > 1.0));
+    }
+
+    #[test]
     fn face_forces_of_uniform_traction_sum_to_total() {
         // Unit cube scaled to 2 × 3 × 4 m; face 3 (ξ = +1) is x = 2, area 12 m².
         let mut c = [[0.0; 3]; NODES];
