@@ -23,6 +23,7 @@
 pub mod fe;
 pub mod fitted;
 pub mod hertz;
+pub mod influence_fe;
 pub mod interpolated;
 pub mod lm;
 

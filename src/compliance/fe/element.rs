@@ -204,6 +204,60 @@ pub fn gradients(
     Ok((g, det))
 }
 
+/// Natural coordinates ξ of the physical point `x` (m) in the element with nodal coordinates
+/// `coords` (inverse isoparametric map, Newton's method from the element centre).
+///
+/// Returns `None` if the iteration does not converge (to 1e-12 in ξ) or meets a singular
+/// Jacobian; the result may lie outside [−1, 1]³ when `x` is outside the element, so callers
+/// test containment themselves.
+pub fn natural_coordinates(coords: &[[f64; 3]; NODES], x: [f64; 3]) -> Option<[f64; 3]> {
+    let mut xi = [0.0; 3];
+    for _ in 0..60 {
+        let n = shape(xi);
+        let dn = shape_derivatives(xi);
+        let mut r = [-x[0], -x[1], -x[2]];
+        let mut j = [[0.0; 3]; 3];
+        for a in 0..NODES {
+            for i in 0..3 {
+                r[i] += n[a] * coords[a][i];
+                for k in 0..3 {
+                    j[i][k] += coords[a][i] * dn[a][k];
+                }
+            }
+        }
+        let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+            - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+            + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+        if !(det.is_finite() && det != 0.0) {
+            return None;
+        }
+        // Cramer's rule for J δ = r.
+        let solve_col = |col: usize| {
+            let mut m = j;
+            for i in 0..3 {
+                m[i][col] = r[i];
+            }
+            (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+                / det
+        };
+        let delta = [solve_col(0), solve_col(1), solve_col(2)];
+        let mut step = 0.0f64;
+        for k in 0..3 {
+            xi[k] = (xi[k] - delta[k]).clamp(-3.0, 3.0);
+            step = step.max(delta[k].abs());
+        }
+        if !step.is_finite() {
+            return None;
+        }
+        if step < 1e-12 {
+            return Some(xi);
+        }
+    }
+    None
+}
+
 /// Element stiffness matrix of a hex20 element, N/m, written into `ke` (60×60, symmetric,
 /// DOF order 3a + i).
 ///
@@ -397,6 +451,30 @@ mod tests {
                 assert_eq!(NODE_NATURAL[a][axis], sign, "face {f} node {a}");
             }
         }
+    }
+
+    #[test]
+    fn natural_coordinates_invert_the_isoparametric_map() {
+        // A distorted, curved element: the unit cube with a quadratic bulge and a shear.
+        let mut c = [[0.0; 3]; NODES];
+        for (ca, xa) in c.iter_mut().zip(NODE_NATURAL.iter()) {
+            let [u, v, w] = *xa;
+            *ca = [u + 0.2 * v * v + 0.1 * w, v - 0.1 * u * u, 0.5 * w + 0.1 * u * v];
+        }
+        let xi = [0.37, -0.81, 0.55];
+        let n = shape(xi);
+        let mut x = [0.0; 3];
+        for (na, ca) in n.iter().zip(c.iter()) {
+            for k in 0..3 {
+                x[k] += na * ca[k];
+            }
+        }
+        let back = natural_coordinates(&c, x).expect("converges");
+        for k in 0..3 {
+            assert!((back[k] - xi[k]).abs() < 1e-10, "{back:?} vs {xi:?}");
+        }
+        // A point far outside maps outside [−1, 1]³ (or fails to converge).
+        assert!(natural_coordinates(&c, [5.0, 0.0, 0.0]).is_none_or(|v| v[0] > 1.0));
     }
 
     #[test]

@@ -274,6 +274,35 @@ impl Mesh {
         self.nodes.iter().enumerate().filter(|(_, x)| pred(x)).map(|(i, _)| i).collect()
     }
 
+    /// The element containing the point `x` (m) and the natural coordinates of `x` in it, or
+    /// `None` if no element contains it.
+    ///
+    /// Candidates are the elements whose node bounding box contains `x`; for each, the inverse
+    /// isoparametric map ([`element::natural_coordinates`]) is solved and the point accepted when
+    /// all |ξᵢ| ≤ 1 + 1e-9. Linear in the number of elements (meant for a few hundred queries).
+    pub fn locate(&self, x: [f64; 3]) -> Option<(usize, [f64; 3])> {
+        for e in 0..self.elements.len() {
+            let c = self.element_coords(e)?;
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for p in &c {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            let margin = 0.02 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
+            if (0..3).any(|k| x[k] < lo[k] - margin || x[k] > hi[k] + margin) {
+                continue;
+            }
+            if let Some(xi) = element::natural_coordinates(&c, x) {
+                if xi.iter().all(|v| v.abs() <= 1.0 + 1e-9) {
+                    return Some((e, xi));
+                }
+            }
+        }
+        None
+    }
+
     /// The global node indices of a face: four corners counter-clockwise seen from outside,
     /// then four mid-edge nodes ([`super::element::FACES`] order). `None` for a face that does
     /// not exist.

@@ -14,7 +14,8 @@
 //! - fixed nodes have all three components zero; loads given on fixed DOFs are ignored (they go
 //!   into the support reactions) and their displacements are returned as exactly 0.
 //!
-//! Meshes are built from mapped structured blocks glued by node merging ([`mesh`]).
+//! Meshes are built from mapped structured blocks glued by node merging ([`mesh`]); the mesh
+//! of a whole helical gear (teeth, fillets, web to the bore) is built by [`gear_mesh`].
 //!
 //! ```
 //! use helical_gear_mesh::compliance::fe::{FeModel, Material, Mesh, dof};
@@ -33,6 +34,7 @@
 pub mod assembly;
 pub mod element;
 pub mod error;
+pub mod gear_mesh;
 pub mod material;
 pub mod mesh;
 pub mod solver;

@@ -1,0 +1,759 @@
+//! Hex20 mesh of a whole helical gear: all teeth and the body down to the hub bore.
+//!
+//! # Construction
+//!
+//! 1. **Transverse quadratic quad mesh (8-node quads).** Each tooth owns the pitch sector of
+//!    polar angles θ_k − π/z … θ_k + π/z (θ_k = 2πk/z, teeth numbered counter-clockwise). Its
+//!    upper half (tooth-local y ≥ 0) is made of two mapped blocks (transfinite/Coons
+//!    interpolation of the four boundary curves):
+//!    * the *tooth block*, bounded by the active flank from the form point F (top of the fillet)
+//!      to the end R of the tip rounding, the tip land R → B (tip circle to the centre line), the
+//!      tooth centre line, and the straight line F → M across the tooth (M on the centre line);
+//!      rows of nodes along the flank (`involute` elements from F to the start of the rounding,
+//!      uniform in arc length, then `rounding` elements, uniform in angle), `across` elements
+//!      from the flank to the centre line;
+//!    * the *root block* below it, bounded by F → M, the composite curve fillet F → G (generated
+//!      by the basic rack's root rounding), root circle G → A (A at the middle of the tooth
+//!      space, polar angle π/z) and radial cut line A → K down to the rim radius r_K = r_f −
+//!      `rim_depth_mn`·m_n, the arc K → Q at r_K and the centre line Q → M.
+//!
+//!    The lower half is the mirror image (y → −y), so the node distributions on the two radial
+//!    cut lines at ±π/z are identical and neighbouring sectors join conformingly. Teeth with
+//!    offsets −`fine_teeth` … +`fine_teeth` from tooth 0 use the fine density; the others use
+//!    one element across the half tooth, `coarse_involute` + 1 along the flank and one element
+//!    each on fillet and root (the cut line, shared by neighbours, has `rim` elements in all
+//!    sectors). Below r_K the *web* is meshed as rings down to the bore: transition rings
+//!    (three outer elements into one inner, by the usual four-quad template; a remainder is
+//!    passed through) while the number of elements around stays ≥ `web_min_divisions`, then
+//!    plain rings with inner/outer radius ratio ≈ `web_ring_ratio`. Mid-edge nodes lie on the
+//!    exact boundary curves (flank, fillet, root and tip circles, bore); in the web they are
+//!    placed at the polar mid-point (on circles for circumferential edges).
+//! 2. **Extrusion along the helix.** The quad mesh is extruded in `layers` equal axial layers
+//!    over the face width b; a node at axial position z is the transverse node turned by
+//!    `twist_rate`·z about the axis (so every transverse section is the gear's section at that
+//!    z). Mid-layer nodes (only above quad corners, as hex20 requires) come from the same
+//!    mapping at the half layer, so vertical edges are quadratic approximations of helices.
+//!    Each quad × layer gives one hex20 element (C3D20 node order; quads counter-clockwise,
+//!    z upward, so every element is right-handed).
+//!
+//! # Boundary condition
+//! All nodes on the bore surface r = d_bore/2 are fixed (all three components): the hub is
+//! rigid and its rotation is the reference of the gear angle. Everything else is free.
+//!
+//! # Flank grids
+//! On the active (positive) flank of every tooth the surface nodes at corner rows of the
+//! profile (F … R) and at all axial node levels (corner and mid-layer, 2·`layers` + 1) form a
+//! structured grid ([`FlankGrid`]), rows ordered tip → root (increasing profile coordinate,
+//! as [`crate::compliance::InfluenceGrid`]) and columns by increasing z.
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+use super::element::NODES;
+use super::error::FeError;
+use super::mesh::Mesh;
+use crate::geometry::{GearGeometry, SegmentKind};
+use crate::params::GearPair;
+
+/// Mesh density of [`GearMesh`]. Element counts are per tooth (upper half of the pitch sector)
+/// unless stated otherwise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GearMeshDensity {
+    /// Elements along the flank from the form circle to the start of the tip rounding (fine
+    /// teeth).
+    pub involute: usize,
+    /// Elements on the tip rounding (fine teeth).
+    pub rounding: usize,
+    /// Elements across half a tooth, flank to centre line (fine teeth).
+    pub across: usize,
+    /// Elements along the fillet (fine teeth).
+    pub fillet: usize,
+    /// Elements along the root circle from the fillet to the middle of the tooth space (fine
+    /// teeth).
+    pub root: usize,
+    /// Elements along the radial cut line from the root circle to the rim radius (all teeth).
+    pub rim: usize,
+    /// Depth of the rim below the root circle, in units of m_n; the web starts below it.
+    pub rim_depth_mn: f64,
+    /// Elements along the flank below the rounding on coarse teeth.
+    pub coarse_involute: usize,
+    /// Teeth with offsets −`fine_teeth` … `fine_teeth` from tooth 0 get the fine density (≥ 1).
+    pub fine_teeth: usize,
+    /// Ratio inner/outer radius of the plain web rings, in (0, 1).
+    pub web_ring_ratio: f64,
+    /// Smallest number of elements around the web after a transition ring.
+    pub web_min_divisions: usize,
+    /// Number of axial element layers over the face width.
+    pub layers: usize,
+}
+
+impl Default for GearMeshDensity {
+    /// The default density for production influence data: 9 × 13 flank grid (rows × axial
+    /// node levels); for the Table 1 pair 64k DOFs (pinion) and 87k DOFs (gear), about 1 s of
+    /// factorisation and < 0.5 GB each. Six axial layers: the same-tooth α* is governed by the
+    /// axial element length (4 → 6 → 8 layers change it by +4 % and +1.5 %), so the layers are
+    /// spent there; with `layers: 4` the pair has 45k/61k DOFs and α* ≈ 4 % lower.
+    fn default() -> Self {
+        Self {
+            involute: 6,
+            rounding: 2,
+            across: 3,
+            fillet: 2,
+            root: 1,
+            rim: 1,
+            rim_depth_mn: 2.0,
+            coarse_involute: 1,
+            fine_teeth: 1,
+            web_ring_ratio: 0.6,
+            web_min_divisions: 12,
+            layers: 6,
+        }
+    }
+}
+
+impl GearMeshDensity {
+    /// A coarse mesh for tests: 5 × 5 flank grid; for the Table 1 pair ≈ 20k DOFs (pinion)
+    /// and 30k DOFs (gear), well under a second of factorisation.
+    pub fn coarse() -> Self {
+        Self {
+            involute: 3,
+            rounding: 1,
+            across: 2,
+            fillet: 1,
+            root: 1,
+            rim: 1,
+            rim_depth_mn: 2.0,
+            coarse_involute: 1,
+            fine_teeth: 1,
+            web_ring_ratio: 0.5,
+            web_min_divisions: 8,
+            layers: 2,
+        }
+    }
+
+    /// A refined mesh for convergence checks: 13 × 17 flank grid, five fine teeth; for the
+    /// Table 1 pair 160k DOFs (pinion, ≈ 4 s factorisation) and 206k DOFs (gear).
+    pub fn refined() -> Self {
+        Self {
+            involute: 9,
+            rounding: 3,
+            across: 4,
+            fillet: 3,
+            root: 2,
+            rim: 2,
+            rim_depth_mn: 2.0,
+            coarse_involute: 2,
+            fine_teeth: 2,
+            web_ring_ratio: 0.65,
+            web_min_divisions: 16,
+            layers: 8,
+        }
+    }
+
+    fn validate(&self) -> Result<(), FeError> {
+        let counts = [
+            ("involute", self.involute),
+            ("rounding", self.rounding),
+            ("across", self.across),
+            ("fillet", self.fillet),
+            ("root", self.root),
+            ("rim", self.rim),
+            ("coarse_involute", self.coarse_involute),
+            ("fine_teeth", self.fine_teeth),
+            ("web_min_divisions", self.web_min_divisions),
+            ("layers", self.layers),
+        ];
+        for (name, v) in counts {
+            if v == 0 || v > 1000 {
+                return Err(FeError::InvalidInput(format!(
+                    "gear mesh density: {name} = {v}, allowed 1 … 1000"
+                )));
+            }
+        }
+        if !(self.web_ring_ratio > 0.05 && self.web_ring_ratio < 0.98) {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh density: web_ring_ratio = {}, allowed (0.05, 0.98)",
+                self.web_ring_ratio
+            )));
+        }
+        if !(self.rim_depth_mn.is_finite() && self.rim_depth_mn > 0.0) {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh density: rim_depth_mn = {} must be > 0",
+                self.rim_depth_mn
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The structured grid of surface nodes on the active flank of one tooth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlankGrid {
+    /// Tooth index 0 … z − 1 (counter-clockwise).
+    pub tooth: usize,
+    /// Number of profile rows (tip → root).
+    pub rows: usize,
+    /// Number of axial columns (increasing z).
+    pub cols: usize,
+    /// Mesh node of grid point `row * cols + col`.
+    pub nodes: Vec<usize>,
+    /// Tooth-local outward-normal angle ν of each row, rad (see [`crate::geometry::flank`]).
+    pub nu: Vec<f64>,
+    /// Tooth-local transverse position of each row, m (x along the tooth centre line).
+    pub local: Vec<[f64; 2]>,
+    /// Surface kind of each row.
+    pub kind: Vec<SegmentKind>,
+    /// Unit outward 3D surface normal at grid point `row * cols + col`.
+    pub normals: Vec<[f64; 3]>,
+}
+
+/// A hex20 mesh of a whole gear with its bore nodes and flank grids.
+#[derive(Debug, Clone)]
+pub struct GearMesh {
+    /// The mesh (m).
+    pub mesh: Mesh,
+    /// Nodes on the bore surface (to be fixed).
+    pub bore_nodes: Vec<usize>,
+    /// Flank grid of every tooth, indexed by tooth.
+    pub flanks: Vec<FlankGrid>,
+    /// Axial position of each node level (2·layers + 1 values), m.
+    pub level_z: Vec<f64>,
+    /// Radii of the web ring boundaries from the rim radius r_K down to the bore, m.
+    pub web_radii: Vec<f64>,
+    /// Bore radius, m.
+    pub r_bore: f64,
+    /// Number of quads of the transverse mesh.
+    pub quads: usize,
+}
+
+/// 2D node pool with coincidence detection (spatial hash, absolute tolerance).
+struct Pool {
+    pts: Vec<[f64; 2]>,
+    corner: Vec<bool>,
+    mid: Vec<bool>,
+    head: HashMap<(i64, i64), Vec<usize>>,
+    tol: f64,
+}
+
+impl Pool {
+    fn new(tol: f64) -> Self {
+        Self { pts: Vec::new(), corner: Vec::new(), mid: Vec::new(), head: HashMap::new(), tol }
+    }
+
+    fn add(&mut self, p: [f64; 2], is_corner: bool) -> usize {
+        let c = ((p[0] / self.tol).floor() as i64, (p[1] / self.tol).floor() as i64);
+        let mut found = None;
+        'outer: for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(list) = self.head.get(&(c.0 + dx, c.1 + dy)) {
+                    for &i in list {
+                        let q = self.pts[i];
+                        if (q[0] - p[0]).hypot(q[1] - p[1]) <= self.tol {
+                            found = Some(i);
+                            break 'outer;
+                        }
+                    }
+                }
+            }
+        }
+        let i = match found {
+            Some(i) => i,
+            None => {
+                let i = self.pts.len();
+                self.pts.push(p);
+                self.corner.push(false);
+                self.mid.push(false);
+                self.head.entry(c).or_default().push(i);
+                i
+            }
+        };
+        if is_corner {
+            self.corner[i] = true;
+        } else {
+            self.mid[i] = true;
+        }
+        i
+    }
+}
+
+type P2 = [f64; 2];
+
+fn lerp2(a: P2, b: P2, t: f64) -> P2 {
+    [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t]
+}
+
+fn polar(r: f64, a: f64) -> P2 {
+    [r * a.cos(), r * a.sin()]
+}
+
+/// Cumulative chord-length fractions of a polyline (0 … 1).
+fn fractions(p: &[P2]) -> Vec<f64> {
+    let mut s = vec![0.0; p.len()];
+    for i in 1..p.len() {
+        s[i] = s[i - 1] + (p[i][0] - p[i - 1][0]).hypot(p[i][1] - p[i - 1][1]);
+    }
+    let total = s.last().copied().unwrap_or(0.0);
+    if total > 0.0 {
+        for v in &mut s {
+            *v /= total;
+        }
+    }
+    s
+}
+
+/// 2n + 1 points (corners and mid-edge nodes of n elements) of the curve f(t), t ∈ [0, 1],
+/// uniform in arc length; returns (t, point) pairs, each point evaluated exactly by f.
+fn resample(f: &dyn Fn(f64) -> Result<P2, FeError>, n: usize) -> Result<Vec<(f64, P2)>, FeError> {
+    const DENSE: usize = 2000;
+    let mut table = Vec::with_capacity(DENSE + 1);
+    for i in 0..=DENSE {
+        let t = i as f64 / DENSE as f64;
+        table.push(f(t)?);
+    }
+    let s = fractions(&table);
+    let mut out = Vec::with_capacity(2 * n + 1);
+    let mut k = 0usize;
+    for i in 0..=2 * n {
+        let target = i as f64 / (2 * n) as f64;
+        let t = if i == 0 {
+            0.0
+        } else if i == 2 * n {
+            1.0
+        } else {
+            while k + 1 < DENSE && s[k + 1] < target {
+                k += 1;
+            }
+            let (s0, s1) = (s[k], s[k + 1]);
+            let w = if s1 > s0 { (target - s0) / (s1 - s0) } else { 0.0 };
+            (k as f64 + w) / DENSE as f64
+        };
+        out.push((t, f(t)?));
+    }
+    Ok(out)
+}
+
+/// Discrete transfinite (Coons) interpolation on the quadratic node grid.
+///
+/// `a` (j = 0) and `c` (j = max) have 2·ni + 1 points along i; `d` (i = 0) and `b` (i = max)
+/// have 2·nj + 1 points along j; corners must agree. Boundary nodes are copied exactly.
+fn coons(a: &[P2], c: &[P2], d: &[P2], b: &[P2]) -> Vec<Vec<P2>> {
+    let (gi, gj) = (a.len(), d.len());
+    let (fa, fc, fd, fb) = (fractions(a), fractions(c), fractions(d), fractions(b));
+    let mut x = vec![vec![[0.0; 2]; gj]; gi];
+    for i in 0..gi {
+        for j in 0..gj {
+            let u = 0.5 * (fa[i] + fc[i]);
+            let v = 0.5 * (fd[j] + fb[j]);
+            let mut p = [0.0; 2];
+            for k in 0..2 {
+                p[k] = (1.0 - v) * a[i][k] + v * c[i][k] + (1.0 - u) * d[j][k] + u * b[j][k]
+                    - ((1.0 - u) * (1.0 - v) * a[0][k]
+                        + (1.0 - u) * v * c[0][k]
+                        + u * (1.0 - v) * a[gi - 1][k]
+                        + u * v * c[gi - 1][k]);
+            }
+            x[i][j] = p;
+        }
+    }
+    for i in 0..gi {
+        x[i][0] = a[i];
+        x[i][gj - 1] = c[i];
+    }
+    x[0].copy_from_slice(d);
+    x[gi - 1].copy_from_slice(b);
+    x
+}
+
+/// Quad8 points of the elements of a quadratic grid: corners (CCW or CW), then mid-edge nodes.
+fn grid_quads(x: &[Vec<P2>]) -> Vec<[P2; 8]> {
+    let (gi, gj) = (x.len(), x.first().map_or(0, |r| r.len()));
+    let mut out = Vec::new();
+    for ei in 0..(gi - 1) / 2 {
+        for ej in 0..(gj - 1) / 2 {
+            let (i, j) = (2 * ei, 2 * ej);
+            out.push([
+                x[i][j],
+                x[i + 2][j],
+                x[i + 2][j + 2],
+                x[i][j + 2],
+                x[i + 1][j],
+                x[i + 2][j + 1],
+                x[i + 1][j + 2],
+                x[i][j + 1],
+            ]);
+        }
+    }
+    out
+}
+
+fn signed_area(q: &[P2; 8]) -> f64 {
+    let mut s = 0.0;
+    for k in 0..4 {
+        let (a, b) = (q[k], q[(k + 1) % 4]);
+        s += a[0] * b[1] - b[0] * a[1];
+    }
+    0.5 * s
+}
+
+/// Makes the quad counter-clockwise.
+fn ccw(q: [P2; 8]) -> [P2; 8] {
+    if signed_area(&q) >= 0.0 { q } else { [q[0], q[3], q[2], q[1], q[7], q[6], q[5], q[4]] }
+}
+
+/// Profile rows of one tooth flank (corner and mid rows, root → tip): (ν, point, kind).
+fn flank_rows(
+    g: &GearGeometry,
+    involute: usize,
+    rounding: usize,
+) -> Result<Vec<(f64, P2, SegmentKind)>, FeError> {
+    let nu_f = g.flank.nu_root();
+    let nu_q = g.nu_rounding_start;
+    let nu_r = g.tip_land_half_angle;
+    let point = |nu: f64| -> Result<(P2, SegmentKind), FeError> {
+        g.flank.point_at_normal(nu).map(|p| (p.position, p.kind)).ok_or_else(|| {
+            FeError::InvalidInput(format!("normal angle {nu} not on the active flank"))
+        })
+    };
+    let lower = resample(&|t: f64| point(nu_f + (nu_q - nu_f) * t).map(|(p, _)| p), involute)?;
+    let mut rows = Vec::with_capacity(2 * (involute + rounding) + 1);
+    for (t, _) in &lower {
+        let nu = nu_f + (nu_q - nu_f) * t;
+        let (p, k) = point(nu)?;
+        rows.push((nu, p, k));
+    }
+    for i in 1..=2 * rounding {
+        let nu = nu_q + (nu_r - nu_q) * i as f64 / (2 * rounding) as f64;
+        let (p, _) = point(nu)?;
+        rows.push((nu, p, SegmentKind::Rounding));
+    }
+    Ok(rows)
+}
+
+/// The quads of the upper half of one pitch sector (tooth-local frame) and the flank rows.
+struct HalfSector {
+    quads: Vec<[P2; 8]>,
+    rows: Vec<(f64, P2, SegmentKind)>,
+}
+
+fn half_sector(
+    g: &GearGeometry,
+    d: &GearMeshDensity,
+    fine: bool,
+    r_k: f64,
+) -> Result<HalfSector, FeError> {
+    let (involute, rounding, across, fillet, root) = if fine {
+        (d.involute, d.rounding, d.across, d.fillet, d.root)
+    } else {
+        (d.coarse_involute, 1, 1, 1, 1)
+    };
+    let rows = flank_rows(g, involute, rounding)?;
+    let a: Vec<P2> = rows.iter().map(|r| r.1).collect();
+    let f_pt = a[0];
+    let r_pt = a[a.len() - 1];
+    let x_f = f_pt[0];
+    let ra = g.ra;
+    // Centre line of the tooth block: x scaled from the flank rows.
+    let scale = (ra - x_f) / (r_pt[0] - x_f);
+    let c: Vec<P2> = a.iter().map(|p| [x_f + (p[0] - x_f) * scale, 0.0]).collect();
+    let m_pt = [x_f, 0.0];
+    let nj = 2 * across + 1;
+    let bottom: Vec<P2> = (0..nj).map(|j| lerp2(f_pt, m_pt, j as f64 / (nj - 1) as f64)).collect();
+    let phi_t = g.tip_land_half_angle;
+    let tip: Vec<P2> =
+        (0..nj).map(|j| polar(ra, phi_t * (1.0 - j as f64 / (nj - 1) as f64))).collect();
+    let tooth = coons(&a, &c, &bottom, &tip);
+    let mut quads: Vec<[P2; 8]> = grid_quads(&tooth);
+
+    // Root block: composite side fillet F→G, root circle G→A, cut line A→K.
+    let rack = g.rack;
+    let chi_max = rack.chi_max();
+    let fil = resample(
+        &|t: f64| {
+            let (p, n) = rack.fillet_point(chi_max * (1.0 - t));
+            Ok(rack.generate(p, n))
+        },
+        fillet,
+    )?;
+    let mut side: Vec<P2> = fil.iter().map(|x| x.1).collect();
+    side[0] = f_pt;
+    let g_pt = side[side.len() - 1];
+    let g_ang = g_pt[1].atan2(g_pt[0]);
+    let half_pitch = PI / g.z as f64;
+    for i in 1..=2 * root {
+        let ang = g_ang + (half_pitch - g_ang) * i as f64 / (2 * root) as f64;
+        side.push(polar(g.rf, ang));
+    }
+    let n_upper = side.len();
+    for i in 1..=2 * d.rim {
+        let rr = g.rf + (r_k - g.rf) * i as f64 / (2 * d.rim) as f64;
+        side.push(polar(rr, half_pitch));
+    }
+    let frac_upper = fractions(&side[..n_upper]);
+    let mut left: Vec<P2> = Vec::with_capacity(side.len());
+    for (i, p) in side.iter().enumerate() {
+        if i < n_upper {
+            left.push([x_f + (g.rf - x_f) * frac_upper[i], 0.0]);
+        } else {
+            left.push([p[0].hypot(p[1]), 0.0]);
+        }
+    }
+    let arc: Vec<P2> =
+        (0..nj).map(|j| polar(r_k, half_pitch * (1.0 - j as f64 / (nj - 1) as f64))).collect();
+    let rootb = coons(&side, &left, &bottom, &arc);
+    quads.extend(grid_quads(&rootb));
+    Ok(HalfSector { quads, rows })
+}
+
+/// Rotates a 2D point by angle `a`.
+fn rot2(p: P2, a: f64) -> P2 {
+    let (s, c) = a.sin_cos();
+    [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+}
+
+/// Polar mid-point of two points.
+fn polar_mid(p: P2, q: P2) -> P2 {
+    let (r1, r2) = (p[0].hypot(p[1]), q[0].hypot(q[1]));
+    let (a1, mut a2) = (p[1].atan2(p[0]), q[1].atan2(q[0]));
+    if a2 - a1 > PI {
+        a2 -= 2.0 * PI;
+    } else if a1 - a2 > PI {
+        a2 += 2.0 * PI;
+    }
+    polar(0.5 * (r1 + r2), 0.5 * (a1 + a2))
+}
+
+fn web_quad(c: [P2; 4]) -> [P2; 8] {
+    [
+        c[0],
+        c[1],
+        c[2],
+        c[3],
+        polar_mid(c[0], c[1]),
+        polar_mid(c[1], c[2]),
+        polar_mid(c[2], c[3]),
+        polar_mid(c[3], c[0]),
+    ]
+}
+
+impl GearMesh {
+    /// Builds the mesh of gear `g` of pair `p` (face width and bore from `p`).
+    ///
+    /// Errors: an invalid density, a rim radius r_K not above the bore, or (should the
+    /// geometry be unusual) a flank that cannot be sampled or a non-conforming transverse mesh.
+    pub fn build(g: &GearGeometry, p: &GearPair, d: &GearMeshDensity) -> Result<Self, FeError> {
+        d.validate()?;
+        let mn = p.normal_module_m;
+        let b = p.face_width_m;
+        let r_bore = 0.5 * p.bore_diameter_m;
+        let r_k = g.rf - d.rim_depth_mn * mn;
+        if r_k.partial_cmp(&(1.05 * r_bore)) != Some(std::cmp::Ordering::Greater)
+            || b.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh: rim radius r_f − rim_depth = {r_k} m must exceed 1.05 × the bore \
+                 radius {r_bore} m (and b = {b} m > 0)"
+            )));
+        }
+        let z = g.z as usize;
+        let pitch = g.angular_pitch();
+        let fine_half = half_sector(g, d, true, r_k)?;
+        let coarse_half = half_sector(g, d, false, r_k)?;
+        let mut pool = Pool::new(1e-9 * g.ra);
+        let mut quads: Vec<[usize; 8]> = Vec::new();
+        let mut push = |pool: &mut Pool, q: [P2; 8]| {
+            let q = ccw(q);
+            let mut ids = [0usize; 8];
+            for (k, id) in ids.iter_mut().enumerate() {
+                *id = pool.add(q[k], k < 4);
+            }
+            quads.push(ids);
+        };
+        let mut flank_ids: Vec<Vec<usize>> = Vec::with_capacity(z);
+        for k in 0..z {
+            let offset = if k <= z / 2 { k as i64 } else { k as i64 - z as i64 };
+            let fine = offset.unsigned_abs() as usize <= d.fine_teeth;
+            let hs = if fine { &fine_half } else { &coarse_half };
+            let th = pitch * k as f64;
+            for q in &hs.quads {
+                push(&mut pool, q.map(|p| rot2(p, th)));
+                push(&mut pool, q.map(|p| rot2([p[0], -p[1]], th)));
+            }
+            // Corner rows of the flank, tip → root.
+            let ids: Vec<usize> =
+                hs.rows.iter().step_by(2).rev().map(|r| pool.add(rot2(r.1, th), true)).collect();
+            flank_ids.push(ids);
+        }
+        // Web rings: outer boundary = corner nodes on r_K.
+        let tol = 1e-9 * g.ra;
+        let mut angles: Vec<f64> = (0..pool.pts.len())
+            .filter(|&i| pool.corner[i] && (pool.pts[i][0].hypot(pool.pts[i][1]) - r_k).abs() < tol)
+            .map(|i| pool.pts[i][1].atan2(pool.pts[i][0]).rem_euclid(2.0 * PI))
+            .collect();
+        angles.sort_by(f64::total_cmp);
+        let mut web_radii = vec![r_k];
+        let mut r_o = r_k;
+        let q = d.web_ring_ratio;
+        let mut m = angles.len();
+        while m / 3 >= d.web_min_divisions && r_o * q > r_bore * 1.02 {
+            let r_i = r_o * q;
+            let r_m = 0.5 * (r_o + r_i);
+            let mut inner = Vec::new();
+            let mut k = 0;
+            while k < m {
+                let a = |i: usize| {
+                    if i >= m { angles[i - m] + 2.0 * PI } else { angles[i] }
+                };
+                if m - k >= 3 {
+                    let (a0, a1, a2, a3) = (a(k), a(k + 1), a(k + 2), a(k + 3));
+                    let o = [polar(r_o, a0), polar(r_o, a1), polar(r_o, a2), polar(r_o, a3)];
+                    let c1 = polar(r_m, a0 + (a3 - a0) / 3.0);
+                    let c2 = polar(r_m, a0 + 2.0 * (a3 - a0) / 3.0);
+                    let (b0, b1) = (polar(r_i, a0), polar(r_i, a3));
+                    for cq in [
+                        [o[0], o[1], c1, b0],
+                        [o[1], o[2], c2, c1],
+                        [o[2], o[3], b1, c2],
+                        [c1, c2, b1, b0],
+                    ] {
+                        push(&mut pool, web_quad(cq));
+                    }
+                    inner.push(a0);
+                    k += 3;
+                } else {
+                    let (a0, a1) = (a(k), a(k + 1));
+                    push(
+                        &mut pool,
+                        web_quad([polar(r_o, a0), polar(r_o, a1), polar(r_i, a1), polar(r_i, a0)]),
+                    );
+                    inner.push(a0);
+                    k += 1;
+                }
+            }
+            angles = inner;
+            m = angles.len();
+            r_o = r_i;
+            web_radii.push(r_o);
+        }
+        let n_plain = ((r_o / r_bore).ln() / (1.0 / q).ln()).ceil().max(1.0) as usize;
+        for ring in 0..n_plain {
+            let r1 = r_o * (r_bore / r_o).powf(ring as f64 / n_plain as f64);
+            let r2 = if ring + 1 == n_plain {
+                r_bore
+            } else {
+                r_o * (r_bore / r_o).powf((ring + 1) as f64 / n_plain as f64)
+            };
+            for k in 0..m {
+                let a0 = angles[k];
+                let a1 = if k + 1 == m { angles[0] + 2.0 * PI } else { angles[k + 1] };
+                push(
+                    &mut pool,
+                    web_quad([polar(r1, a0), polar(r1, a1), polar(r2, a1), polar(r2, a0)]),
+                );
+            }
+            web_radii.push(r2);
+        }
+        if let Some(i) = (0..pool.pts.len()).find(|&i| pool.corner[i] && pool.mid[i]) {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh: transverse node at {:?} is a corner of one quad and a mid-edge node \
+                 of another (non-conforming density)",
+                pool.pts[i]
+            )));
+        }
+
+        // Extrusion.
+        let levels = 2 * d.layers + 1;
+        let level_z: Vec<f64> = (0..levels).map(|l| b * l as f64 / (levels - 1) as f64).collect();
+        let n2 = pool.pts.len();
+        let corner_ids: Vec<usize> = (0..n2).filter(|&i| pool.corner[i]).collect();
+        let mut corner_index = vec![usize::MAX; n2];
+        for (ci, &i) in corner_ids.iter().enumerate() {
+            corner_index[i] = ci;
+        }
+        let mut level_offset = Vec::with_capacity(levels);
+        let mut nodes = Vec::new();
+        for (l, &zl) in level_z.iter().enumerate() {
+            level_offset.push(nodes.len());
+            let turn = g.twist_rate * zl;
+            if l % 2 == 0 {
+                for p in &pool.pts {
+                    let t = rot2(*p, turn);
+                    nodes.push([t[0], t[1], zl]);
+                }
+            } else {
+                for &i in &corner_ids {
+                    let t = rot2(pool.pts[i], turn);
+                    nodes.push([t[0], t[1], zl]);
+                }
+            }
+        }
+        let id3 = |l: usize, i2: usize| -> usize {
+            if l % 2 == 0 { level_offset[l] + i2 } else { level_offset[l] + corner_index[i2] }
+        };
+        let mut elements = Vec::with_capacity(quads.len() * d.layers);
+        for layer in 0..d.layers {
+            let (lb, lm, lt) = (2 * layer, 2 * layer + 1, 2 * layer + 2);
+            for qd in &quads {
+                let mut conn = [0usize; NODES];
+                for k in 0..4 {
+                    conn[k] = id3(lb, qd[k]);
+                    conn[4 + k] = id3(lt, qd[k]);
+                    conn[8 + k] = id3(lb, qd[4 + k]);
+                    conn[12 + k] = id3(lt, qd[4 + k]);
+                    conn[16 + k] = id3(lm, qd[k]);
+                }
+                elements.push(conn);
+            }
+        }
+        let mesh = Mesh::new(nodes, elements)?;
+        let bore_nodes = mesh.nodes_where(|x| x[0].hypot(x[1]) < r_bore + tol);
+
+        // Flank grids.
+        let mut flanks = Vec::with_capacity(z);
+        for (k, ids) in flank_ids.iter().enumerate() {
+            let offset = if k <= z / 2 { k as i64 } else { k as i64 - z as i64 };
+            let hs = if offset.unsigned_abs() as usize <= d.fine_teeth {
+                &fine_half
+            } else {
+                &coarse_half
+            };
+            let rows: Vec<&(f64, P2, SegmentKind)> = hs.rows.iter().step_by(2).rev().collect();
+            let th = pitch * k as f64;
+            let mut grid_nodes = Vec::with_capacity(rows.len() * levels);
+            let mut normals = Vec::with_capacity(rows.len() * levels);
+            for (row, &i2) in rows.iter().zip(ids.iter()) {
+                let (nu, pl, _) = **row;
+                // Outward normal of the helicoid X(s, z) = Rot(θ + ωz)·P(s) + z·e_z:
+                // N ∝ (Rot·n_t, −ω·(P × n_t)).
+                let cross = pl[0] * nu.sin() - pl[1] * nu.cos();
+                let axial = -g.twist_rate * cross;
+                let norm = (1.0 + axial * axial).sqrt();
+                for (l, &zl) in level_z.iter().enumerate() {
+                    let n_t = rot2([nu.cos(), nu.sin()], th + g.twist_rate * zl);
+                    grid_nodes.push(id3(l, i2));
+                    normals.push([n_t[0] / norm, n_t[1] / norm, axial / norm]);
+                }
+            }
+            flanks.push(FlankGrid {
+                tooth: k,
+                rows: rows.len(),
+                cols: levels,
+                nodes: grid_nodes,
+                nu: rows.iter().map(|r| r.0).collect(),
+                local: rows.iter().map(|r| r.1).collect(),
+                kind: rows.iter().map(|r| r.2).collect(),
+                normals,
+            });
+        }
+        Ok(Self { mesh, bore_nodes, flanks, level_z, web_radii, r_bore, quads: quads.len() })
+    }
+
+    /// The flank grid of the tooth `offset` teeth counter-clockwise from tooth 0 (negative:
+    /// clockwise).
+    pub fn flank(&self, offset: i32) -> Option<&FlankGrid> {
+        let z = self.flanks.len() as i64;
+        if z == 0 {
+            return None;
+        }
+        self.flanks.get((offset as i64).rem_euclid(z) as usize)
+    }
+}

@@ -1,0 +1,260 @@
+//! FE influence data of one gear (Vedmar's global compliance α*, paper §4.1) on the structured
+//! flank grid of the whole-gear mesh ([`super::fe::gear_mesh`]).
+//!
+//! # Load cases and observations
+//! The gear is meshed whole (all teeth, web to the bore) and fixed at the bore; K is factorised
+//! once. Load case j is a unit force along the inward 3D unit normal −N(x_j) (pressing into the
+//! tooth) at flank grid node x_j of tooth 0, all cases solved as blocks of right-hand sides.
+//! The global compliance is
+//!
+//! α*(i, j) = −N(x_i) · u_j(x_i − h·N(x_i))   (m/N),
+//!
+//! the displacement of the point at depth h beneath observation node x_i (along the inward
+//! normal), projected on the inward normal, for observation nodes on teeth −1, 0, +1 (the
+//! gear's counter-clockwise numbering). N is the outward unit normal of the helicoidal flank,
+//! N ∝ (Rot(θ + ωz)·n_t, −ω·(P × n_t)) with n_t the transverse normal, P the tooth-local
+//! transverse point and ω the twist rate, so N has the axial component of the helix.
+//!
+//! Where the inward normal leaves the gear through an end face (at the columns ζ = 0 and
+//! ζ = b₀ it has an axial component of magnitude sin β_b), the point at depth h is taken on
+//! that end face: its axial coordinate is clamped to [0, b] (a shift of at most h·sin β_b).
+//!
+//! # Why interpolation at depth h
+//! The point at depth h is found in its element by the inverse isoparametric map (Newton) and
+//! u is interpolated with the hex20 shape functions. A node layer at depth h is impossible on
+//! the tip rounding: its radius ρ_r (0.05·m_n for Table 1) is smaller than h, so the inward
+//! offset curve folds over itself there, and on the fillet-side of the flank it would tie the
+//! mesh to one h. Interpolation keeps h a free parameter and is exact to the element's order.
+//!
+//! # Choice of h
+//! Default h = 0.2·m_n. By Saint-Venant the FE point load gives the right displacement at depth
+//! h only if h is several Hertzian half-widths (≈ 0.1 mm at the Table 1 load, so h = 0.6 mm ≈ 6
+//! half-widths), yet h must stay inside the tooth where it is thinnest: the point beneath a
+//! node on the tip rounding lies about h − ρ_r beyond the rounding centre, well inside the tip
+//! land (half thickness ≈ 0.3·m_n or more). The local part (Weber–Banaschek,
+//! [`super::hertz`]) must use the same h.
+//!
+//! # Grid coordinates
+//! Rows are the flank grid's profile rows, tip → root: η* = (x_ref − x)/m_n with x the
+//! row's coordinate along the tooth centre line and x_ref = `eta_reference_x`; τ =
+//! max(0, ν_q − ν) on rounding and tip (ν the tooth-local normal angle, ν_q its value at the
+//! start of the rounding), else 0; the profile coordinate is [`super::FlankCoord::profile`].
+//! Columns are the axial node levels, ζ = z/m_n ∈ [0, b₀].
+
+use std::time::Instant;
+
+use faer::Mat;
+
+use super::fe::gear_mesh::{FlankGrid, GearMesh, GearMeshDensity};
+use super::fe::{FeError, FeModel, FeStats, Material, dof, element};
+use super::{FlankCoord, InfluenceGrid};
+use crate::geometry::{GearGeometry, Member, SegmentKind};
+use crate::params::GearPair;
+
+/// Default depth h of Vedmar's division, in units of m_n.
+pub const DEFAULT_DEPTH_MN: f64 = 0.2;
+
+/// Number of load cases solved per block of right-hand sides.
+const CHUNK: usize = 64;
+
+/// Result of [`fe_influence`]: the influence grid, the surface-to-surface matrix of tooth 0
+/// and the sizes and timings of the FE run.
+#[derive(Debug, Clone)]
+pub struct FeInfluence {
+    /// α* on the flank grid (observations on teeth −1, 0, +1, loads on tooth 0).
+    pub grid: InfluenceGrid,
+    /// Surface-to-surface compliance of tooth 0, m/N: `surface[obs * n + load]` is the
+    /// displacement along the inward normal at flank node `obs` (no depth) due to a unit
+    /// inward normal force at flank node `load`; symmetric by Maxwell–Betti.
+    pub surface: Vec<f64>,
+    /// FE sizes and timings (assembly, factorisation, solves).
+    pub stats: FeStats,
+    /// Mesh generation time, s.
+    pub mesh_s: f64,
+    /// Time to locate the observation points and interpolate, s.
+    pub observe_s: f64,
+}
+
+/// The interpolation stencil of an observation point: element nodes and shape-function values,
+/// and the inward unit normal the displacement is projected on.
+struct Stencil {
+    nodes: [usize; element::NODES],
+    weights: [f64; element::NODES],
+    inward: [f64; 3],
+}
+
+/// FE influence data of gear `g` of pair `p` with mesh density `density` and depth `depth_h`
+/// (m): builds the mesh, factorises once, solves the unit normal loads at all flank grid nodes
+/// of tooth 0 and records α* for observations on teeth −1, 0, +1 (see the module docs).
+///
+/// Progress goes to stderr when `progress` is true. Errors: invalid density or depth, an FE
+/// failure, or an observation point at depth h that lies outside the mesh (h too large).
+pub fn fe_influence(
+    g: &GearGeometry,
+    p: &GearPair,
+    density: &GearMeshDensity,
+    depth_h: f64,
+    progress: bool,
+) -> Result<FeInfluence, FeError> {
+    let mn = p.normal_module_m;
+    if !(depth_h.is_finite() && depth_h > 0.0 && depth_h < 2.0 * mn) {
+        return Err(FeError::InvalidInput(format!(
+            "depth h = {depth_h} m, allowed 0 < h < 2·m_n = {} m",
+            2.0 * mn
+        )));
+    }
+    let t0 = Instant::now();
+    let gm = GearMesh::build(g, p, density)?;
+    let mesh_s = t0.elapsed().as_secs_f64();
+    let GearMesh { mesh, bore_nodes, flanks, level_z, .. } = gm;
+    let grids: Vec<FlankGrid> = [-1i64, 0, 1]
+        .iter()
+        .map(|&o| {
+            let z = flanks.len() as i64;
+            flanks
+                .get(o.rem_euclid(z) as usize)
+                .cloned()
+                .ok_or_else(|| FeError::InvalidInput("gear mesh has no flank grids".into()))
+        })
+        .collect::<Result<_, _>>()?;
+    let load = &grids[1];
+    let n = load.rows * load.cols;
+    if grids.iter().any(|f| f.rows != load.rows || f.cols != load.cols) {
+        return Err(FeError::InvalidInput(
+            "flank grids of teeth −1, 0, +1 differ (fine_teeth must be ≥ 1)".into(),
+        ));
+    }
+    let material = match g.member {
+        Member::Pinion => Material::from(&p.material_p),
+        Member::Gear => Material::from(&p.material_g),
+    };
+    if progress {
+        eprintln!(
+            "fe_influence z = {}: {} nodes, {} elements, meshed in {mesh_s:.2} s; factorising",
+            g.z,
+            mesh.nodes.len(),
+            mesh.elements.len()
+        );
+    }
+    let model = FeModel::new(mesh, material, &bore_nodes)?;
+    let st = model.stats();
+    if progress {
+        eprintln!(
+            "fe_influence: {} DOFs, assembly {:.2} s, factorisation {:.2} s",
+            st.dofs,
+            st.assembly_s,
+            st.factorisation_s()
+        );
+    }
+
+    // Observation stencils at depth h.
+    let t1 = Instant::now();
+    let mut stencils: Vec<Vec<Stencil>> = Vec::with_capacity(3);
+    for f in &grids {
+        let mut list = Vec::with_capacity(n);
+        for (i, &node) in f.nodes.iter().enumerate() {
+            let x = model.mesh().nodes[node];
+            let nv = f.normals[i];
+            // On the end faces the inward normal of the helicoid leaves the gear axially by
+            // h·sin β_b; the point is then taken on the end face (z clamped to [0, b]).
+            let target = [
+                x[0] - depth_h * nv[0],
+                x[1] - depth_h * nv[1],
+                (x[2] - depth_h * nv[2]).clamp(0.0, p.face_width_m),
+            ];
+            let (e, xi) = model.mesh().locate(target).ok_or_else(|| {
+                FeError::InvalidInput(format!(
+                    "point at depth h = {depth_h} m beneath flank node {node} ({:?}) is outside \
+                     the mesh",
+                    x
+                ))
+            })?;
+            list.push(Stencil {
+                nodes: model.mesh().elements[e],
+                weights: element::shape(xi),
+                inward: [-nv[0], -nv[1], -nv[2]],
+            });
+        }
+        stencils.push(list);
+    }
+    let mut observe_s = t1.elapsed().as_secs_f64();
+
+    let mut alpha = vec![vec![0.0; n * n]; 3];
+    let mut surface = vec![0.0; n * n];
+    let dofs = model.dofs();
+    let mut start = 0;
+    while start < n {
+        let k = CHUNK.min(n - start);
+        let mut f = Mat::<f64>::zeros(dofs, k);
+        for c in 0..k {
+            let j = start + c;
+            let node = load.nodes[j];
+            for d in 0..3 {
+                f[(dof(node, d), c)] = -load.normals[j][d];
+            }
+        }
+        let u = model.solve_block(f.as_ref())?;
+        let t2 = Instant::now();
+        for c in 0..k {
+            let j = start + c;
+            for (t, list) in stencils.iter().enumerate() {
+                for (i, s) in list.iter().enumerate() {
+                    let mut v = 0.0;
+                    for (a, &node) in s.nodes.iter().enumerate() {
+                        for d in 0..3 {
+                            v += s.weights[a] * s.inward[d] * u[(dof(node, d), c)];
+                        }
+                    }
+                    alpha[t][i * n + j] = v;
+                }
+            }
+            for i in 0..n {
+                let node = load.nodes[i];
+                let mut v = 0.0;
+                for d in 0..3 {
+                    v -= load.normals[i][d] * u[(dof(node, d), c)];
+                }
+                surface[i * n + j] = v;
+            }
+        }
+        observe_s += t2.elapsed().as_secs_f64();
+        start += k;
+        if progress {
+            eprintln!(
+                "fe_influence: {start}/{n} load cases, {:.1} s elapsed",
+                t0.elapsed().as_secs_f64()
+            );
+        }
+    }
+
+    // Grid coordinates.
+    let rho_mn = g.rounding_radius / mn;
+    let x_q = g.rounding_center[0] + g.rounding_radius * g.nu_rounding_start.cos();
+    let eta_q = (g.eta_reference_x - x_q) / mn;
+    let mut eta_star = Vec::with_capacity(load.rows);
+    let mut tau = Vec::with_capacity(load.rows);
+    let mut profile = Vec::with_capacity(load.rows);
+    for r in 0..load.rows {
+        let e = (g.eta_reference_x - load.local[r][0]) / mn;
+        let t = match load.kind[r] {
+            SegmentKind::Rounding | SegmentKind::Tip => (g.nu_rounding_start - load.nu[r]).max(0.0),
+            _ => 0.0,
+        };
+        eta_star.push(e);
+        tau.push(t);
+        profile.push(FlankCoord { eta_star: e, tau: t, zeta: 0.0 }.profile(eta_q, rho_mn));
+    }
+    let grid = InfluenceGrid {
+        profile,
+        eta_star,
+        tau,
+        zeta: level_z.iter().map(|z| z / mn).collect(),
+        teeth: vec![-1, 0, 1],
+        alpha,
+        depth_h,
+        eta_star_rounding_start: eta_q,
+        rounding_radius_mn: rho_mn,
+    };
+    grid.validate().map_err(FeError::InvalidInput)?;
+    Ok(FeInfluence { grid, surface, stats: model.stats(), mesh_s, observe_s })
+}

@@ -1,0 +1,374 @@
+//! Integration tests of the whole-gear FE mesh and its flank influence data (coarse meshes).
+//!
+//! Checked: mesh volume against the transverse outline, positive Jacobians, flank grid nodes
+//! on the analytic flank with the documented η*/τ, Maxwell–Betti symmetry of the
+//! surface-to-surface influence, positivity and axial decay of α*, a small but non-zero
+//! neighbour-tooth coupling, and the torsion of the web against the annulus solution.
+
+use faer::Mat;
+use helical_gear_mesh::PairGeometry;
+use helical_gear_mesh::compliance::fe::element::{self, FACES, GAUSS3_POINTS, GAUSS3_WEIGHTS};
+use helical_gear_mesh::compliance::fe::gear_mesh::{GearMesh, GearMeshDensity};
+use helical_gear_mesh::compliance::fe::{Face, FeModel, Material, dof};
+use helical_gear_mesh::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence};
+use helical_gear_mesh::geometry::inertia::polygon_area;
+use helical_gear_mesh::geometry::{GearGeometry, SegmentKind};
+use helical_gear_mesh::params::GearPair;
+
+fn rot(p: [f64; 2], a: f64) -> [f64; 2] {
+    let (s, c) = a.sin_cos();
+    [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+}
+
+/// Checks that every flank grid node of tooth `k` lies on the analytic flank of its row.
+fn check_flank_nodes(g: &GearGeometry, gm: &GearMesh, k: usize) {
+    let f = &gm.flanks[k];
+    assert_eq!(f.nodes.len(), f.rows * f.cols);
+    for r in 0..f.rows {
+        let exact = g.flank.point_at_normal(f.nu[r]).expect("row on the flank").position;
+        for c in 0..f.cols {
+            let x = gm.mesh.nodes[f.nodes[r * f.cols + c]];
+            let local = rot([x[0], x[1]], -(g.angular_pitch() * k as f64 + g.twist_rate * x[2]));
+            let d = (local[0] - exact[0]).hypot(local[1] - exact[1]);
+            assert!(d < 1e-9, "tooth {k} row {r} col {c}: {d:e} m off the flank");
+            assert!((x[2] - gm.level_z[c]).abs() < 1e-15);
+        }
+    }
+}
+
+/// Volume of the mesh (m³) and the smallest Jacobian determinant at the 27 Gauss points.
+fn volume_and_min_jacobian(gm: &GearMesh) -> (f64, f64) {
+    let mut vol = 0.0;
+    let mut min_det = f64::INFINITY;
+    for e in 0..gm.mesh.elements.len() {
+        let c = gm.mesh.element_coords(e).expect("element");
+        for (k, &z) in GAUSS3_POINTS.iter().enumerate() {
+            for (j, &y) in GAUSS3_POINTS.iter().enumerate() {
+                for (i, &x) in GAUSS3_POINTS.iter().enumerate() {
+                    let det = match element::gradients(&c, [x, y, z]) {
+                        Ok((_, det)) => det,
+                        Err(err) => err.det,
+                    };
+                    min_det = min_det.min(det);
+                    vol += GAUSS3_WEIGHTS[i] * GAUSS3_WEIGHTS[j] * GAUSS3_WEIGHTS[k] * det;
+                }
+            }
+        }
+    }
+    (vol, min_det)
+}
+
+#[test]
+fn mesh_volume_jacobians_and_flank_nodes() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    for g in [&geo.pinion, &geo.gear] {
+        let gm = GearMesh::build(g, &p, &GearMeshDensity::coarse()).expect("mesh");
+        let (vol, min_det) = volume_and_min_jacobian(&gm);
+        let r_bore = 0.5 * p.bore_diameter_m;
+        let exact = p.face_width_m
+            * (polygon_area(&g.outline(400)) - std::f64::consts::PI * r_bore * r_bore);
+        eprintln!(
+            "z = {}: {} nodes, {} DOFs, {} elements, volume {vol:.6e} vs {exact:.6e} (rel {:.2e}), min det {min_det:.3e}",
+            g.z,
+            gm.mesh.nodes.len(),
+            3 * gm.mesh.nodes.len(),
+            gm.mesh.elements.len(),
+            (vol - exact) / exact
+        );
+        assert!(min_det > 0.0);
+        assert!(((vol - exact) / exact).abs() < 1e-3);
+        let z = g.z as usize;
+        for k in [0, 1, z - 1, z / 2] {
+            check_flank_nodes(g, &gm, k);
+        }
+        // The fine grids reach from the form circle to the end of the tip rounding.
+        let f0 = gm.flank(0).expect("tooth 0");
+        let r_tip = f0.local[0][0].hypot(f0.local[0][1]);
+        let r_root = f0.local[f0.rows - 1][0].hypot(f0.local[f0.rows - 1][1]);
+        assert!((r_tip - g.ra).abs() < 1e-9 && (r_root - g.r_form).abs() < 1e-9);
+        assert!(!gm.bore_nodes.is_empty());
+    }
+}
+
+#[test]
+fn influence_grid_properties() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    let g = &geo.pinion;
+    let mn = p.normal_module_m;
+    let inf = fe_influence(g, &p, &GearMeshDensity::coarse(), DEFAULT_DEPTH_MN * mn, false)
+        .expect("influence");
+    let grid = &inf.grid;
+    grid.validate().expect("valid grid");
+    let st = inf.stats;
+    eprintln!(
+        "pinion coarse: {} DOFs, mesh {:.2} s, assembly {:.2} s, factorisation {:.2} s, \
+         solve {:.2} s ({} cases), observe {:.2} s",
+        st.dofs,
+        inf.mesh_s,
+        st.assembly_s,
+        st.factorisation_s(),
+        st.solve_s,
+        st.solved_cases,
+        inf.observe_s
+    );
+    // η* and τ of each row follow the definition from the row's flank point.
+    let x_q = g.rounding_center[0] + g.rounding_radius * g.nu_rounding_start.cos();
+    assert!((grid.eta_star_rounding_start - (g.eta_reference_x - x_q) / mn).abs() < 1e-12);
+    let gm = GearMesh::build(g, &p, &GearMeshDensity::coarse()).expect("mesh");
+    let f0 = gm.flank(0).expect("tooth 0");
+    assert_eq!(grid.profile.len(), f0.rows);
+    for r in 0..f0.rows {
+        let fp = g.flank.point_at_normal(f0.nu[r]).expect("on flank");
+        let eta = (g.eta_reference_x - fp.position[0]) / mn;
+        let tau = match fp.kind {
+            SegmentKind::Rounding | SegmentKind::Tip => (g.nu_rounding_start - f0.nu[r]).max(0.0),
+            _ => 0.0,
+        };
+        assert!((grid.eta_star[r] - eta).abs() < 1e-9, "row {r}");
+        assert!((grid.tau[r] - tau).abs() < 1e-12, "row {r}");
+    }
+    assert!(grid.tau[0] > 0.0, "first row (tip) is on the rounding");
+    assert_eq!(grid.tau[grid.tau.len() - 1], 0.0);
+    assert!((grid.zeta[grid.zeta.len() - 1] - p.face_width_m / mn).abs() < 1e-12);
+
+    let n = grid.points();
+    let cols = grid.zeta.len();
+    // Maxwell–Betti: the surface-to-surface matrix is symmetric to solver precision.
+    let smax = inf.surface.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut asym = 0.0f64;
+    for i in 0..n {
+        for j in 0..n {
+            asym = asym.max((inf.surface[i * n + j] - inf.surface[j * n + i]).abs());
+        }
+    }
+    eprintln!("surface influence: max {smax:.3e} m/N, max asymmetry {asym:.3e} m/N");
+    assert!(asym < 1e-9 * smax);
+    // α* on tooth 0: positive diagonal, decaying with |ζ − ζ_F| along each row.
+    let t0 = grid.teeth.iter().position(|&t| t == 0).expect("tooth 0");
+    let mut diag_max = 0.0f64;
+    for i in 0..n {
+        let d = grid.value(t0, i, i);
+        assert!(d > 0.0, "diagonal {i}: {d}");
+        diag_max = diag_max.max(d);
+    }
+    for r in 0..grid.profile.len() {
+        let c0 = cols / 2;
+        let load = grid.index(r, c0);
+        let row: Vec<f64> = (0..cols).map(|c| grid.value(t0, grid.index(r, c), load)).collect();
+        let shown: Vec<String> = row.iter().map(|v| format!("{v:.3e}")).collect();
+        eprintln!("row {r} (profile {:.3}): α* along ζ = {}", grid.profile[r], shown.join(" "));
+        // On the tip rounding the inward normal is nearly radial and the coarse mesh's end
+        // faces dominate the small far-field values; the decay is asserted below the rounding.
+        let skip = grid.tau[r] > 0.0;
+        for c in 0..cols {
+            if c < c0 {
+                assert!(skip || row[c] < row[c + 1], "row {r}: no decay at column {c}");
+            } else if c > c0 {
+                assert!(skip || row[c] < row[c - 1], "row {r}: no decay at column {c}");
+            }
+        }
+    }
+    // Neighbour teeth: smaller than the same-tooth values but not zero.
+    for (t, &off) in grid.teeth.iter().enumerate() {
+        if off == 0 {
+            continue;
+        }
+        let m = grid.alpha[t].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        eprintln!("tooth {off:+}: max |α*| = {m:.3e} m/N = {:.3} × max diagonal", m / diag_max);
+        assert!(m < diag_max && m > 1e-3 * diag_max);
+    }
+}
+
+#[test]
+fn web_torsion_matches_the_annulus() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    let g = &geo.gear;
+    let gm = GearMesh::build(g, &p, &GearMeshDensity::coarse()).expect("mesh");
+    let r_k = gm.web_radii[0];
+    let b = p.face_width_m;
+    let torque = 100.0;
+    let mesh = gm.mesh.clone();
+    let tol = 1e-9 * r_k;
+    // Tangential traction on the cylinder r = r_K, applied to the web elements inside it.
+    let on_rk = |x: &[f64; 3]| (x[0].hypot(x[1]) - r_k).abs() < tol;
+    let tau = torque / (2.0 * std::f64::consts::PI * r_k * r_k * b);
+    let mut f = Mat::<f64>::zeros(3 * mesh.nodes.len(), 1);
+    let mut faces = 0;
+    for (e, conn) in mesh.elements.iter().enumerate() {
+        let centroid_r =
+            conn.iter().map(|&n| mesh.nodes[n][0].hypot(mesh.nodes[n][1])).sum::<f64>()
+                / conn.len() as f64;
+        if centroid_r > r_k {
+            continue;
+        }
+        for (local, fl) in FACES.iter().enumerate() {
+            if !fl.iter().all(|&a| on_rk(&mesh.nodes[conn[a]])) {
+                continue;
+            }
+            faces += 1;
+            let loads = mesh
+                .face_loads(Face { element: e, local }, |x, _| {
+                    let r = x[0].hypot(x[1]);
+                    [-tau * x[1] / r, tau * x[0] / r, 0.0]
+                })
+                .expect("face loads");
+            for (node, fv) in loads {
+                for d in 0..3 {
+                    f[(dof(node, d), 0)] += fv[d];
+                }
+            }
+        }
+    }
+    assert!(faces > 0);
+    let mat = Material::from(&p.material_g);
+    let model = FeModel::new(mesh, mat, &gm.bore_nodes).expect("model");
+    let u = model.solve_block(f.as_ref()).expect("solve");
+    let st = model.stats();
+    eprintln!(
+        "gear coarse: {} DOFs, assembly {:.2} s, factorisation {:.2} s",
+        st.dofs,
+        st.assembly_s,
+        st.factorisation_s()
+    );
+    let g_mod = mat.shear_modulus();
+    let r_i = gm.r_bore;
+    for &r_m in &gm.web_radii[..gm.web_radii.len() - 1] {
+        let nodes = model.mesh().nodes_where(|x| (x[0].hypot(x[1]) - r_m).abs() < tol);
+        let mut mean = 0.0;
+        for &n in &nodes {
+            let x = model.mesh().nodes[n];
+            mean += (x[0] * u[(dof(n, 1), 0)] - x[1] * u[(dof(n, 0), 0)]) / (r_m * r_m);
+        }
+        mean /= nodes.len() as f64;
+        let exact = torque / (4.0 * std::f64::consts::PI * g_mod * b)
+            * (1.0 / (r_i * r_i) - 1.0 / (r_m * r_m));
+        eprintln!(
+            "r = {:.2} mm: twist {mean:.4e} rad, annulus {exact:.4e} rad, rel {:.2e}",
+            r_m * 1e3,
+            (mean - exact) / exact
+        );
+        assert!(((mean - exact) / exact).abs() < 0.03);
+    }
+}
+
+/// Default-density influence runs of the Table 1 pinion and gear (sizes and timings).
+#[test]
+#[ignore]
+fn default_density_timings() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    for g in [&geo.pinion, &geo.gear] {
+        let inf = fe_influence(
+            g,
+            &p,
+            &GearMeshDensity::default(),
+            DEFAULT_DEPTH_MN * p.normal_module_m,
+            true,
+        )
+        .expect("influence");
+        let st = inf.stats;
+        eprintln!(
+            "z = {}: {} DOFs, grid {}×{}, mesh {:.2} s, assembly {:.2} s, factorisation {:.2} s, \
+             solve {:.2} s ({} cases), observe {:.2} s",
+            g.z,
+            st.dofs,
+            inf.grid.profile.len(),
+            inf.grid.zeta.len(),
+            inf.mesh_s,
+            st.assembly_s,
+            st.factorisation_s(),
+            st.solve_s,
+            st.solved_cases,
+            inf.observe_s
+        );
+    }
+}
+
+#[test]
+#[ignore]
+fn mesh_sizes() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    for (name, d) in [
+        ("coarse", GearMeshDensity::coarse()),
+        ("default", GearMeshDensity::default()),
+        ("refined", GearMeshDensity::refined()),
+    ] {
+        for g in [&geo.pinion, &geo.gear] {
+            let gm = GearMesh::build(g, &p, &d).expect("mesh");
+            let (vol, min_det) = volume_and_min_jacobian(&gm);
+            let exact = p.face_width_m
+                * (polygon_area(&g.outline(400))
+                    - std::f64::consts::PI * (0.5 * p.bore_diameter_m).powi(2));
+            eprintln!(
+                "{name} z = {}: {} quads, {} DOFs, {} elements, vol rel {:.2e}, min det {min_det:.2e}, web {:?}",
+                g.z,
+                gm.quads,
+                3 * gm.mesh.nodes.len(),
+                gm.mesh.elements.len(),
+                (vol - exact) / exact,
+                gm.web_radii
+            );
+        }
+    }
+}
+
+/// α* of the pinion at one flank point for the three densities (mesh convergence; printed).
+#[test]
+#[ignore]
+fn alpha_mesh_convergence() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    let g = &geo.pinion;
+    for (name, d) in [
+        ("coarse", GearMeshDensity::coarse()),
+        ("default", GearMeshDensity::default()),
+        ("refined", GearMeshDensity::refined()),
+    ] {
+        let inf = fe_influence(g, &p, &d, DEFAULT_DEPTH_MN * p.normal_module_m, false)
+            .expect("influence");
+        let grid = &inf.grid;
+        let c0 = grid.zeta.len() / 2;
+        // Linear interpolation along the rows of the diagonal value at profile coordinate 1.0
+        // (one module below the η* reference) in the middle of the face.
+        let value = |t: usize| {
+            let r = grid.profile.windows(2).position(|w| w[1] >= 1.0).expect("bracket");
+            let w = (1.0 - grid.profile[r]) / (grid.profile[r + 1] - grid.profile[r]);
+            let v = |row: usize| {
+                let i = grid.index(row, c0);
+                grid.value(t, i, i)
+            };
+            (1.0 - w) * v(r) + w * v(r + 1)
+        };
+        let st = inf.stats;
+        eprintln!(
+            "{name}: {} DOFs, factorisation {:.2} s, solves {:.2} s; α*(η*≈1, ζ = b₀/2): \
+             same tooth {:.4e} m/N, tooth −1 {:.4e}, tooth +1 {:.4e}",
+            st.dofs,
+            st.factorisation_s(),
+            st.solve_s,
+            value(1),
+            value(0),
+            value(2)
+        );
+    }
+}
+
+#[test]
+fn invalid_inputs_are_errors() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    let g = &geo.pinion;
+    let bad = GearMeshDensity { layers: 0, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &bad).is_err());
+    let bad = GearMeshDensity { web_ring_ratio: 1.5, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &bad).is_err());
+    let deep = GearMeshDensity { rim_depth_mn: 100.0, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &deep).is_err());
+    for h in [0.0, -1e-3, f64::NAN, 1.0] {
+        assert!(fe_influence(g, &p, &GearMeshDensity::coarse(), h, false).is_err());
+    }
+}
