@@ -67,6 +67,8 @@
 use std::fmt;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor as cholesky;
+use faer::linalg::cholesky::llt::solve as cholesky_solve;
 use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::{Accum, ColMut, ColRef, Mat, MatRef, Par};
 
@@ -173,6 +175,8 @@ pub struct LoadReport {
     /// Newton iterations (LU factorisations) used; 0 when nothing overlaps or the start was
     /// already converged.
     pub iterations: usize,
+    /// Evaluations of the gap function g(q) (one per line-search trial, plus the start).
+    pub evaluations: usize,
     /// Largest violation of the conditions (|g| on loaded, −g on unloaded slices), m.
     pub residual: f64,
     /// The tolerance that was met, m.
@@ -360,6 +364,7 @@ pub struct LoadSolver {
     capacity: usize,
     /// Slices of the last successful solve (0: none).
     last_n: usize,
+    evaluations: usize,
     cur: Iterate,
     trial: Iterate,
     /// Slice forces w_j·q_j, N.
@@ -391,6 +396,7 @@ fn stack_req(n: usize) -> StackReq {
     let params = Default::default();
     factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, params)
         .or(solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq))
+        .or(cholesky::cholesky_in_place_scratch::<f64>(n, Par::Seq, Default::default()))
 }
 
 impl LoadSolver {
@@ -405,6 +411,7 @@ impl LoadSolver {
             settings,
             capacity: 0,
             last_n: 0,
+            evaluations: 0,
             cur: Iterate::default(),
             trial: Iterate::default(),
             force: Vec::new(),
@@ -499,13 +506,14 @@ impl LoadSolver {
 
         if d.iter().all(|&x| x <= 0.0) {
             // q = 0 satisfies all conditions exactly: g = −d ≥ 0.
-            for i in 0..n {
-                self.cur.q[i] = 0.0;
-                self.cur.g[i] = -d[i];
+            self.cur.q[..n].fill(0.0);
+            for (g, &di) in self.cur.g[..n].iter_mut().zip(d) {
+                *g = -di;
             }
             self.last_n = n;
             return Ok(LoadReport {
                 iterations: 0,
+                evaluations: 0,
                 residual: 0.0,
                 tolerance: tol,
                 active: 0,
@@ -516,6 +524,7 @@ impl LoadSolver {
         for i in 0..n {
             self.scale[i] = problem.compliance[(i, i)] * problem.line_length[i];
         }
+        let symmetric = is_symmetric(problem.compliance);
         match start {
             Start::From(q0) => {
                 for (q, &v) in self.cur.q[..n].iter_mut().zip(q0) {
@@ -526,6 +535,7 @@ impl LoadSolver {
             _ => self.cur.q[..n].fill(0.0),
         }
         evaluate(problem, &mut self.cur, &mut self.force)?;
+        self.evaluations = 1;
 
         let mut iterations = 0;
         loop {
@@ -535,6 +545,7 @@ impl LoadSolver {
                 let active = self.cur.q[..n].iter().filter(|&&q| q > 0.0).count();
                 return Ok(LoadReport {
                     iterations,
+                    evaluations: self.evaluations,
                     residual,
                     tolerance: tol,
                     active,
@@ -545,7 +556,7 @@ impl LoadSolver {
                 return Err(LoadError::NoConvergence { iterations, residual, tolerance: tol });
             }
             iterations += 1;
-            self.newton_step(problem, iterations, residual)?;
+            self.newton_step(problem, symmetric, iterations, residual)?;
             self.line_search(problem, iterations, residual, tol)?;
         }
     }
@@ -554,12 +565,11 @@ impl LoadSolver {
     fn newton_step(
         &mut self,
         problem: &LoadProblem<'_>,
+        symmetric: bool,
         iterations: usize,
         residual: f64,
     ) -> Result<(), LoadError> {
         let n = problem.approach.len();
-        let c = problem.compliance;
-        let w = problem.line_length;
         self.working.clear();
         for i in 0..n {
             let active = self.cur.g[i] < self.scale[i] * self.cur.q[i];
@@ -570,13 +580,97 @@ impl LoadSolver {
                 self.delta[i] = -self.cur.q[i];
             }
         }
-        let m = self.working.len();
-        if m == 0 {
-            return Ok(());
+        // An entering slice (q = 0) whose Newton step is not positive would need a tensile
+        // load: it leaves W and the system is solved again (at most |W| times).
+        loop {
+            let m = self.working.len();
+            if m == 0 {
+                return Ok(());
+            }
+            self.solve_working(problem, symmetric, iterations, residual)?;
+            let before = m;
+            let (delta, q, in_working) = (&self.delta, &self.cur.q, &mut self.in_working);
+            self.working.retain(|&i| {
+                let keep = q[i] > 0.0 || delta[i] > 0.0;
+                in_working[i] = keep;
+                keep
+            });
+            for i in 0..n {
+                if !self.in_working[i] {
+                    self.delta[i] = -self.cur.q[i];
+                }
+            }
+            if self.working.len() == before {
+                return Ok(());
+            }
         }
+    }
+
+    /// One factorisation and solve on the working set; the step goes to `delta`.
+    fn solve_working(
+        &mut self,
+        problem: &LoadProblem<'_>,
+        symmetric: bool,
+        iterations: usize,
+        residual: f64,
+    ) -> Result<(), LoadError> {
+        let m = self.working.len();
+        if symmetric {
+            self.fill_system(problem, true)?;
+            if self.cholesky_solve(m) {
+                return self.take_step(iterations, residual);
+            }
+            // Not positive definite (or singular): the LU below tells which.
+        }
+        self.fill_system(problem, false)?;
+        self.lu_solve(m, iterations, residual)?;
+        self.take_step(iterations, residual)
+    }
+
+    /// Newton matrix and right-hand side on the working set. Unscaled: rows of
+    /// `C_WW·diag(w_W) + diag(u_c')`; scaled (symmetric C): both sides multiplied by diag(w_W),
+    /// which makes the matrix `diag(w)·C·diag(w) + diag(w·u_c')` symmetric.
+    fn fill_system(&mut self, problem: &LoadProblem<'_>, scaled: bool) -> Result<(), LoadError> {
+        let n = problem.approach.len();
+        let c = problem.compliance;
+        let w = problem.line_length;
+        let m = self.working.len();
         for (b, &j) in self.working.iter().enumerate() {
-            for (a, &i) in self.working.iter().enumerate() {
-                self.jac[(a, b)] = c[(i, j)] * w[j];
+            let dst = &mut self.jac.col_as_slice_mut(b)[..m];
+            match column(c, j) {
+                Some(src) => {
+                    for (x, &i) in dst.iter_mut().zip(&self.working) {
+                        *x = src[i] * w[j];
+                    }
+                }
+                None => {
+                    for (x, &i) in dst.iter_mut().zip(&self.working) {
+                        *x = c[(i, j)] * w[j];
+                    }
+                }
+            }
+        }
+        for (a, &i) in self.working.iter().enumerate() {
+            self.rhs[(a, 0)] = -self.cur.g[i];
+        }
+        // Slices leaving W are set to 0: their load moves to the right-hand side.
+        for k in 0..n {
+            let fk = w[k] * self.cur.q[k];
+            if self.in_working[k] || fk == 0.0 {
+                continue;
+            }
+            let dst = &mut self.rhs.col_as_slice_mut(0)[..m];
+            match column(c, k) {
+                Some(src) => {
+                    for (x, &i) in dst.iter_mut().zip(&self.working) {
+                        *x += src[i] * fk;
+                    }
+                }
+                None => {
+                    for (x, &i) in dst.iter_mut().zip(&self.working) {
+                        *x += c[(i, k)] * fk;
+                    }
+                }
             }
         }
         for (a, &i) in self.working.iter().enumerate() {
@@ -596,15 +690,47 @@ impl LoadSolver {
                 }
             };
             self.jac[(a, a)] += slope;
-            let mut r = -self.cur.g[i];
-            for k in 0..n {
-                if !self.in_working[k] && self.cur.q[k] > 0.0 {
-                    r += c[(i, k)] * w[k] * self.cur.q[k];
+        }
+        if scaled {
+            for b in 0..m {
+                let col = &mut self.jac.col_as_slice_mut(b)[..m];
+                for (x, &i) in col.iter_mut().zip(&self.working) {
+                    *x *= w[i];
                 }
             }
-            self.rhs[(a, 0)] = r;
+            for (a, &i) in self.working.iter().enumerate() {
+                self.rhs[(a, 0)] *= w[i];
+            }
         }
+        Ok(())
+    }
 
+    /// Cholesky factorisation and solve of the scaled symmetric system; `false` when a pivot is
+    /// not clearly positive (the matrix is then left overwritten).
+    fn cholesky_solve(&mut self, m: usize) -> bool {
+        let mut jac = self.jac.as_mut().submatrix_mut(0, 0, m, m);
+        let max_diag = (0..m).fold(0.0_f64, |x, a| x.max(jac[(a, a)].abs()));
+        let stack = MemStack::new(&mut self.stack);
+        let ok = cholesky::cholesky_in_place(
+            jac.as_mut(),
+            Default::default(),
+            Par::Seq,
+            stack,
+            Default::default(),
+        )
+        .is_ok();
+        // L_aa² is the pivot; require it well above round-off of the largest diagonal entry.
+        if !ok || !(0..m).all(|a| jac[(a, a)] * jac[(a, a)] > 1e3 * f64::EPSILON * max_diag) {
+            return false;
+        }
+        let stack = MemStack::new(&mut self.stack);
+        let rhs = self.rhs.as_mut().submatrix_mut(0, 0, m, 1);
+        cholesky_solve::solve_in_place(jac.as_ref(), rhs, Par::Seq, stack);
+        true
+    }
+
+    /// LU factorisation with partial pivoting and solve; singular and non-P-matrix checks.
+    fn lu_solve(&mut self, m: usize, iterations: usize, residual: f64) -> Result<(), LoadError> {
         let mut jac = self.jac.as_mut().submatrix_mut(0, 0, m, m);
         let max_abs = jac.as_ref().norm_max();
         let stack = MemStack::new(&mut self.stack);
@@ -628,7 +754,10 @@ impl LoadSolver {
                 negative = !negative;
             }
         }
-        if !(min_pivot > 1e3 * f64::EPSILON * max_abs) {
+        // Also catches a NaN maximum (comparison false).
+        if min_pivot.partial_cmp(&(1e3 * f64::EPSILON * max_abs))
+            != Some(std::cmp::Ordering::Greater)
+        {
             return Err(LoadError::Singular { iterations, residual, working_set: m });
         }
         if negative {
@@ -637,6 +766,12 @@ impl LoadSolver {
         let stack = MemStack::new(&mut self.stack);
         let rhs = self.rhs.as_mut().submatrix_mut(0, 0, m, 1);
         solve::solve_in_place(jac.as_ref(), jac.as_ref(), perm, rhs, Par::Seq, stack);
+        Ok(())
+    }
+
+    /// Copies the working-set solution into `delta`.
+    fn take_step(&mut self, iterations: usize, residual: f64) -> Result<(), LoadError> {
+        let m = self.working.len();
         for (a, &i) in self.working.iter().enumerate() {
             let v = self.rhs[(a, 0)];
             if !v.is_finite() {
@@ -663,6 +798,7 @@ impl LoadSolver {
                 self.trial.q[i] = (self.cur.q[i] + alpha * self.delta[i]).max(0.0);
             }
             evaluate(problem, &mut self.trial, &mut self.force)?;
+            self.evaluations += 1;
             let theta = merit(&self.trial, &self.scale[..n]);
             if theta <= (1.0 - 1e-4 * alpha) * theta0 || violation(&self.trial, n) <= tol {
                 std::mem::swap(&mut self.cur, &mut self.trial);
@@ -672,6 +808,20 @@ impl LoadSolver {
         }
         Err(LoadError::Stalled { iterations, residual })
     }
+}
+
+/// Whether C is exactly (bitwise) symmetric.
+fn is_symmetric(c: MatRef<'_, f64>) -> bool {
+    let n = c.nrows();
+    (0..n).all(|j| match column(c, j) {
+        Some(col) => (j + 1..n).all(|i| col[i] == c[(j, i)]),
+        None => (j + 1..n).all(|i| c[(i, j)] == c[(j, i)]),
+    })
+}
+
+/// Column `j` of `c` as a slice when its rows are contiguous.
+fn column(c: MatRef<'_, f64>, j: usize) -> Option<&[f64]> {
+    c.col(j).try_as_col_major().map(|col| col.as_slice())
 }
 
 fn check_finite(name: &'static str, v: &[f64]) -> Result<(), LoadError> {
@@ -714,11 +864,12 @@ fn validate(p: &LoadProblem<'_>) -> Result<usize, LoadError> {
         });
     }
     for j in 0..n {
-        for i in 0..n {
-            let v = c[(i, j)];
-            if !v.is_finite() {
-                return Err(LoadError::NonFiniteCompliance { row: i, col: j, value: v });
-            }
+        let bad = match column(c, j) {
+            Some(col) => col.iter().position(|v| !v.is_finite()),
+            None => (0..n).position(|i| !c[(i, j)].is_finite()),
+        };
+        if let Some(i) = bad {
+            return Err(LoadError::NonFiniteCompliance { row: i, col: j, value: c[(i, j)] });
         }
     }
     for i in 0..n {
