@@ -151,9 +151,9 @@ pub struct LoadSettings {
 }
 
 impl Default for LoadSettings {
-    /// 1e-12 m + 1e-10·max|d|, at most 60 iterations.
+    /// 1e-12 m + 1e-10·max|d|, at most 100 iterations.
     fn default() -> Self {
-        Self { abs_tol: 1e-12, rel_tol: 1e-10, max_iterations: 60 }
+        Self { abs_tol: 1e-12, rel_tol: 1e-10, max_iterations: 100 }
     }
 }
 
@@ -538,6 +538,7 @@ impl LoadSolver {
         self.evaluations = 1;
 
         let mut iterations = 0;
+        let mut watchdog = WATCHDOG_STEPS;
         loop {
             let residual = violation(&self.cur, d.len());
             if residual <= tol {
@@ -557,7 +558,7 @@ impl LoadSolver {
             }
             iterations += 1;
             self.newton_step(problem, symmetric, iterations, residual)?;
-            self.line_search(problem, iterations, residual, tol)?;
+            self.line_search(problem, iterations, residual, tol, &mut watchdog)?;
         }
     }
 
@@ -789,11 +790,12 @@ impl LoadSolver {
         iterations: usize,
         residual: f64,
         tol: f64,
+        watchdog: &mut usize,
     ) -> Result<(), LoadError> {
         let n = problem.approach.len();
         let theta0 = merit(&self.cur, &self.scale[..n]);
         let mut alpha = 1.0;
-        for _ in 0..40 {
+        for _ in 0..30 {
             for i in 0..n {
                 self.trial.q[i] = (self.cur.q[i] + alpha * self.delta[i]).max(0.0);
             }
@@ -806,9 +808,24 @@ impl LoadSolver {
             }
             alpha *= 0.5;
         }
-        Err(LoadError::Stalled { iterations, residual })
+        // Watchdog: a limited number of full (non-monotone) steps, which lets the pure
+        // active-set iteration leave a non-stationary kink of the merit function.
+        if *watchdog == 0 {
+            return Err(LoadError::Stalled { iterations, residual });
+        }
+        *watchdog -= 1;
+        for i in 0..n {
+            self.trial.q[i] = (self.cur.q[i] + self.delta[i]).max(0.0);
+        }
+        evaluate(problem, &mut self.trial, &mut self.force)?;
+        self.evaluations += 1;
+        std::mem::swap(&mut self.cur, &mut self.trial);
+        Ok(())
     }
 }
+
+/// Non-monotone full steps allowed per solve after a failed line search.
+const WATCHDOG_STEPS: usize = 10;
 
 /// Whether C is exactly (bitwise) symmetric.
 fn is_symmetric(c: MatRef<'_, f64>) -> bool {

@@ -477,3 +477,39 @@ fn torques_and_pressures() {
         Err(LoadError::Hertz { slice: 1, .. })
     ));
 }
+
+#[test]
+fn random_problems_converge_with_complementarity() {
+    // Random positive definite C (symmetric, or with a skew part: still a P-matrix), random
+    // line lengths, mixed-sign approach, with and without the Weber–Banaschek term.
+    let steel = Material::steel();
+    let contact = LocalContact::new(&steel, &steel, 0.6e-3, 0.6e-3).expect("valid");
+    let mut rng = Rng(987_654_321);
+    let mut s = LoadSolver::with_capacity(40);
+    let mut max_iter = [0usize; 2];
+    for case in 0..1500 {
+        let n = 2 + case % 39;
+        let b = Mat::from_fn(n, n, |_, _| rng.range(-1.0, 1.0));
+        let sk = Mat::from_fn(n, n, |_, _| rng.range(-1.0, 1.0));
+        let skew = if case % 3 == 0 { rng.range(0.0, 1.0) } else { 0.0 };
+        let diag = rng.range(0.01, 0.5);
+        let c = Mat::from_fn(n, n, |i, j| {
+            let bbt: f64 = (0..n).map(|k| b[(i, k)] * b[(j, k)]).sum();
+            let extra = skew * (sk[(i, j)] - sk[(j, i)]) + if i == j { diag } else { 0.0 };
+            1e-9 * (bbt / n as f64 + extra)
+        });
+        let w: Vec<f64> = (0..n).map(|_| rng.range(0.1e-3, 1.5e-3)).collect();
+        let d: Vec<f64> = (0..n).map(|_| rng.range(-3e-5, 3e-5)).collect();
+        let rho: Vec<f64> = (0..n).map(|_| rng.range(2e-3, 3e-2)).collect();
+        let hl = HertzLocal::new(&contact, &rho).expect("valid");
+        let nonlinear = case % 2 == 1;
+        let local: Option<&dyn LocalTerm> = if nonlinear { Some(&hl) } else { None };
+        let p = LoadProblem { approach: &d, line_length: &w, compliance: c.as_ref(), local };
+        let r = s.solve(&p, Start::Cold).unwrap_or_else(|e| panic!("case {case}: {e}"));
+        max_iter[usize::from(nonlinear)] = max_iter[usize::from(nonlinear)].max(r.iterations);
+        let g = gaps(&c, &w, &d, s.load(), local);
+        // The independent re-evaluation differs from the solver's by round-off only.
+        assert_complementary(s.load(), &g, r.tolerance * 1.01 + 1e-18);
+    }
+    eprintln!("random problems: max iterations linear {}, non-linear {}", max_iter[0], max_iter[1]);
+}
