@@ -117,10 +117,10 @@ pub struct HertzLocal<'a> {
 }
 
 impl<'a> HertzLocal<'a> {
-    /// `rho[i]`: reduced radius of curvature ρ = ρ_p·ρ_g/(ρ_p + ρ_g) of slice i, m (finite,
-    /// > 0; see [`hertz::reduced_radius`]), one per slice (a slice without a radius is reported
-    /// by the solver as [`LoadError::LocalTerm`]). Errors on the first invalid radius, with its
-    /// slice.
+    /// `rho[i]`: reduced radius of curvature ρ = ρ_p·ρ_g/(ρ_p + ρ_g) of slice i, m, finite and
+    /// positive (see [`hertz::reduced_radius`]), one per slice (a slice without a radius is
+    /// reported by the solver as [`LoadError::LocalTerm`]). Errors on the first invalid radius,
+    /// with its slice.
     pub fn new(contact: &'a LocalContact, rho: &'a [f64]) -> Result<Self, LoadError> {
         for (slice, &r) in rho.iter().enumerate() {
             if !(r.is_finite() && r > 0.0) {
