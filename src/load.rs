@@ -165,7 +165,7 @@ pub struct LoadSettings {
     pub abs_tol: f64,
     /// Gap tolerance relative to max_i |d_i| (dimensionless).
     pub rel_tol: f64,
-    /// Maximum number of Newton iterations (factorisations) per solve.
+    /// Maximum number of Newton iterations per solve.
     pub max_iterations: usize,
 }
 
@@ -191,8 +191,8 @@ pub enum Start<'a> {
 /// Outcome of a successful solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LoadReport {
-    /// Newton iterations (LU factorisations) used; 0 when nothing overlaps or the start was
-    /// already converged.
+    /// Newton iterations used (one factorisation each, more only when entering slices are
+    /// rejected); 0 when nothing overlaps or the start was already converged.
     pub iterations: usize,
     /// Evaluations of the gap function g(q) (one per line-search trial, plus the start).
     pub evaluations: usize,
@@ -581,7 +581,7 @@ impl LoadSolver {
         }
     }
 
-    /// Working set, Newton matrix, LU and step `delta` (N/m) for all slices.
+    /// Working set and Newton step `delta` (N/m) for all slices.
     fn newton_step(
         &mut self,
         problem: &LoadProblem<'_>,
