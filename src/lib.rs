@@ -25,6 +25,7 @@ pub mod contact;
 pub mod dynamics;
 pub mod error;
 pub mod geometry;
+pub mod load;
 pub mod params;
 
 pub use error::ParamError;
