@@ -295,10 +295,7 @@ impl GearGeometry {
 
         // Reference point of η*: a rounding of the same radius on the nominal involute.
         let eta_reference_x = match rounding_on_involute(rb, lambda0, ra, rho_r) {
-            Some((c_ref, roll_ref, nu_ref)) => {
-                let _ = roll_ref;
-                c_ref[0] + rho_r * nu_ref.cos()
-            }
+            Some((c_ref, _, nu_ref)) => c_ref[0] + rho_r * nu_ref.cos(),
             None => center[0] + rho_r * nu_q.cos(),
         };
 

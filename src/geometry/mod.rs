@@ -93,15 +93,11 @@ impl PairGeometry {
         let eps_alpha = (path_end - path_start) / base_pitch;
         let eps_beta = p.face_width_m * p.helix_angle_rad.sin() / (PI * mn);
 
-        for (key, value, g, roll) in [
-            ("bore_diameter_m", p.bore_diameter_m, &pinion, 0.0),
-            ("bore_diameter_m", p.bore_diameter_m, &gear, 0.0),
-        ] {
-            let _ = roll;
-            if value / 2.0 > g.rf - mn {
+        for g in [&pinion, &gear] {
+            if p.bore_diameter_m / 2.0 > g.rf - mn {
                 return Err(ParamError::new(
-                    key,
-                    value,
+                    "bore_diameter_m",
+                    p.bore_diameter_m,
                     format!(
                         "<= root diameter − 2·m_n = {:.6} m (gear {}: rim of at least one module)",
                         2.0 * (g.rf - mn),
