@@ -26,6 +26,7 @@ pub mod dynamics;
 pub mod error;
 pub mod geometry;
 pub mod load;
+pub mod mesh;
 pub mod params;
 
 pub use error::ParamError;

@@ -1,0 +1,205 @@
+//! The mesh model façade: from hub angles and rates to mesh torques (paper §5, Eqs. 12–15).
+//!
+//! [`MeshModel`] is built once from a validated [`GearPair`] and [`MeshOptions`]; each call of
+//! [`MeshModel::evaluate`] takes the state (φp, φg, φ̇p, φ̇g) and returns [`MeshOutputs`]:
+//!
+//! ```text
+//! state ─> contact (instant lines of contact, all tooth pairs, driving and back flanks)
+//!       ─> compliance matrix C_ij = α*_p + α*_g (loaded tooth and its neighbours)
+//!       ─> load solver (Eq. 12, complementarity, warm start)
+//!       ─> M_F (Eq. 13), M_D (Eq. 14), pressure (Eq. 15), diagnostics
+//! ```
+//!
+//! Sign conventions are those of the crate: TE = φp·g_p + φg·g_g (Eq. 16), mesh torques enter
+//! Eqs. 2–3 with a minus sign and are positive in normal drive; back-flank contact gives
+//! negative torques.
+//!
+//! [`MeshTorques`] is the one-method interface the dynamics and the FMU use; [`statics`] finds
+//! the static equilibrium for any implementation of it.
+
+pub mod statics;
+
+use std::fmt;
+
+use crate::error::ParamError;
+use crate::load::LoadError;
+
+/// The kinematic state of the two gears.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MeshState {
+    /// Pinion hub angle φp, rad (absolute sense, see the crate docs).
+    pub phi_p: f64,
+    /// Gear hub angle φg, rad (same sense; negative and decreasing in normal running).
+    pub phi_g: f64,
+    /// Pinion speed φ̇p, rad/s.
+    pub w_p: f64,
+    /// Gear speed φ̇g, rad/s.
+    pub w_g: f64,
+}
+
+/// Results of one mesh evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MeshOutputs {
+    /// Elastic mesh torque on the pinion M_F,p (Eq. 13), N·m; enters Eq. 2 with a minus sign.
+    pub m_f_p: f64,
+    /// Elastic mesh torque on the gear M_F,g (Eq. 13), N·m; enters Eq. 3 with a minus sign.
+    pub m_f_g: f64,
+    /// Damping torque on the pinion M_D,p (Eq. 14), N·m; enters Eq. 2 with a minus sign.
+    pub m_d_p: f64,
+    /// Damping torque on the gear M_D,g (Eq. 14), N·m; enters Eq. 3 with a minus sign.
+    pub m_d_g: f64,
+    /// Transmission error TE = φp·g_p + φg·g_g (Eq. 16), m.
+    pub te: f64,
+    /// Total normal contact force F = Σ w_i·q_i, N (all flanks in contact).
+    pub f_n: f64,
+    /// Total length of the loaded contact lines, m.
+    pub contact_length: f64,
+    /// Largest Hertz pressure (Eq. 15), Pa (0 when pressure is not computed or no load).
+    pub p_max: f64,
+    /// Number of tooth pairs carrying load.
+    pub n_pairs: u32,
+    /// True when a loaded contact lies on the tip rounding (or tip edge) of either gear.
+    pub tip_contact: bool,
+    /// True when no flank carries load (loss of contact).
+    pub separated: bool,
+    /// True when the back flanks carry load (TE below minus the backlash).
+    pub back_contact: bool,
+}
+
+/// How each evaluation is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Fidelity {
+    /// Contact search and load solve at every call.
+    #[default]
+    Full,
+    /// Interpolation in a table over (mesh phase, TE) built once from `Full`; points outside
+    /// the table fall back to `Full`.
+    Table,
+}
+
+/// Which representation of the FE influence data gives the global compliance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ComplianceModel {
+    /// Smooth interpolation of the FE influence grid.
+    #[default]
+    Interpolated,
+    /// The fitted influence function of Eqs. 5–8 (neighbour teeth interpolated).
+    Fitted,
+}
+
+/// Options of [`MeshModel`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshOptions {
+    /// Evaluation fidelity.
+    pub fidelity: Fidelity,
+    /// Total number of slices over all simultaneous contact lines (the paper's 200): each tooth
+    /// pair's contact line is cut into `slices / ceil(ε_α + ε_β)` equal axial slices.
+    pub slices: usize,
+    /// Representation of the global compliance.
+    pub compliance: ComplianceModel,
+    /// Keep the coupling between simultaneous contact lines through the gear bodies
+    /// (influence of a load on one tooth on its neighbours).
+    pub neighbour_coupling: bool,
+    /// Compute the Hertz pressure (p_max); off saves the per-slice square roots.
+    pub pressure: bool,
+    /// Compute the damping torques M_D (Eq. 14).
+    pub damping: bool,
+    /// Keep the per-slice detail ([`MeshModel::slices`]) of the last evaluation.
+    pub detail: bool,
+    /// Table resolution: points per mesh period along the phase.
+    pub table_phase_points: usize,
+    /// Table resolution: points along TE.
+    pub table_te_points: usize,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        Self {
+            fidelity: Fidelity::Full,
+            slices: 200,
+            compliance: ComplianceModel::Interpolated,
+            neighbour_coupling: true,
+            pressure: true,
+            damping: true,
+            detail: false,
+            table_phase_points: 64,
+            table_te_points: 48,
+        }
+    }
+}
+
+/// One slice of the last evaluation (kept when [`MeshOptions::detail`] is set).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SliceDetail {
+    /// ζ = z/m_n of the slice centre.
+    pub zeta: f64,
+    /// Tooth pair (see [`crate::contact::ContactPoint::pair`]).
+    pub pair: i64,
+    /// True on the back flanks.
+    pub back: bool,
+    /// Overlap Δ0t·m_n, m.
+    pub overlap_m: f64,
+    /// Load intensity q, N/m.
+    pub q_n_per_m: f64,
+    /// Hertz pressure, Pa (0 without load or when pressure is off).
+    pub pressure_pa: f64,
+    /// Kind of contact, e.g. `involute/involute`, `rounding/involute` (pinion/gear).
+    pub kind: &'static str,
+}
+
+/// Errors of the mesh model.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshError {
+    /// A gear-pair parameter or option is invalid.
+    Param(ParamError),
+    /// A state component is NaN or infinite.
+    NonFinite {
+        /// Name of the input (`phi_p`, `phi_g`, `w_p`, `w_g`, …).
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// The compliance data could not be built or loaded.
+    Compliance(String),
+    /// The load solver failed.
+    Load(LoadError),
+    /// The static equilibrium could not be found.
+    Equilibrium(String),
+}
+
+impl fmt::Display for MeshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MeshError::Param(e) => write!(f, "{e}"),
+            MeshError::NonFinite { name, value } => {
+                write!(f, "input `{name}` = {value} is not finite")
+            }
+            MeshError::Compliance(m) => write!(f, "compliance: {m}"),
+            MeshError::Load(e) => write!(f, "load distribution: {e}"),
+            MeshError::Equilibrium(m) => write!(f, "static equilibrium: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for MeshError {}
+
+impl From<ParamError> for MeshError {
+    fn from(e: ParamError) -> Self {
+        MeshError::Param(e)
+    }
+}
+
+impl From<LoadError> for MeshError {
+    fn from(e: LoadError) -> Self {
+        MeshError::Load(e)
+    }
+}
+
+/// Anything that gives the mesh torques for a state: the [`MeshModel`], or a stand-in in tests.
+pub trait MeshTorques {
+    /// Mesh outputs for `state`.
+    fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError>;
+
+    /// Base radii (g_p, g_g), m, that define TE = φp·g_p + φg·g_g.
+    fn base_radii(&self) -> (f64, f64);
+}

@@ -1,0 +1,198 @@
+//! Static equilibrium of the mesh (paper §6, the static part): for a pinion angle φp and a
+//! driving torque M, the gear angle φg at which the elastic mesh torque balances it,
+//! M_F,p(φp, φg) = M (Eqs. 1–4 without the dynamic terms; the shafts then only wind up and do
+//! not change the mesh). The static transmission error is STE(φp) = TE at that φg (Eq. 16).
+//!
+//! The unknown is TE (φg = (TE − φp·g_p)/g_g): at fixed φp, M_F,p is continuous and
+//! non-decreasing in TE (more overlap, more load), strictly increasing once any slice is
+//! loaded. The root is bracketed by expanding from a guess and then found by Brent's method
+//! (inverse quadratic interpolation with bisection safeguard), which converges superlinearly
+//! on the piecewise-smooth M_F,p(TE) and never leaves the bracket.
+
+use super::{MeshError, MeshOutputs, MeshState, MeshTorques};
+
+/// A static equilibrium point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Equilibrium {
+    /// Pinion angle φp, rad (as given).
+    pub phi_p: f64,
+    /// Gear angle φg of equilibrium, rad.
+    pub phi_g: f64,
+    /// Static transmission error at this φp, m.
+    pub te: f64,
+    /// Mesh outputs at the equilibrium (zero speeds).
+    pub outputs: MeshOutputs,
+    /// Number of mesh evaluations used.
+    pub evaluations: usize,
+}
+
+/// Settings of [`equilibrium`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EquilibriumSettings {
+    /// Torque tolerance relative to |M| (dimensionless).
+    pub rel_tol: f64,
+    /// Absolute TE tolerance, m: the bracket is not narrowed below this.
+    pub te_tol: f64,
+    /// Largest number of mesh evaluations.
+    pub max_evaluations: usize,
+}
+
+impl Default for EquilibriumSettings {
+    /// |M_F,p − M| ≤ 1e-11·|M|, TE to 1e-15 m, at most 200 evaluations.
+    fn default() -> Self {
+        Self { rel_tol: 1e-11, te_tol: 1e-15, max_evaluations: 200 }
+    }
+}
+
+/// Finds φg with M_F,p(φp, φg) = `torque` (N·m, > 0 drives the pinion flanks) at pinion angle
+/// `phi_p` (rad), starting the bracket search at `te_guess` (m; e.g. the previous phase's STE).
+pub fn equilibrium<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    phi_p: f64,
+    torque: f64,
+    te_guess: f64,
+    settings: &EquilibriumSettings,
+) -> Result<Equilibrium, MeshError> {
+    for (name, v) in [("phi_p", phi_p), ("torque", torque), ("te_guess", te_guess)] {
+        if !v.is_finite() {
+            return Err(MeshError::NonFinite { name, value: v });
+        }
+    }
+    let (gp, gg) = mesh.base_radii();
+    let mut evaluations = 0usize;
+    let mut eval = |mesh: &mut M, te: f64| -> Result<(f64, MeshOutputs), MeshError> {
+        evaluations += 1;
+        let state = MeshState { phi_p, phi_g: (te - phi_p * gp) / gg, w_p: 0.0, w_g: 0.0 };
+        let o = mesh.mesh(&state)?;
+        Ok((o.m_f_p - torque, o))
+    };
+    let tol_m = settings.rel_tol * torque.abs().max(1e-300);
+
+    // Bracket: f(a) < 0 < f(b) (f increasing in TE).
+    let mut step = 1e-6_f64.max(te_guess.abs() * 0.05);
+    let (mut a, mut fa_o) = {
+        let (f, o) = eval(mesh, te_guess)?;
+        (te_guess, (f, o))
+    };
+    if fa_o.0.abs() <= tol_m {
+        return Ok(Equilibrium {
+            phi_p,
+            phi_g: (a - phi_p * gp) / gg,
+            te: a,
+            outputs: fa_o.1,
+            evaluations,
+        });
+    }
+    let (mut b, mut fb_o);
+    if fa_o.0 < 0.0 {
+        loop {
+            b = a + step;
+            fb_o = eval(mesh, b)?;
+            if fb_o.0 >= 0.0 {
+                break;
+            }
+            a = b;
+            fa_o = fb_o;
+            step *= 2.0;
+            if step > 1.0 || evaluations > settings.max_evaluations {
+                return Err(MeshError::Equilibrium(format!(
+                    "no TE up to {b:.3e} m carries the torque {torque} N·m at φp = {phi_p} rad"
+                )));
+            }
+        }
+    } else {
+        b = a;
+        fb_o = fa_o;
+        loop {
+            a = b - step;
+            fa_o = eval(mesh, a)?;
+            if fa_o.0 < 0.0 {
+                break;
+            }
+            b = a;
+            fb_o = fa_o;
+            step *= 2.0;
+            if step > 1.0 || evaluations > settings.max_evaluations {
+                return Err(MeshError::Equilibrium(format!(
+                    "mesh torque stays above {torque} N·m down to TE = {a:.3e} m at φp = {phi_p} rad"
+                )));
+            }
+        }
+    }
+
+    // Brent's method on [a, b].
+    let (mut fa, mut fb) = (fa_o.0, fb_o.0);
+    let mut best = if fa.abs() < fb.abs() { (a, fa_o.1, fa) } else { (b, fb_o.1, fb) };
+    let (mut c, mut fc) = (a, fa);
+    let mut d = b - a;
+    let mut e = d;
+    while evaluations < settings.max_evaluations {
+        if (fb > 0.0) == (fc > 0.0) {
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        let tol = 2.0 * f64::EPSILON * b.abs() + 0.5 * settings.te_tol;
+        let m = 0.5 * (c - b);
+        if m.abs() <= tol || fb == 0.0 {
+            break;
+        }
+        if e.abs() >= tol && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q);
+            if a == c {
+                p = 2.0 * m * s;
+                q = 1.0 - s;
+            } else {
+                let qa = fa / fc;
+                let r = fb / fc;
+                p = s * (2.0 * m * qa * (qa - r) - (b - a) * (r - 1.0));
+                q = (qa - 1.0) * (r - 1.0) * (s - 1.0);
+            }
+            if p > 0.0 {
+                q = -q;
+            } else {
+                p = -p;
+            }
+            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
+                e = d;
+                d = p / q;
+            } else {
+                d = m;
+                e = m;
+            }
+        } else {
+            d = m;
+            e = m;
+        }
+        a = b;
+        fa = fb;
+        b += if d.abs() > tol { d } else { tol.copysign(m) };
+        let (f, o) = eval(mesh, b)?;
+        fb = f;
+        if f.abs() < best.2.abs() {
+            best = (b, o, f);
+        }
+        if f.abs() <= tol_m {
+            break;
+        }
+    }
+    if best.2.abs() > tol_m.max(1e-9 * torque.abs()) {
+        return Err(MeshError::Equilibrium(format!(
+            "torque residual {:.3e} N·m after {evaluations} evaluations at φp = {phi_p} rad \
+             (TE = {:.6e} m)",
+            best.2, best.0
+        )));
+    }
+    let te = best.0;
+    Ok(Equilibrium { phi_p, phi_g: (te - phi_p * gp) / gg, te, outputs: best.1, evaluations })
+}
