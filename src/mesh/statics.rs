@@ -59,9 +59,9 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         }
     }
     let (gp, gg) = mesh.base_radii();
-    let mut evaluations = 0usize;
-    let mut eval = |mesh: &mut M, te: f64| -> Result<(f64, MeshOutputs), MeshError> {
-        evaluations += 1;
+    let count = std::cell::Cell::new(0usize);
+    let eval = |mesh: &mut M, te: f64| -> Result<(f64, MeshOutputs), MeshError> {
+        count.set(count.get() + 1);
         let state = MeshState { phi_p, phi_g: (te - phi_p * gp) / gg, w_p: 0.0, w_g: 0.0 };
         let o = mesh.mesh(&state)?;
         Ok((o.m_f_p - torque, o))
@@ -80,7 +80,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
             phi_g: (a - phi_p * gp) / gg,
             te: a,
             outputs: fa_o.1,
-            evaluations,
+            evaluations: count.get(),
         });
     }
     let (mut b, mut fb_o);
@@ -94,7 +94,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
             a = b;
             fa_o = fb_o;
             step *= 2.0;
-            if step > 1.0 || evaluations > settings.max_evaluations {
+            if step > 1.0 || count.get() > settings.max_evaluations {
                 return Err(MeshError::Equilibrium(format!(
                     "no TE up to {b:.3e} m carries the torque {torque} N·m at φp = {phi_p} rad"
                 )));
@@ -112,7 +112,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
             b = a;
             fb_o = fa_o;
             step *= 2.0;
-            if step > 1.0 || evaluations > settings.max_evaluations {
+            if step > 1.0 || count.get() > settings.max_evaluations {
                 return Err(MeshError::Equilibrium(format!(
                     "mesh torque stays above {torque} N·m down to TE = {a:.3e} m at φp = {phi_p} rad"
                 )));
@@ -126,7 +126,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     let (mut c, mut fc) = (a, fa);
     let mut d = b - a;
     let mut e = d;
-    while evaluations < settings.max_evaluations {
+    while count.get() < settings.max_evaluations {
         if (fb > 0.0) == (fc > 0.0) {
             c = a;
             fc = fa;
@@ -188,11 +188,19 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     }
     if best.2.abs() > tol_m.max(1e-9 * torque.abs()) {
         return Err(MeshError::Equilibrium(format!(
-            "torque residual {:.3e} N·m after {evaluations} evaluations at φp = {phi_p} rad \
+            "torque residual {:.3e} N·m after {} evaluations at φp = {phi_p} rad \
              (TE = {:.6e} m)",
-            best.2, best.0
+            best.2,
+            count.get(),
+            best.0
         )));
     }
     let te = best.0;
-    Ok(Equilibrium { phi_p, phi_g: (te - phi_p * gp) / gg, te, outputs: best.1, evaluations })
+    Ok(Equilibrium {
+        phi_p,
+        phi_g: (te - phi_p * gp) / gg,
+        te,
+        outputs: best.1,
+        evaluations: count.get(),
+    })
 }
