@@ -20,14 +20,20 @@
 //! radius): TE = 0 when ideal unloaded involute driving flanks just touch, TE > 0 when the teeth
 //! must deform.
 
+pub mod capi;
 pub mod compliance;
 pub mod contact;
 pub mod dynamics;
 pub mod error;
+pub mod fmi2;
 pub mod geometry;
 pub mod load;
 pub mod mesh;
 pub mod params;
+
+// TEMPORARY: stand-in for mesh::MeshModel until the façade is merged (see the file).
+#[doc(hidden)]
+pub mod mesh_shim;
 
 pub use error::ParamError;
 pub use geometry::PairGeometry;

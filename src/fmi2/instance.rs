@@ -1,0 +1,895 @@
+//! One FMU instance: the state machine, the variable values and the mesh model behind them.
+//!
+//! This is plain Rust with no raw pointers except the logger; [`super::exports`] turns C calls
+//! into calls of these methods. Every operation returns `Ok(status)` or `Err(message)`; the
+//! caller logs the message, moves the instance to the error state and returns `fmi2Error`.
+
+use std::ffi::CString;
+use std::path::PathBuf;
+
+use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
+use super::variables::{
+    Access, Causality, Derived, LOG_CATEGORIES, Settings, VARIABLES, Variability, Variable, by_vr,
+    guid,
+};
+use crate::PairGeometry;
+use crate::mesh::{MeshError, MeshOutputs, MeshState};
+use crate::mesh_shim::MeshModel;
+
+/// States of the co-simulation state machine (FMI 2.0, section 4.2.4), as bits so that each
+/// function can carry the set of states it is allowed in. `stepInProgress` never occurs (steps
+/// are synchronous); "start/end" is the absence of an instance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u16)]
+pub(crate) enum Phase {
+    Instantiated = 1,
+    InitializationMode = 2,
+    StepComplete = 4,
+    StepFailed = 8,
+    StepCanceled = 16,
+    Terminated = 32,
+    Error = 64,
+    Fatal = 128,
+}
+
+impl Phase {
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Phase::Instantiated => "instantiated",
+            Phase::InitializationMode => "initializationMode",
+            Phase::StepComplete => "stepComplete",
+            Phase::StepFailed => "stepFailed",
+            Phase::StepCanceled => "stepCanceled",
+            Phase::Terminated => "terminated",
+            Phase::Error => "error",
+            Phase::Fatal => "fatal",
+        }
+    }
+
+    fn from_u8(b: u8) -> Option<Phase> {
+        [
+            Phase::Instantiated,
+            Phase::InitializationMode,
+            Phase::StepComplete,
+            Phase::StepFailed,
+            Phase::StepCanceled,
+            Phase::Terminated,
+            Phase::Error,
+        ]
+        .into_iter()
+        .find(|m| *m as u16 == u16::from(b))
+    }
+}
+
+/// An FMI function with the set of states it may be called in.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Func {
+    pub(crate) name: &'static str,
+    pub(crate) mask: u16,
+}
+
+const INST: u16 = Phase::Instantiated as u16;
+const INIT: u16 = Phase::InitializationMode as u16;
+const DONE: u16 = Phase::StepComplete as u16;
+const FAILED: u16 = Phase::StepFailed as u16;
+const CANCELED: u16 = Phase::StepCanceled as u16;
+const TERM: u16 = Phase::Terminated as u16;
+const ERR: u16 = Phase::Error as u16;
+const LIVE: u16 = INST | INIT | DONE | FAILED | CANCELED | TERM | ERR;
+const GETTABLE: u16 = INIT | DONE | FAILED | CANCELED | TERM | ERR;
+const SETTABLE: u16 = INST | INIT | DONE;
+
+macro_rules! funcs {
+    ($($id:ident = $mask:expr;)*) => {
+        /// The FMI functions with the states they are allowed in (the table of section 4.2.4 of
+        /// the FMI 2.0 standard; `fmi2FreeInstance` is also accepted in the fatal state so that
+        /// an instance is never leaked).
+        #[allow(non_upper_case_globals)]
+        pub(crate) mod func {
+            use super::*;
+            $(pub(crate) const $id: Func = Func { name: stringify!($id), mask: $mask };)*
+        }
+    };
+}
+
+funcs! {
+    fmi2SetDebugLogging = LIVE;
+    fmi2FreeInstance = LIVE | Phase::Fatal as u16;
+    fmi2SetupExperiment = INST;
+    fmi2EnterInitializationMode = INST;
+    fmi2ExitInitializationMode = INIT;
+    fmi2Terminate = DONE | FAILED;
+    fmi2Reset = LIVE;
+    fmi2GetReal = GETTABLE;
+    fmi2GetInteger = GETTABLE;
+    fmi2GetBoolean = GETTABLE;
+    fmi2GetString = GETTABLE;
+    fmi2SetReal = SETTABLE;
+    fmi2SetInteger = SETTABLE;
+    fmi2SetBoolean = SETTABLE;
+    fmi2SetString = SETTABLE;
+    fmi2GetFMUstate = LIVE;
+    fmi2SetFMUstate = LIVE;
+    fmi2FreeFMUstate = LIVE;
+    fmi2SerializedFMUstateSize = LIVE;
+    fmi2SerializeFMUstate = LIVE;
+    fmi2DeSerializeFMUstate = LIVE;
+    fmi2GetDirectionalDerivative = GETTABLE;
+    fmi2SetRealInputDerivatives = SETTABLE;
+    fmi2GetRealOutputDerivatives = DONE | FAILED | CANCELED | TERM | ERR;
+    fmi2DoStep = DONE;
+    fmi2CancelStep = 0;
+    fmi2GetStatus = DONE | FAILED | CANCELED | TERM;
+    fmi2GetRealStatus = DONE | FAILED | CANCELED | TERM;
+    fmi2GetIntegerStatus = DONE | FAILED | CANCELED | TERM;
+    fmi2GetBooleanStatus = DONE | FAILED | CANCELED | TERM;
+    fmi2GetStringStatus = DONE | FAILED | CANCELED | TERM;
+}
+
+/// Names of the states in `mask`, for messages.
+pub(crate) fn mask_names(mask: u16) -> String {
+    const ALL: [Phase; 8] = [
+        Phase::Instantiated,
+        Phase::InitializationMode,
+        Phase::StepComplete,
+        Phase::StepFailed,
+        Phase::StepCanceled,
+        Phase::Terminated,
+        Phase::Error,
+        Phase::Fatal,
+    ];
+    let names: Vec<&str> =
+        ALL.iter().filter(|m| mask & (**m as u16) != 0).map(|m| m.name()).collect();
+    if names.is_empty() {
+        "none (this FMU never runs a step asynchronously)".into()
+    } else {
+        names.join(", ")
+    }
+}
+
+/// Log category indices into [`LOG_CATEGORIES`].
+pub(crate) mod cat {
+    pub(crate) const ERROR: usize = 0;
+    pub(crate) const WARNING: usize = 1;
+    pub(crate) const FATAL: usize = 2;
+    pub(crate) const MODEL: usize = 3;
+    pub(crate) const CALLS: usize = 4;
+}
+
+/// A built mesh model with the settings it was built from and the derived quantities.
+#[derive(Clone)]
+pub(crate) struct Built {
+    model: MeshModel,
+    derived: Derived,
+    settings: Settings,
+}
+
+/// Everything an FMU state captures.
+#[derive(Clone)]
+pub(crate) struct Data {
+    pub(crate) mode: Phase,
+    pub(crate) time: f64,
+    pub(crate) start_time: f64,
+    pub(crate) stop_time: Option<f64>,
+    pub(crate) settings: Settings,
+    pub(crate) inputs: MeshState,
+    built: Option<Built>,
+    /// Outputs for the current inputs; `None` when an input or parameter changed since.
+    outputs: Option<MeshOutputs>,
+}
+
+impl Data {
+    fn start() -> Self {
+        Self {
+            mode: Phase::Instantiated,
+            time: 0.0,
+            start_time: 0.0,
+            stop_time: None,
+            settings: Settings::default(),
+            inputs: MeshState::default(),
+            built: None,
+            outputs: None,
+        }
+    }
+}
+
+/// A saved FMU state (`fmi2FMUstate` points to one of these).
+pub(crate) struct Snapshot {
+    data: Data,
+}
+
+/// One FMU instance.
+pub(crate) struct Instance {
+    pub(crate) name: CString,
+    logger: Option<fmi2CallbackLogger>,
+    env: fmi2ComponentEnvironment,
+    logging_on: bool,
+    /// Bit i set: category i of [`LOG_CATEGORIES`] is logged when `logging_on`.
+    enabled: u32,
+    resources: Option<PathBuf>,
+    pub(crate) data: Data,
+    /// The last model built from start (or any) settings, kept so that `fmi2Reset` and
+    /// deserialised states reuse it instead of building again; `evaluate` of a clone of it
+    /// repeats a fresh instance's results bit for bit.
+    pristine: Option<Built>,
+    /// FMU states created by this instance and not yet freed.
+    pub(crate) states: Vec<*mut Snapshot>,
+}
+
+fn settings_eq_but_damping(a: &Settings, b: &Settings) -> bool {
+    let mut b2 = b.clone();
+    b2.pair.d_mesh_n_s_per_m = a.pair.d_mesh_n_s_per_m;
+    *a == b2
+}
+
+/// Text of a model-building error; names the FMI parameter.
+fn mesh_error_text(e: &MeshError) -> String {
+    match e {
+        MeshError::Param(p) if p.name == "d_mesh_n_s_per_m" => {
+            format!("{p} (FMI parameter `d_mesh`)")
+        }
+        other => other.to_string(),
+    }
+}
+
+impl Instance {
+    pub(crate) fn new(
+        name: CString,
+        logger: Option<fmi2CallbackLogger>,
+        env: fmi2ComponentEnvironment,
+        logging_on: bool,
+        resources: Option<PathBuf>,
+    ) -> Self {
+        Self {
+            name,
+            logger,
+            env,
+            logging_on,
+            enabled: u32::MAX,
+            resources,
+            data: Data::start(),
+            pristine: None,
+            states: Vec::new(),
+        }
+    }
+
+    pub(crate) fn mode(&self) -> Phase {
+        self.data.mode
+    }
+
+    pub(crate) fn set_mode(&mut self, m: Phase) {
+        self.data.mode = m;
+    }
+
+    /// True when a message of `category` would reach the logger.
+    pub(crate) fn logs(&self, category: usize) -> bool {
+        self.logger.is_some()
+            && (matches!(category, cat::ERROR | cat::FATAL)
+                || (self.logging_on && self.enabled & (1 << category) != 0))
+    }
+
+    /// Passes `msg` to the importer's logger (errors and fatal errors always, the other
+    /// categories when debug logging is on for them). `%` is escaped as `%%` because the
+    /// logger treats the message as a printf format.
+    pub(crate) fn log(&self, status: fmi2Status, category: usize, msg: &str) {
+        if !self.logs(category) {
+            return;
+        }
+        log_to(self.logger, self.env, &self.name, status, category, msg);
+    }
+
+    pub(crate) fn set_debug_logging(
+        &mut self,
+        on: bool,
+        categories: &[String],
+    ) -> Result<fmi2Status, String> {
+        let mut mask = 0u32;
+        for c in categories {
+            match LOG_CATEGORIES.iter().position(|(n, _)| n == c) {
+                Some(i) => mask |= 1 << i,
+                None => {
+                    let known: Vec<&str> = LOG_CATEGORIES.iter().map(|(n, _)| *n).collect();
+                    return Err(format!(
+                        "unknown log category `{c}`: allowed {}",
+                        known.join(", ")
+                    ));
+                }
+            }
+        }
+        self.logging_on = on;
+        self.enabled = if categories.is_empty() { u32::MAX } else { mask };
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn setup_experiment(
+        &mut self,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<fmi2Status, String> {
+        if !start.is_finite() {
+            return Err(format!("startTime = {start} is not finite"));
+        }
+        if let Some(t) = stop
+            && !(t.is_finite() && t >= start)
+        {
+            return Err(format!("stopTime = {t}: allowed finite and >= startTime = {start}"));
+        }
+        self.data.start_time = start;
+        self.data.time = start;
+        self.data.stop_time = stop;
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn enter_initialization_mode(&mut self) -> Result<fmi2Status, String> {
+        self.data.time = self.data.start_time;
+        self.data.mode = Phase::InitializationMode;
+        if let Some(dir) = &self.resources
+            && self.logs(cat::MODEL)
+        {
+            self.log(
+                fmi2Status::Ok,
+                cat::MODEL,
+                &format!("resources directory: {}", dir.display()),
+            );
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn exit_initialization_mode(&mut self) -> Result<fmi2Status, String> {
+        self.ensure_built()?;
+        self.data.mode = Phase::StepComplete;
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn terminate(&mut self) -> Result<fmi2Status, String> {
+        self.data.mode = Phase::Terminated;
+        Ok(fmi2Status::Ok)
+    }
+
+    /// Back to the instantiated state with the start values of every variable.
+    pub(crate) fn reset(&mut self) -> Result<fmi2Status, String> {
+        self.data = Data::start();
+        Ok(fmi2Status::Ok)
+    }
+
+    /// Builds the mesh model for the current settings unless it exists.
+    fn ensure_built(&mut self) -> Result<&mut Built, String> {
+        if self.data.built.is_none() {
+            let s = &self.data.settings;
+            let built = match &self.pristine {
+                Some(p) if settings_eq_but_damping(&p.settings, s) => {
+                    let mut b = p.clone();
+                    b.model.set_d_mesh(s.pair.d_mesh_n_s_per_m).map_err(|e| mesh_error_text(&e))?;
+                    b.settings = s.clone();
+                    b
+                }
+                _ => {
+                    let t0 = std::time::Instant::now();
+                    let b = build(s)?;
+                    if self.logs(cat::MODEL) {
+                        self.log(
+                            fmi2Status::Ok,
+                            cat::MODEL,
+                            &format!(
+                                "mesh model built in {:.3} s (base radii {:.6} / {:.6} mm)",
+                                t0.elapsed().as_secs_f64(),
+                                b.derived.base_radius_p * 1e3,
+                                b.derived.base_radius_g * 1e3
+                            ),
+                        );
+                    }
+                    self.pristine = Some(b.clone());
+                    b
+                }
+            };
+            self.data.built = Some(built);
+        }
+        Ok(self.data.built.as_mut().expect("built above"))
+    }
+
+    /// The outputs for the current inputs, evaluating the model if an input changed.
+    fn ensure_outputs(&mut self) -> Result<MeshOutputs, String> {
+        if let Some(o) = self.data.outputs {
+            return Ok(o);
+        }
+        let inputs = self.data.inputs;
+        let built = self.ensure_built()?;
+        let o = built.model.evaluate(&inputs).map_err(|e| {
+            format!(
+                "mesh evaluation at phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} \
+                 rad/s: {}",
+                inputs.phi_p,
+                inputs.phi_g,
+                inputs.w_p,
+                inputs.w_g,
+                mesh_error_text(&e)
+            )
+        })?;
+        self.data.outputs = Some(o);
+        Ok(o)
+    }
+
+    fn lookup(vr: u32, want: &str) -> Result<&'static Variable, String> {
+        let v = by_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
+        let ty = v.var_type().as_str();
+        if ty != want {
+            return Err(format!("value reference {vr} (`{}`) is of type {ty}, not {want}", v.name));
+        }
+        Ok(v)
+    }
+
+    /// Prepares the values that reading `vars` needs (model outputs or derived quantities).
+    fn prepare(&mut self, vars: &[&Variable]) -> Result<(), String> {
+        if vars.iter().any(|v| v.causality == Causality::Output) {
+            self.ensure_outputs()?;
+        } else if vars.iter().any(|v| v.causality == Causality::CalculatedParameter) {
+            self.ensure_built()?;
+        }
+        Ok(())
+    }
+
+    fn read_real(&self, v: &Variable) -> f64 {
+        let d = &self.data;
+        match v.access {
+            Access::RealParam(get, _) => get(&d.settings),
+            Access::Input(get, _) => get(&d.inputs),
+            Access::RealOutput(get) => d.outputs.as_ref().map_or(f64::NAN, get),
+            Access::Calculated(get) => d.built.as_ref().map_or(f64::NAN, |b| get(&b.derived)),
+            _ => f64::NAN,
+        }
+    }
+
+    pub(crate) fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<fmi2Status, String> {
+        let vars = vrs.iter().map(|&r| Self::lookup(r, "Real")).collect::<Result<Vec<_>, _>>()?;
+        self.prepare(&vars)?;
+        for (o, v) in out.iter_mut().zip(&vars) {
+            *o = self.read_real(v);
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn get_integer(
+        &mut self,
+        vrs: &[u32],
+        out: &mut [i32],
+    ) -> Result<fmi2Status, String> {
+        let vars =
+            vrs.iter().map(|&r| Self::lookup(r, "Integer")).collect::<Result<Vec<_>, _>>()?;
+        self.prepare(&vars)?;
+        for (o, v) in out.iter_mut().zip(&vars) {
+            *o = match v.access {
+                Access::IntParam(get, _) => get(&self.data.settings),
+                Access::IntOutput(get) => self.data.outputs.as_ref().map_or(0, get),
+                _ => 0,
+            };
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn get_boolean(
+        &mut self,
+        vrs: &[u32],
+        out: &mut [bool],
+    ) -> Result<fmi2Status, String> {
+        let vars =
+            vrs.iter().map(|&r| Self::lookup(r, "Boolean")).collect::<Result<Vec<_>, _>>()?;
+        self.prepare(&vars)?;
+        for (o, v) in out.iter_mut().zip(&vars) {
+            *o = match v.access {
+                Access::BoolParam(get, _) => get(&self.data.settings),
+                Access::BoolOutput(get) => self.data.outputs.as_ref().is_some_and(get),
+                _ => false,
+            };
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    /// Checks that `v` may be set now.
+    fn check_settable(&self, v: &Variable) -> Result<(), String> {
+        let mode = self.data.mode;
+        match (v.causality, v.variability) {
+            (Causality::Input, _) | (Causality::Parameter, Variability::Tunable) => Ok(()),
+            (Causality::Parameter, _) => {
+                if matches!(mode, Phase::Instantiated | Phase::InitializationMode) {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "parameter `{}` is fixed: it can be set only before \
+                         fmi2ExitInitializationMode (state is {})",
+                        v.name,
+                        mode.name()
+                    ))
+                }
+            }
+            (c, _) => Err(format!("`{}` is a {} and cannot be set", v.name, c.as_str())),
+        }
+    }
+
+    /// Marks the model stale after a fixed parameter changed.
+    fn fixed_parameter_changed(&mut self) {
+        self.data.built = None;
+        self.data.outputs = None;
+    }
+
+    pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<fmi2Status, String> {
+        for (&r, &x) in vrs.iter().zip(values) {
+            let v = Self::lookup(r, "Real")?;
+            self.check_settable(v)?;
+            match v.access {
+                Access::Input(get, set) => {
+                    if !x.is_finite() {
+                        return Err(format!("input `{}` = {x} is not finite", v.name));
+                    }
+                    if get(&self.data.inputs).to_bits() != x.to_bits() {
+                        set(&mut self.data.inputs, x);
+                        self.data.outputs = None;
+                    }
+                }
+                Access::RealParam(get, set) => {
+                    if get(&self.data.settings).to_bits() == x.to_bits() {
+                        continue;
+                    }
+                    if v.variability == Variability::Tunable {
+                        if let Some(b) = self.data.built.as_mut() {
+                            b.model.set_d_mesh(x).map_err(|e| mesh_error_text(&e))?;
+                            set(&mut b.settings, x);
+                        }
+                        set(&mut self.data.settings, x);
+                        self.data.outputs = None;
+                    } else {
+                        set(&mut self.data.settings, x);
+                        self.fixed_parameter_changed();
+                    }
+                }
+                _ => unreachable!("check_settable admits only inputs and parameters"),
+            }
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn set_integer(
+        &mut self,
+        vrs: &[u32],
+        values: &[i32],
+    ) -> Result<fmi2Status, String> {
+        for (&r, &x) in vrs.iter().zip(values) {
+            let v = Self::lookup(r, "Integer")?;
+            self.check_settable(v)?;
+            if let Access::IntParam(get, set) = v.access
+                && get(&self.data.settings) != x
+            {
+                set(&mut self.data.settings, x).map_err(|allowed| {
+                    format!("parameter `{}` = {x}: allowed {allowed}", v.name)
+                })?;
+                self.fixed_parameter_changed();
+            }
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn set_boolean(
+        &mut self,
+        vrs: &[u32],
+        values: &[bool],
+    ) -> Result<fmi2Status, String> {
+        for (&r, &x) in vrs.iter().zip(values) {
+            let v = Self::lookup(r, "Boolean")?;
+            self.check_settable(v)?;
+            if let Access::BoolParam(get, set) = v.access
+                && get(&self.data.settings) != x
+            {
+                set(&mut self.data.settings, x);
+                self.fixed_parameter_changed();
+            }
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Result<fmi2Status, String> {
+        if !t.is_finite() || !h.is_finite() || h <= 0.0 {
+            return Err(format!(
+                "communication step from t = {t} s with h = {h} s: allowed finite t and h > 0"
+            ));
+        }
+        let now = self.data.time;
+        let tol = 1e-9 * now.abs().max(h).max(1e-9);
+        if (t - now).abs() > tol {
+            return Err(format!(
+                "currentCommunicationPoint = {t} s differs from the FMU's time {now} s (the end \
+                 of the previous step)"
+            ));
+        }
+        if let Some(stop) = self.data.stop_time
+            && t + h > stop + 1e-9 * stop.abs().max(h)
+        {
+            return Err(format!("step to t + h = {} s beyond stopTime = {stop} s", t + h));
+        }
+        self.data.time = t + h;
+        Ok(fmi2Status::Ok)
+    }
+
+    /// Current communication time, s.
+    pub(crate) fn time(&self) -> f64 {
+        self.data.time
+    }
+
+    // ---- FMU states
+
+    fn owns(&self, s: *mut Snapshot) -> bool {
+        self.states.contains(&s)
+    }
+
+    /// Saves the current state into `existing` (if given and owned) or a new snapshot.
+    pub(crate) fn get_state(&mut self, existing: *mut Snapshot) -> Result<*mut Snapshot, String> {
+        if existing.is_null() {
+            let p = Box::into_raw(Box::new(Snapshot { data: self.data.clone() }));
+            self.states.push(p);
+            Ok(p)
+        } else if self.owns(existing) {
+            // SAFETY: owned snapshots are live boxes created above and not yet freed.
+            unsafe { (*existing).data = self.data.clone() };
+            Ok(existing)
+        } else {
+            Err("*FMUstate is neither NULL nor an FMU state of this instance".into())
+        }
+    }
+
+    pub(crate) fn set_state(&mut self, s: *mut Snapshot) -> Result<fmi2Status, String> {
+        if !self.owns(s) {
+            return Err("FMUstate is not a live FMU state of this instance".into());
+        }
+        // SAFETY: owned snapshots are live boxes.
+        self.data = unsafe { (*s).data.clone() };
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn free_state(&mut self, s: *mut Snapshot) -> Result<fmi2Status, String> {
+        if s.is_null() {
+            return Ok(fmi2Status::Ok);
+        }
+        let i = self
+            .states
+            .iter()
+            .position(|&p| p == s)
+            .ok_or("FMUstate is not a live FMU state of this instance")?;
+        self.states.swap_remove(i);
+        // SAFETY: created by Box::into_raw in get_state/deserialize and removed from the list.
+        drop(unsafe { Box::from_raw(s) });
+        Ok(fmi2Status::Ok)
+    }
+
+    pub(crate) fn serialize_state(&self, s: *mut Snapshot) -> Result<Vec<u8>, String> {
+        if !self.owns(s) {
+            return Err("FMUstate is not a live FMU state of this instance".into());
+        }
+        // SAFETY: owned snapshots are live boxes.
+        Ok(serialize(unsafe { &(*s).data }))
+    }
+
+    pub(crate) fn deserialize_state(&mut self, bytes: &[u8]) -> Result<*mut Snapshot, String> {
+        let mut data = deserialize(bytes)?;
+        if matches!(data.mode, Phase::StepComplete | Phase::StepFailed | Phase::StepCanceled) {
+            // Attach a model (a clone of the pristine one when the settings match).
+            let saved = std::mem::replace(&mut self.data, data);
+            let r = self.ensure_built().map(|_| ());
+            data = std::mem::replace(&mut self.data, saved);
+            r?;
+        }
+        let p = Box::into_raw(Box::new(Snapshot { data }));
+        self.states.push(p);
+        Ok(p)
+    }
+
+    /// Frees all snapshots (when the instance is freed).
+    pub(crate) fn free_all_states(&mut self) {
+        for p in self.states.drain(..) {
+            // SAFETY: every entry is a live box created by this instance.
+            drop(unsafe { Box::from_raw(p) });
+        }
+    }
+}
+
+/// Sends one message to `logger` (see [`Instance::log`]).
+pub(crate) fn log_to(
+    logger: Option<fmi2CallbackLogger>,
+    env: fmi2ComponentEnvironment,
+    name: &CString,
+    status: fmi2Status,
+    category: usize,
+    msg: &str,
+) {
+    let Some(logger) = logger else { return };
+    let text = msg.replace('%', "%%").replace('\0', " ");
+    let text = CString::new(text).unwrap_or_default();
+    let category = CString::new(LOG_CATEGORIES[category].0).unwrap_or_default();
+    // SAFETY: the importer's logger, called with valid zero-terminated strings and no
+    // variadic arguments (all `%` are escaped).
+    unsafe { logger(env, name.as_ptr(), status, category.as_ptr(), text.as_ptr()) };
+}
+
+/// Builds the model and the derived quantities for `s`.
+fn build(s: &Settings) -> Result<Built, String> {
+    let geometry = PairGeometry::new(&s.pair).map_err(|e| mesh_error_text(&e.into()))?;
+    let model = MeshModel::new(&s.pair, s.options).map_err(|e| mesh_error_text(&e))?;
+    let derived = Derived {
+        base_radius_p: geometry.pinion.rb,
+        base_radius_g: geometry.gear.rb,
+        j_p: geometry.j_p,
+        j_g: geometry.j_g,
+    };
+    Ok(Built { model, derived, settings: s.clone() })
+}
+
+// ---- serialised FMU state
+//
+// Layout (little endian): magic `HGMSTATE`, format version u32, GUID (u32 length + bytes),
+// mode u8, time f64, start time f64, stop time (u8 flag + f64), then every parameter and input
+// in table order (Real f64, Integer i32, Boolean u8), then the cached outputs (u8 flag, then
+// the twelve MeshOutputs fields). The mesh model itself is not serialised: it is rebuilt from
+// the parameters (or cloned from the instance's last build with the same parameters).
+
+const MAGIC: &[u8; 8] = b"HGMSTATE";
+const FORMAT_VERSION: u32 = 1;
+
+fn serialize(d: &Data) -> Vec<u8> {
+    let mut b = Vec::with_capacity(512);
+    b.extend_from_slice(MAGIC);
+    b.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    let g = guid().as_bytes();
+    b.extend_from_slice(&(g.len() as u32).to_le_bytes());
+    b.extend_from_slice(g);
+    b.push(d.mode as u16 as u8);
+    b.extend_from_slice(&d.time.to_le_bytes());
+    b.extend_from_slice(&d.start_time.to_le_bytes());
+    b.push(u8::from(d.stop_time.is_some()));
+    b.extend_from_slice(&d.stop_time.unwrap_or(0.0).to_le_bytes());
+    for v in VARIABLES {
+        match v.access {
+            Access::RealParam(get, _) => b.extend_from_slice(&get(&d.settings).to_le_bytes()),
+            Access::IntParam(get, _) => b.extend_from_slice(&get(&d.settings).to_le_bytes()),
+            Access::BoolParam(get, _) => b.push(u8::from(get(&d.settings))),
+            Access::Input(get, _) => b.extend_from_slice(&get(&d.inputs).to_le_bytes()),
+            _ => {}
+        }
+    }
+    match &d.outputs {
+        None => b.push(0),
+        Some(o) => {
+            b.push(1);
+            let MeshOutputs {
+                m_f_p,
+                m_f_g,
+                m_d_p,
+                m_d_g,
+                te,
+                f_n,
+                contact_length,
+                p_max,
+                n_pairs,
+                tip_contact,
+                separated,
+                back_contact,
+            } = *o;
+            for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
+                b.extend_from_slice(&x.to_le_bytes());
+            }
+            b.extend_from_slice(&n_pairs.to_le_bytes());
+            b.extend_from_slice(&[
+                u8::from(tip_contact),
+                u8::from(separated),
+                u8::from(back_contact),
+            ]);
+        }
+    }
+    b
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn take<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        let s = self
+            .b
+            .get(self.at..self.at + N)
+            .ok_or_else(|| format!("serialised state truncated at byte {}", self.at))?;
+        self.at += N;
+        Ok(s.try_into().expect("length checked"))
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_le_bytes(self.take()?))
+    }
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.take()?))
+    }
+    fn i32(&mut self) -> Result<i32, String> {
+        Ok(i32::from_le_bytes(self.take()?))
+    }
+    fn u8(&mut self) -> Result<u8, String> {
+        Ok(self.take::<1>()?[0])
+    }
+    fn bool(&mut self) -> Result<bool, String> {
+        match self.u8()? {
+            0 => Ok(false),
+            1 => Ok(true),
+            x => Err(format!("serialised state: boolean byte {x} at {}", self.at - 1)),
+        }
+    }
+}
+
+fn deserialize(bytes: &[u8]) -> Result<Data, String> {
+    let mut r = Reader { b: bytes, at: 0 };
+    if &r.take::<8>()? != MAGIC {
+        return Err("not a serialised state of this FMU (bad magic bytes)".into());
+    }
+    let version = r.u32()?;
+    if version != FORMAT_VERSION {
+        return Err(format!(
+            "serialised state has format version {version}; this FMU reads version \
+             {FORMAT_VERSION}"
+        ));
+    }
+    let n = r.u32()? as usize;
+    let g = r.b.get(r.at..r.at + n).ok_or("serialised state truncated in the GUID")?;
+    r.at += n;
+    if g != guid().as_bytes() {
+        return Err(format!(
+            "serialised state belongs to FMU {}, not {}",
+            String::from_utf8_lossy(g),
+            guid()
+        ));
+    }
+    let m = r.u8()?;
+    let mode = Phase::from_u8(m).ok_or_else(|| format!("serialised state: bad mode {m}"))?;
+    let mut d = Data::start();
+    d.mode = mode;
+    d.time = r.f64()?;
+    d.start_time = r.f64()?;
+    let has_stop = r.bool()?;
+    let stop = r.f64()?;
+    d.stop_time = has_stop.then_some(stop);
+    for v in VARIABLES {
+        match v.access {
+            Access::RealParam(_, set) => set(&mut d.settings, r.f64()?),
+            Access::IntParam(_, set) => {
+                let x = r.i32()?;
+                set(&mut d.settings, x).map_err(|a| {
+                    format!("serialised state: parameter `{}` = {x}: allowed {a}", v.name)
+                })?;
+            }
+            Access::BoolParam(_, set) => set(&mut d.settings, r.bool()?),
+            Access::Input(_, set) => set(&mut d.inputs, r.f64()?),
+            _ => {}
+        }
+    }
+    if r.bool()? {
+        let mut x = [0.0; 8];
+        for xi in &mut x {
+            *xi = r.f64()?;
+        }
+        d.outputs = Some(MeshOutputs {
+            m_f_p: x[0],
+            m_f_g: x[1],
+            m_d_p: x[2],
+            m_d_g: x[3],
+            te: x[4],
+            f_n: x[5],
+            contact_length: x[6],
+            p_max: x[7],
+            n_pairs: r.u32()?,
+            tip_contact: r.bool()?,
+            separated: r.bool()?,
+            back_contact: r.bool()?,
+        });
+    }
+    if r.at != bytes.len() {
+        return Err(format!(
+            "serialised state has {} bytes; this FMU's state has {}",
+            bytes.len(),
+            r.at
+        ));
+    }
+    Ok(d)
+}
