@@ -1,23 +1,66 @@
-//! `fmu-build`: builds the `helical_gear_mesh` cdylib in release mode.
-//!
-//! Packing `target/fmu/HelicalGearMesh.fmu` (binary, modelDescription.xml, resources,
-//! documentation) is added together with the FMI entry points.
+//! `fmu-build`: builds the `helical_gear_mesh` cdylib in release mode and packs
+//! `target/fmu/HelicalGearMesh.fmu`; with `--write-generated` it rewrites the generated,
+//! checked-in files instead (model description, C headers, README variable table).
 
+use std::path::PathBuf;
 use std::process::{Command, ExitCode};
 
-fn main() -> ExitCode {
+use fmu_build::{generated_files, pack, resources, workspace_root};
+
+const USAGE: &str = "usage: fmu-build [--write-generated]\n\
+    \n  (no argument)       cargo build --release the cdylib, write target/fmu/HelicalGearMesh.fmu\
+    \n  --write-generated   rewrite modelDescription/modelDescription.xml, include/*.h and the\
+    \n                      README's FMU variable table from the Rust sources";
+
+fn write_generated() -> Result<(), String> {
+    let root = workspace_root();
+    for (path, text) in generated_files()? {
+        let p = root.join(path);
+        let old = std::fs::read_to_string(&p).unwrap_or_default();
+        if old != text {
+            std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+            eprintln!("fmu-build: wrote {path}");
+        } else {
+            eprintln!("fmu-build: {path} is current");
+        }
+    }
+    Ok(())
+}
+
+fn build_and_pack() -> Result<PathBuf, String> {
+    let root = workspace_root();
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let status = Command::new(cargo)
+        .current_dir(&root)
         .args(["build", "--release", "-p", "helical_gear_mesh", "--lib"])
-        .status();
-    match status {
-        Ok(s) if s.success() => ExitCode::SUCCESS,
-        Ok(s) => {
-            eprintln!("fmu-build: cargo build failed with {s}");
-            ExitCode::FAILURE
+        .status()
+        .map_err(|e| format!("could not run cargo: {e}"))?;
+    if !status.success() {
+        return Err(format!("cargo build failed with {status}"));
+    }
+    let target =
+        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+    let (_, lib_name, _) = pack::platform()?;
+    let out = target.join("fmu").join("HelicalGearMesh.fmu");
+    pack::pack(&target.join("release").join(lib_name), resources(), &out)?;
+    Ok(out)
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
+        [] => build_and_pack().map(|p| eprintln!("fmu-build: wrote {}", p.display())),
+        ["--write-generated"] => write_generated(),
+        ["-h" | "--help"] => {
+            println!("{USAGE}");
+            Ok(())
         }
+        _ => Err(format!("unknown arguments {args:?}\n{USAGE}")),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("fmu-build: could not run cargo: {e}");
+            eprintln!("fmu-build: {e}");
             ExitCode::FAILURE
         }
     }

@@ -1,0 +1,47 @@
+//! `fmu-build`: generates the files derived from the library's FMI variable table and packs the
+//! FMU.
+//!
+//! * [`model_description`] — `modelDescription/modelDescription.xml`;
+//! * [`docs`] — the README's variable table and the FMU's `documentation/index.html`;
+//! * [`headers`] — the C headers in `include/` (cbindgen);
+//! * [`pack`] — `target/fmu/HelicalGearMesh.fmu`.
+//!
+//! The checked-in generated files are compared with what this crate generates by the tests in
+//! `fmu-build/tests/`; `cargo run -p fmu-build -- --write-generated` rewrites them.
+
+pub mod docs;
+pub mod headers;
+pub mod model_description;
+pub mod pack;
+
+use std::path::PathBuf;
+
+/// Path of the checked-in model description, relative to the workspace root.
+pub const MODEL_DESCRIPTION_PATH: &str = "modelDescription/modelDescription.xml";
+
+/// The workspace root (parent of this crate's directory).
+pub fn workspace_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("fmu-build is in the workspace")
+        .into()
+}
+
+/// Every generated, checked-in file: path relative to the workspace root and current text.
+/// The README entry is the whole README with the variable table replaced.
+pub fn generated_files() -> Result<Vec<(&'static str, String)>, String> {
+    let root = workspace_root();
+    let readme = std::fs::read_to_string(root.join("README.md"))
+        .map_err(|e| format!("reading README.md: {e}"))?;
+    Ok(vec![
+        (MODEL_DESCRIPTION_PATH, model_description::model_description_xml()),
+        (headers::CAPI_HEADER, headers::capi_header(&root)?),
+        (headers::FMI2_HEADER, headers::fmi2_header(&root)?),
+        ("README.md", docs::readme_with_table(&readme)?),
+    ])
+}
+
+/// Resource files of the FMU: name inside `resources/` and contents.
+pub fn resources() -> Vec<(String, Vec<u8>)> {
+    Vec::new()
+}

@@ -1,0 +1,371 @@
+//! `modelDescription.xml` from the variable table (quick-xml + serde).
+//!
+//! ModelStructure: `Outputs` lists every output with the inputs it depends on
+//! (`dependenciesKind="fixed"` for TE, which is linear in the angles with coefficients set by
+//! fixed parameters, `"dependent"` otherwise); `InitialUnknowns` lists the outputs and the
+//! calculated parameters with the inputs and the parameters (by group) they depend on, without
+//! `dependenciesKind` (all "dependent").
+
+use helical_gear_mesh::fmi2::variables::{
+    CS_CAPABILITIES, Causality, LOG_CATEGORIES, MODEL_IDENTIFIER, MODEL_VERSION, UNITS, VARIABLES,
+    VarType, Variable, by_name, format_real, guid,
+};
+use serde::Serialize;
+
+/// One-line description of the model in `modelDescription.xml`.
+pub const MODEL_DESCRIPTION: &str = "Helical gear mesh after Andersson and Vedmar (J. Sound \
+    Vib. 260, 2003): mesh torques from hub angles and speeds, with contact outside the plane of \
+    action, FE tooth compliance and non-linear load distribution";
+
+#[derive(Serialize)]
+#[serde(rename = "fmiModelDescription")]
+struct Fmd {
+    #[serde(rename = "@fmiVersion")]
+    fmi_version: &'static str,
+    #[serde(rename = "@modelName")]
+    model_name: &'static str,
+    #[serde(rename = "@guid")]
+    guid: &'static str,
+    #[serde(rename = "@description")]
+    description: &'static str,
+    #[serde(rename = "@version")]
+    version: &'static str,
+    #[serde(rename = "@generationTool")]
+    generation_tool: String,
+    #[serde(rename = "@variableNamingConvention")]
+    naming: &'static str,
+    #[serde(rename = "@numberOfEventIndicators")]
+    event_indicators: u32,
+    #[serde(rename = "CoSimulation")]
+    co_simulation: CoSimulation,
+    #[serde(rename = "UnitDefinitions")]
+    unit_definitions: UnitDefinitions,
+    #[serde(rename = "LogCategories")]
+    log_categories: LogCategories,
+    #[serde(rename = "DefaultExperiment")]
+    default_experiment: DefaultExperiment,
+    #[serde(rename = "ModelVariables")]
+    model_variables: ModelVariables,
+    #[serde(rename = "ModelStructure")]
+    model_structure: ModelStructure,
+}
+
+#[derive(Serialize)]
+struct CoSimulation {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: &'static str,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@canHandleVariableCommunicationStepSize")]
+    can_handle_variable_communication_step_size: bool,
+    #[serde(rename = "@canInterpolateInputs")]
+    can_interpolate_inputs: bool,
+    #[serde(rename = "@maxOutputDerivativeOrder")]
+    max_output_derivative_order: u32,
+    #[serde(rename = "@canRunAsynchronuously")]
+    can_run_asynchronuously: bool,
+    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
+    can_be_instantiated_only_once_per_process: bool,
+    #[serde(rename = "@canNotUseMemoryManagementFunctions")]
+    can_not_use_memory_management_functions: bool,
+    #[serde(rename = "@canGetAndSetFMUstate")]
+    can_get_and_set_fmu_state: bool,
+    #[serde(rename = "@canSerializeFMUstate")]
+    can_serialize_fmu_state: bool,
+    #[serde(rename = "@providesDirectionalDerivative")]
+    provides_directional_derivative: bool,
+}
+
+#[derive(Serialize)]
+struct UnitDefinitions {
+    #[serde(rename = "Unit")]
+    units: Vec<Unit>,
+}
+
+#[derive(Serialize)]
+struct Unit {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "BaseUnit")]
+    base: BaseUnit,
+    #[serde(rename = "DisplayUnit")]
+    display: Vec<DisplayUnit>,
+}
+
+#[derive(Serialize, Default)]
+struct BaseUnit {
+    #[serde(rename = "@kg", skip_serializing_if = "Option::is_none")]
+    kg: Option<i32>,
+    #[serde(rename = "@m", skip_serializing_if = "Option::is_none")]
+    m: Option<i32>,
+    #[serde(rename = "@s", skip_serializing_if = "Option::is_none")]
+    s: Option<i32>,
+    #[serde(rename = "@rad", skip_serializing_if = "Option::is_none")]
+    rad: Option<i32>,
+}
+
+#[derive(Serialize)]
+struct DisplayUnit {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@factor")]
+    factor: String,
+}
+
+#[derive(Serialize)]
+struct LogCategories {
+    #[serde(rename = "Category")]
+    categories: Vec<Category>,
+}
+
+#[derive(Serialize)]
+struct Category {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@description")]
+    description: &'static str,
+}
+
+#[derive(Serialize)]
+struct DefaultExperiment {
+    #[serde(rename = "@startTime")]
+    start_time: &'static str,
+    #[serde(rename = "@stopTime")]
+    stop_time: &'static str,
+    #[serde(rename = "@stepSize")]
+    step_size: &'static str,
+}
+
+#[derive(Serialize)]
+struct ModelVariables {
+    #[serde(rename = "ScalarVariable")]
+    variables: Vec<ScalarVariable>,
+}
+
+#[derive(Serialize)]
+struct ScalarVariable {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@valueReference")]
+    value_reference: u32,
+    #[serde(rename = "@description")]
+    description: &'static str,
+    #[serde(rename = "@causality")]
+    causality: &'static str,
+    #[serde(rename = "@variability")]
+    variability: &'static str,
+    #[serde(rename = "@initial", skip_serializing_if = "Option::is_none")]
+    initial: Option<&'static str>,
+    #[serde(rename = "$value")]
+    ty: TypeElement,
+}
+
+#[derive(Serialize)]
+enum TypeElement {
+    Real(RealAttrs),
+    Integer(IntegerAttrs),
+    Boolean(BooleanAttrs),
+}
+
+#[derive(Serialize)]
+struct RealAttrs {
+    #[serde(rename = "@quantity", skip_serializing_if = "Option::is_none")]
+    quantity: Option<&'static str>,
+    #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
+    unit: Option<&'static str>,
+    #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
+    display_unit: Option<&'static str>,
+    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+    start: Option<String>,
+}
+
+#[derive(Serialize)]
+struct IntegerAttrs {
+    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+    min: Option<i32>,
+    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+    max: Option<i32>,
+    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+    start: Option<String>,
+}
+
+#[derive(Serialize)]
+struct BooleanAttrs {
+    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+    start: Option<String>,
+}
+
+#[derive(Serialize)]
+struct ModelStructure {
+    #[serde(rename = "Outputs")]
+    outputs: Unknowns,
+    #[serde(rename = "InitialUnknowns")]
+    initial_unknowns: Unknowns,
+}
+
+#[derive(Serialize)]
+struct Unknowns {
+    #[serde(rename = "Unknown")]
+    unknowns: Vec<Unknown>,
+}
+
+#[derive(Serialize)]
+struct Unknown {
+    #[serde(rename = "@index")]
+    index: usize,
+    #[serde(rename = "@dependencies")]
+    dependencies: String,
+    #[serde(rename = "@dependenciesKind", skip_serializing_if = "Option::is_none")]
+    dependencies_kind: Option<String>,
+}
+
+/// 1-based ScalarVariable index of `name`.
+fn index_of(name: &str) -> usize {
+    let v = by_name(name).unwrap_or_else(|| panic!("dependency `{name}` is not a variable"));
+    VARIABLES.iter().position(|w| std::ptr::eq(w, v)).expect("in table") + 1
+}
+
+fn join<T: ToString>(items: impl IntoIterator<Item = T>) -> String {
+    items.into_iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" ")
+}
+
+fn outputs_entry(i: usize, v: &Variable) -> Unknown {
+    let d = v.depends.expect("outputs declare their dependencies");
+    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(n)).collect();
+    idx.sort_unstable();
+    let kind = if d.linear_fixed { "fixed" } else { "dependent" };
+    Unknown {
+        index: i + 1,
+        dependencies_kind: Some(join(idx.iter().map(|_| kind))),
+        dependencies: join(&idx),
+    }
+}
+
+fn initial_entry(i: usize, v: &Variable) -> Unknown {
+    let d = v.depends.expect("outputs and calculated parameters declare their dependencies");
+    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(n)).collect();
+    idx.extend(
+        VARIABLES
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.causality == Causality::Parameter && p.group & d.groups != 0)
+            .map(|(j, _)| j + 1),
+    );
+    idx.sort_unstable();
+    Unknown {
+        index: i + 1,
+        // All "dependent": the attribute is left out, which means exactly that.
+        dependencies_kind: None,
+        dependencies: join(&idx),
+    }
+}
+
+/// The complete `modelDescription.xml` text.
+pub fn model_description_xml() -> String {
+    let c = CS_CAPABILITIES;
+    let units = UNITS
+        .iter()
+        .map(|u| {
+            let mut base = BaseUnit::default();
+            for &(name, e) in u.base {
+                match name {
+                    "kg" => base.kg = Some(e),
+                    "m" => base.m = Some(e),
+                    "s" => base.s = Some(e),
+                    "rad" => base.rad = Some(e),
+                    other => panic!("base unit {other} not handled"),
+                }
+            }
+            Unit {
+                name: u.name,
+                base,
+                display: u
+                    .display
+                    .iter()
+                    .map(|&(name, f)| DisplayUnit { name, factor: format_real(f) })
+                    .collect(),
+            }
+        })
+        .collect();
+    let variables = VARIABLES
+        .iter()
+        .map(|v| ScalarVariable {
+            name: v.name,
+            value_reference: v.vr,
+            description: v.description,
+            causality: v.causality.as_str(),
+            variability: v.variability.as_str(),
+            initial: v.initial(),
+            ty: match v.var_type() {
+                VarType::Real => TypeElement::Real(RealAttrs {
+                    quantity: v.quantity,
+                    unit: v.unit,
+                    display_unit: v.display_unit,
+                    start: v.start(),
+                }),
+                VarType::Integer => {
+                    TypeElement::Integer(IntegerAttrs { min: v.min, max: v.max, start: v.start() })
+                }
+                VarType::Boolean => TypeElement::Boolean(BooleanAttrs { start: v.start() }),
+            },
+        })
+        .collect();
+    let outputs = VARIABLES
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(i, v)| outputs_entry(i, v))
+        .collect();
+    let initial_unknowns = VARIABLES
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| matches!(v.causality, Causality::Output | Causality::CalculatedParameter))
+        .map(|(i, v)| initial_entry(i, v))
+        .collect();
+    let fmd = Fmd {
+        fmi_version: "2.0",
+        model_name: MODEL_IDENTIFIER,
+        guid: guid(),
+        description: MODEL_DESCRIPTION,
+        version: MODEL_VERSION,
+        generation_tool: format!("fmu-build {}", env!("CARGO_PKG_VERSION")),
+        naming: "structured",
+        event_indicators: 0,
+        co_simulation: CoSimulation {
+            model_identifier: MODEL_IDENTIFIER,
+            needs_execution_tool: c.needs_execution_tool,
+            can_handle_variable_communication_step_size: c
+                .can_handle_variable_communication_step_size,
+            can_interpolate_inputs: c.can_interpolate_inputs,
+            max_output_derivative_order: c.max_output_derivative_order,
+            can_run_asynchronuously: c.can_run_asynchronuously,
+            can_be_instantiated_only_once_per_process: c.can_be_instantiated_only_once_per_process,
+            can_not_use_memory_management_functions: c.can_not_use_memory_management_functions,
+            can_get_and_set_fmu_state: c.can_get_and_set_fmu_state,
+            can_serialize_fmu_state: c.can_serialize_fmu_state,
+            provides_directional_derivative: c.provides_directional_derivative,
+        },
+        unit_definitions: UnitDefinitions { units },
+        log_categories: LogCategories {
+            categories: LOG_CATEGORIES
+                .iter()
+                .map(|&(name, description)| Category { name, description })
+                .collect(),
+        },
+        default_experiment: DefaultExperiment {
+            start_time: "0",
+            stop_time: "0.1",
+            step_size: "1e-5",
+        },
+        model_variables: ModelVariables { variables },
+        model_structure: ModelStructure {
+            outputs: Unknowns { unknowns: outputs },
+            initial_unknowns: Unknowns { unknowns: initial_unknowns },
+        },
+    };
+    let mut body = String::new();
+    let mut ser = quick_xml::se::Serializer::new(&mut body);
+    ser.indent(' ', 2);
+    fmd.serialize(ser).expect("the model description serialises");
+    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
+}
