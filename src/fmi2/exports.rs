@@ -911,3 +911,30 @@ pub const EXPORTED_FUNCTIONS: [&str; 34] = [
     "fmi2GetBooleanStatus",
     "fmi2GetStringStatus",
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_becomes_fatal_and_the_instance_can_still_be_freed() {
+        let g = CString::new(guid()).unwrap();
+        let c = unsafe {
+            fmi2Instantiate(
+                c"p".as_ptr(),
+                FMI2_CO_SIMULATION,
+                g.as_ptr(),
+                std::ptr::null(),
+                std::ptr::null(),
+                FMI2_FALSE,
+                FMI2_FALSE,
+            )
+        };
+        assert!(!c.is_null());
+        assert_eq!(call(c, func::fmi2Reset, |_| panic!("boom")), fmi2Status::Fatal);
+        // Fatal is final: every further call but fmi2FreeInstance is refused as fatal.
+        assert_eq!(unsafe { fmi2Reset(c) }, fmi2Status::Fatal);
+        assert_eq!(unsafe { fmi2DoStep(c, 0.0, 1.0, FMI2_TRUE) }, fmi2Status::Fatal);
+        unsafe { fmi2FreeInstance(c) };
+    }
+}

@@ -1,0 +1,444 @@
+//! The exported FMI 2.0 functions called directly (no logger): state machine, error paths,
+//! direct feedthrough, tunable and fixed parameters, FMU states, step checks, several
+//! instances on several threads. Log messages are checked by the Python and C suites, whose
+//! loggers are real C variadic functions.
+
+use std::ffi::{CString, c_char};
+use std::ptr::{null, null_mut};
+
+use helical_gear_mesh::fmi2::exports::*;
+use helical_gear_mesh::fmi2::types::*;
+use helical_gear_mesh::fmi2::variables::{VARIABLES, by_name, guid};
+
+fn vr(name: &str) -> u32 {
+    by_name(name).unwrap_or_else(|| panic!("no variable {name}")).vr
+}
+
+/// An instance created without callbacks; freed on drop.
+struct Fmu(fmi2Component);
+
+impl Fmu {
+    fn new() -> Self {
+        let name = CString::new("test").unwrap();
+        let g = CString::new(guid()).unwrap();
+        let c = unsafe {
+            fmi2Instantiate(
+                name.as_ptr(),
+                FMI2_CO_SIMULATION,
+                g.as_ptr(),
+                c"file:///nonexistent/my%20fmu/resources".as_ptr(),
+                null(),
+                FMI2_FALSE,
+                FMI2_FALSE,
+            )
+        };
+        assert!(!c.is_null());
+        Fmu(c)
+    }
+
+    fn initialised() -> Self {
+        let f = Self::new();
+        f.init();
+        f
+    }
+
+    fn init(&self) {
+        unsafe {
+            assert_eq!(
+                fmi2SetupExperiment(self.0, FMI2_FALSE, 0.0, 0.0, FMI2_FALSE, 0.0),
+                fmi2Status::Ok
+            );
+            assert_eq!(fmi2EnterInitializationMode(self.0), fmi2Status::Ok);
+            assert_eq!(fmi2ExitInitializationMode(self.0), fmi2Status::Ok);
+        }
+    }
+
+    fn set(&self, names: &[&str], values: &[f64]) -> fmi2Status {
+        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
+        unsafe { fmi2SetReal(self.0, r.as_ptr(), r.len(), values.as_ptr()) }
+    }
+
+    fn get(&self, names: &[&str]) -> Result<Vec<f64>, fmi2Status> {
+        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
+        let mut out = vec![0.0; r.len()];
+        match unsafe { fmi2GetReal(self.0, r.as_ptr(), r.len(), out.as_mut_ptr()) } {
+            fmi2Status::Ok => Ok(out),
+            s => Err(s),
+        }
+    }
+
+    fn reset(&self) {
+        assert_eq!(unsafe { fmi2Reset(self.0) }, fmi2Status::Ok);
+    }
+}
+
+impl Drop for Fmu {
+    fn drop(&mut self) {
+        unsafe { fmi2FreeInstance(self.0) };
+    }
+}
+
+const OUTS: [&str; 5] = ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"];
+/// A loaded state of the Table 1 pair: TE = +20 µm (README worked example), rolling.
+const LOADED: [f64; 4] = [0.01, -0.0060851, 100.0, -100.0 * 30.0 / 47.0];
+
+fn set_loaded(f: &Fmu) {
+    assert_eq!(f.set(&["phi_p", "phi_g", "w_p", "w_g"], &LOADED), fmi2Status::Ok);
+}
+
+#[test]
+fn inquiry_functions_and_null_instance() {
+    let s = |p: *const c_char| unsafe { std::ffi::CStr::from_ptr(p) }.to_str().unwrap();
+    assert_eq!(s(fmi2GetVersion()), "2.0");
+    assert_eq!(s(fmi2GetTypesPlatform()), "default");
+    unsafe {
+        fmi2FreeInstance(null_mut());
+        assert_eq!(fmi2Reset(null_mut()), fmi2Status::Error);
+        assert_eq!(fmi2DoStep(null_mut(), 0.0, 1.0, FMI2_TRUE), fmi2Status::Error);
+    }
+    assert_eq!(EXPORTED_FUNCTIONS.len(), 34);
+}
+
+#[test]
+fn instantiate_rejects_wrong_guid_type_and_name() {
+    let name = CString::new("x").unwrap();
+    let good = CString::new(guid()).unwrap();
+    unsafe {
+        let bad = c"{00000000-0000-0000-0000-000000000000}";
+        let f = |n: *const c_char, t, g: *const c_char| {
+            fmi2Instantiate(n, t, g, null(), null(), FMI2_FALSE, FMI2_FALSE)
+        };
+        assert!(f(name.as_ptr(), FMI2_CO_SIMULATION, bad.as_ptr()).is_null());
+        assert!(f(name.as_ptr(), 0, good.as_ptr()).is_null(), "Model Exchange is not offered");
+        assert!(f(null(), FMI2_CO_SIMULATION, good.as_ptr()).is_null());
+        assert!(f(name.as_ptr(), FMI2_CO_SIMULATION, null()).is_null());
+        let c = f(name.as_ptr(), FMI2_CO_SIMULATION, good.as_ptr());
+        assert!(!c.is_null(), "no resource location is fine");
+        fmi2FreeInstance(c);
+    }
+}
+
+#[test]
+fn illegal_calls_are_errors_and_reset_recovers() {
+    let f = Fmu::new();
+    unsafe {
+        // Not yet initialised: no step, no output.
+        assert_eq!(fmi2DoStep(f.0, 0.0, 1e-3, FMI2_TRUE), fmi2Status::Error);
+        // The instance is now in the error state: even a legal call in `instantiated` fails.
+        assert_eq!(fmi2EnterInitializationMode(f.0), fmi2Status::Error);
+        f.reset();
+        assert_eq!(f.get(&["M_F_p"]), Err(fmi2Status::Error), "no outputs before initialisation");
+        f.reset();
+        assert_eq!(fmi2ExitInitializationMode(f.0), fmi2Status::Error);
+        f.reset();
+        f.init();
+        assert_eq!(fmi2SetupExperiment(f.0, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Error);
+        f.reset();
+        f.init();
+        assert_eq!(fmi2CancelStep(f.0), fmi2Status::Error);
+        f.reset();
+        f.init();
+        for name in ["M_F_p", "J_p"] {
+            assert_eq!(f.set(&[name], &[1.0]), fmi2Status::Error, "{name} is not settable");
+            f.reset();
+            f.init();
+        }
+        assert_eq!(fmi2Terminate(f.0), fmi2Status::Ok);
+        assert_eq!(fmi2DoStep(f.0, 0.0, 1e-3, FMI2_TRUE), fmi2Status::Error);
+        f.reset();
+    }
+    // Usable again with the start values.
+    f.init();
+    set_loaded(&f);
+    let a = f.get(&OUTS).unwrap();
+    let fresh = Fmu::initialised();
+    set_loaded(&fresh);
+    assert_eq!(a, fresh.get(&OUTS).unwrap());
+}
+
+#[test]
+fn non_finite_input_is_an_error_and_reset_restores_start_values() {
+    let f = Fmu::initialised();
+    set_loaded(&f);
+    assert!(f.get(&["M_F_p"]).unwrap()[0] > 0.0, "positive torque in normal drive");
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert_eq!(f.set(&["w_g"], &[bad]), fmi2Status::Error);
+        f.reset();
+        f.init();
+    }
+    // Start values: all inputs 0, no load at TE = 0.
+    assert_eq!(f.get(&["phi_p", "phi_g", "w_p", "w_g"]).unwrap(), vec![0.0; 4]);
+    assert_eq!(f.get(&["M_F_p", "TE"]).unwrap(), vec![0.0, 0.0]);
+}
+
+#[test]
+fn invalid_parameter_fails_exit_initialization_and_reset_recovers() {
+    let f = Fmu::new();
+    let r = [vr("z_p")];
+    unsafe {
+        assert_eq!(fmi2SetInteger(f.0, r.as_ptr(), 1, [12].as_ptr()), fmi2Status::Ok);
+        assert_eq!(fmi2EnterInitializationMode(f.0), fmi2Status::Ok);
+        assert_eq!(fmi2ExitInitializationMode(f.0), fmi2Status::Error);
+        f.reset();
+        // A value that cannot be represented is refused at once.
+        assert_eq!(fmi2SetInteger(f.0, r.as_ptr(), 1, [-3].as_ptr()), fmi2Status::Error);
+        f.reset();
+        let mut z = 0;
+        assert_eq!(fmi2EnterInitializationMode(f.0), fmi2Status::Ok);
+        assert_eq!(fmi2GetInteger(f.0, r.as_ptr(), 1, &mut z), fmi2Status::Ok);
+        assert_eq!(z, 30, "reset restored the start value");
+        assert_eq!(fmi2ExitInitializationMode(f.0), fmi2Status::Ok);
+    }
+}
+
+#[test]
+fn outputs_follow_inputs_directly() {
+    let f = Fmu::initialised();
+    set_loaded(&f);
+    let o1 = f.get(&["TE", "base_radius_p", "base_radius_g"]).unwrap();
+    assert!((o1[0] - (LOADED[0] * o1[1] + LOADED[1] * o1[2])).abs() < 1e-18);
+    assert!((o1[0] - 20e-6).abs() < 1e-8, "TE of the README's worked example, {}", o1[0]);
+    // Several set/get rounds without a step: each get sees the last inputs.
+    for k in 1..4 {
+        let phi_g = LOADED[1] - 1e-6 * k as f64;
+        assert_eq!(f.set(&["phi_g"], &[phi_g]), fmi2Status::Ok);
+        let te = f.get(&["TE"]).unwrap()[0];
+        assert!((te - (LOADED[0] * o1[1] + phi_g * o1[2])).abs() < 1e-18);
+    }
+    unsafe {
+        let mut n = -1;
+        let mut b = [-1; 3];
+        let rb = [vr("tip_contact"), vr("separated"), vr("back_contact")];
+        assert_eq!(fmi2GetInteger(f.0, [vr("n_pairs")].as_ptr(), 1, &mut n), fmi2Status::Ok);
+        assert_eq!(fmi2GetBoolean(f.0, rb.as_ptr(), 3, b.as_mut_ptr()), fmi2Status::Ok);
+        assert!(n >= 1);
+        assert_eq!(b[1], FMI2_FALSE, "not separated under load");
+        // A Real value reference asked as Integer is an error.
+        assert_eq!(fmi2GetInteger(f.0, [vr("TE")].as_ptr(), 1, &mut n), fmi2Status::Error);
+    }
+}
+
+#[test]
+fn tunable_d_mesh_between_steps_fixed_parameters_refused() {
+    let f = Fmu::initialised();
+    set_loaded(&f);
+    let d0 = f.get(&["M_D_p", "d_mesh"]).unwrap();
+    assert_eq!(f.set(&["d_mesh"], &[2.0 * d0[1]]), fmi2Status::Ok);
+    let d1 = f.get(&["M_D_p"]).unwrap()[0];
+    assert!((d1 - 2.0 * d0[0]).abs() <= 1e-12 * d0[0].abs().max(1e-300), "{d1} vs {}", d0[0]);
+    assert_eq!(unsafe { fmi2DoStep(f.0, 0.0, 1e-4, FMI2_TRUE) }, fmi2Status::Ok);
+    assert_eq!(f.set(&["d_mesh"], &[0.0]), fmi2Status::Ok);
+    assert_eq!(f.get(&["M_D_p"]).unwrap()[0], 0.0);
+    assert_eq!(f.set(&["face_width_m"], &[0.02]), fmi2Status::Error, "fixed after init");
+}
+
+#[test]
+fn do_step_checks_time_and_step() {
+    let f = Fmu::new();
+    unsafe {
+        assert_eq!(fmi2SetupExperiment(f.0, FMI2_FALSE, 0.0, 1.0, FMI2_TRUE, 1.5), fmi2Status::Ok);
+        assert_eq!(fmi2EnterInitializationMode(f.0), fmi2Status::Ok);
+        assert_eq!(fmi2ExitInitializationMode(f.0), fmi2Status::Ok);
+        assert_eq!(fmi2DoStep(f.0, 1.0, 0.1, FMI2_TRUE), fmi2Status::Ok);
+        let mut t = 0.0;
+        assert_eq!(fmi2GetRealStatus(f.0, 2, &mut t), fmi2Status::Ok);
+        assert_eq!(t, 1.1);
+        let mut st = fmi2Status::Error;
+        assert_eq!(fmi2GetStatus(f.0, 0, &mut st), fmi2Status::Ok);
+        assert_eq!(st, fmi2Status::Ok);
+        let mut term = FMI2_TRUE;
+        assert_eq!(fmi2GetBooleanStatus(f.0, 3, &mut term), fmi2Status::Ok);
+        assert_eq!(term, FMI2_FALSE);
+        assert_eq!(fmi2GetStringStatus(f.0, 1, null_mut()), fmi2Status::Discard);
+        // A state-less rounding difference of the communication point is accepted.
+        assert_eq!(fmi2DoStep(f.0, 1.1 + 1e-15, 0.1, FMI2_TRUE), fmi2Status::Ok);
+        for (t, h) in [(1.0, 0.1), (1.2, 0.0), (1.2, -0.1), (1.2, f64::NAN), (1.2, 0.4)] {
+            assert_eq!(fmi2DoStep(f.0, t, h, FMI2_TRUE), fmi2Status::Error, "t = {t}, h = {h}");
+            // Back to the state before the failed step.
+            f.reset();
+            assert_eq!(fmi2SetupExperiment(f.0, 0, 0.0, 1.2, FMI2_TRUE, 1.5), fmi2Status::Ok);
+            assert_eq!(fmi2EnterInitializationMode(f.0), fmi2Status::Ok);
+            assert_eq!(fmi2ExitInitializationMode(f.0), fmi2Status::Ok);
+        }
+    }
+}
+
+#[test]
+fn fmu_state_round_trips_exactly() {
+    let f = Fmu::initialised();
+    set_loaded(&f);
+    let before = f.get(&OUTS).unwrap();
+    unsafe {
+        let mut s: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(f.0, &mut s), fmi2Status::Ok);
+        assert!(!s.is_null());
+        let mut n = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(f.0, s, &mut n), fmi2Status::Ok);
+        let mut bytes = vec![0 as fmi2Byte; n];
+        assert_eq!(fmi2SerializeFMUstate(f.0, s, bytes.as_mut_ptr(), n), fmi2Status::Ok);
+
+        // Change inputs, a tunable parameter and time, then restore.
+        assert_eq!(f.set(&["phi_g", "d_mesh"], &[-0.0061, 250.0]), fmi2Status::Ok);
+        assert_eq!(fmi2DoStep(f.0, 0.0, 0.01, FMI2_TRUE), fmi2Status::Ok);
+        assert_ne!(f.get(&OUTS).unwrap(), before);
+        assert_eq!(fmi2SetFMUstate(f.0, s), fmi2Status::Ok);
+        assert_eq!(f.get(&OUTS).unwrap(), before);
+        assert_eq!(f.get(&["d_mesh"]).unwrap(), vec![100.0]);
+        let mut t = -1.0;
+        assert_eq!(fmi2GetRealStatus(f.0, 2, &mut t), fmi2Status::Ok);
+        assert_eq!(t, 0.0);
+
+        // Deserialised into another instance: same outputs, same time.
+        let g = Fmu::new();
+        let mut s2: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2DeSerializeFMUstate(g.0, bytes.as_ptr(), n, &mut s2), fmi2Status::Ok);
+        assert_eq!(fmi2SetFMUstate(g.0, s2), fmi2Status::Ok);
+        assert_eq!(g.get(&OUTS).unwrap(), before);
+        assert_eq!(fmi2DoStep(g.0, 0.0, 0.01, FMI2_TRUE), fmi2Status::Ok, "in stepComplete");
+
+        // A state of another instance, a short buffer and corrupt bytes are errors.
+        assert_eq!(fmi2SetFMUstate(g.0, s), fmi2Status::Error);
+        g.reset();
+        assert_eq!(fmi2SerializeFMUstate(f.0, s, bytes.as_mut_ptr(), n - 1), fmi2Status::Error);
+        f.reset();
+        let mut s3: fmi2FMUstate = null_mut();
+        for corrupt in [&bytes[..n - 1], &bytes[1..]] {
+            let st = fmi2DeSerializeFMUstate(g.0, corrupt.as_ptr(), corrupt.len(), &mut s3);
+            assert_eq!(st, fmi2Status::Error);
+            g.reset();
+        }
+        // Overwrite an existing state in place, then free both; freeing NULL is a no-op.
+        let old = s;
+        assert_eq!(fmi2GetFMUstate(f.0, &mut s), fmi2Status::Ok);
+        assert_eq!(s, old);
+        assert_eq!(fmi2FreeFMUstate(f.0, &mut s), fmi2Status::Ok);
+        assert!(s.is_null());
+        assert_eq!(fmi2FreeFMUstate(f.0, &mut s), fmi2Status::Ok);
+        assert_eq!(fmi2FreeFMUstate(g.0, &mut s2), fmi2Status::Ok);
+    }
+}
+
+#[test]
+fn restore_from_the_error_state() {
+    let f = Fmu::initialised();
+    set_loaded(&f);
+    let before = f.get(&OUTS).unwrap();
+    unsafe {
+        let mut s: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(f.0, &mut s), fmi2Status::Ok);
+        assert_eq!(f.set(&["phi_p"], &[f64::NAN]), fmi2Status::Error);
+        assert_eq!(fmi2SetFMUstate(f.0, s), fmi2Status::Ok);
+        assert_eq!(f.get(&OUTS).unwrap(), before);
+        assert_eq!(fmi2DoStep(f.0, 0.0, 1e-3, FMI2_TRUE), fmi2Status::Ok);
+        // The instance frees states the master forgot.
+    }
+}
+
+#[test]
+fn instances_with_different_parameters_on_different_threads() {
+    let run = |slices: i32, d_mesh: f64| {
+        let f = Fmu::new();
+        unsafe {
+            assert_eq!(
+                fmi2SetInteger(f.0, [vr("slices")].as_ptr(), 1, [slices].as_ptr()),
+                fmi2Status::Ok
+            );
+        }
+        assert_eq!(f.set(&["d_mesh"], &[d_mesh]), fmi2Status::Ok);
+        f.init();
+        let mut out = Vec::new();
+        for k in 0..20 {
+            let phi_p = 1e-3 * k as f64;
+            let phi_g = (20e-6 - phi_p * 0.0428606) / 0.0671483;
+            assert_eq!(
+                f.set(&["phi_p", "phi_g", "w_p", "w_g"], &[phi_p, phi_g, 50.0, -31.0]),
+                fmi2Status::Ok
+            );
+            out.push(f.get(&OUTS).unwrap());
+        }
+        out
+    };
+    let a_alone = run(200, 100.0);
+    let b_alone = run(120, 300.0);
+    assert_ne!(a_alone, b_alone);
+    let (a, b) = std::thread::scope(|s| {
+        let ha = s.spawn(|| run(200, 100.0));
+        let hb = s.spawn(|| run(120, 300.0));
+        (ha.join().unwrap(), hb.join().unwrap())
+    });
+    assert_eq!(a, a_alone);
+    assert_eq!(b, b_alone);
+}
+
+#[test]
+fn every_parameter_round_trips_through_set_and_get() {
+    let f = Fmu::new();
+    unsafe {
+        assert_eq!(fmi2EnterInitializationMode(f.0), fmi2Status::Ok);
+        for v in VARIABLES {
+            let Some(start) = v.start() else { continue };
+            let r = [v.vr];
+            match v.var_type() {
+                helical_gear_mesh::fmi2::variables::VarType::Real => {
+                    let mut x = 0.0;
+                    assert_eq!(fmi2GetReal(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Ok);
+                    assert_eq!(x, start.parse::<f64>().unwrap(), "{}", v.name);
+                    assert_eq!(fmi2SetReal(f.0, r.as_ptr(), 1, &x), fmi2Status::Ok);
+                }
+                helical_gear_mesh::fmi2::variables::VarType::Integer => {
+                    let mut x = 0;
+                    assert_eq!(fmi2GetInteger(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Ok);
+                    assert_eq!(x, start.parse::<i32>().unwrap(), "{}", v.name);
+                }
+                helical_gear_mesh::fmi2::variables::VarType::Boolean => {
+                    let mut x = 0;
+                    assert_eq!(fmi2GetBoolean(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Ok);
+                    assert_eq!(x != 0, start == "true", "{}", v.name);
+                }
+            }
+        }
+        assert_eq!(fmi2ExitInitializationMode(f.0), fmi2Status::Ok);
+    }
+}
+
+#[test]
+fn debug_logging_categories_are_checked() {
+    let f = Fmu::new();
+    unsafe {
+        let ok = [c"logModel".as_ptr()];
+        assert_eq!(fmi2SetDebugLogging(f.0, FMI2_TRUE, 1, ok.as_ptr()), fmi2Status::Ok);
+        assert_eq!(fmi2SetDebugLogging(f.0, FMI2_TRUE, 0, null()), fmi2Status::Ok);
+        let bad = [c"logNothing".as_ptr()];
+        assert_eq!(fmi2SetDebugLogging(f.0, FMI2_TRUE, 1, bad.as_ptr()), fmi2Status::Error);
+        f.reset();
+        assert_eq!(fmi2SetDebugLogging(f.0, FMI2_TRUE, 1, null()), fmi2Status::Error);
+    }
+}
+
+#[test]
+fn unsupported_functions_are_errors() {
+    let f = Fmu::initialised();
+    unsafe {
+        let r = [vr("M_F_p")];
+        let mut x = 0.0;
+        assert_eq!(
+            fmi2GetDirectionalDerivative(f.0, r.as_ptr(), 1, r.as_ptr(), 1, &x, &mut x),
+            fmi2Status::Error
+        );
+        f.reset();
+        f.init();
+        assert_eq!(
+            fmi2GetRealOutputDerivatives(f.0, r.as_ptr(), 1, [1].as_ptr(), &mut x),
+            fmi2Status::Error
+        );
+        f.reset();
+        assert_eq!(
+            fmi2SetRealInputDerivatives(f.0, r.as_ptr(), 1, [1].as_ptr(), &x),
+            fmi2Status::Error
+        );
+        f.reset();
+        f.init();
+        assert_eq!(fmi2GetString(f.0, r.as_ptr(), 0, null_mut()), fmi2Status::Ok, "nothing asked");
+        assert_eq!(fmi2GetString(f.0, r.as_ptr(), 1, null_mut()), fmi2Status::Error);
+    }
+}
