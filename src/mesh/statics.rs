@@ -204,3 +204,64 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         evaluations: count.get(),
     })
 }
+
+/// The static transmission error over a range of pinion angles (paper §6, Fig. 7, Eq. 16).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticCurve {
+    /// Driving torque M, N·m.
+    pub torque: f64,
+    /// The equilibrium at each pinion angle (uniform steps).
+    pub points: Vec<Equilibrium>,
+}
+
+impl StaticCurve {
+    /// Largest STE, m.
+    pub fn max(&self) -> f64 {
+        self.points.iter().map(|e| e.te).fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// Smallest STE, m.
+    pub fn min(&self) -> f64 {
+        self.points.iter().map(|e| e.te).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Mean STE over the points, m.
+    pub fn mean(&self) -> f64 {
+        self.points.iter().map(|e| e.te).sum::<f64>() / self.points.len().max(1) as f64
+    }
+
+    /// Mean secant mesh stiffness along the transverse line of action, N/m: the mean over the
+    /// points of (M/g_p)/STE (force along the line of action per unit TE).
+    pub fn mean_stiffness(&self, base_radius_p: f64) -> f64 {
+        let f = self.torque / base_radius_p;
+        self.points.iter().map(|e| f / e.te).sum::<f64>() / self.points.len().max(1) as f64
+    }
+
+    /// True if any equilibrium has a loaded contact on a tip rounding.
+    pub fn tip_rounding_contact(&self) -> bool {
+        self.points.iter().any(|e| e.outputs.tip_contact)
+    }
+}
+
+/// Static equilibria at `points_per_pitch` uniform pinion angles per pinion pitch over
+/// `pitches` pitches starting at `phi_start` (rad), each started from the previous STE.
+pub fn static_curve<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    torque: f64,
+    phi_start: f64,
+    pinion_pitch: f64,
+    points_per_pitch: usize,
+    pitches: usize,
+) -> Result<StaticCurve, MeshError> {
+    let n = points_per_pitch.max(1) * pitches.max(1);
+    let mut points = Vec::with_capacity(n);
+    let mut guess = 1e-5;
+    let settings = EquilibriumSettings::default();
+    for k in 0..n {
+        let phi_p = phi_start + pinion_pitch * k as f64 / points_per_pitch.max(1) as f64;
+        let eq = equilibrium(mesh, phi_p, torque, guess, &settings)?;
+        guess = eq.te;
+        points.push(eq);
+    }
+    Ok(StaticCurve { torque, points })
+}
