@@ -34,7 +34,10 @@ use crate::load::LoadError;
 use crate::params::GearPair;
 
 pub use model::{GearCompliance, MeshModel};
-pub use statics::{Equilibrium, EquilibriumSettings, StaticCurve, equilibrium, static_curve};
+pub use statics::{
+    Equilibrium, EquilibriumSettings, StaticCurve, WaterfallRow, equilibrium, pressure_waterfall,
+    static_curve,
+};
 pub use table::MeshTable;
 
 /// The kinematic state of the two gears.

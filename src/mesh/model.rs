@@ -327,6 +327,14 @@ impl MeshModel {
         Ok(())
     }
 
+    /// Turns the per-slice detail ([`MeshModel::slices`]) on or off.
+    pub fn set_detail(&mut self, on: bool) {
+        self.options.detail = on;
+        if !on {
+            self.detail.clear();
+        }
+    }
+
     /// Per-slice detail of the last evaluation (empty unless [`MeshOptions::detail`]).
     pub fn slices(&self) -> &[SliceDetail] {
         &self.detail
@@ -367,7 +375,7 @@ impl MeshModel {
             if !active {
                 continue;
             }
-            cs.contacts_on(side, red.phi_p, red.phi_g, &self.zetas, &mut self.contacts);
+            cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut self.contacts);
             for c in &self.contacts {
                 if c.overlap_m > 0.0 {
                     let k = ((c.zeta / self.dzeta) as usize).min(nl - 1);
