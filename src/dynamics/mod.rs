@@ -31,6 +31,5 @@ pub use simulate::{
 };
 pub use steady::{PeriodCheck, SteadyError, SteadyOptions, SteadyState, SteadyStatus};
 pub use sweep::{
-    Resonance, StaticCurve, SweepOptions, SweepPoint, SweepResult, find_peaks, static_te_curve,
-    sweep,
+    Resonance, SweepOptions, SweepPoint, SweepResult, find_peaks, static_te_curve, sweep,
 };

@@ -3,7 +3,8 @@
 //!
 //! * [`static_te_curve`]: the static transmission error STE(φp) over one mesh period
 //!   (φp ∈ [0, 2π/z_p)) from the static equilibrium M_F,p = M at each angle
-//!   ([`crate::mesh::statics::equilibrium`]); its maximum STE_max normalises the sweep.
+//!   ([`crate::mesh::statics::equilibrium`]); its maximum STE_max normalises the sweep (a
+//!   finer curve gives a slightly larger maximum: [`SweepOptions::static_points`]).
 //! * [`sweep`]: one [`run_to_steady`] per speed, on a rayon pool; every worker owns its own
 //!   clone of the mesh model (models may keep warm-start state), results come back in the
 //!   order of the speeds given. For each speed: TE_max/STE_max over the steady window and
@@ -35,31 +36,12 @@ use super::simulate::{
     DEFAULT_STEPS_PER_MESH_PERIOD, SteadyMethod, SteadyResponse, SteadyRunOptions, SteadyWarning,
     run_to_steady,
 };
-use crate::mesh::statics::{EquilibriumSettings, equilibrium};
-use crate::mesh::{MeshError, MeshOutputs, MeshTorques};
+use crate::mesh::statics::{StaticCurve, static_curve};
+use crate::mesh::{MeshError, MeshTorques};
 
-/// The static transmission error over one mesh period.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StaticCurve {
-    /// Pinion angles φp_i = i·2π/(z_p·n), i = 0 … n − 1, rad.
-    pub phi_p: Vec<f64>,
-    /// STE(φp_i), m.
-    pub te: Vec<f64>,
-    /// Mesh outputs at each equilibrium (zero speeds).
-    pub outputs: Vec<MeshOutputs>,
-    /// Largest STE, m.
-    pub te_max: f64,
-    /// Smallest STE, m.
-    pub te_min: f64,
-    /// Mean STE over the period, m.
-    pub te_mean: f64,
-    /// True when the tip rounding or edge is loaded at any of the angles.
-    pub tip_contact: bool,
-}
-
-/// STE(φp) at `points` (≥ 2) equally spaced pinion angles over one mesh period 2π/`z_p`,
-/// under driving torque `torque` (N·m, > 0), from [`equilibrium`] with default settings and
-/// each angle's search started at the previous STE.
+/// STE(φp) at `points` (≥ 2) equally spaced pinion angles φp_i = i·2π/(z_p·points) over one
+/// mesh period, under driving torque `torque` (N·m, > 0): [`static_curve`] (each angle's
+/// [`crate::mesh::statics::equilibrium`] started from the previous STE) over one pinion pitch.
 pub fn static_te_curve<M: MeshTorques + ?Sized>(
     mesh: &mut M,
     torque: f64,
@@ -72,32 +54,8 @@ pub fn static_te_curve<M: MeshTorques + ?Sized>(
              finite torque > 0 (got {torque} N·m)"
         )));
     }
-    let (gp, _) = mesh.base_radii();
     let pitch = 2.0 * std::f64::consts::PI / z_p as f64;
-    let settings = EquilibriumSettings::default();
-    let mut guess = torque / (gp * 1e8);
-    let mut c = StaticCurve {
-        phi_p: Vec::with_capacity(points),
-        te: Vec::with_capacity(points),
-        outputs: Vec::with_capacity(points),
-        te_max: f64::NEG_INFINITY,
-        te_min: f64::INFINITY,
-        te_mean: 0.0,
-        tip_contact: false,
-    };
-    for i in 0..points {
-        let phi = i as f64 * pitch / points as f64;
-        let eq = equilibrium(mesh, phi, torque, guess, &settings)?;
-        guess = eq.te;
-        c.phi_p.push(phi);
-        c.te.push(eq.te);
-        c.outputs.push(eq.outputs);
-        c.te_max = c.te_max.max(eq.te);
-        c.te_min = c.te_min.min(eq.te);
-        c.te_mean += eq.te / points as f64;
-        c.tip_contact |= eq.outputs.tip_contact;
-    }
-    Ok(c)
+    static_curve(mesh, torque, 0.0, pitch, points, 1)
 }
 
 /// Options of [`sweep`].
@@ -118,7 +76,9 @@ pub struct SweepOptions {
     /// maximum. Default 6.
     pub refine_runs: usize,
     /// Smallest prominence of a peak of TE_max/STE_max (dimensionless) to count as a
-    /// resonance. Default 0.02.
+    /// resonance. Default 0.005: the higher-order resonances of a well-damped mesh rise only
+    /// a few per cent above their surroundings, while a steady run's TE_max is converged to
+    /// about 10⁻³ of the TE peak-to-peak.
     pub min_prominence: f64,
     /// One line per finished run on stderr. Default false.
     pub progress: bool,
@@ -132,7 +92,7 @@ impl Default for SweepOptions {
             steps_per_fastest_mode: Some(DEFAULT_STEPS_PER_MESH_PERIOD),
             threads: None,
             refine_runs: 6,
-            min_prominence: 0.02,
+            min_prominence: 0.005,
             progress: false,
         }
     }
@@ -331,8 +291,9 @@ where
     let mut proto = mesh.clone();
     let ste = static_te_curve(&mut proto, drive.torque, drive.z_p, opts.static_points)
         .map_err(mesh_err)?;
-    if ste.te_max.is_nan() || ste.te_max <= 0.0 {
-        return Err(invalid("ste_max", ste.te_max, "> 0 (m): the torque must load the teeth"));
+    let ste_max = ste.max();
+    if ste_max.is_nan() || ste_max <= 0.0 {
+        return Err(invalid("ste_max", ste_max, "> 0 (m): the torque must load the teeth"));
     }
     let mut run = SteadyRunOptions { keep_window: false, ..opts.run.clone() };
     let mut k_mesh = None;
@@ -365,12 +326,11 @@ where
         let m = proto.lock().unwrap_or_else(|p| p.into_inner()).clone();
         GearDynamics::new(m, *drive).ok()
     };
-    let ste_max = ste.te_max;
     let done = AtomicUsize::new(0);
-    let total = speeds.len();
+    let refined = AtomicUsize::new(0);
     let one = |model: &mut Option<GearDynamics<M>>,
                w: f64,
-               label: &str|
+               refining: Option<usize>|
      -> Result<SweepPoint, DynamicsError> {
         let model =
             model.as_mut().ok_or_else(|| invalid("model", w, "a model that can be built"))?;
@@ -378,7 +338,10 @@ where
             .map_err(|e| DynamicsError::AtSpeed { omega_p: w, source: Box::new(e) })?;
         let p = SweepPoint::from_response(&r, ste_max);
         if opts.progress {
-            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            let (label, k, total) = match refining {
+                None => ("", done.fetch_add(1, Ordering::Relaxed) + 1, speeds.len()),
+                Some(n) => ("refine ", refined.fetch_add(1, Ordering::Relaxed) + 1, n),
+            };
             let mut flags = String::new();
             if p.separated {
                 flags.push_str(", separated");
@@ -405,12 +368,13 @@ where
     let points: Vec<SweepPoint> = pool.install(|| {
         speeds
             .par_iter()
-            .map_init(new_model, |model, &w| one(model, w, ""))
+            .map_init(new_model, |model, &w| one(model, w, None))
             .collect::<Result<Vec<_>, _>>()
     })?;
 
     let values: Vec<f64> = points.iter().map(|p| p.te_max_over_ste_max).collect();
     let peaks = find_peaks(&values, opts.min_prominence);
+    let refine_total = Some(peaks.len() * opts.refine_runs);
     let resonances: Vec<Resonance> = pool.install(|| {
         peaks
             .par_iter()
@@ -418,7 +382,9 @@ where
             .map_init(new_model, |model, &(i, prominence)| {
                 let triplet = (speeds[i - 1], speeds[i], speeds[i + 1]);
                 let (best, bracket, made) =
-                    golden_max(triplet, points[i], opts.refine_runs, |w| one(model, w, "refine "))?;
+                    golden_max(triplet, points[i], opts.refine_runs, |w| {
+                        one(model, w, refine_total)
+                    })?;
                 Ok(Resonance {
                     omega_p: best.omega_p,
                     te_max_over_ste_max: best.te_max_over_ste_max,
