@@ -78,6 +78,35 @@ fn static_start_is_a_steady_rotation_for_a_constant_stiffness_mesh() {
     }
 }
 
+#[test]
+fn dopri5_trajectory_on_an_output_grid_matches_rk4() {
+    let (drive, gp, gg) = table1();
+    let mesh = ConstantStiffnessMesh::new(K_MESH, 150.0, gp, gg, Clearance::Separating).unwrap();
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    let mut y0 = model.static_start(0.0, 300.0, &EquilibriumSettings::default()).unwrap().y;
+    y0[W_P] += 1.0;
+    let rk = simulate(&mut model, &y0, 2e-3, &Stepping::Rk4 { dt: 1e-6 }).unwrap();
+    let options = helical_gear_mesh::dynamics::Dopri5Options::with_tolerances(1e-10, 1e-14);
+    let stepping = Stepping::Dopri5 { options, output_dt: Some(1e-5) };
+    let dp = simulate(&mut model, &y0, 2e-3, &stepping).unwrap();
+    // 201 outputs including t = 0 and t_end (201·1e-5 rounds above 2e-3).
+    assert_eq!(dp.time.len(), 201);
+    assert!((dp.time[200] - 2e-3).abs() < 1e-15);
+    let te_amp = rk.outputs.iter().map(|o| o.te).fold(0.0, f64::max);
+    let mut worst: f64 = 0.0;
+    for (i, (t, o)) in dp.time.iter().zip(&dp.outputs).enumerate() {
+        let j = 10 * i;
+        assert!((rk.time[j] - t).abs() < 1e-15);
+        worst = worst.max((rk.outputs[j].te - o.te).abs());
+        assert_eq!(o.te, dp.states[i][PHI_P] * gp + dp.states[i][PHI_G] * gg);
+    }
+    eprintln!("max |TE_dopri5 − TE_rk4| = {worst:.3e} m, {} DOPRI5 steps", dp.steps);
+    // TE is a difference of angles of order 1 rad times radii: rtol 1e-10 on the angles
+    // limits it to about 1e-11 m per step.
+    assert!(worst < 1e-6 * te_amp, "{worst:e}");
+    assert!(dp.steps < 2000, "DOPRI5 took {} steps", dp.steps);
+}
+
 /// Times of the sign changes of a sampled signal (linear interpolation between samples).
 #[derive(Default)]
 struct Crossings {

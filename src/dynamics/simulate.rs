@@ -144,7 +144,9 @@ pub fn simulate<M: MeshTorques>(
                     None => samples.push((step.t_end(), state_array(step.y_end()))),
                     Some(h) => loop {
                         let t = next_out as f64 * h;
-                        if t > step.t_end() || t > t_end * (1.0 + 1e-12) {
+                        // The last output may exceed t_end by round-off of next_out·h.
+                        let last_step = step.t_end() >= t_end;
+                        if t > t_end * (1.0 + 1e-12) || (t > step.t_end() && !last_step) {
                             break;
                         }
                         if let Err(e) = step.dense_output(t.min(step.t_end()), &mut buf) {
