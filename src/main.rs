@@ -6,6 +6,9 @@
 
 use std::process::ExitCode;
 
+#[path = "cli/dynamics.rs"]
+mod dynamics_cmd;
+
 use clap::{Args, Parser, Subcommand};
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
 use helical_gear_mesh::mesh::{MeshModel, MeshOptions, pressure_waterfall, static_curve};
@@ -75,6 +78,12 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         plot: Option<std::path::PathBuf>,
     },
+    /// One trajectory of Eqs. 1–4 from the static equilibrium at a nominal speed: time, the
+    /// eight states, TE and the four mesh torques.
+    Simulate(dynamics_cmd::SimulateArgs),
+    /// Steady-state TE_max/STE_max over a range of pinion speeds, separation flags and the
+    /// located resonances.
+    Sweep(dynamics_cmd::SweepArgs),
 }
 
 fn load_params(common: &Common) -> Result<GearPair, String> {
@@ -333,6 +342,8 @@ fn main() -> ExitCode {
         Command::Static { common, torque, points_per_pitch, pitches, slices, plot } => {
             static_cmd(common, *torque, *points_per_pitch, *pitches, *slices, plot.as_deref())
         }
+        Command::Simulate(args) => dynamics_cmd::simulate_cmd(args),
+        Command::Sweep(args) => dynamics_cmd::sweep_cmd(args),
         Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
             Ok(s) => {
                 println!("{s}");
