@@ -6,8 +6,12 @@
 
 use std::process::ExitCode;
 
+#[path = "cli/dynamics.rs"]
+mod dynamics_cmd;
+
 use clap::{Args, Parser, Subcommand};
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
+use helical_gear_mesh::mesh::{MeshModel, MeshOptions, pressure_waterfall, static_curve};
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde_json::json;
 
@@ -54,6 +58,32 @@ enum Command {
     },
     /// Print the default parameters (Table 1) as JSON, a template for `--params`.
     Params,
+    /// Static transmission error over the mesh cycle (Eq. 16) and the pressure waterfall.
+    Static {
+        #[command(flatten)]
+        common: Common,
+        /// Driving torque M on the pinion, N·m (default: the parameters' `drive.torque_nm`).
+        #[arg(long)]
+        torque: Option<f64>,
+        /// Pinion angles per pinion pitch.
+        #[arg(long, default_value_t = 20)]
+        points_per_pitch: usize,
+        /// Number of pinion pitches.
+        #[arg(long, default_value_t = 1)]
+        pitches: usize,
+        /// Total slices over the simultaneous contact lines (the paper's 200).
+        #[arg(long, default_value_t = 200)]
+        slices: usize,
+        /// Write the STE curve and the pressure waterfall (Fig. 7) as CSV (and PNG) into DIR.
+        #[arg(long, value_name = "DIR")]
+        plot: Option<std::path::PathBuf>,
+    },
+    /// One trajectory of Eqs. 1–4 from the static equilibrium at a nominal speed: time, the
+    /// eight states, TE and the four mesh torques.
+    Simulate(dynamics_cmd::SimulateArgs),
+    /// Steady-state TE_max/STE_max over a range of pinion speeds, separation flags and the
+    /// located resonances.
+    Sweep(dynamics_cmd::SweepArgs),
 }
 
 fn load_params(common: &Common) -> Result<GearPair, String> {
@@ -182,6 +212,126 @@ fn contact_cmd(
     Ok(())
 }
 
+fn static_cmd(
+    common: &Common,
+    torque: Option<f64>,
+    points_per_pitch: usize,
+    pitches: usize,
+    slices: usize,
+    plot: Option<&std::path::Path>,
+) -> Result<(), String> {
+    let p = load_params(common)?;
+    let torque = torque.unwrap_or(p.drive.torque_nm);
+    if !(torque.is_finite() && torque > 0.0) {
+        return Err(format!("--torque = {torque} N·m: allowed > 0 and finite"));
+    }
+    if !(1..=10_000).contains(&points_per_pitch) || !(1..=100).contains(&pitches) {
+        return Err(format!(
+            "--points-per-pitch = {points_per_pitch} (allowed 1..=10000), --pitches = {pitches} \
+             (allowed 1..=100)"
+        ));
+    }
+    let t0 = std::time::Instant::now();
+    let options = MeshOptions { slices, ..MeshOptions::default() };
+    let mut model = MeshModel::new(&p, options).map_err(|e| e.to_string())?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let geo = model.geometry().clone();
+    let pitch = geo.pinion.angular_pitch();
+    let curve = static_curve(&mut model, torque, 0.0, pitch, points_per_pitch, pitches)
+        .map_err(|e| e.to_string())?;
+    let rb = geo.pinion.rb;
+    let stiffness = curve.mean_stiffness(rb);
+    if let Some(dir) = plot {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        write_static_files(dir, &mut model, &curve, torque, pitch)?;
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    let points: Vec<_> = curve
+        .points
+        .iter()
+        .map(|e| {
+            json!({
+                "phi_p_rad": e.phi_p, "ste_um": e.te * 1e6, "n_pairs": e.outputs.n_pairs,
+                "p_max_pa": e.outputs.p_max, "tip_contact": e.outputs.tip_contact,
+                "contact_length_m": e.outputs.contact_length,
+            })
+        })
+        .collect();
+    let out = json!({
+        "torque_nm": torque,
+        "slices": slices,
+        "ste_max_um": curve.max() * 1e6,
+        "ste_min_um": curve.min() * 1e6,
+        "ste_mean_um": curve.mean() * 1e6,
+        "ste_peak_to_peak_um": (curve.max() - curve.min()) * 1e6,
+        "mesh_stiffness_mean_n_per_um": stiffness * 1e-6,
+        "tip_rounding_contact": curve.tip_rounding_contact(),
+        "model_build_s": build_s,
+        "seconds": seconds,
+        "points": points,
+    });
+    if common.json {
+        println!("{out}");
+    } else {
+        println!(
+            "Static transmission error, M = {torque} N·m, {} points over {pitches} pitch(es), \
+             {slices} slices",
+            curve.points.len()
+        );
+        println!(
+            "  STE max {:.3} µm, min {:.3} µm, mean {:.3} µm (paper: max 30.5 µm)",
+            curve.max() * 1e6,
+            curve.min() * 1e6,
+            curve.mean() * 1e6
+        );
+        println!("  mean mesh stiffness {:.2} N/µm along the line of action", stiffness * 1e-6);
+        println!("  tip-rounding contact: {}", curve.tip_rounding_contact());
+        println!("  {:>10} {:>10} {:>6} {:>10}", "phi_p_rad", "ste_um", "pairs", "p_max_MPa");
+        for e in &curve.points {
+            println!(
+                "  {:10.5} {:10.4} {:6} {:10.1}",
+                e.phi_p,
+                e.te * 1e6,
+                e.outputs.n_pairs,
+                e.outputs.p_max * 1e-6
+            );
+        }
+        println!("  ({seconds:.2} s, of which {build_s:.2} s building the model)");
+    }
+    Ok(())
+}
+
+/// The STE curve and the Fig. 7 waterfall (20 rows per pitch over the whole engagement of
+/// tooth pair 0) as CSV files in `dir`.
+fn write_static_files(
+    dir: &std::path::Path,
+    model: &mut MeshModel,
+    curve: &helical_gear_mesh::mesh::StaticCurve,
+    torque: f64,
+    pitch: f64,
+) -> Result<(), String> {
+    let io = |e: std::io::Error| format!("cannot write into {}: {e}", dir.display());
+    let mut csv = String::from("phi_p_rad,ste_m,n_pairs,p_max_pa,tip_contact\n");
+    for e in &curve.points {
+        csv.push_str(&format!(
+            "{:e},{:e},{},{:e},{}\n",
+            e.phi_p, e.te, e.outputs.n_pairs, e.outputs.p_max, e.outputs.tip_contact as u8
+        ));
+    }
+    std::fs::write(dir.join("static_te.csv"), csv).map_err(io)?;
+    let rows = pressure_waterfall(model, torque, 0, -1.5 * pitch, 1.5 * pitch, 20)
+        .map_err(|e| e.to_string())?;
+    let mut csv = String::from("phi_p_rad,zeta,pressure_pa\n");
+    for r in &rows {
+        for (z, p) in r.zeta.iter().zip(&r.pressure) {
+            csv.push_str(&format!("{:e},{:e},{:e}\n", r.phi_p, z, p));
+        }
+    }
+    std::fs::write(dir.join("waterfall_static.csv"), csv).map_err(io)?;
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
@@ -189,6 +339,11 @@ fn main() -> ExitCode {
         Command::Contact { common, phi_p, te, slices, back } => {
             contact_cmd(common, *phi_p, *te, *slices, *back)
         }
+        Command::Static { common, torque, points_per_pitch, pitches, slices, plot } => {
+            static_cmd(common, *torque, *points_per_pitch, *pitches, *slices, plot.as_deref())
+        }
+        Command::Simulate(args) => dynamics_cmd::simulate_cmd(args),
+        Command::Sweep(args) => dynamics_cmd::sweep_cmd(args),
         Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
             Ok(s) => {
                 println!("{s}");

@@ -70,3 +70,85 @@ fn bad_parameters_give_a_clear_error() {
     assert!(!ok && stderr.contains("finite"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn simulate_and_sweep_reject_bad_arguments_before_building_the_model() {
+    let cases: [(&[&str], &str); 5] = [
+        (&["simulate", "--omega-p", "0", "--t-end", "1e-3"], "--omega-p"),
+        (&["simulate", "--omega-p", "100", "--t-end", "1e-3", "--dt", "3e-4"], "whole number"),
+        (&["simulate", "--omega-p", "100", "--t-end", "-1"], "--t-end"),
+        (&["sweep", "--from", "500", "--to", "400", "--points", "3"], "--from"),
+        (&["sweep", "--from", "400", "--to", "500", "--points", "1"], "--points"),
+    ];
+    for (args, needle) in cases {
+        let (ok, stdout, stderr) = run(args);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(stdout.is_empty());
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!stderr.contains("building the mesh model"), "{args:?} built the model first");
+    }
+    // --csv and --json exclude each other.
+    let (ok, _, stderr) =
+        run(&["simulate", "--omega-p", "100", "--t-end", "1e-3", "--csv", "--json"]);
+    assert!(!ok && stderr.contains("cannot be used with"), "{stderr}");
+}
+
+/// `simulate --dt` is the fixed-step RK4 reference: times i·dt exactly, the static-equilibrium
+/// start, and the same numbers as the library's `simulate` with the same mesh model.
+/// Ignored by default: builds the FE compliance of Table 1 twice (about 20 s in the test
+/// profile on two cores); run with `cargo test --test cli -- --ignored`.
+#[test]
+#[ignore]
+fn simulate_json_is_the_library_rk4_trajectory() {
+    use helical_gear_mesh::dynamics::{Drivetrain, GearDynamics, Stepping, simulate};
+    use helical_gear_mesh::mesh::{EquilibriumSettings, MeshModel, MeshOptions};
+
+    let (omega, dt, t_end) = (600.0, 1e-5, 2e-4);
+    let (ok, stdout, stderr) =
+        run(&["simulate", "--omega-p", "600", "--t-end", "2e-4", "--dt", "1e-5", "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let col = |k: &str| -> Vec<f64> {
+        v[k].as_array()
+            .unwrap_or_else(|| panic!("missing {k}"))
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let time = col("time_s");
+    assert_eq!(time.len(), 21);
+    // Printed exactly (shortest round-trip form); serde_json's default parser may be off by
+    // an ulp, hence the 1e-15.
+    for (i, t) in time.iter().enumerate() {
+        assert!((*t - i as f64 * dt).abs() <= 1e-15 * t.abs(), "time {i}: {t}");
+    }
+
+    let pair = helical_gear_mesh::GearPair::paper_table1();
+    let mesh = MeshModel::new(&pair, MeshOptions::default()).unwrap();
+    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    let y0 = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap().y;
+    let tr = simulate(&mut model, &y0, t_end, &Stepping::Rk4 { dt }).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-30);
+    let names = helical_gear_mesh::dynamics::model::STATE_NAMES;
+    for (j, name) in names.iter().enumerate() {
+        for (i, x) in col(name).iter().enumerate() {
+            assert!(close(*x, tr.states[i][j]), "{name}[{i}]: {x} vs {}", tr.states[i][j]);
+        }
+    }
+    type Field = fn(&helical_gear_mesh::mesh::MeshOutputs) -> f64;
+    let outs: [(&str, Field); 5] = [
+        ("te_m", |o| o.te),
+        ("m_f_p_nm", |o| o.m_f_p),
+        ("m_f_g_nm", |o| o.m_f_g),
+        ("m_d_p_nm", |o| o.m_d_p),
+        ("m_d_g_nm", |o| o.m_d_g),
+    ];
+    for (name, f) in outs {
+        for (i, x) in col(name).iter().enumerate() {
+            assert!(close(*x, f(&tr.outputs[i])), "{name}[{i}]");
+        }
+    }
+    // The start is the static equilibrium: M_F,p = M.
+    assert!((col("m_f_p_nm")[0] - pair.drive.torque_nm).abs() < 1e-8 * pair.drive.torque_nm);
+}

@@ -6,12 +6,30 @@
 //!   mesh-torque evaluation propagates instead of turning into NaN.
 //! * [`steady`]: detection of the periodic steady state of the transmission error (period
 //!   k·T_m, k = 1 or a small subharmonic multiple), from samples on a uniform grid.
+//! * [`model`]: Eqs. 1–4 as an [`OdeSystem`] over any [`crate::mesh::MeshTorques`], the
+//!   drivetrain data, the static-equilibrium start and the linearised natural frequencies.
+//! * [`simulate`](mod@simulate): trajectories and runs to the steady state.
+//! * [`sweep`](mod@sweep): speed sweeps in parallel, the static TE curve and the location of resonances.
+//! * [`analytic_mesh`]: linear-spring mesh models with closed-form behaviour, for verification.
 
+pub mod analytic_mesh;
 pub mod integrators;
+pub mod model;
+pub mod simulate;
 pub mod steady;
+pub mod sweep;
 
+pub use analytic_mesh::{Clearance, ConstantStiffnessMesh, PeriodicStiffnessMesh};
 pub use integrators::{
     AbsTol, Dopri5, Dopri5Options, Dopri5Stats, Dopri5Step, FnSystem, OdeError, OdeSystem,
     Quantity, Rk4,
 };
+pub use model::{Drivetrain, DynamicsError, GearDynamics, StaticStart, mesh_stiffness};
+pub use simulate::{
+    DEFAULT_STEPS_PER_MESH_PERIOD, SteadyMethod, SteadyResponse, SteadyRunOptions, SteadyWarning,
+    Stepping, Trajectory, WindowSample, run_to_steady, simulate,
+};
 pub use steady::{PeriodCheck, SteadyError, SteadyOptions, SteadyState, SteadyStatus};
+pub use sweep::{
+    Resonance, SweepOptions, SweepPoint, SweepResult, find_peaks, static_te_curve, sweep,
+};

@@ -17,12 +17,28 @@
 //! [`MeshTorques`] is the one-method interface the dynamics and the FMU use; [`statics`] finds
 //! the static equilibrium for any implementation of it.
 
+pub mod model;
 pub mod statics;
+pub mod table;
 
 use std::fmt;
+use std::sync::Arc;
 
+use crate::compliance::fe::gear_mesh::GearMeshDensity;
+use crate::compliance::fitted::FittedInfluence;
+use crate::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence};
+use crate::compliance::interpolated::InterpolatedInfluence;
 use crate::error::ParamError;
+use crate::geometry::PairGeometry;
 use crate::load::LoadError;
+use crate::params::GearPair;
+
+pub use model::{GearCompliance, MeshModel};
+pub use statics::{
+    Equilibrium, EquilibriumSettings, StaticCurve, WaterfallRow, equilibrium, pressure_waterfall,
+    static_curve,
+};
+pub use table::MeshTable;
 
 /// The kinematic state of the two gears.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -100,6 +116,9 @@ pub struct MeshOptions {
     /// Keep the coupling between simultaneous contact lines through the gear bodies
     /// (influence of a load on one tooth on its neighbours).
     pub neighbour_coupling: bool,
+    /// Include the local Weber–Banaschek deformation (Eq. 10) in the load problem; off leaves
+    /// the global (FE) compliance alone — for studies of its share, not for production.
+    pub local_contact: bool,
     /// Compute the Hertz pressure (p_max); off saves the per-slice square roots.
     pub pressure: bool,
     /// Compute the damping torques M_D (Eq. 14).
@@ -119,6 +138,7 @@ impl Default for MeshOptions {
             slices: 200,
             compliance: ComplianceModel::Interpolated,
             neighbour_coupling: true,
+            local_contact: true,
             pressure: true,
             damping: true,
             detail: false,
@@ -202,4 +222,46 @@ pub trait MeshTorques {
 
     /// Base radii (g_p, g_g), m, that define TE = φp·g_p + φg·g_g.
     fn base_radii(&self) -> (f64, f64);
+}
+
+impl MeshModel {
+    /// Builds the model of `pair` with `options`: validates the pair and the options, obtains
+    /// the FE compliance of both gears (see [`compute_compliance`]) and, for
+    /// [`Fidelity::Table`], builds the table.
+    pub fn new(pair: &GearPair, options: MeshOptions) -> Result<Self, MeshError> {
+        PairGeometry::new(pair)?;
+        let (p, g) = compute_compliance(pair, &GearMeshDensity::default(), options.compliance)?;
+        Self::with_compliance(pair, options, p, g)
+    }
+}
+
+/// FE influence data of both gears of `pair` at mesh density `density` and the default depth
+/// h, in the representation `model`.
+pub fn compute_compliance(
+    pair: &GearPair,
+    density: &GearMeshDensity,
+    model: ComplianceModel,
+) -> Result<(GearCompliance, GearCompliance), MeshError> {
+    let geo = PairGeometry::new(pair)?;
+    let h = DEFAULT_DEPTH_MN * pair.normal_module_m;
+    let mut out = Vec::with_capacity(2);
+    for g in [&geo.pinion, &geo.gear] {
+        let inf = fe_influence(g, pair, density, h, false)
+            .map_err(|e| MeshError::Compliance(format!("FE of z = {}: {e}", g.z)))?;
+        let c = match model {
+            ComplianceModel::Interpolated => GearCompliance::Interpolated(Arc::new(
+                InterpolatedInfluence::new(inf.grid)
+                    .map_err(|e| MeshError::Compliance(e.to_string()))?,
+            )),
+            ComplianceModel::Fitted => {
+                let (f, _) = FittedInfluence::fit(&inf.grid, geo.b0())
+                    .map_err(|e| MeshError::Compliance(format!("fit of z = {}: {e}", g.z)))?;
+                GearCompliance::Fitted(Arc::new(f))
+            }
+        };
+        out.push(c);
+    }
+    let g = out.pop().expect("two gears");
+    let p = out.pop().expect("two gears");
+    Ok((p, g))
 }

@@ -204,3 +204,125 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         evaluations: count.get(),
     })
 }
+
+/// The static transmission error over a range of pinion angles (paper §6, Fig. 7, Eq. 16).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticCurve {
+    /// Driving torque M, N·m.
+    pub torque: f64,
+    /// The equilibrium at each pinion angle (uniform steps).
+    pub points: Vec<Equilibrium>,
+}
+
+impl StaticCurve {
+    /// Largest STE, m.
+    pub fn max(&self) -> f64 {
+        self.points.iter().map(|e| e.te).fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// Smallest STE, m.
+    pub fn min(&self) -> f64 {
+        self.points.iter().map(|e| e.te).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Mean STE over the points, m.
+    pub fn mean(&self) -> f64 {
+        self.points.iter().map(|e| e.te).sum::<f64>() / self.points.len().max(1) as f64
+    }
+
+    /// Mean secant mesh stiffness along the transverse line of action, N/m: the mean over the
+    /// points of (M/g_p)/STE (force along the line of action per unit TE).
+    pub fn mean_stiffness(&self, base_radius_p: f64) -> f64 {
+        let f = self.torque / base_radius_p;
+        self.points.iter().map(|e| f / e.te).sum::<f64>() / self.points.len().max(1) as f64
+    }
+
+    /// True if any equilibrium has a loaded contact on a tip rounding.
+    pub fn tip_rounding_contact(&self) -> bool {
+        self.points.iter().any(|e| e.outputs.tip_contact)
+    }
+}
+
+/// Static equilibria at `points_per_pitch` uniform pinion angles per pinion pitch over
+/// `pitches` pitches starting at `phi_start` (rad), each started from the previous STE.
+pub fn static_curve<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    torque: f64,
+    phi_start: f64,
+    pinion_pitch: f64,
+    points_per_pitch: usize,
+    pitches: usize,
+) -> Result<StaticCurve, MeshError> {
+    let n = points_per_pitch.max(1) * pitches.max(1);
+    let mut points = Vec::with_capacity(n);
+    let mut guess = 1e-5;
+    let settings = EquilibriumSettings::default();
+    for k in 0..n {
+        let phi_p = phi_start + pinion_pitch * k as f64 / points_per_pitch.max(1) as f64;
+        let eq = equilibrium(mesh, phi_p, torque, guess, &settings)?;
+        guess = eq.te;
+        points.push(eq);
+    }
+    Ok(StaticCurve { torque, points })
+}
+
+/// One row of a pressure waterfall: the contact pressure along the face width of one tooth
+/// pair at one pinion angle, at static equilibrium.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WaterfallRow {
+    /// Pinion angle φp, rad.
+    pub phi_p: f64,
+    /// Static TE at this angle, m.
+    pub te: f64,
+    /// Slice centres ζ = z/m_n (all slices of the face width).
+    pub zeta: Vec<f64>,
+    /// Hertz pressure (Eq. 15) of the tracked pair at each slice, Pa (0 where not loaded).
+    pub pressure: Vec<f64>,
+    /// True if any loaded slice of the tracked pair lies on a tip rounding.
+    pub tip_contact: bool,
+}
+
+/// The pressure waterfall of Fig. 7: the static contact pressure along the face width of tooth
+/// pair `pair` (absolute number, see [`crate::contact::ContactPoint::pair`]) at
+/// `points_per_pitch` pinion angles per pitch from `phi_from` to `phi_to` (rad). Rows where the
+/// pair carries no load are kept (all zeros) so that the rows are uniform in φp.
+pub fn pressure_waterfall(
+    model: &mut super::MeshModel,
+    torque: f64,
+    pair: i64,
+    phi_from: f64,
+    phi_to: f64,
+    points_per_pitch: usize,
+) -> Result<Vec<WaterfallRow>, MeshError> {
+    let pitch = model.geometry().pinion.angular_pitch();
+    let n = (((phi_to - phi_from) / pitch) * points_per_pitch as f64).round().max(1.0) as usize;
+    let nl = model.slices_per_line();
+    let b0 = model.geometry().b0();
+    let zeta: Vec<f64> = (0..nl).map(|k| (k as f64 + 0.5) * b0 / nl as f64).collect();
+    let detail_before = model.options().detail;
+    model.set_detail(true);
+    let mut rows = Vec::with_capacity(n + 1);
+    let mut guess = 1e-5;
+    let settings = EquilibriumSettings::default();
+    let result = (|| {
+        for i in 0..=n {
+            let phi_p = phi_from + (phi_to - phi_from) * i as f64 / n as f64;
+            let eq = equilibrium(model, phi_p, torque, guess, &settings)?;
+            guess = eq.te;
+            model.evaluate(&MeshState { phi_p, phi_g: eq.phi_g, w_p: 0.0, w_g: 0.0 })?;
+            let mut pressure = vec![0.0; nl];
+            let mut tip_contact = false;
+            for s in model.slices() {
+                if s.pair == pair && !s.back && s.q_n_per_m > 0.0 {
+                    let k = ((s.zeta / b0 * nl as f64) as usize).min(nl - 1);
+                    pressure[k] = s.pressure_pa;
+                    tip_contact |= s.kind.starts_with("rounding") || s.kind.ends_with("rounding");
+                }
+            }
+            rows.push(WaterfallRow { phi_p, te: eq.te, zeta: zeta.clone(), pressure, tip_contact });
+        }
+        Ok(())
+    })();
+    model.set_detail(detail_before);
+    result.map(|()| rows)
+}

@@ -1,0 +1,441 @@
+//! The `simulate` and `sweep` subcommands: the 4-DOF model of Eqs. 1–4 driven by the mesh
+//! model of the gear pair.
+//!
+//! `simulate` prints one trajectory from the static-equilibrium start at the nominal speed
+//! (see `helical_gear_mesh::dynamics::model`): per output time the eight states, TE and the
+//! four mesh torques. With `--dt` and `--method rk4` (the default) it takes fixed RK4 steps of
+//! exactly that size with the mesh evaluated at every stage state: the reference that a
+//! co-simulation master running RK4 over the FMU reproduces.
+//!
+//! `sweep` runs the speeds of a uniform grid to the steady state in parallel and prints
+//! TE_max/STE_max per speed, the separation flags and the located resonances. Progress goes to
+//! stderr, one line per run.
+
+use std::io::Write;
+
+use clap::{Args, ValueEnum};
+use helical_gear_mesh::GearPair;
+use helical_gear_mesh::dynamics::model::STATE_NAMES;
+use helical_gear_mesh::dynamics::{
+    DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, SteadyMethod,
+    SteadyRunOptions, Stepping, SweepOptions, simulate, sweep,
+};
+use helical_gear_mesh::mesh::{
+    EquilibriumSettings, Fidelity, MeshError, MeshModel, MeshOptions, MeshTorques,
+};
+use serde_json::{Value, json};
+
+use crate::{Common, load_params};
+
+/// Mesh evaluation fidelity on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CliFidelity {
+    /// Contact search and load solve at every evaluation.
+    Full,
+    /// Interpolation in a (mesh phase, TE) table built once from the full model.
+    Table,
+}
+
+impl CliFidelity {
+    fn fidelity(self) -> Fidelity {
+        match self {
+            CliFidelity::Full => Fidelity::Full,
+            CliFidelity::Table => Fidelity::Table,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            CliFidelity::Full => "full",
+            CliFidelity::Table => "table",
+        }
+    }
+}
+
+/// Integrator of `simulate`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CliMethod {
+    /// Classical RK4, fixed step.
+    Rk4,
+    /// Adaptive Dormand–Prince 5(4).
+    Dopri5,
+}
+
+/// Arguments of `helical-gear simulate`.
+#[derive(Args, Clone)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Nominal pinion speed ω_p, rad/s (> 0); the gear turns at −ω_p·z_p/z_g.
+    #[arg(long)]
+    omega_p: f64,
+    /// End time, s (> 0). With `--dt` and RK4 a whole number of steps.
+    #[arg(long)]
+    t_end: f64,
+    /// RK4: the fixed step, s (default: the mesh period / 128, shortened to divide --t-end).
+    /// DOPRI5: the output interval (default: every accepted step).
+    #[arg(long)]
+    dt: Option<f64>,
+    /// Integrator.
+    #[arg(long, value_enum, default_value_t = CliMethod::Rk4)]
+    method: CliMethod,
+    /// Print CSV (one header line, one row per output time) instead of text.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
+    /// Pinion angle φp at t = 0, rad.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    phi_p0: f64,
+    /// Mesh damping d_mesh, N·s/m (default: the parameters' `d_mesh_n_s_per_m`).
+    #[arg(long)]
+    d_mesh: Option<f64>,
+    /// Mesh evaluation fidelity.
+    #[arg(long, value_enum, default_value_t = CliFidelity::Full)]
+    fidelity: CliFidelity,
+    /// DOPRI5 relative tolerance.
+    #[arg(long, default_value_t = 1e-8)]
+    rtol: f64,
+    /// DOPRI5 absolute tolerance (rad and rad/s).
+    #[arg(long, default_value_t = 1e-12)]
+    atol: f64,
+}
+
+/// Arguments of `helical-gear sweep`.
+#[derive(Args, Clone)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Lowest pinion speed, rad/s (> 0).
+    #[arg(long)]
+    from: f64,
+    /// Highest pinion speed, rad/s (≥ --from).
+    #[arg(long)]
+    to: f64,
+    /// Number of speeds, uniformly spaced from --from to --to.
+    #[arg(long)]
+    points: usize,
+    /// Mesh damping d_mesh, N·s/m (default: the parameters' `d_mesh_n_s_per_m`).
+    #[arg(long)]
+    d_mesh: Option<f64>,
+    /// Mesh evaluation fidelity (the table is built once and shared by all workers).
+    #[arg(long, value_enum, default_value_t = CliFidelity::Table)]
+    fidelity: CliFidelity,
+    /// RK4 steps per mesh period (raised at low speeds to resolve the fastest mode).
+    #[arg(long, default_value_t = DEFAULT_STEPS_PER_MESH_PERIOD)]
+    steps_per_period: usize,
+    /// Cap on the mesh periods of one run; a run that reaches it is reported as not steady.
+    #[arg(long, default_value_t = 3000)]
+    max_periods: usize,
+    /// Extra runs per resonance peak (golden-section refinement).
+    #[arg(long, default_value_t = 6)]
+    refine_runs: usize,
+    /// Smallest prominence of a TE_max/STE_max peak that counts as a resonance.
+    #[arg(long, default_value_t = 0.005)]
+    min_prominence: f64,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// The mesh model the dynamics run with: the full Andersson–Vedmar [`MeshModel`] of `pair`
+/// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity`.
+fn build_mesh(
+    pair: &GearPair,
+    fidelity: CliFidelity,
+) -> Result<impl MeshTorques + Clone + Send + use<>, MeshError> {
+    MeshModel::new(pair, MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() })
+}
+
+/// Parameters with `--d-mesh` applied, the drivetrain, and the mesh model (building it may
+/// take a while: a note goes to stderr).
+fn setup(
+    common: &Common,
+    d_mesh: Option<f64>,
+    fidelity: CliFidelity,
+) -> Result<(GearPair, Drivetrain, impl MeshTorques + Clone + Send + use<>), String> {
+    let mut pair = load_params(common)?;
+    if let Some(d) = d_mesh {
+        if !(d.is_finite() && d >= 0.0) {
+            return Err(format!("--d-mesh = {d} N·s/m: allowed finite and >= 0"));
+        }
+        pair.d_mesh_n_s_per_m = d;
+    }
+    let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
+    eprintln!("building the mesh model ({} fidelity)…", fidelity.name());
+    let t0 = std::time::Instant::now();
+    let mesh = build_mesh(&pair, fidelity).map_err(|e| format!("mesh model: {e}"))?;
+    eprintln!("mesh model ready in {:.1} s", t0.elapsed().as_secs_f64());
+    Ok((pair, drive, mesh))
+}
+
+fn io_err(e: std::io::Error) -> String {
+    format!("cannot write to stdout: {e}")
+}
+
+/// `helical-gear simulate`.
+pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
+    if !(a.omega_p.is_finite() && a.omega_p > 0.0) {
+        return Err(format!("--omega-p = {}: allowed finite and > 0 (rad/s)", a.omega_p));
+    }
+    if !(a.t_end.is_finite() && a.t_end > 0.0) {
+        return Err(format!("--t-end = {}: allowed finite and > 0 (s)", a.t_end));
+    }
+    if let Some(dt) = a.dt
+        && !(dt.is_finite() && dt > 0.0 && dt <= a.t_end)
+    {
+        return Err(format!("--dt = {dt}: allowed finite, > 0 and <= --t-end (s)"));
+    }
+    if let (Some(dt), CliMethod::Rk4) = (a.dt, a.method) {
+        let n = (a.t_end / dt).round();
+        if (n * dt - a.t_end).abs() > 1e-9 * a.t_end || n > 1e9 {
+            return Err(format!(
+                "--t-end = {} is not a whole number of RK4 steps --dt = {dt} (within 1e-9), or \
+                 more than 1e9 steps",
+                a.t_end
+            ));
+        }
+    }
+    let (_, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
+    let t_m = drive.mesh_period(a.omega_p);
+    let stepping = match a.method {
+        CliMethod::Rk4 => {
+            let dt = match a.dt {
+                Some(dt) => dt,
+                None => {
+                    let n = (a.t_end / (t_m / DEFAULT_STEPS_PER_MESH_PERIOD as f64)).ceil();
+                    a.t_end / n.max(1.0)
+                }
+            };
+            Stepping::Rk4 { dt }
+        }
+        CliMethod::Dopri5 => {
+            let mut options = Dopri5Options::with_tolerances(a.rtol, a.atol);
+            options.h_max = Some(t_m);
+            options.max_steps = 10_000_000;
+            Stepping::Dopri5 { options, output_dt: a.dt }
+        }
+    };
+    let mut model = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
+    let start = model
+        .static_start(a.phi_p0, a.omega_p, &EquilibriumSettings::default())
+        .map_err(|e| format!("static start: {e}"))?;
+    let t0 = std::time::Instant::now();
+    let tr = simulate(&mut model, &start.y, a.t_end, &stepping).map_err(|e| e.to_string())?;
+    let seconds = t0.elapsed().as_secs_f64();
+
+    let mut columns: Vec<(&str, Vec<f64>)> = Vec::with_capacity(14);
+    columns.push(("time_s", tr.time.clone()));
+    for (i, name) in STATE_NAMES.iter().enumerate() {
+        columns.push((name, tr.states.iter().map(|y| y[i]).collect()));
+    }
+    columns.push(("te_m", tr.outputs.iter().map(|o| o.te).collect()));
+    columns.push(("m_f_p_nm", tr.outputs.iter().map(|o| o.m_f_p).collect()));
+    columns.push(("m_f_g_nm", tr.outputs.iter().map(|o| o.m_f_g).collect()));
+    columns.push(("m_d_p_nm", tr.outputs.iter().map(|o| o.m_d_p).collect()));
+    columns.push(("m_d_g_nm", tr.outputs.iter().map(|o| o.m_d_g).collect()));
+
+    let stdout = std::io::stdout();
+    let mut w = std::io::BufWriter::new(stdout.lock());
+    let dt_used = match &stepping {
+        Stepping::Rk4 { dt } => Some(*dt),
+        Stepping::Dopri5 { output_dt, .. } => *output_dt,
+    };
+    let method = match a.method {
+        CliMethod::Rk4 => "rk4",
+        CliMethod::Dopri5 => "dopri5",
+    };
+    if a.common.json {
+        let mut obj = serde_json::Map::new();
+        obj.insert("omega_p_rad_s".into(), json!(a.omega_p));
+        obj.insert("t_end_s".into(), json!(a.t_end));
+        obj.insert("method".into(), json!(method));
+        obj.insert("dt_s".into(), json!(dt_used));
+        obj.insert("fidelity".into(), json!(a.fidelity.name()));
+        obj.insert("mesh_period_s".into(), json!(t_m));
+        obj.insert("te_static_start_m".into(), json!(start.te));
+        obj.insert("steps".into(), json!(tr.steps));
+        obj.insert("mesh_evaluations".into(), json!(tr.mesh_evaluations));
+        obj.insert("columns".into(), json!(columns.iter().map(|c| c.0).collect::<Vec<_>>()));
+        for (name, v) in &columns {
+            obj.insert((*name).into(), json!(v));
+        }
+        writeln!(w, "{}", Value::Object(obj)).map_err(io_err)?;
+    } else if a.csv {
+        let header: Vec<&str> = columns.iter().map(|c| c.0).collect();
+        writeln!(w, "{}", header.join(",")).map_err(io_err)?;
+        for i in 0..tr.time.len() {
+            let row: Vec<String> = columns.iter().map(|c| format!("{:e}", c.1[i])).collect();
+            writeln!(w, "{}", row.join(",")).map_err(io_err)?;
+        }
+    } else {
+        let te: &Vec<f64> = &columns[9].1;
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &x in te {
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        writeln!(
+            w,
+            "Eqs. 1–4 from the static equilibrium at ω_p = {} rad/s ({method}, {} fidelity): \
+             {} output times to {} s, {} steps, {} mesh evaluations, {seconds:.2} s",
+            a.omega_p,
+            a.fidelity.name(),
+            tr.time.len(),
+            a.t_end,
+            tr.steps,
+            tr.mesh_evaluations
+        )
+        .map_err(io_err)?;
+        writeln!(
+            w,
+            "  static TE at the start {:.4} µm; TE over the run {:.4} … {:.4} µm",
+            start.te * 1e6,
+            lo * 1e6,
+            hi * 1e6
+        )
+        .map_err(io_err)?;
+        writeln!(
+            w,
+            "  {:>12} {:>12} {:>12} {:>12} {:>12}",
+            "time_s", "te_um", "m_f_p_nm", "w_p_rad_s", "w_g_rad_s"
+        )
+        .map_err(io_err)?;
+        let stride = tr.time.len().div_ceil(40).max(1);
+        for i in (0..tr.time.len()).step_by(stride) {
+            writeln!(
+                w,
+                "  {:12.6e} {:12.5} {:12.5} {:12.5} {:12.5}",
+                tr.time[i],
+                te[i] * 1e6,
+                tr.outputs[i].m_f_p,
+                tr.states[i][5],
+                tr.states[i][6]
+            )
+            .map_err(io_err)?;
+        }
+        writeln!(w, "  (every {stride}th row; --csv or --json for all)").map_err(io_err)?;
+    }
+    w.flush().map_err(io_err)
+}
+
+/// `helical-gear sweep`.
+pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
+    if !(a.from.is_finite() && a.from > 0.0 && a.to.is_finite() && a.to >= a.from) {
+        return Err(format!(
+            "--from = {} and --to = {}: allowed finite, 0 < from <= to (rad/s)",
+            a.from, a.to
+        ));
+    }
+    if !(1..=100_000).contains(&a.points) || (a.points == 1) != (a.from == a.to) {
+        return Err(format!(
+            "--points = {}: allowed 1 (with --from = --to) or 2 … 100000 (with --from < --to)",
+            a.points
+        ));
+    }
+    let (pair, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
+    let speeds: Vec<f64> = if a.points == 1 {
+        vec![a.from]
+    } else {
+        (0..a.points).map(|i| a.from + (a.to - a.from) * i as f64 / (a.points - 1) as f64).collect()
+    };
+    let opts = SweepOptions {
+        run: SteadyRunOptions {
+            method: SteadyMethod::Rk4 { steps_per_period: a.steps_per_period },
+            max_periods: a.max_periods,
+            keep_window: false,
+            ..SteadyRunOptions::default()
+        },
+        threads: a.threads,
+        refine_runs: a.refine_runs,
+        min_prominence: a.min_prominence,
+        progress: true,
+        ..SweepOptions::default()
+    };
+    let r = sweep(&mesh, &drive, &speeds, &opts).map_err(|e| e.to_string())?;
+    let ste_max = r.ste.max();
+    let warnings: Vec<String> = r
+        .points
+        .iter()
+        .chain(r.resonances.iter().flat_map(|x| x.refinement.iter()))
+        .filter_map(|p| p.warning.map(|w| format!("ω_p = {} rad/s: {w}", p.omega_p)))
+        .collect();
+    let col = |f: &dyn Fn(&helical_gear_mesh::dynamics::SweepPoint) -> Value| -> Vec<Value> {
+        r.points.iter().map(f).collect()
+    };
+    let out = json!({
+        "speeds_rad_s": speeds,
+        "te_max_over_ste_max": col(&|p| json!(p.te_max_over_ste_max)),
+        "te_min_over_ste_max": col(&|p| json!(p.te_min_over_ste_max)),
+        "separated": col(&|p| json!(p.separated)),
+        "back_contact": col(&|p| json!(p.back_contact)),
+        "tip_contact": col(&|p| json!(p.tip_contact)),
+        "steady": col(&|p| json!(p.steady)),
+        "period_multiple": col(&|p| json!(p.period_multiple)),
+        "periods": col(&|p| json!(p.periods)),
+        "resonances_rad_s": r.resonances.iter().map(|x| x.omega_p).collect::<Vec<_>>(),
+        "resonance_te_max_over_ste_max":
+            r.resonances.iter().map(|x| x.te_max_over_ste_max).collect::<Vec<_>>(),
+        "resonance_brackets_rad_s":
+            r.resonances.iter().map(|x| [x.bracket.0, x.bracket.1]).collect::<Vec<_>>(),
+        "ste_max_um": ste_max * 1e6,
+        "d_mesh_n_s_per_m": pair.d_mesh_n_s_per_m,
+        "fidelity": a.fidelity.name(),
+        "mesh_stiffness_n_per_um": r.mesh_stiffness.map(|k| k * 1e-6),
+        "max_step_s": r.max_step,
+        "steps_per_period": a.steps_per_period,
+        "warnings": warnings,
+        "wall_seconds": r.wall_seconds,
+    });
+    let stdout = std::io::stdout();
+    let mut w = std::io::BufWriter::new(stdout.lock());
+    if a.common.json {
+        writeln!(w, "{out}").map_err(io_err)?;
+    } else {
+        writeln!(
+            w,
+            "Speed sweep, d_mesh = {} N·s/m, {} fidelity, STE_max = {:.3} µm, {:.1} s",
+            pair.d_mesh_n_s_per_m,
+            a.fidelity.name(),
+            ste_max * 1e6,
+            r.wall_seconds
+        )
+        .map_err(io_err)?;
+        writeln!(w, "  {:>12} {:>10} {:>10}  flags", "omega_p", "TEmax/STE", "TEmin/STE")
+            .map_err(io_err)?;
+        for p in &r.points {
+            let mut flags = Vec::new();
+            if p.separated {
+                flags.push("separated");
+            }
+            if p.back_contact {
+                flags.push("back contact");
+            }
+            if p.tip_contact {
+                flags.push("tip contact");
+            }
+            if !p.steady {
+                flags.push("NOT steady");
+            }
+            writeln!(
+                w,
+                "  {:12.3} {:10.4} {:10.4}  {}",
+                p.omega_p,
+                p.te_max_over_ste_max,
+                p.te_min_over_ste_max,
+                flags.join(", ")
+            )
+            .map_err(io_err)?;
+        }
+        for x in &r.resonances {
+            writeln!(
+                w,
+                "  resonance at {:.2} rad/s (bracket {:.2} … {:.2}), TE_max/STE_max = {:.4}",
+                x.omega_p, x.bracket.0, x.bracket.1, x.te_max_over_ste_max
+            )
+            .map_err(io_err)?;
+        }
+        for s in &warnings {
+            writeln!(w, "  warning: {s}").map_err(io_err)?;
+        }
+    }
+    w.flush().map_err(io_err)
+}

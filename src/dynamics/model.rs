@@ -1,0 +1,522 @@
+//! The 4-DOF torsional model of the gear set (paper §2, Eqs. 1–4, Fig. 1).
+//!
+//! Driving mass J₁, massless pinion shaft (c₁, d₁), pinion J_p, mesh, gear J_g, massless gear
+//! shaft (c₂, d₂), driven mass J₂:
+//!
+//! ```text
+//! J₁ φ̈₁ = M − c₁(φ₁ − φp) − d₁(φ̇₁ − φ̇p)                              (1)
+//! J_p φ̈p = c₁(φ₁ − φp) + d₁(φ̇₁ − φ̇p) − M_F,p − M_D,p                  (2)
+//! J_g φ̈g = −c₂(φg − φ₂) − d₂(φ̇g − φ̇₂) − M_F,g − M_D,g                 (3)
+//! J₂ φ̈₂ = M·z_g/z_p + c₂(φg − φ₂) + d₂(φ̇g − φ̇₂)                       (4)
+//! ```
+//!
+//! # Sign conventions
+//!
+//! All four angles are measured in one absolute rotational sense (that of the crate: the pinion
+//! drives turning in the positive sense, so φg and φ₂ are negative and decreasing in normal
+//! running). The transmission error is TE = φp·g_p + φg·g_g (Eq. 16). The mesh torques
+//! M_F,p, M_F,g, M_D,p, M_D,g come from a [`MeshTorques`] implementation, are positive in
+//! normal drive and enter Eqs. 2–3 with a minus sign, exactly as written above: the mesh brakes
+//! the pinion and drives the gear in the negative sense.
+//!
+//! **The braking torque on J₂ is +M·z_g/z_p** (the paper's sign, kept): the load opposes the
+//! gear set's negative rotation, so it acts in the positive sense. Check at steady rotation
+//! (all accelerations and shaft-damper rates zero): Eq. 3 gives c₂(φg − φ₂) = −M_F,g, so the
+//! gear shaft is wound with φ₂ − φg = M_F,g/c₂ > 0 (the load lags the gear, which turns in the
+//! negative sense), and Eq. 4 then reads 0 = M·z_g/z_p − M_F,g, i.e. the gear side is in
+//! equilibrium with the positive mesh torque M_F,g = M·z_g/z_p = M·g_g/g_p that the plane of
+//! action transmits (g_g/g_p = z_g/z_p for gears cut by one rack).
+//!
+//! # State vector
+//!
+//! Eight first-order states, in this order (indices [`PHI_1`] … [`W_2`]):
+//! (φ₁, φp, φg, φ₂, φ̇₁, φ̇p, φ̇g, φ̇₂), rad and rad/s.
+//!
+//! # Start at static equilibrium
+//!
+//! [`GearDynamics::static_start`] gives the state at t = 0 that is in static equilibrium at the
+//! nominal speed, so that the slow, almost undamped shaft modes are not excited by the start:
+//! φp = φp,0 (given, usually 0), φg from the static mesh equilibrium M_F,p(φp, φg) = M
+//! ([`crate::mesh::statics::equilibrium`]), the pinion shaft wound up by the driving torque,
+//! φ₁ = φp + M/c₁, the gear shaft wound up by the mesh torque of that equilibrium,
+//! φ₂ = φg + M_F,g/c₂, and all rates at the nominal speed: φ̇₁ = φ̇p = ω_p,
+//! φ̇g = φ̇₂ = −ω_p·z_p/z_g. The shaft dampers then carry no torque and the mesh damping
+//! (∝ dTE/dt = ω_p·(g_p − g_g·z_p/z_g) = 0) none either, so Eqs. 1–3 hold with zero
+//! acceleration; Eq. 4 holds too wherever M_F,g = M·z_g/z_p (contact in the plane of action).
+//!
+//! # Mesh evaluations
+//!
+//! [`GearDynamics`] remembers the last mesh evaluation and reuses it when it is asked again for
+//! bit-identical (φp, φg, φ̇p, φ̇g). The mesh is a function of that state only, so this changes
+//! no result; it makes recording the outputs at every step free (the first RK4 stage and the
+//! DOPRI5 first-same-as-last stage are evaluated at the step's end state anyway).
+
+use std::fmt;
+
+use nalgebra::{Matrix4, SymmetricEigen};
+
+use super::integrators::{OdeError, OdeSystem};
+use super::steady::SteadyError;
+use crate::error::ParamError;
+use crate::geometry::PairGeometry;
+use crate::mesh::statics::{EquilibriumSettings, equilibrium};
+use crate::mesh::{MeshError, MeshOutputs, MeshState, MeshTorques};
+use crate::params::GearPair;
+
+/// Index of φ₁ (driving mass angle, rad) in the state vector.
+pub const PHI_1: usize = 0;
+/// Index of φp (pinion hub angle, rad).
+pub const PHI_P: usize = 1;
+/// Index of φg (gear hub angle, rad).
+pub const PHI_G: usize = 2;
+/// Index of φ₂ (driven mass angle, rad).
+pub const PHI_2: usize = 3;
+/// Index of φ̇₁ (rad/s).
+pub const W_1: usize = 4;
+/// Index of φ̇p (rad/s).
+pub const W_P: usize = 5;
+/// Index of φ̇g (rad/s).
+pub const W_G: usize = 6;
+/// Index of φ̇₂ (rad/s).
+pub const W_2: usize = 7;
+/// Number of states.
+pub const N_STATES: usize = 8;
+
+/// Names of the eight states with their units, in state order (as used in CSV/JSON output).
+pub const STATE_NAMES: [&str; N_STATES] = [
+    "phi_1_rad",
+    "phi_p_rad",
+    "phi_g_rad",
+    "phi_2_rad",
+    "w_1_rad_s",
+    "w_p_rad_s",
+    "w_g_rad_s",
+    "w_2_rad_s",
+];
+
+/// Errors of the dynamic simulation.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum DynamicsError {
+    /// The mesh model failed; `t` is the simulation time of the failed evaluation, s
+    /// (`None` outside a time integration, e.g. while finding the static start).
+    Mesh {
+        /// Time of the failed evaluation, s.
+        t: Option<f64>,
+        /// The mesh model's error.
+        source: MeshError,
+    },
+    /// The integrator failed (step size collapse, non-finite state, …).
+    Ode(OdeError),
+    /// The steady-state detector rejected its options or a sample.
+    Steady(SteadyError),
+    /// A gear-pair parameter is invalid.
+    Param(ParamError),
+    /// An argument or option is out of range.
+    InvalidInput {
+        /// Name of the argument or option.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// Allowed range, in words.
+        allowed: &'static str,
+    },
+    /// A run of a speed sweep failed at pinion speed `omega_p` (rad/s).
+    AtSpeed {
+        /// Pinion speed of the failed run, rad/s.
+        omega_p: f64,
+        /// What failed.
+        source: Box<DynamicsError>,
+    },
+}
+
+impl fmt::Display for DynamicsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DynamicsError::Mesh { t: Some(t), source } => {
+                write!(f, "mesh model failed at t = {t:e} s: {source}")
+            }
+            DynamicsError::Mesh { t: None, source } => write!(f, "mesh model failed: {source}"),
+            DynamicsError::Ode(e) => write!(f, "integration: {e}"),
+            DynamicsError::Steady(e) => write!(f, "steady-state detection: {e}"),
+            DynamicsError::Param(e) => write!(f, "{e}"),
+            DynamicsError::InvalidInput { name, value, allowed } => {
+                write!(f, "invalid `{name}` = {value}: allowed {allowed}")
+            }
+            DynamicsError::AtSpeed { omega_p, source } => {
+                write!(f, "run at ω_p = {omega_p} rad/s: {source}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for DynamicsError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            DynamicsError::Mesh { source, .. } => Some(source),
+            DynamicsError::Ode(e) => Some(e),
+            DynamicsError::Steady(e) => Some(e),
+            DynamicsError::Param(e) => Some(e),
+            DynamicsError::AtSpeed { source, .. } => Some(source.as_ref()),
+            DynamicsError::InvalidInput { .. } => None,
+        }
+    }
+}
+
+impl From<OdeError> for DynamicsError {
+    /// A right-hand-side failure that carries a [`MeshError`] becomes [`DynamicsError::Mesh`]
+    /// (with its time); every other integrator error is wrapped as [`DynamicsError::Ode`].
+    fn from(e: OdeError) -> Self {
+        if let OdeError::Rhs { t, source } = &e
+            && let Some(m) = source.downcast_ref::<MeshError>()
+        {
+            return DynamicsError::Mesh { t: Some(*t), source: m.clone() };
+        }
+        DynamicsError::Ode(e)
+    }
+}
+
+impl From<SteadyError> for DynamicsError {
+    fn from(e: SteadyError) -> Self {
+        DynamicsError::Steady(e)
+    }
+}
+
+impl From<ParamError> for DynamicsError {
+    fn from(e: ParamError) -> Self {
+        DynamicsError::Param(e)
+    }
+}
+
+pub(crate) fn invalid(name: &'static str, value: f64, allowed: &'static str) -> DynamicsError {
+    DynamicsError::InvalidInput { name, value, allowed }
+}
+
+/// Inertias, shafts and load of the 4-DOF model (everything of Eqs. 1–4 except the mesh).
+///
+/// SI units: kg·m², N·m/rad, N·m·s/rad, N·m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drivetrain {
+    /// Driving torque M on J₁, N·m (> 0 drives the pinion in the positive sense).
+    pub torque: f64,
+    /// Inertia J₁ of the driving mass, kg·m².
+    pub j1: f64,
+    /// Inertia J_p of the pinion body, kg·m².
+    pub j_p: f64,
+    /// Inertia J_g of the gear body, kg·m².
+    pub j_g: f64,
+    /// Inertia J₂ of the driven mass, kg·m².
+    pub j2: f64,
+    /// Torsional stiffness c₁ of the pinion shaft, N·m/rad.
+    pub c1: f64,
+    /// Torsional stiffness c₂ of the gear shaft, N·m/rad.
+    pub c2: f64,
+    /// Viscous damping d₁ of the pinion shaft, N·m·s/rad.
+    pub d1: f64,
+    /// Viscous damping d₂ of the gear shaft, N·m·s/rad.
+    pub d2: f64,
+    /// Number of pinion teeth z_p (the mesh period is 2π/(z_p·ω_p)).
+    pub z_p: u32,
+    /// Number of gear teeth z_g.
+    pub z_g: u32,
+}
+
+impl Drivetrain {
+    /// The drivetrain of a gear pair: M, J₁, J₂, c₁, c₂, d₁, d₂ from [`GearPair::drive`], J_p,
+    /// J_g of the gear bodies (teeth and web to the bore) from [`PairGeometry`].
+    pub fn from_pair(pair: &GearPair) -> Result<Self, ParamError> {
+        let g = PairGeometry::new(pair)?;
+        let d = &pair.drive;
+        Ok(Self {
+            torque: d.torque_nm,
+            j1: d.j1_kgm2,
+            j_p: g.j_p,
+            j_g: g.j_g,
+            j2: d.j2_kgm2,
+            c1: d.c1_nm_per_rad,
+            c2: d.c2_nm_per_rad,
+            d1: d.d1_nms_per_rad,
+            d2: d.d2_nms_per_rad,
+            z_p: pair.z_p,
+            z_g: pair.z_g,
+        })
+    }
+
+    /// Braking torque on J₂, M·z_g/z_p, N·m (enters Eq. 4 with a plus sign; see the module
+    /// doc for why that sign balances the gear side).
+    pub fn brake_torque(&self) -> f64 {
+        self.torque * self.z_g as f64 / self.z_p as f64
+    }
+
+    /// Gear speed −ω_p·z_p/z_g at pinion speed `omega_p`, rad/s (negative for ω_p > 0).
+    pub fn gear_speed(&self, omega_p: f64) -> f64 {
+        -omega_p * self.z_p as f64 / self.z_g as f64
+    }
+
+    /// Mesh period T_m = 2π/(z_p·ω_p) at pinion speed `omega_p` (rad/s), s.
+    pub fn mesh_period(&self, omega_p: f64) -> f64 {
+        2.0 * std::f64::consts::PI / (self.z_p as f64 * omega_p)
+    }
+
+    /// Checks every value: inertias and stiffnesses finite and > 0, dampings finite and ≥ 0,
+    /// torque finite, tooth numbers ≥ 1.
+    pub fn validate(&self) -> Result<(), DynamicsError> {
+        for (name, v) in [
+            ("j1", self.j1),
+            ("j_p", self.j_p),
+            ("j_g", self.j_g),
+            ("j2", self.j2),
+            ("c1", self.c1),
+            ("c2", self.c2),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(invalid(name, v, "finite and > 0"));
+            }
+        }
+        for (name, v) in [("d1", self.d1), ("d2", self.d2)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(invalid(name, v, "finite and >= 0"));
+            }
+        }
+        if !self.torque.is_finite() {
+            return Err(invalid("torque", self.torque, "finite"));
+        }
+        if self.z_p == 0 {
+            return Err(invalid("z_p", 0.0, ">= 1"));
+        }
+        if self.z_g == 0 {
+            return Err(invalid("z_g", 0.0, ">= 1"));
+        }
+        Ok(())
+    }
+
+    /// Undamped natural frequencies ω (rad/s, ascending, the first is the rigid-body mode 0)
+    /// of Eqs. 1–4 linearised with a constant mesh stiffness `k_mesh` (N/m) along the line of
+    /// action between base radii `g_p`, `g_g` (m): M_F,p = k·TE·g_p, M_F,g = k·TE·g_g.
+    ///
+    /// Solves K v = ω² J v through the symmetric matrix J^{-1/2} K J^{-1/2}; eigenvalues that
+    /// round-off makes slightly negative are reported as 0.
+    pub fn linear_frequencies(&self, k_mesh: f64, g_p: f64, g_g: f64) -> [f64; 4] {
+        let k = stiffness_matrix(self, k_mesh, g_p, g_g);
+        let jm = [self.j1, self.j_p, self.j_g, self.j2];
+        let a = Matrix4::from_fn(|i, j| k[(i, j)] / (jm[i] * jm[j]).sqrt());
+        let eig = SymmetricEigen::new(a);
+        let mut w: Vec<f64> = eig.eigenvalues.iter().map(|l| l.max(0.0).sqrt()).collect();
+        w.sort_by(f64::total_cmp);
+        [w[0], w[1], w[2], w[3]]
+    }
+}
+
+/// Stiffness matrix of Eqs. 1–4 with a linear mesh (coordinates φ₁, φp, φg, φ₂).
+fn stiffness_matrix(d: &Drivetrain, k: f64, gp: f64, gg: f64) -> Matrix4<f64> {
+    let (c1, c2) = (d.c1, d.c2);
+    Matrix4::new(
+        c1,
+        -c1,
+        0.0,
+        0.0,
+        -c1,
+        c1 + k * gp * gp,
+        k * gp * gg,
+        0.0,
+        0.0,
+        k * gp * gg,
+        c2 + k * gg * gg,
+        -c2,
+        0.0,
+        0.0,
+        -c2,
+        c2,
+    )
+}
+
+/// The start state of [`GearDynamics::static_start`] and the mesh equilibrium it came from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticStart {
+    /// State at t = 0 (see the module doc).
+    pub y: [f64; N_STATES],
+    /// Static transmission error at the start, m.
+    pub te: f64,
+    /// Mesh outputs of the static equilibrium (zero speeds).
+    pub outputs: MeshOutputs,
+    /// Mesh evaluations used by the equilibrium search.
+    pub evaluations: usize,
+}
+
+/// Eqs. 1–4 as an [`OdeSystem`] with eight states, for any mesh model `M`.
+///
+/// A [`MeshError`] in the right-hand side is returned as [`OdeError::Rhs`] with the error as
+/// its source; [`DynamicsError`]'s `From<OdeError>` turns it back into
+/// [`DynamicsError::Mesh`].
+#[derive(Debug, Clone)]
+pub struct GearDynamics<M> {
+    mesh: M,
+    drive: Drivetrain,
+    g_p: f64,
+    g_g: f64,
+    cache: Option<([u64; 4], MeshOutputs)>,
+    evaluations: usize,
+}
+
+impl<M: MeshTorques> GearDynamics<M> {
+    /// The model with mesh `mesh` and drivetrain `drive` (validated).
+    pub fn new(mesh: M, drive: Drivetrain) -> Result<Self, DynamicsError> {
+        drive.validate()?;
+        let (g_p, g_g) = mesh.base_radii();
+        for (name, v) in [("g_p", g_p), ("g_g", g_g)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(invalid(name, v, "finite and > 0 (mesh base radius, m)"));
+            }
+        }
+        Ok(Self { mesh, drive, g_p, g_g, cache: None, evaluations: 0 })
+    }
+
+    /// The drivetrain parameters.
+    pub fn drive(&self) -> &Drivetrain {
+        &self.drive
+    }
+
+    /// The mesh model.
+    pub fn mesh(&self) -> &M {
+        &self.mesh
+    }
+
+    /// The mesh model, mutable (forgets the remembered evaluation).
+    pub fn mesh_mut(&mut self) -> &mut M {
+        self.cache = None;
+        &mut self.mesh
+    }
+
+    /// Gives the mesh model back.
+    pub fn into_mesh(self) -> M {
+        self.mesh
+    }
+
+    /// Base radii (g_p, g_g) of the mesh, m.
+    pub fn base_radii(&self) -> (f64, f64) {
+        (self.g_p, self.g_g)
+    }
+
+    /// Number of actual mesh evaluations so far (remembered ones not counted).
+    pub fn mesh_evaluations(&self) -> usize {
+        self.evaluations
+    }
+
+    /// Transmission error TE = φp·g_p + φg·g_g of state `y`, m.
+    pub fn te(&self, y: &[f64]) -> f64 {
+        y[PHI_P] * self.g_p + y[PHI_G] * self.g_g
+    }
+
+    /// Mesh outputs at state `y` (length 8); the last evaluation is reused for a bit-identical
+    /// (φp, φg, φ̇p, φ̇g). A mesh failure is [`DynamicsError::Mesh`] with `t: None`.
+    pub fn outputs(&mut self, y: &[f64]) -> Result<MeshOutputs, DynamicsError> {
+        if y.len() != N_STATES {
+            return Err(invalid("state length", y.len() as f64, "8"));
+        }
+        self.eval_mesh(y).map_err(|source| DynamicsError::Mesh { t: None, source })
+    }
+
+    /// [`Self::outputs`] without the length check (`y.len() >= 8`).
+    fn eval_mesh(&mut self, y: &[f64]) -> Result<MeshOutputs, MeshError> {
+        let key = [y[PHI_P].to_bits(), y[PHI_G].to_bits(), y[W_P].to_bits(), y[W_G].to_bits()];
+        if let Some((k, o)) = &self.cache
+            && *k == key
+        {
+            return Ok(*o);
+        }
+        let state = MeshState { phi_p: y[PHI_P], phi_g: y[PHI_G], w_p: y[W_P], w_g: y[W_G] };
+        self.evaluations += 1;
+        let o = self.mesh.mesh(&state)?;
+        self.cache = Some((key, o));
+        Ok(o)
+    }
+
+    /// The static-equilibrium start at pinion angle `phi_p0` (rad) and nominal pinion speed
+    /// `omega_p` (rad/s); see the module doc. `settings` are those of the mesh equilibrium.
+    pub fn static_start(
+        &mut self,
+        phi_p0: f64,
+        omega_p: f64,
+        settings: &EquilibriumSettings,
+    ) -> Result<StaticStart, DynamicsError> {
+        if !phi_p0.is_finite() {
+            return Err(invalid("phi_p0", phi_p0, "finite"));
+        }
+        if !omega_p.is_finite() {
+            return Err(invalid("omega_p", omega_p, "finite"));
+        }
+        let d = self.drive;
+        // Guess: the TE of a 100 N/µm mesh; the bracket search expands from there.
+        let guess = d.torque / (self.g_p * 1e8);
+        let eq = equilibrium(&mut self.mesh, phi_p0, d.torque, guess, settings)
+            .map_err(|source| DynamicsError::Mesh { t: None, source })?;
+        self.cache = None;
+        let w_g = d.gear_speed(omega_p);
+        let y = [
+            phi_p0 + d.torque / d.c1,
+            phi_p0,
+            eq.phi_g,
+            eq.phi_g + eq.outputs.m_f_g / d.c2,
+            omega_p,
+            omega_p,
+            w_g,
+            w_g,
+        ];
+        Ok(StaticStart { y, te: eq.te, outputs: eq.outputs, evaluations: eq.evaluations })
+    }
+
+    /// Writes the derivative of Eqs. 1–4 at state `y` with mesh outputs `o` into `dydt`.
+    fn derivative(&self, y: &[f64], o: &MeshOutputs, dydt: &mut [f64]) {
+        let d = &self.drive;
+        let shaft1 = d.c1 * (y[PHI_1] - y[PHI_P]) + d.d1 * (y[W_1] - y[W_P]);
+        let shaft2 = d.c2 * (y[PHI_G] - y[PHI_2]) + d.d2 * (y[W_G] - y[W_2]);
+        dydt[PHI_1] = y[W_1];
+        dydt[PHI_P] = y[W_P];
+        dydt[PHI_G] = y[W_G];
+        dydt[PHI_2] = y[W_2];
+        dydt[W_1] = (d.torque - shaft1) / d.j1;
+        dydt[W_P] = (shaft1 - o.m_f_p - o.m_d_p) / d.j_p;
+        dydt[W_G] = (-shaft2 - o.m_f_g - o.m_d_g) / d.j_g;
+        dydt[W_2] = (d.brake_torque() + shaft2) / d.j2;
+    }
+}
+
+impl<M: MeshTorques> OdeSystem for GearDynamics<M> {
+    fn dim(&self) -> usize {
+        N_STATES
+    }
+
+    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), OdeError> {
+        if y.len() != N_STATES || dydt.len() != N_STATES {
+            return Err(OdeError::DimensionMismatch {
+                what: "y/dydt",
+                expected: N_STATES,
+                found: if y.len() != N_STATES { y.len() } else { dydt.len() },
+            });
+        }
+        let o = self.eval_mesh(y).map_err(|e| OdeError::rhs(t, e))?;
+        self.derivative(y, &o, dydt);
+        Ok(())
+    }
+}
+
+/// Linearised mesh stiffness k = (∂M_F,p/∂TE)/g_p along the line of action, N/m, at the
+/// static equilibrium for `torque` (N·m) at pinion angle `phi_p` (rad), by a central
+/// difference of ±1 % of the static TE (at least ±1 nm).
+pub fn mesh_stiffness<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    phi_p: f64,
+    torque: f64,
+) -> Result<f64, MeshError> {
+    let (gp, gg) = mesh.base_radii();
+    let eq =
+        equilibrium(mesh, phi_p, torque, torque / (gp * 1e8), &EquilibriumSettings::default())?;
+    let dte = (0.01 * eq.te.abs()).max(1e-9);
+    let at = |mesh: &mut M, te: f64| -> Result<f64, MeshError> {
+        let s = MeshState { phi_p, phi_g: (te - phi_p * gp) / gg, w_p: 0.0, w_g: 0.0 };
+        Ok(mesh.mesh(&s)?.m_f_p)
+    };
+    let hi = at(mesh, eq.te + dte)?;
+    let lo = at(mesh, eq.te - dte)?;
+    Ok((hi - lo) / (2.0 * dte) / gp)
+}

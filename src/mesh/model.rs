@@ -1,0 +1,635 @@
+//! [`MeshModel`]: one evaluation of the mesh (contact → compliance → load → torques).
+//!
+//! # Slices
+//! The face width is cut into `n_line` equal axial slices (centres ζ_k, width Δζ = b₀/n_line),
+//! the same for every tooth pair, with `n_line = ceil(slices / ceil(ε_α + ε_β))`: the paper's
+//! 200 slices "in total" over its (at most) two simultaneous contact lines give 100 per line.
+//! Only slices with a positive overlap enter the load problem: with a non-negative influence
+//! matrix a slice with an open gap stays open whatever the other loads are, so leaving it out
+//! is exact.
+//!
+//! # Load problem (Eq. 12)
+//! Slice i: required normal approach d_i = Δ_i·cos θ, line length w_i = m_n·Δζ/cos θ, normal-
+//! section radii ρ_n = ρ_t/cos θ (θ the base helix angle, ρ_t the transverse radius of the
+//! contact module), global compliance C_ij = α*_p(i, j) + α*_g(i, j) from each gear's FE data
+//! at the flank coordinates of the two slices, including the coupling between different tooth
+//! pairs through the gear bodies (tooth offsets: pinion a − b, gear b − a for observation pair
+//! a and load pair b), and the Weber–Banaschek local term of both flanks with the FE's depth h.
+//!
+//! # Corner contacts
+//! Where the contact lies on the convex corner between involute and tip relief the transverse
+//! radius of curvature is 0 and Eqs. 10, 11 and 15 have no meaning. The corner turns the normal
+//! by only 1.3–1.4° (Table 1) while the Hertzian strip (half width L ≈ 0.1 mm on a radius of
+//! ≈ 15 mm) spans ≈ 0.8°, so physically the strip covers both sides of the corner. The corner
+//! is therefore given the mean of the radii of the two adjacent surfaces at that radius (the
+//! roll lengths on the involute and on the relief base circle); its global compliance and
+//! overlap are those of the exact corner point.
+//!
+//! # Back flanks
+//! When TE falls below −(backlash along the line of action) the back flanks are searched with
+//! the same construction on the mirrored flanks. Their compliance is the driving flank's under
+//! the 180° rotation about the radial line in the mid-face plane that maps a tooth onto itself
+//! with the flanks exchanged: ζ → b₀ − ζ and tooth offsets reversed. Driving and back flanks
+//! are not coupled to each other (they are never loaded together unless the teeth are crushed).
+//!
+//! # Warm start
+//! The loads of the previous call are kept with their keys (flank side, tooth pair, slice); a
+//! new call starts from them, which makes the active set of a nearby state exact after one
+//! Newton step in dynamic use.
+
+use std::sync::Arc;
+
+use faer::Mat;
+
+use super::{
+    ComplianceModel, Fidelity, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques,
+    SliceDetail,
+};
+use crate::compliance::fitted::FittedInfluence;
+use crate::compliance::hertz::LocalContact;
+use crate::compliance::interpolated::InterpolatedInfluence;
+use crate::compliance::{Compliance, FlankCoord};
+
+use crate::contact::{ContactPoint, ContactSolver, FlankSide};
+use crate::error::ParamError;
+use crate::geometry::{PairGeometry, SegmentKind};
+use crate::load::{HertzLocal, LoadProblem, LoadSettings, LoadSolver, Start, damping_torques};
+use crate::params::GearPair;
+
+/// Load-solver tolerances of the mesh model: gaps to 1e-15 m + 1e-12·max|d| (TE is of
+/// order 1e-5 m, so the torque is converged to about 1e-11 relative; Newton's quadratic
+/// convergence makes the tight tolerance cost at most one more iteration).
+const LOAD_SETTINGS: LoadSettings =
+    LoadSettings { abs_tol: 1e-15, rel_tol: 1e-12, max_iterations: 100 };
+
+/// The global compliance of one gear in the representation chosen by
+/// [`MeshOptions::compliance`].
+#[derive(Debug, Clone)]
+pub enum GearCompliance {
+    /// Interpolated FE influence grid.
+    Interpolated(Arc<InterpolatedInfluence>),
+    /// Fitted influence function (Eqs. 5–8), neighbours interpolated.
+    Fitted(Arc<FittedInfluence>),
+    /// A Winkler foundation: each slice deflects by `compliance`·q under its own load
+    /// intensity q only (no spreading along the line, no neighbour teeth). A reference model
+    /// (the uniform-stiffness-per-length idealisation behind ISO 6336's c′), not a tooth.
+    Winkler {
+        /// Deflection per load intensity, m/(N/m) = m²/N.
+        compliance: f64,
+        /// Depth h of the local term, m.
+        depth_h: f64,
+    },
+}
+
+impl GearCompliance {
+    /// Depth h of Vedmar's division, m.
+    pub fn depth(&self) -> f64 {
+        match self {
+            GearCompliance::Interpolated(c) => c.depth(),
+            GearCompliance::Fitted(c) => c.depth(),
+            GearCompliance::Winkler { depth_h, .. } => *depth_h,
+        }
+    }
+
+    fn max_tooth_offset(&self) -> i32 {
+        match self {
+            GearCompliance::Interpolated(c) => c.max_tooth_offset(),
+            GearCompliance::Fitted(c) => c.max_tooth_offset(),
+            GearCompliance::Winkler { .. } => 0,
+        }
+    }
+
+    /// Adds α*(obs_i, load_j, offset) to `out[(r0 + i, c0 + j)]`; `same` is true when obs and
+    /// load are the same slices, `w` the contact-line length of a slice (m).
+    #[allow(clippy::too_many_arguments)]
+    fn add_block(
+        &self,
+        obs: &[FlankCoord],
+        load: &[FlankCoord],
+        offset: i32,
+        same: bool,
+        w: f64,
+        out: &mut Mat<f64>,
+        r0: usize,
+        c0: usize,
+    ) {
+        if offset.abs() > self.max_tooth_offset() {
+            return;
+        }
+        match self {
+            GearCompliance::Winkler { compliance, .. } => {
+                if same {
+                    for i in 0..obs.len() {
+                        out[(r0 + i, c0 + i)] += compliance / w;
+                    }
+                }
+            }
+            GearCompliance::Interpolated(c) => {
+                let m = c.matrix(obs, load, offset);
+                for i in 0..obs.len() {
+                    for j in 0..load.len() {
+                        out[(r0 + i, c0 + j)] += m[i * load.len() + j];
+                    }
+                }
+            }
+            GearCompliance::Fitted(c) => {
+                for (i, &o) in obs.iter().enumerate() {
+                    for (j, &l) in load.iter().enumerate() {
+                        out[(r0 + i, c0 + j)] += c.alpha(o, l, offset);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// One loaded-candidate slice of the current evaluation.
+#[derive(Debug, Clone, Copy)]
+struct Slice {
+    contact: ContactPoint,
+    /// Index of the axial slice (0 … n_line − 1).
+    k: usize,
+}
+
+/// The mesh model of a gear pair (see the module docs of [`crate::mesh`] and of this file).
+pub struct MeshModel {
+    pair: GearPair,
+    geo: Arc<PairGeometry>,
+    options: MeshOptions,
+    comp_p: GearCompliance,
+    comp_g: GearCompliance,
+    local: LocalContact,
+    d_mesh: f64,
+    zetas: Vec<f64>,
+    dzeta: f64,
+    cos_theta: f64,
+    // Workspace (reused between calls).
+    contacts: Vec<ContactPoint>,
+    slices: Vec<Slice>,
+    approach: Vec<f64>,
+    line_length: Vec<f64>,
+    rho: Vec<f64>,
+    obs_p: Vec<FlankCoord>,
+    obs_g: Vec<FlankCoord>,
+    cmat: Mat<f64>,
+    start: Vec<f64>,
+    solver: LoadSolver,
+    prev_keys: Vec<(bool, i64, usize)>,
+    prev_q: Vec<f64>,
+    detail: Vec<SliceDetail>,
+    table: Option<Arc<super::table::MeshTable>>,
+}
+
+impl Clone for MeshModel {
+    fn clone(&self) -> Self {
+        Self {
+            pair: self.pair.clone(),
+            geo: self.geo.clone(),
+            options: self.options,
+            comp_p: self.comp_p.clone(),
+            comp_g: self.comp_g.clone(),
+            local: self.local,
+            d_mesh: self.d_mesh,
+            zetas: self.zetas.clone(),
+            dzeta: self.dzeta,
+            cos_theta: self.cos_theta,
+            contacts: Vec::with_capacity(self.contacts.capacity()),
+            slices: Vec::with_capacity(self.slices.capacity()),
+            approach: Vec::new(),
+            line_length: Vec::new(),
+            rho: Vec::new(),
+            obs_p: Vec::new(),
+            obs_g: Vec::new(),
+            cmat: Mat::zeros(0, 0),
+            start: Vec::new(),
+            solver: LoadSolver::with_settings(self.solver.capacity(), LOAD_SETTINGS),
+            prev_keys: Vec::new(),
+            prev_q: Vec::new(),
+            detail: Vec::new(),
+            table: self.table.clone(),
+        }
+    }
+}
+
+impl std::fmt::Debug for MeshModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MeshModel")
+            .field("options", &self.options)
+            .field("slices_per_line", &self.zetas.len())
+            .finish_non_exhaustive()
+    }
+}
+
+fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
+    if !(10..=4000).contains(&o.slices) {
+        return Err(ParamError::new("slices", o.slices as f64, "10 … 4000"));
+    }
+    if !(8..=4096).contains(&o.table_phase_points) {
+        return Err(ParamError::new("table_phase_points", o.table_phase_points as f64, "8 … 4096"));
+    }
+    if !(8..=4096).contains(&o.table_te_points) {
+        return Err(ParamError::new("table_te_points", o.table_te_points as f64, "8 … 4096"));
+    }
+    Ok(())
+}
+
+impl MeshModel {
+    /// Builds the model of `pair` with `options` and the given global compliances of pinion and
+    /// gear (both must use the same depth h). Validates the pair (geometry) and the options;
+    /// with [`Fidelity::Table`] the table is built here (see [`super::table`]).
+    pub fn with_compliance(
+        pair: &GearPair,
+        options: MeshOptions,
+        pinion: GearCompliance,
+        gear: GearCompliance,
+    ) -> Result<Self, MeshError> {
+        check_options(&options)?;
+        let geo = PairGeometry::new(pair)?;
+        let (hp, hg) = (pinion.depth(), gear.depth());
+        let local = LocalContact::new(&pair.material_p, &pair.material_g, hp, hg)
+            .map_err(|e| MeshError::Compliance(format!("local contact: {e}")))?;
+        let lines = (geo.eps_alpha + geo.eps_beta).ceil().max(1.0) as usize;
+        let n_line = options.slices.div_ceil(lines).max(2);
+        let b0 = geo.b0();
+        let dzeta = b0 / n_line as f64;
+        let zetas = (0..n_line).map(|i| (i as f64 + 0.5) * dzeta).collect();
+        let cos_theta = geo.base_helix_angle.cos();
+        let cap = 4 * n_line;
+        let mut model = Self {
+            pair: pair.clone(),
+            geo: Arc::new(geo),
+            options,
+            comp_p: pinion,
+            comp_g: gear,
+            local,
+            d_mesh: pair.d_mesh_n_s_per_m,
+            zetas,
+            dzeta,
+            cos_theta,
+            contacts: Vec::with_capacity(cap),
+            slices: Vec::with_capacity(cap),
+            approach: Vec::with_capacity(cap),
+            line_length: Vec::with_capacity(cap),
+            rho: Vec::with_capacity(cap),
+            obs_p: Vec::with_capacity(cap),
+            obs_g: Vec::with_capacity(cap),
+            cmat: Mat::zeros(0, 0),
+            start: Vec::with_capacity(cap),
+            solver: LoadSolver::with_settings(2 * n_line, LOAD_SETTINGS),
+            prev_keys: Vec::with_capacity(cap),
+            prev_q: Vec::with_capacity(cap),
+            detail: Vec::new(),
+            table: None,
+        };
+        if options.fidelity == Fidelity::Table {
+            let table = super::table::MeshTable::build(&mut model)?;
+            model.table = Some(Arc::new(table));
+        }
+        Ok(model)
+    }
+
+    /// The gear-pair parameters.
+    pub fn pair(&self) -> &GearPair {
+        &self.pair
+    }
+
+    /// The validated geometry.
+    pub fn geometry(&self) -> &PairGeometry {
+        &self.geo
+    }
+
+    /// The options the model was built with.
+    pub fn options(&self) -> &MeshOptions {
+        &self.options
+    }
+
+    /// Axial slices per contact line.
+    pub fn slices_per_line(&self) -> usize {
+        self.zetas.len()
+    }
+
+    /// The table of [`Fidelity::Table`], if built.
+    pub fn table(&self) -> Option<&super::table::MeshTable> {
+        self.table.as_deref()
+    }
+
+    /// Mesh damping d_mesh of Eq. 14, N·s/m.
+    pub fn d_mesh(&self) -> f64 {
+        self.d_mesh
+    }
+
+    /// Sets d_mesh (N·s/m, finite, ≥ 0).
+    pub fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), MeshError> {
+        if !(d_mesh.is_finite() && d_mesh >= 0.0) {
+            return Err(ParamError::new("d_mesh_n_s_per_m", d_mesh, ">= 0 and finite").into());
+        }
+        self.d_mesh = d_mesh;
+        Ok(())
+    }
+
+    /// Turns the per-slice detail ([`MeshModel::slices`]) on or off.
+    pub fn set_detail(&mut self, on: bool) {
+        self.options.detail = on;
+        if !on {
+            self.detail.clear();
+        }
+    }
+
+    /// Per-slice detail of the last evaluation (empty unless [`MeshOptions::detail`]).
+    pub fn slices(&self) -> &[SliceDetail] {
+        &self.detail
+    }
+
+    /// Evaluates the mesh at `state` with the configured fidelity (see the module docs).
+    pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        for (name, v) in
+            [("phi_p", state.phi_p), ("phi_g", state.phi_g), ("w_p", state.w_p), ("w_g", state.w_g)]
+        {
+            if !v.is_finite() {
+                return Err(MeshError::NonFinite { name, value: v });
+            }
+        }
+        if let Some(table) = self.table.clone() {
+            if let Some(o) = table.evaluate(self, state) {
+                return Ok(o);
+            }
+        }
+        self.evaluate_full(state)
+    }
+
+    /// Evaluates the mesh at `state` by the full contact search and load solve, whatever the
+    /// fidelity.
+    pub fn evaluate_full(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        let geo = self.geo.clone();
+        let cs = ContactSolver::new(&geo);
+        let red = cs.reduce(state.phi_p, state.phi_g);
+        let te = red.te;
+        self.slices.clear();
+        let nl = self.zetas.len();
+        // Drive flanks only when TE > 0 and back flanks only below −backlash: the actual
+        // flanks lie inside the full involutes, whose overlap is TE (resp. −TE − backlash).
+        let tol = 1e-12;
+        for (side, active) in
+            [(FlankSide::Drive, te > -tol), (FlankSide::Back, te < -geo.backlash_te + tol)]
+        {
+            if !active {
+                continue;
+            }
+            cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut self.contacts);
+            for c in &self.contacts {
+                if c.overlap_m > 0.0 {
+                    let k = ((c.zeta / self.dzeta) as usize).min(nl - 1);
+                    self.slices.push(Slice { contact: *c, k });
+                }
+            }
+        }
+        let n = self.slices.len();
+        let mut out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
+        if self.options.detail {
+            self.detail.clear();
+        }
+        if n == 0 {
+            self.prev_keys.clear();
+            self.prev_q.clear();
+            return Ok(out);
+        }
+
+        // Slice data.
+        let mn = self.pair.normal_module_m;
+        let ct = self.cos_theta;
+        let b0 = geo.b0();
+        self.approach.clear();
+        self.line_length.clear();
+        self.rho.clear();
+        self.obs_p.clear();
+        self.obs_g.clear();
+        for s in &self.slices {
+            let c = &s.contact;
+            self.approach.push(c.overlap_m * ct);
+            self.line_length.push(mn * self.dzeta / ct);
+            let rp = flank_radius(&geo, true, c);
+            let rg = flank_radius(&geo, false, c);
+            self.rho.push(1.0 / (1.0 / rp + 1.0 / rg) / ct);
+            let z = if c.side == FlankSide::Back { b0 - c.zeta } else { c.zeta };
+            self.obs_p.push(FlankCoord { eta_star: c.eta_star_p, tau: c.tau_p, zeta: z });
+            self.obs_g.push(FlankCoord { eta_star: c.eta_star_g, tau: c.tau_g, zeta: z });
+        }
+
+        // Compliance matrix, block by block (runs of equal side and pair).
+        self.cmat.resize_with(n, n, |_, _| 0.0);
+        for j in 0..n {
+            for i in 0..n {
+                self.cmat[(i, j)] = 0.0;
+            }
+        }
+        let runs = runs(&self.slices);
+        for &(a0, a1) in &runs {
+            for &(b0r, b1r) in &runs {
+                let (ca, cb) = (&self.slices[a0].contact, &self.slices[b0r].contact);
+                if ca.side != cb.side {
+                    continue;
+                }
+                let d = (ca.pair - cb.pair) as i32;
+                if d != 0 && !self.options.neighbour_coupling {
+                    continue;
+                }
+                let mirror = if ca.side == FlankSide::Back { -1 } else { 1 };
+                let same = a0 == b0r;
+                let w = mn * self.dzeta / ct;
+                self.comp_p.add_block(
+                    &self.obs_p[a0..a1],
+                    &self.obs_p[b0r..b1r],
+                    mirror * d,
+                    same,
+                    w,
+                    &mut self.cmat,
+                    a0,
+                    b0r,
+                );
+                self.comp_g.add_block(
+                    &self.obs_g[a0..a1],
+                    &self.obs_g[b0r..b1r],
+                    -mirror * d,
+                    same,
+                    w,
+                    &mut self.cmat,
+                    a0,
+                    b0r,
+                );
+            }
+        }
+
+        // Warm start from the previous loads with the same keys.
+        self.start.clear();
+        let mut any = false;
+        for s in &self.slices {
+            let key = (s.contact.side == FlankSide::Back, s.contact.pair, s.k);
+            let q = self.prev_keys.iter().position(|k| *k == key).map_or(0.0, |p| self.prev_q[p]);
+            any |= q > 0.0;
+            self.start.push(q);
+        }
+        let hertz = HertzLocal::new(&self.local, &self.rho)?;
+        let problem = LoadProblem {
+            approach: &self.approach,
+            line_length: &self.line_length,
+            compliance: self.cmat.as_ref(),
+            local: if self.options.local_contact { Some(&hertz) } else { None },
+        };
+        let start = if any { Start::From(&self.start) } else { Start::Cold };
+        self.solver.solve(&problem, start)?;
+        let q = self.solver.load();
+
+        // Outputs.
+        let axial = mn * self.dzeta;
+        let mut pairs: [(bool, i64); 8] = [(false, 0); 8];
+        let mut n_pairs = 0usize;
+        let mut extent = 0.0;
+        self.prev_keys.clear();
+        self.prev_q.clear();
+        for (i, s) in self.slices.iter().enumerate() {
+            let c = &s.contact;
+            if q[i] > 0.0 {
+                out.m_f_p += c.arm_p_m * q[i] * axial;
+                out.m_f_g += c.arm_g_m * q[i] * axial;
+                out.f_n += q[i] * self.line_length[i];
+                out.contact_length += self.line_length[i];
+                extent += self.dzeta;
+                let key = (c.side == FlankSide::Back, c.pair);
+                if !pairs[..n_pairs].contains(&key) && n_pairs < pairs.len() {
+                    pairs[n_pairs] = key;
+                    n_pairs += 1;
+                }
+                let tip = |k: SegmentKind| matches!(k, SegmentKind::Rounding | SegmentKind::Tip);
+                out.tip_contact |= tip(c.kind_p) || tip(c.kind_g);
+                out.back_contact |= c.side == FlankSide::Back;
+                if self.options.pressure {
+                    let p = self.local.max_pressure(q[i], self.rho[i]).unwrap_or(0.0);
+                    out.p_max = out.p_max.max(p);
+                }
+                self.prev_keys.push((c.side == FlankSide::Back, c.pair, s.k));
+                self.prev_q.push(q[i]);
+            }
+            if self.options.detail {
+                let pressure = if self.options.pressure && q[i] > 0.0 {
+                    self.local.max_pressure(q[i], self.rho[i]).unwrap_or(0.0)
+                } else {
+                    0.0
+                };
+                self.detail.push(SliceDetail {
+                    zeta: c.zeta,
+                    pair: c.pair,
+                    back: c.side == FlankSide::Back,
+                    overlap_m: c.overlap_m,
+                    q_n_per_m: q[i],
+                    pressure_pa: pressure,
+                    kind: kind_name(c.kind_p, c.kind_g),
+                });
+            }
+        }
+        out.n_pairs = n_pairs as u32;
+        out.separated = n_pairs == 0;
+        if self.options.damping && extent > 0.0 {
+            let [dp, dg] = damping_torques(
+                self.d_mesh,
+                state.w_p,
+                state.w_g,
+                geo.pinion.rb,
+                geo.gear.rb,
+                extent,
+            );
+            out.m_d_p = dp;
+            out.m_d_g = dg;
+        }
+        Ok(out)
+    }
+
+    /// Damping torques (Eq. 14) for a loaded axial extent `extent` (Σ(ζ_e − ζ_b), units of
+    /// m_n) at `state`, N·m; zero when damping is off.
+    pub(crate) fn damping_for(&self, state: &MeshState, extent: f64) -> (f64, f64) {
+        if !self.options.damping || extent <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let [dp, dg] = damping_torques(
+            self.d_mesh,
+            state.w_p,
+            state.w_g,
+            self.geo.pinion.rb,
+            self.geo.gear.rb,
+            extent,
+        );
+        (dp, dg)
+    }
+
+    /// Contact-line length per unit of loaded axial extent: w/(m_n·Δζ) = 1/cos θ·m_n, m.
+    pub(crate) fn length_per_extent(&self) -> f64 {
+        self.pair.normal_module_m / self.cos_theta
+    }
+}
+
+impl MeshTorques for MeshModel {
+    fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        self.evaluate(state)
+    }
+
+    fn base_radii(&self) -> (f64, f64) {
+        (self.geo.pinion.rb, self.geo.gear.rb)
+    }
+}
+
+/// Which compliance representation a [`ComplianceModel`] names (for messages).
+pub fn compliance_name(c: ComplianceModel) -> &'static str {
+    match c {
+        ComplianceModel::Interpolated => "interpolated",
+        ComplianceModel::Fitted => "fitted",
+    }
+}
+
+/// Runs of consecutive slices with equal side and pair: `(start, end)` index ranges.
+fn runs(slices: &[Slice]) -> Vec<(usize, usize)> {
+    let mut out = Vec::with_capacity(6);
+    let mut start = 0;
+    for i in 1..=slices.len() {
+        let brk = i == slices.len()
+            || slices[i].contact.pair != slices[start].contact.pair
+            || slices[i].contact.side != slices[start].contact.side;
+        if brk {
+            out.push((start, i));
+            start = i;
+        }
+    }
+    out
+}
+
+/// Transverse radius of curvature of one flank at a contact, m; at the involute/relief corner
+/// the mean of the two adjacent surfaces' radii (see the module docs).
+fn flank_radius(geo: &PairGeometry, pinion: bool, c: &ContactPoint) -> f64 {
+    let (kind, rho, r, g) = if pinion {
+        (c.kind_p, c.rho_p_m, c.radius_p_m, &geo.pinion)
+    } else {
+        (c.kind_g, c.rho_g_m, c.radius_g_m, &geo.gear)
+    };
+    if kind == SegmentKind::ReliefCorner || rho <= 0.0 {
+        let roll = |rb: f64| (r * r - rb * rb).max(0.0).sqrt();
+        let v = 0.5 * (roll(g.rb) + roll(g.rb_relief));
+        if v > 0.0 { v } else { g.rb.max(1e-6) }
+    } else {
+        rho
+    }
+}
+
+/// Static name of a contact kind (pinion/gear), for the per-slice detail.
+fn kind_name(p: SegmentKind, g: SegmentKind) -> &'static str {
+    use SegmentKind::*;
+    match (p, g) {
+        (Involute, Involute) => "involute/involute",
+        (Involute, ReliefCorner) => "involute/relief_corner",
+        (Involute, Relief) => "involute/relief",
+        (Involute, Rounding) => "involute/rounding",
+        (Involute, Tip) => "involute/tip",
+        (ReliefCorner, Involute) => "relief_corner/involute",
+        (Relief, Involute) => "relief/involute",
+        (Rounding, Involute) => "rounding/involute",
+        (Tip, Involute) => "tip/involute",
+        _ => "other",
+    }
+}

@@ -1,0 +1,416 @@
+//! The `table` fidelity: a surrogate of the full mesh model over (mesh phase, TE).
+//!
+//! With rigid bearings the elastic mesh outputs depend on the two hub angles only through the
+//! mesh phase (the pinion angle reduced to one pitch, [`crate::contact::ContactSolver::reduce`])
+//! and the transmission error: M_F,p = f(phase, TE). The table samples the full model once
+//! per parameter set on a grid
+//!
+//! * phase: `table_phase_points` uniform nodes over one pinion pitch, periodic;
+//! * TE, driving flanks: `table_te_points` nodes on [0, TE_hi] with TE_hi = 4× the largest
+//!   static TE at the nominal torque (heavy overload: about 4–5× the torque);
+//! * TE, back flanks: `table_te_points / 2` (at least 8) nodes on [−j_t − TE_hi/2, −j_t]
+//!   (j_t the backlash along the line of action).
+//!
+//! The TE nodes are graded quadratically towards the onset (distance δ_k ∝ k²), uniform in
+//! u = √δ: the first cells, where the load is a small fraction of nominal and the Hertzian
+//! logarithm bends the curve most, are fine, the last ones twice the uniform size.
+//!
+//! Between −j_t and 0 no flank can touch (the real flanks lie inside the full involutes, whose
+//! overlap is TE, resp. −TE − j_t), so the outputs there are exactly zero and need no nodes.
+//! Outside [−j_t − TE_hi/2, TE_hi] the model falls back to the full solve.
+//!
+//! Interpolated per node: the secant quantities M_F,p/δ, M_F,g/δ, F_n/δ and p_max²/δ, with
+//! δ = |TE − TE_onset| the distance from the TE at which the flanks of that axis start to
+//! touch (0, resp. −j_t), and the loaded axial extent Σ(ζ_e − ζ_b) (from which the contact
+//! length and, with the current speeds, the damping torques of Eq. 14 follow exactly as in the
+//! full model). The secant form matters at light load: M_F(TE) starts at the onset with a
+//! logarithmic Hertzian correction (u_c ∝ q·ln q) that a cubic in TE cannot follow in
+//! relative terms, whereas M_F/δ varies slowly and smoothly; the node at the onset takes the
+//! limit from the loaded side. The interpolant is the
+//! tensor product of cubic Hermite interpolants with finite-difference slopes (periodic in the
+//! phase, one-sided at the TE ends): C¹, exact at the nodes, O(h³) on smooth data, 16 node
+//! values per output. The discrete outputs (number of pairs, tip and back contact) are taken
+//! from the nearest node.
+//!
+//! After the build the table measures its own error: it evaluates the full model at cell
+//! centres (where the interpolation error is largest) and records the largest relative error
+//! of M_F,p where |M_F,p| exceeds 1 % of the nominal torque ([`MeshTable::max_rel_err`]).
+
+use super::model::MeshModel;
+use super::statics::{EquilibriumSettings, equilibrium};
+use super::{MeshError, MeshOutputs, MeshState};
+
+/// Number of interpolated real-valued outputs per node.
+const NV: usize = 5;
+
+/// One TE axis (driving or back flanks) of the table: nodes graded towards the onset and the
+/// node values. Node k lies at distance δ_k = range·(k/(n − 1))² from the onset.
+#[derive(Debug, Clone)]
+struct TeAxis {
+    /// TE at which the flanks of this axis start to touch (0 driving, −j_t back), m.
+    onset: f64,
+    /// Direction of loading from the onset: +1 (driving, TE > 0) or −1 (back flanks).
+    dir: f64,
+    /// Distance from the onset to the last node, m.
+    range: f64,
+    n: usize,
+    /// `values[(ip * n + it) * NV + v]`.
+    values: Vec<f64>,
+    /// `flags[ip * n + it]`: n_pairs | tip << 8 | back << 9.
+    flags: Vec<u16>,
+}
+
+impl TeAxis {
+    fn new(onset: f64, dir: f64, range: f64, n: usize, np: usize) -> Self {
+        Self { onset, dir, range, n, values: vec![0.0; np * n * NV], flags: vec![0; np * n] }
+    }
+
+    /// Distance of node `k` from the onset, m (node 0 is taken a tenth of the first cell in,
+    /// as the limit from the loaded side).
+    fn node_distance(&self, k: usize) -> f64 {
+        let u = k as f64 / (self.n - 1) as f64;
+        if k == 0 {
+            0.1 * self.range / ((self.n - 1) * (self.n - 1)) as f64
+        } else {
+            self.range * u * u
+        }
+    }
+
+    /// TE of node `k`, m.
+    fn node_te(&self, k: usize) -> f64 {
+        self.onset + self.dir * self.node_distance(k)
+    }
+
+    /// Highest (driving) or lowest (back) TE covered, m.
+    fn end(&self) -> f64 {
+        self.onset + self.dir * self.range
+    }
+}
+
+/// The surrogate table (see the module docs).
+#[derive(Debug, Clone)]
+pub struct MeshTable {
+    phase_lo: f64,
+    phase_h: f64,
+    np: usize,
+    drive: TeAxis,
+    back: TeAxis,
+    backlash_te: f64,
+    /// Pinion and gear angular pitches and base radii, for the phase reduction.
+    pitch_p: f64,
+    pitch_g: f64,
+    rb_p: f64,
+    rb_g: f64,
+    nominal_torque: f64,
+    build_s: f64,
+    max_rel_err: f64,
+    checked_points: usize,
+}
+
+/// Catmull–Rom-type cubic Hermite weights at t ∈ [0, 1] for the four nodes i−1, i, i+1, i+2
+/// with central-difference slopes (uniform spacing).
+#[inline]
+fn weights_central(t: f64) -> [f64; 4] {
+    let t2 = t * t;
+    let t3 = t2 * t;
+    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let h10 = t3 - 2.0 * t2 + t;
+    let h01 = -2.0 * t3 + 3.0 * t2;
+    let h11 = t3 - t2;
+    // d_i = (v_{i+1} − v_{i−1})/2, d_{i+1} = (v_{i+2} − v_i)/2 (in units of the spacing).
+    [-0.5 * h10, h00 - 0.5 * h11, h01 + 0.5 * h10, 0.5 * h11]
+}
+
+/// Weights on a non-periodic uniform axis of `n` ≥ 4 nodes at coordinate `x` (in node units):
+/// returns the first node index, the weights and how many of them are used (one-sided
+/// second-order slopes at the ends).
+#[inline]
+fn axis_weights(x: f64, n: usize) -> (usize, [f64; 4], usize) {
+    let i = (x.floor() as isize).clamp(0, n as isize - 2) as usize;
+    let t = x - i as f64;
+    let t2 = t * t;
+    let t3 = t2 * t;
+    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let h10 = t3 - 2.0 * t2 + t;
+    let h01 = -2.0 * t3 + 3.0 * t2;
+    let h11 = t3 - t2;
+    // Slopes as combinations of nodes (start index s, 4 coefficients relative to s).
+    // d_i: central if 0 < i, else one-sided (−3v0 + 4v1 − v2)/2.
+    // d_{i+1}: central if i + 1 < n − 1, else one-sided (v_{n−3} − 4v_{n−2} + 3v_{n−1})/2.
+    let mut w = [0.0; 5]; // nodes i−1 … i+3 → index 0 … 4 relative to i − 1
+    w[1] += h00;
+    w[2] += h01;
+    if i > 0 {
+        w[0] -= 0.5 * h10;
+        w[2] += 0.5 * h10;
+    } else {
+        w[1] -= 1.5 * h10;
+        w[2] += 2.0 * h10;
+        w[3] -= 0.5 * h10;
+    }
+    if i + 2 < n {
+        w[1] -= 0.5 * h11;
+        w[3] += 0.5 * h11;
+    } else {
+        w[0] += 0.5 * h11;
+        w[1] -= 2.0 * h11;
+        w[2] += 1.5 * h11;
+    }
+    if i == 0 {
+        (0, [w[1], w[2], w[3], w[4]], 3)
+    } else if i + 2 >= n {
+        (i - 1, [w[0], w[1], w[2], 0.0], 3)
+    } else {
+        (i - 1, [w[0], w[1], w[2], w[3]], 4)
+    }
+}
+
+impl MeshTable {
+    /// Builds the table from the full model of `model` (see the module docs). Errors: a full
+    /// evaluation fails, or the nominal static TE cannot be found.
+    pub fn build(model: &mut MeshModel) -> Result<Self, MeshError> {
+        let t0 = std::time::Instant::now();
+        let opts = *model.options();
+        let geo = model.geometry().clone();
+        let zp = geo.params.z_p as f64;
+        let pitch = 2.0 * std::f64::consts::PI / zp;
+        let np = opts.table_phase_points;
+        let phase_h = pitch / np as f64;
+        let phase_lo = -0.5 * pitch;
+        let torque = geo.params.drive.torque_nm.abs().max(1.0);
+
+        // Largest static TE at the nominal torque over a few phases.
+        let mut te_nom: f64 = 0.0;
+        let mut guess = 1e-5;
+        for k in 0..8 {
+            let phi_p = phase_lo + pitch * (k as f64 + 0.5) / 8.0;
+            let eq = equilibrium(model, phi_p, torque, guess, &EquilibriumSettings::default())?;
+            guess = eq.te;
+            te_nom = te_nom.max(eq.te);
+        }
+        let te_hi = 4.0 * te_nom;
+        let nd = opts.table_te_points;
+        let jt = geo.backlash_te;
+        let back_lo = -jt - 0.5 * te_hi;
+        let nb = (nd / 2).max(8);
+        let mut drive = TeAxis::new(0.0, 1.0, te_hi, nd, np);
+        let mut back = TeAxis::new(-jt, -1.0, -jt - back_lo, nb, np);
+
+        // Sample the full model, phase rows split over the available cores.
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
+        let rows: Vec<usize> = (0..np).collect();
+        let chunk = np.div_ceil(threads);
+        let results: Vec<Result<Vec<RowSamples>, MeshError>> = std::thread::scope(|s| {
+            let handles: Vec<_> = rows
+                .chunks(chunk)
+                .map(|rs| {
+                    let mut m = model.clone();
+                    let (d, b) = (&drive, &back);
+                    s.spawn(move || {
+                        let mut out = Vec::with_capacity(rs.len());
+                        for &ip in rs {
+                            let phi_p = phase_lo + phase_h * ip as f64;
+                            let (dv, df) = sample_row(&mut m, phi_p, d)?;
+                            let (bv, bf) = sample_row(&mut m, phi_p, b)?;
+                            out.push((ip, dv, df, bv, bf));
+                        }
+                        Ok(out)
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| {
+                    h.join().unwrap_or_else(|_| {
+                        Err(MeshError::Compliance("table build thread panicked".into()))
+                    })
+                })
+                .collect()
+        });
+        for r in results {
+            for (ip, dv, df, bv, bf) in r? {
+                drive.values[ip * nd * NV..(ip + 1) * nd * NV].copy_from_slice(&dv);
+                drive.flags[ip * nd..(ip + 1) * nd].copy_from_slice(&df);
+                back.values[ip * nb * NV..(ip + 1) * nb * NV].copy_from_slice(&bv);
+                back.flags[ip * nb..(ip + 1) * nb].copy_from_slice(&bf);
+            }
+        }
+        let mut table = Self {
+            phase_lo,
+            phase_h,
+            np,
+            drive,
+            back,
+            backlash_te: jt,
+            pitch_p: geo.pinion.angular_pitch(),
+            pitch_g: geo.gear.angular_pitch(),
+            rb_p: geo.pinion.rb,
+            rb_g: geo.gear.rb,
+            nominal_torque: torque,
+            build_s: 0.0,
+            max_rel_err: 0.0,
+            checked_points: 0,
+        };
+
+        // Error check at cell centres (a deterministic subset of cells on the drive axis).
+        let mut worst: f64 = 0.0;
+        let mut checked = 0;
+        let cells = 64usize;
+        for k in 0..cells {
+            let ip = (k * 7919) % np;
+            let it = (k * 104_729) % (nd - 1);
+            let phi_p = phase_lo + phase_h * (ip as f64 + 0.5);
+            let te = 0.5 * (table.drive.node_te(it.max(1)) + table.drive.node_te(it + 1));
+            let state = state_at(model, phi_p, te);
+            let full = model.evaluate_full(&state)?;
+            if full.m_f_p.abs() > 0.01 * torque {
+                if let Some(t) = table.lookup(model, &state) {
+                    worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
+                    checked += 1;
+                }
+            }
+        }
+        table.max_rel_err = worst;
+        table.checked_points = checked;
+        table.build_s = t0.elapsed().as_secs_f64();
+        Ok(table)
+    }
+
+    /// Wall time of the build including the error check, s.
+    pub fn build_seconds(&self) -> f64 {
+        self.build_s
+    }
+
+    /// Largest relative error of M_F,p against the full model found at the checked cell
+    /// centres (where |M_F,p| > 1 % of the nominal torque).
+    pub fn max_rel_err(&self) -> f64 {
+        self.max_rel_err
+    }
+
+    /// Number of cell centres that entered [`MeshTable::max_rel_err`].
+    pub fn checked_points(&self) -> usize {
+        self.checked_points
+    }
+
+    /// TE range covered: (lowest back-flank TE, highest driving-flank TE), m.
+    pub fn te_range(&self) -> (f64, f64) {
+        (self.back.end(), self.drive.end())
+    }
+
+    /// Grid sizes: (phase points, driving TE points, back TE points).
+    pub fn sizes(&self) -> (usize, usize, usize) {
+        (self.np, self.drive.n, self.back.n)
+    }
+
+    /// The nominal torque the TE range was chosen for, N·m.
+    pub fn nominal_torque(&self) -> f64 {
+        self.nominal_torque
+    }
+
+    /// Table evaluation at `state`, or `None` when TE is outside the covered range (the
+    /// caller then uses the full model).
+    pub fn evaluate(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
+        self.lookup(model, state)
+    }
+
+    fn lookup(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
+        // The reduction of ContactSolver::reduce, with the constants kept here.
+        let k = (state.phi_p / self.pitch_p).round();
+        let phi_p_red = (-k).mul_add(self.pitch_p, state.phi_p);
+        let phi_g_red = k.mul_add(self.pitch_g, state.phi_g);
+        let te = phi_p_red * self.rb_p + phi_g_red * self.rb_g;
+        let axis = if te > 0.0 {
+            if te > self.drive.end() {
+                return None;
+            }
+            &self.drive
+        } else if te < -self.backlash_te {
+            if te < self.back.end() {
+                return None;
+            }
+            &self.back
+        } else {
+            return Some(MeshOutputs { te, separated: true, ..MeshOutputs::default() });
+        };
+        // Phase weights (periodic).
+        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
+        let ipf = xp.floor();
+        let tp = xp - ipf;
+        let wp = weights_central(tp);
+        let ip0 = ipf as i64 - 1;
+        // TE weights.
+        let dist = (te - axis.onset).abs();
+        let xt = ((dist / axis.range).sqrt() * (axis.n - 1) as f64).clamp(0.0, (axis.n - 1) as f64);
+        let (it0, wt, nt) = axis_weights(xt, axis.n);
+        let np = self.np as i64;
+        let mut v = [0.0; NV];
+        for (a, &wa) in wp.iter().enumerate() {
+            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            for (b, &wb) in wt.iter().enumerate().take(nt) {
+                let w = wa * wb;
+                let base = (ip * axis.n + it0 + b) * NV;
+                for (k, vk) in v.iter_mut().enumerate() {
+                    *vk += w * axis.values[base + k];
+                }
+            }
+        }
+        // Nearest node for the discrete outputs.
+        let ipn = ((xp.round() as i64).rem_euclid(np)) as usize;
+        let itn = (xt.round() as usize).min(axis.n - 1);
+        let f = axis.flags[ipn * axis.n + itn];
+        let extent = v[3].max(0.0);
+        let (m_d_p, m_d_g) = model.damping_for(state, extent);
+        Some(MeshOutputs {
+            m_f_p: v[0] * dist,
+            m_f_g: v[1] * dist,
+            m_d_p,
+            m_d_g,
+            te,
+            f_n: v[2] * dist,
+            contact_length: extent * model.length_per_extent(),
+            p_max: if model.options().pressure { (v[4] * dist).max(0.0).sqrt() } else { 0.0 },
+            n_pairs: (f & 0xff) as u32,
+            tip_contact: f & 0x100 != 0,
+            separated: f & 0xff == 0,
+            back_contact: f & 0x200 != 0,
+        })
+    }
+}
+
+/// Samples of one phase row: (row, drive values, drive flags, back values, back flags).
+type RowSamples = (usize, Vec<f64>, Vec<u16>, Vec<f64>, Vec<u16>);
+
+/// State with pinion angle `phi_p` and transmission error `te`, at rest.
+fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+    let geo = model.geometry();
+    MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
+}
+
+/// Full-model samples of one phase row along one TE axis.
+fn sample_row(
+    model: &mut MeshModel,
+    phi_p: f64,
+    axis: &TeAxis,
+) -> Result<(Vec<f64>, Vec<u16>), MeshError> {
+    let mut values = Vec::with_capacity(axis.n * NV);
+    let mut flags = Vec::with_capacity(axis.n);
+    let per_extent = model.length_per_extent();
+    for it in 0..axis.n {
+        let te = axis.node_te(it);
+        let o = model.evaluate_full(&state_at(model, phi_p, te))?;
+        let dist = axis.node_distance(it);
+        values.extend_from_slice(&[
+            o.m_f_p / dist,
+            o.m_f_g / dist,
+            o.f_n / dist,
+            o.contact_length / per_extent,
+            o.p_max * o.p_max / dist,
+        ]);
+        flags.push(
+            (o.n_pairs.min(255) as u16)
+                | if o.tip_contact { 0x100 } else { 0 }
+                | if o.back_contact { 0x200 } else { 0 },
+        );
+    }
+    Ok((values, flags))
+}

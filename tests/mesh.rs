@@ -1,0 +1,247 @@
+//! Tests of the mesh model façade (`mesh`): load distribution over all contact lines, torques,
+//! static equilibrium, load onset, slice convergence, robustness and the table fidelity.
+//! The FE compliance is computed once per test binary on the coarse mesh.
+
+use std::sync::OnceLock;
+
+use helical_gear_mesh::GearPair;
+use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
+use helical_gear_mesh::mesh::{
+    ComplianceModel, EquilibriumSettings, Fidelity, GearCompliance, MeshError, MeshModel,
+    MeshOptions, MeshState, compute_compliance, equilibrium, static_curve,
+};
+
+fn coarse() -> &'static (GearCompliance, GearCompliance) {
+    static C: OnceLock<(GearCompliance, GearCompliance)> = OnceLock::new();
+    C.get_or_init(|| {
+        compute_compliance(
+            &GearPair::paper_table1(),
+            &GearMeshDensity::coarse(),
+            ComplianceModel::Interpolated,
+        )
+        .expect("coarse FE compliance")
+    })
+}
+
+fn model(options: MeshOptions) -> MeshModel {
+    let (p, g) = coarse().clone();
+    MeshModel::with_compliance(&GearPair::paper_table1(), options, p, g).expect("model")
+}
+
+fn state(m: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+    MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
+}
+
+fn pitch() -> f64 {
+    2.0 * std::f64::consts::PI / GearPair::paper_table1().z_p as f64
+}
+
+/// With a Winkler (constant, local) compliance k per flank and no Hertz term every loaded
+/// slice deflects by (k_p + k_g)·q, so q = Δ·cos θ/(k_p + k_g) on every slice; a pair whose
+/// contacts all lie in the plane of action has uniform q, and M_F,p = Σ q·g_p·m_n·Δζ.
+#[test]
+fn uniform_compliance_oracle() {
+    let (kp, kg) = (4e-11, 6e-11);
+    let options = MeshOptions { local_contact: false, detail: true, ..MeshOptions::default() };
+    let pair = GearPair::paper_table1();
+    let w = |k| GearCompliance::Winkler { compliance: k, depth_h: 6e-4 };
+    let mut m = MeshModel::with_compliance(&pair, options, w(kp), w(kg)).expect("model");
+    let geo = m.geometry().clone();
+    let ct = geo.base_helix_angle.cos();
+    let dz = pair.normal_module_m * geo.b0() / m.slices_per_line() as f64;
+    let te = 10e-6;
+    let mut checked = 0;
+    for k in 0..40 {
+        let phi = pitch() * k as f64 / 40.0;
+        let o = m.evaluate(&state(&m, phi, te)).expect("evaluate");
+        let mut mp = 0.0;
+        for s in m.slices() {
+            let q = s.overlap_m * ct / (kp + kg);
+            assert!((s.q_n_per_m - q).abs() <= 1e-9 * q, "q {} vs {q}", s.q_n_per_m);
+            if s.kind == "involute/involute" {
+                assert!((s.overlap_m - te).abs() < 1e-12);
+            }
+        }
+        if m.slices().iter().all(|s| s.kind == "involute/involute") {
+            for s in m.slices() {
+                mp += s.q_n_per_m * geo.pinion.rb * dz;
+            }
+            assert!((o.m_f_p - mp).abs() <= 1e-9 * mp, "{} vs {mp}", o.m_f_p);
+            let ratio = o.m_f_g / o.m_f_p;
+            assert!((ratio - geo.gear.rb / geo.pinion.rb).abs() < 1e-12);
+            checked += 1;
+        }
+    }
+    assert!(checked >= 5, "only {checked} phases with all contacts in the plane of action");
+}
+
+/// Force balance in the plane of action and static equilibrium to 1e-9.
+#[test]
+fn force_balance_and_static_equilibrium() {
+    let mut m = model(MeshOptions { detail: true, ..MeshOptions::default() });
+    let geo = m.geometry().clone();
+    let ratio = geo.gear.rb / geo.pinion.rb;
+    for k in 0..10 {
+        let phi = pitch() * k as f64 / 10.0;
+        let eq = equilibrium(&mut m, phi, 100.0, 2e-5, &EquilibriumSettings::default())
+            .expect("equilibrium");
+        assert!((eq.outputs.m_f_p - 100.0).abs() <= 1e-9 * 100.0, "M_F,p = {}", eq.outputs.m_f_p);
+        let o = m.evaluate(&MeshState { phi_p: phi, phi_g: eq.phi_g, w_p: 0.0, w_g: 0.0 }).unwrap();
+        if m.slices().iter().filter(|s| s.q_n_per_m > 0.0).all(|s| s.kind == "involute/involute") {
+            assert!((o.m_f_g / o.m_f_p - ratio).abs() < 1e-12);
+        } else {
+            // Off-plane contacts have other moment arms: the balance holds to their share.
+            assert!((o.m_f_g / o.m_f_p - ratio).abs() < 0.02 * ratio);
+        }
+        assert!(eq.te > 0.0 && eq.te < 1e-4);
+    }
+}
+
+/// Exact zero when nothing overlaps (inside the backlash), and back-flank torques reverse.
+#[test]
+fn separation_and_back_flanks() {
+    let mut m = model(MeshOptions::default());
+    let jt = m.geometry().backlash_te;
+    for te in [-1e-9, -0.5 * jt, -jt + 1e-9] {
+        let o = m.evaluate(&state(&m, 0.01, te)).unwrap();
+        assert!(o.separated && o.m_f_p == 0.0 && o.m_f_g == 0.0 && o.f_n == 0.0);
+    }
+    let o = m.evaluate(&state(&m, 0.01, -jt - 10e-6)).unwrap();
+    assert!(o.back_contact && !o.separated);
+    assert!(o.m_f_p < 0.0 && o.m_f_g < 0.0, "{o:?}");
+}
+
+/// Maximum change of M_F,p between consecutive phases of a scan over one pitch at fixed TE.
+fn max_step(m: &mut MeshModel, te: f64, steps: usize) -> f64 {
+    let mut prev: Option<f64> = None;
+    let mut worst: f64 = 0.0;
+    for k in 0..=steps {
+        let phi = -0.5 * pitch() + pitch() * k as f64 / steps as f64;
+        let o = m.evaluate(&state(m, phi, te)).unwrap();
+        if let Some(p) = prev {
+            worst = worst.max((o.m_f_p - p).abs());
+        }
+        prev = Some(o.m_f_p);
+    }
+    worst
+}
+
+/// Load onset: at fixed TE, M_F is continuous in φp across the entry and exit of a pair: the
+/// largest change between neighbouring phases shrinks in proportion to the phase step (no
+/// jumps), for coarse and fine slicing, and finer slicing does not make it larger.
+#[test]
+fn load_onset_is_continuous() {
+    let te = 30e-6;
+    let mut results = Vec::new();
+    for slices in [100, 400] {
+        let mut m = model(MeshOptions { slices, ..MeshOptions::default() });
+        let coarse = max_step(&mut m, te, 200);
+        let fine = max_step(&mut m, te, 800);
+        results.push((slices, coarse, fine));
+        assert!(fine < 0.35 * coarse, "slices {slices}: max step {coarse} → {fine} N·m");
+    }
+    eprintln!("max |ΔM_F,p| (slices, 200 steps, 800 steps): {results:?}");
+    assert!(results[1].1 <= 1.1 * results[0].1);
+}
+
+/// Slice convergence: the maximum STE changes by less than 0.5 % from 200 to 400 slices.
+#[test]
+fn slice_convergence_of_ste() {
+    let mut ste = Vec::new();
+    for slices in [200, 400] {
+        let mut m = model(MeshOptions { slices, ..MeshOptions::default() });
+        let c = static_curve(&mut m, 100.0, 0.0, pitch(), 20, 1).expect("static");
+        ste.push(c.max());
+    }
+    let rel = (ste[1] - ste[0]).abs() / ste[1];
+    eprintln!("STE max 200 / 400 slices: {:.4} / {:.4} µm ({rel:.2e})", ste[0] * 1e6, ste[1] * 1e6);
+    assert!(rel < 5e-3, "STE max {ste:?}, change {rel}");
+}
+
+/// No NaN and no panic over a dense grid of (phase, TE) from −2× backlash to 5× nominal STE;
+/// non-finite inputs are typed errors.
+#[test]
+fn dense_grid_is_finite() {
+    let mut m = model(MeshOptions::default());
+    let jt = m.geometry().backlash_te;
+    let te_nom = 31e-6;
+    let (lo, hi) = (-2.0 * jt, 5.0 * te_nom);
+    for i in 0..25 {
+        let phi = pitch() * i as f64 / 25.0;
+        for k in 0..=40 {
+            let te = lo + (hi - lo) * k as f64 / 40.0;
+            let mut s = state(&m, phi, te);
+            s.w_p = 300.0;
+            s.w_g = -300.0 * 30.0 / 47.0 + 0.1;
+            let o = m.evaluate(&s).expect("evaluate");
+            for v in [o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.f_n, o.contact_length, o.p_max] {
+                assert!(v.is_finite(), "{o:?} at phase {phi}, TE {te}");
+            }
+            assert_eq!(o.separated, o.n_pairs == 0);
+            if te > 0.0 {
+                assert!(o.m_f_p >= 0.0);
+            }
+        }
+    }
+    let bad = MeshState { phi_p: f64::NAN, ..MeshState::default() };
+    assert!(matches!(m.evaluate(&bad), Err(MeshError::NonFinite { name: "phi_p", .. })));
+    let bad = MeshState { w_g: f64::INFINITY, ..MeshState::default() };
+    let e = m.evaluate(&bad).unwrap_err();
+    assert!(e.to_string().contains("w_g"), "{e}");
+}
+
+/// Very large angles: the phase reduction keeps the result periodic in the pinion pitch.
+#[test]
+fn periodic_in_the_pitch() {
+    let mut m = model(MeshOptions::default());
+    let a = m.evaluate(&state(&m, 0.013, 25e-6)).unwrap();
+    let b = m.evaluate(&state(&m, 0.013 + 7.0 * pitch(), 25e-6)).unwrap();
+    assert!((a.m_f_p - b.m_f_p).abs() < 1e-9 * a.m_f_p.abs(), "{} vs {}", a.m_f_p, b.m_f_p);
+}
+
+/// Table fidelity: relative torque error against `full` at random points ≤ 0.5 % where the
+/// torque exceeds 1 % of nominal, fallback outside the range, exact zero inside the backlash.
+#[test]
+fn table_matches_full() {
+    let mut full = model(MeshOptions::default());
+    let mut table = model(MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() });
+    let t = table.table().expect("table");
+    let (lo, hi) = t.te_range();
+    eprintln!(
+        "table build {:.2} s, self-check max rel err {:.2e} on {} cells, TE range [{lo:.3e}, {hi:.3e}] m",
+        t.build_seconds(),
+        t.max_rel_err(),
+        t.checked_points()
+    );
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut uniform = || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut worst: f64 = 0.0;
+    let mut n = 0;
+    for _ in 0..400 {
+        let phi = 10.0 * uniform();
+        let te = lo + (hi - lo) * uniform();
+        let mut s = state(&full, phi, te);
+        s.w_p = 200.0;
+        s.w_g = -120.0;
+        let a = full.evaluate(&s).unwrap();
+        let b = table.evaluate(&s).unwrap();
+        assert!((a.m_d_p - b.m_d_p).abs() <= 0.02 * a.m_d_p.abs() + 1e-9 || a.n_pairs != b.n_pairs);
+        if a.m_f_p.abs() > 1.0 {
+            worst = worst.max((a.m_f_p - b.m_f_p).abs() / a.m_f_p.abs());
+            n += 1;
+        } else {
+            assert!((a.m_f_p - b.m_f_p).abs() < 0.05, "{} vs {}", a.m_f_p, b.m_f_p);
+        }
+    }
+    eprintln!("table vs full: max rel err {worst:.2e} over {n} points");
+    assert!(worst <= 5e-3, "max relative error {worst}");
+    // Outside the range: the full model (same up to the warm start's rounding).
+    let s = state(&full, 0.02, 1.5 * hi);
+    let (a, b) = (full.evaluate(&s).unwrap(), table.evaluate(&s).unwrap());
+    assert!((a.m_f_p - b.m_f_p).abs() < 1e-9 * a.m_f_p && a.n_pairs == b.n_pairs);
+}
