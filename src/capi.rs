@@ -24,8 +24,7 @@ use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use crate::mesh::{MeshOptions, MeshOutputs, MeshState};
-use crate::mesh_shim::MeshModel;
+use crate::mesh::{MeshModel, MeshOptions, MeshOutputs, MeshState};
 use crate::params::GearPair;
 
 /// Result of a C API call.

@@ -31,10 +31,6 @@ pub mod load;
 pub mod mesh;
 pub mod params;
 
-// TEMPORARY: stand-in for mesh::MeshModel until the façade is merged (see the file).
-#[doc(hidden)]
-pub mod mesh_shim;
-
 pub use error::ParamError;
 pub use geometry::PairGeometry;
 pub use params::{DriveLine, GearPair, Material};

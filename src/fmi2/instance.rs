@@ -12,9 +12,7 @@ use super::variables::{
     Access, Causality, Derived, LOG_CATEGORIES, Settings, VARIABLES, Variability, Variable, by_vr,
     guid,
 };
-use crate::PairGeometry;
-use crate::mesh::{MeshError, MeshOutputs, MeshState};
-use crate::mesh_shim::MeshModel;
+use crate::mesh::{MeshError, MeshModel, MeshOutputs, MeshState};
 
 /// States of the co-simulation state machine (FMI 2.0, section 4.2.4), as bits so that each
 /// function can carry the set of states it is allowed in. `stepInProgress` never occurs (steps
@@ -709,8 +707,8 @@ pub(crate) fn log_to(
 
 /// Builds the model and the derived quantities for `s`.
 fn build(s: &Settings) -> Result<Built, String> {
-    let geometry = PairGeometry::new(&s.pair).map_err(|e| mesh_error_text(&e.into()))?;
     let model = MeshModel::new(&s.pair, s.options).map_err(|e| mesh_error_text(&e))?;
+    let geometry = model.geometry();
     let derived = Derived {
         base_radius_p: geometry.pinion.rb,
         base_radius_g: geometry.gear.rb,
