@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test suite of the project: formatting and lints, the Rust unit and integration
-# tests, and (when present) the Python/fmpy and C suites. Installs what it needs itself.
+# tests, then the FMU suite: the release FMU and CLI are built, and pytest (with fmpy, in a
+# .venv this script creates) validates and drives the FMU, compares a Python RK4 master with
+# the CLI's RK4 reference, and compiles and runs the C test of tests/c with gcc (skipped when
+# gcc is missing). Installs what it needs itself; needs Rust and Python 3.
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -14,7 +17,11 @@ echo "== cargo test"
 cargo test --workspace
 
 if [ -d tests/python ] && ls tests/python/test_*.py >/dev/null 2>&1; then
-  echo "== python tests (fmpy + pytest in .venv)"
+  echo "== release build: FMU (target/fmu/HelicalGearMesh.fmu) and CLI"
+  cargo run --release -p fmu-build
+  cargo build --release --bin helical-gear
+
+  echo "== python tests (fmpy + pytest in .venv; includes the C test of tests/c)"
   if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
   fi

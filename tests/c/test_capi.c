@@ -1,0 +1,192 @@
+/*
+ * C test of the library's two C interfaces, compiled with gcc -Wall -Wextra -Werror against
+ * the generated headers:
+ *
+ *   include/helical_gear_mesh.h        the plain C API (hgm_*)
+ *   include/helical_gear_mesh_fmi2.h   the exported fmi2* functions; it includes the FMI 2.0
+ *                                      standard's fmi2Functions.h, so the compiler checks every
+ *                                      exported signature against the standard's declaration
+ *
+ * Usage: test_capi GUID   (the FMU's GUID from modelDescription.xml)
+ * Exit status 0 when every check passes; each failed check is printed.
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "helical_gear_mesh.h"
+#include "helical_gear_mesh_fmi2.h"
+
+static int failures = 0;
+
+#define CHECK(cond, ...)                                                 \
+    do {                                                                 \
+        if (!(cond)) {                                                   \
+            failures++;                                                  \
+            fprintf(stderr, "FAILED %s:%d: %s: ", __FILE__, __LINE__, #cond); \
+            fprintf(stderr, __VA_ARGS__);                                \
+            fprintf(stderr, "\n");                                       \
+        }                                                                \
+    } while (0)
+
+/* Table 1 base radii (m), for setting a transmission error TE = phi_p*g_p + phi_g*g_g. */
+static const double G_P = 0.042860629350090065;
+static const double G_G = 0.06714831931514112;
+
+static double phi_g_for(double phi_p, double te) { return (te - phi_p * G_P) / G_G; }
+
+/* ------------------------------------------------------------------ plain C API */
+
+static void test_capi(void) {
+    HgmOutputs out;
+
+    /* Error paths that need no model. */
+    CHECK(hgm_evaluate(NULL, 0, 0, 0, 0, &out) == HGM_STATUS_INVALID_ARGUMENT, "NULL handle");
+    CHECK(strstr(hgm_last_error(NULL), "NULL") != NULL, "message: %s", hgm_last_error(NULL));
+    CHECK(hgm_create_from_json(NULL) == NULL, "NULL json");
+    CHECK(hgm_create_from_json("{ not json") == NULL, "malformed json");
+    CHECK(strstr(hgm_last_error(NULL), "JSON") != NULL, "message: %s", hgm_last_error(NULL));
+    CHECK(hgm_create_from_json("{\"z_p\": 30, \"colour\": 1}") == NULL, "unknown key");
+    CHECK(strstr(hgm_last_error(NULL), "colour") != NULL, "message: %s", hgm_last_error(NULL));
+    {
+        const char *bad =
+            "{\"z_p\": 12, \"z_g\": 47, \"normal_module_m\": 0.003,"
+            " \"pressure_angle_rad\": 0.3490658503988659, \"helix_angle_rad\": 0.17453292519943295,"
+            " \"face_width_m\": 0.015, \"addendum_mn\": 1.0, \"dedendum_mn\": 1.25,"
+            " \"rack_fillet_radius_mn\": 0.35, \"tip_relief_depth_mn\": 0.015,"
+            " \"tip_relief_height_mn\": 0.5, \"tip_rounding_radius_mn\": 0.05,"
+            " \"normal_backlash_mn\": 0.0725, \"bore_diameter_m\": 0.015,"
+            " \"material_p\": {\"youngs_modulus_pa\": 206e9, \"poisson_ratio\": 0.3,"
+            " \"density_kg_m3\": 7850.0},"
+            " \"material_g\": {\"youngs_modulus_pa\": 206e9, \"poisson_ratio\": 0.3,"
+            " \"density_kg_m3\": 7850.0},"
+            " \"d_mesh_n_s_per_m\": 100.0,"
+            " \"drive\": {\"torque_nm\": 100.0, \"j1_kgm2\": 0.62, \"j2_kgm2\": 0.62,"
+            " \"c1_nm_per_rad\": 984.0, \"c2_nm_per_rad\": 984.0, \"d1_nms_per_rad\": 0.04,"
+            " \"d2_nms_per_rad\": 0.04}}";
+        CHECK(hgm_create_from_json(bad) == NULL, "z_p = 12 is below the undercut limit");
+        CHECK(strstr(hgm_last_error(NULL), "`z_p` = 12") != NULL, "message: %s",
+              hgm_last_error(NULL));
+    }
+    hgm_free(NULL);
+
+    HgmModel *m = hgm_create_default();
+    CHECK(m != NULL, "default model: %s", hgm_last_error(NULL));
+    if (m == NULL) return;
+    CHECK(strcmp(hgm_last_error(m), "") == 0, "no error yet");
+
+    /* Static equilibrium at phi_p = 0 with the Table 1 torque of 100 N.m: bisection on TE. */
+    double lo = 0.0, hi = 200e-6;
+    for (int i = 0; i < 50; i++) {
+        double te = 0.5 * (lo + hi);
+        CHECK(hgm_evaluate(m, 0.0, phi_g_for(0.0, te), 0, 0, &out) == HGM_STATUS_OK, "%s",
+              hgm_last_error(m));
+        if (out.m_f_p < 100.0) lo = te; else hi = te;
+    }
+    double te_static = 0.5 * (lo + hi);
+    printf("static TE at phi_p = 0 under 100 N.m: %.4f um (M_F_g = %.3f N.m, %u pairs)\n",
+           te_static * 1e6, out.m_f_g, out.n_pairs);
+    CHECK(te_static > 10e-6 && te_static < 60e-6, "static TE %g m (paper: max 30.5 um)",
+          te_static);
+    CHECK(fabs(out.te - te_static) < 1e-9, "TE output %g", out.te);
+    CHECK(fabs(out.m_f_g / out.m_f_p - G_G / G_P) < 0.05 * G_G / G_P,
+          "M_F_g/M_F_p = %g, g_g/g_p = %g", out.m_f_g / out.m_f_p, G_G / G_P);
+    CHECK(out.f_n > 0 && out.contact_length > 0 && out.p_max > 1e8, "load diagnostics");
+    CHECK(!out.separated && !out.back_contact && out.n_pairs >= 1, "flags");
+
+    /* Rolling at 100 rad/s with the teeth approaching: the damping torque opposes it. */
+    double w_p = 100.0, w_g = -100.0 * 30.0 / 47.0 + 0.01;
+    CHECK(hgm_evaluate(m, 0.0, phi_g_for(0.0, te_static), w_p, w_g, &out) == HGM_STATUS_OK,
+          "%s", hgm_last_error(m));
+    CHECK(out.m_d_p * (w_p * G_P + w_g * G_G) > 0, "M_D_p = %g has the sign of dTE/dt", out.m_d_p);
+    CHECK(hgm_set_d_mesh(m, 0.0) == HGM_STATUS_OK, "%s", hgm_last_error(m));
+    CHECK(hgm_evaluate(m, 0.0, phi_g_for(0.0, te_static), w_p, w_g, &out) == HGM_STATUS_OK, "%s", hgm_last_error(m));
+    CHECK(out.m_d_p == 0.0, "no damping torque with d_mesh = 0: %g", out.m_d_p);
+
+    /* Inside the backlash: separated; beyond it: back flanks, negative torque. */
+    CHECK(hgm_evaluate(m, 0.0, phi_g_for(0.0, -10e-6), 0, 0, &out) == HGM_STATUS_OK, "%s", hgm_last_error(m));
+    CHECK(out.separated && out.m_f_p == 0.0 && out.n_pairs == 0, "separated at TE = -10 um");
+    CHECK(hgm_evaluate(m, 0.0, phi_g_for(0.0, -240e-6), 0, 0, &out) == HGM_STATUS_OK, "%s",
+          hgm_last_error(m));
+    CHECK(out.back_contact && out.m_f_p < 0.0, "back contact at TE = -240 um: M_F_p = %g",
+          out.m_f_p);
+
+    /* Error paths with a model: the handle stays usable. */
+    CHECK(hgm_evaluate(m, NAN, 0, 0, 0, &out) == HGM_STATUS_INVALID_ARGUMENT, "NaN input");
+    CHECK(strstr(hgm_last_error(m), "`phi_p` = NaN") != NULL, "message: %s", hgm_last_error(m));
+    CHECK(hgm_evaluate(m, 0, 0, INFINITY, 0, &out) == HGM_STATUS_INVALID_ARGUMENT, "inf input");
+    CHECK(strstr(hgm_last_error(m), "`w_p` = inf") != NULL, "message: %s", hgm_last_error(m));
+    CHECK(hgm_evaluate(m, 0, 0, 0, 0, NULL) == HGM_STATUS_INVALID_ARGUMENT, "NULL out");
+    CHECK(hgm_set_d_mesh(m, -1.0) == HGM_STATUS_MODEL_ERROR, "negative d_mesh");
+    CHECK(strstr(hgm_last_error(m), "d_mesh") != NULL, "message: %s", hgm_last_error(m));
+    CHECK(hgm_evaluate(m, 0.0, phi_g_for(0.0, te_static), 0, 0, &out) == HGM_STATUS_OK,
+          "usable after errors");
+    hgm_free(m);
+}
+
+/* ------------------------------------------------------------------ FMI functions */
+
+static char last_message[1024];
+static int messages = 0;
+
+/* A printf-style logger, as an importer writes it. */
+static void logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
+                   fmi2String category, fmi2String message, ...) {
+    (void)env;
+    va_list ap;
+    va_start(ap, message);
+    vsnprintf(last_message, sizeof last_message, message, ap);
+    va_end(ap);
+    messages++;
+    printf("  [%s %d %s] %s\n", instance, (int)status, category, last_message);
+}
+
+static void test_fmi2(const char *guid) {
+    CHECK(strcmp(fmi2GetVersion(), "2.0") == 0, "version");
+    CHECK(strcmp(fmi2GetTypesPlatform(), "default") == 0, "types platform");
+    fmi2FreeInstance(NULL);
+
+    fmi2CallbackFunctions cb = {logger, NULL, NULL, NULL, NULL};
+    fmi2Component c = fmi2Instantiate("c", fmi2CoSimulation, "{wrong}", NULL, &cb, fmi2False,
+                                      fmi2False);
+    CHECK(c == NULL, "wrong GUID");
+    CHECK(strstr(last_message, "fmuGUID `{wrong}`") != NULL, "message: %s", last_message);
+    c = fmi2Instantiate("c", fmi2ModelExchange, guid, NULL, &cb, fmi2False, fmi2False);
+    CHECK(c == NULL, "Model Exchange is not offered");
+
+    /* A resource URI with a bad escape: a warning whose text contains '%' (escaped for the
+     * printf-style logger, so it arrives intact). */
+    c = fmi2Instantiate("c", fmi2CoSimulation, guid, "file:///tmp/a%zz", &cb, fmi2False,
+                        fmi2True);
+    CHECK(c != NULL, "instance");
+    if (c == NULL) return;
+    CHECK(strstr(last_message, "bad escape `%zz`") != NULL, "message: %s", last_message);
+
+    /* An illegal call sequence: a step before initialisation. */
+    CHECK(fmi2DoStep(c, 0.0, 1e-3, fmi2True) == fmi2Error, "step before initialisation");
+    CHECK(strstr(last_message, "fmi2DoStep: not allowed in state instantiated") != NULL,
+          "message: %s", last_message);
+    CHECK(fmi2Reset(c) == fmi2OK, "reset from the error state");
+    fmi2ValueReference vr = 0; /* phi_p */
+    fmi2Real nan = NAN;
+    CHECK(fmi2SetReal(c, &vr, 1, &nan) == fmi2Error, "NaN input");
+    CHECK(strstr(last_message, "input `phi_p` = NaN is not finite") != NULL, "message: %s",
+          last_message);
+    fmi2FreeInstance(c);
+}
+
+int main(int argc, char **argv) {
+    if (argc != 2) {
+        fprintf(stderr, "usage: %s GUID\n", argv[0]);
+        return 2;
+    }
+    test_fmi2(argv[1]);
+    test_capi();
+    if (failures) {
+        fprintf(stderr, "%d check(s) failed\n", failures);
+        return 1;
+    }
+    printf("all C checks passed\n");
+    return 0;
+}
