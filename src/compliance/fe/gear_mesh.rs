@@ -141,8 +141,7 @@ impl GearMeshDensity {
     }
 
     /// A refined mesh for convergence checks: 16 × 17 flank grid, five fine teeth, every count
-    /// at or above the default's; for the Table 1 pair 165k DOFs (pinion, ≈ 4 s
-    /// factorisation) and 211k DOFs (gear).
+    /// at or above the default's; for the Table 1 pair 173k DOFs (pinion) and 220k DOFs (gear).
     pub fn refined() -> Self {
         Self {
             involute: 9,
