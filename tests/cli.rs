@@ -152,3 +152,92 @@ fn simulate_json_is_the_library_rk4_trajectory() {
     // The start is the static equilibrium: M_F,p = M.
     assert!((col("m_f_p_nm")[0] - pair.drive.torque_nm).abs() < 1e-8 * pair.drive.torque_nm);
 }
+
+fn run_env(args: &[&str], env: (&str, &std::path::Path)) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_helical-gear"))
+        .args(args)
+        .env(env.0, env.1)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// `compliance` on Table 1 uses the embedded data: the contract keys, the fit target and a
+/// finite pair stiffness; the text form names the stiffness and the fit quality.
+#[test]
+fn compliance_json_from_the_embedded_data() {
+    let (ok, stdout, stderr) = run(&["compliance", "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    assert_eq!(v["source"], "embedded");
+    for key in [
+        "fe_dofs_p",
+        "fe_dofs_g",
+        "fe_seconds",
+        "e_rel_std_p",
+        "e_rel_std_g",
+        "pair_stiffness_n_per_mm_per_um",
+        "fe_assembly_s_p",
+        "fe_factorisation_s_g",
+        "fe_solve_s_p",
+        "depth_h_m",
+        "grid_rows",
+        "grid_columns",
+    ] {
+        assert!(v[key].as_f64().is_some_and(|x| x.is_finite() && x > 0.0), "missing {key}");
+    }
+    assert_eq!(v["fe_dofs_p"].as_u64(), Some(67_590));
+    assert_eq!(v["density"], "default");
+    assert!((v["depth_h_m"].as_f64().unwrap() - 0.6e-3).abs() < 1e-12);
+    for key in ["e_rel_std_p", "e_rel_std_g"] {
+        assert!(v[key].as_f64().unwrap() <= 0.03, "{key} = {}", v[key]);
+    }
+    let shares: f64 = ["pair_share_global_p", "pair_share_global_g", "pair_share_local"]
+        .iter()
+        .map(|k| v[*k].as_f64().unwrap())
+        .sum();
+    assert!((shares - 1.0).abs() < 1e-9);
+    let (ok, text, _) = run(&["compliance"]);
+    assert!(ok && text.contains("c′ =") && text.contains("σ(e_rel)"), "{text}");
+}
+
+/// `HELICAL_GEAR_CACHE_DIR` is the disk cache of `compliance`: a cache file for a pair with
+/// twice Table 1's Young's modulus (made from the embedded data with α* halved) is read, not
+/// recomputed, and the global deflections halve.
+#[test]
+fn compliance_reads_the_cache_dir_from_the_environment() {
+    use helical_gear_mesh::compliance::data::{ComplianceData, ComplianceKey};
+    let dir = std::env::temp_dir().join(format!("hg-cli-cache-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut p = helical_gear_mesh::GearPair::paper_table1();
+    p.material_p.youngs_modulus_pa *= 2.0;
+    p.material_g.youngs_modulus_pa *= 2.0;
+    let mut data = (*ComplianceData::embedded_table1().unwrap()).clone();
+    data.provenance.key = ComplianceKey::of(&p);
+    for m in [&mut data.pinion, &mut data.gear] {
+        m.fit.alpha_ref_m_per_n *= 0.5;
+        for block in &mut m.grid.alpha {
+            block.iter_mut().for_each(|v| *v *= 0.5);
+        }
+    }
+    data.write_file(&dir.join(ComplianceData::cache_file_name(&p))).unwrap();
+    let params = dir.join("p.json");
+    std::fs::write(&params, serde_json::to_string(&p).unwrap()).unwrap();
+    let env = ("HELICAL_GEAR_CACHE_DIR", dir.as_path());
+    let (ok, stdout, stderr) =
+        run_env(&["compliance", "--json", "--params", params.to_str().unwrap()], env);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["source"], "disk", "{stderr}");
+    let (_, table1, _) = run(&["compliance", "--json"]);
+    let t: serde_json::Value = serde_json::from_str(&table1).unwrap();
+    for key in ["pair_u_global_p_um", "pair_u_global_g_um"] {
+        let (a, b) = (v[key].as_f64().unwrap(), t[key].as_f64().unwrap());
+        assert!((a - 0.5 * b).abs() < 1e-6 * b, "{key}: {a} vs {b}/2");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -329,6 +329,53 @@ fn fit_with_sub_sampling() {
     assert!(report.sigma_e_rel < 1e-3);
 }
 
+/// Same-row selection and the τ limit: the fitted pair count is exactly the selected one, the
+/// family is still recovered, and `deviation` reproduces the report on the fitted pairs.
+#[test]
+fn fit_on_contact_line_pairs_and_limited_rounding() {
+    use helical_gear_mesh::compliance::fitted::{FitOptions, PairSelection};
+    let grid = family_grid();
+    let (nr, nc) = (grid.profile.len(), grid.zeta.len());
+    // Rows with τ ≤ 0.15 rad: the lowest rounding row (τ = 0.1) and the involute rows.
+    let kept = grid.tau.iter().filter(|&&t| t <= 0.15).count();
+    assert_eq!(kept, nr - 2);
+    let opts = FitOptions { pairs: PairSelection::SameRow, max_tau: 0.15, ..FitOptions::default() };
+    let (fit, report) = FittedInfluence::fit_with(&grid, B0, &opts).expect("fit succeeds");
+    eprintln!("exact data, same-row pairs, τ ≤ 0.15: {report:?}");
+    assert_eq!(report.fitted_values, kept * nc * nc);
+    assert!(report.sigma_e_rel < 1e-3, "σ(e_rel) = {}", report.sigma_e_rel);
+    let used = |i: usize| grid.tau[i / nc] <= 0.15;
+    let dev =
+        fit.deviation(&grid, |i, j| used(i) && used(j) && i / nc == j / nc).expect("valid grid");
+    assert_eq!(dev.count, report.fitted_values);
+    assert!((dev.std - report.sigma_e_rel).abs() <= 1e-9, "{dev:?} vs {report:?}");
+    assert!((dev.mean - report.mean_e_rel).abs() <= 1e-9);
+    // Exact family data: also right off the fitted pairs (other rows, τ = 0.3 extrapolated).
+    let all = fit.deviation(&grid, |_, _| true).expect("valid grid");
+    assert_eq!(all.count, grid.points() * grid.points());
+    assert!(all.max_abs < 1e-2, "{all:?}");
+    // A limit that leaves fewer than two rows is an error naming max_tau.
+    let bad = FitOptions { max_tau: -1.0, ..FitOptions::default() };
+    match FittedInfluence::fit_with(&grid, B0, &bad) {
+        Err(FitError::Input(m)) => assert!(m.contains("max_tau"), "{m}"),
+        other => panic!("expected an input error, got {other:?}"),
+    }
+}
+
+/// A fit rebuilt from its constants with `with_neighbours` equals the original.
+#[test]
+fn fitted_influence_rebuilt_from_constants() {
+    let grid = family_grid();
+    let (fit, _) = FittedInfluence::fit(&grid, B0).expect("fit succeeds");
+    let back = FittedInfluence::with_neighbours(fit.params, fit.b0, fit.alpha_ref, grid.clone())
+        .expect("valid grid");
+    assert_eq!(back, fit);
+    let (o, l) = (grid.coord(12), grid.coord(77));
+    for t in [-1, 0, 1] {
+        assert_eq!(back.alpha(o, l, t), fit.alpha(o, l, t));
+    }
+}
+
 #[test]
 fn fitted_influence_delegates_neighbour_teeth_and_serialises() {
     let grid = family_grid();

@@ -7,10 +7,13 @@
 
 use faer::Mat;
 use helical_gear_mesh::PairGeometry;
+use helical_gear_mesh::compliance::InfluenceGrid;
 use helical_gear_mesh::compliance::fe::element::{self, FACES, GAUSS3_POINTS, GAUSS3_WEIGHTS};
 use helical_gear_mesh::compliance::fe::gear_mesh::{GearMesh, GearMeshDensity};
 use helical_gear_mesh::compliance::fe::{Face, FeModel, Material, dof};
-use helical_gear_mesh::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence};
+use helical_gear_mesh::compliance::influence_fe::{
+    DEFAULT_DEPTH_MN, axial_gauss_resample, fe_influence,
+};
 use helical_gear_mesh::geometry::inertia::polygon_area;
 use helical_gear_mesh::geometry::{GearGeometry, SegmentKind};
 use helical_gear_mesh::params::GearPair;
@@ -371,4 +374,68 @@ fn invalid_inputs_are_errors() {
     for h in [0.0, -1e-3, f64::NAN, 1.0] {
         assert!(fe_influence(g, &p, &GearMeshDensity::coarse(), h, false).is_err());
     }
+}
+
+/// The axial Gauss resampling reproduces data that are quadratic in ζ and ζ_F within each
+/// element exactly at the Gauss abscissae, keeps rows and teeth, and rejects grids that are not
+/// node levels of quadratic elements.
+#[test]
+fn axial_gauss_resampling() {
+    let f = |t: i32, r: usize, z: f64, rf: usize, zf: f64| {
+        1e-9 * (3.0 + t as f64 + 0.1 * r as f64 + 0.2 * rf as f64 + 0.3 * z - 0.05 * z * z
+            + 0.4 * zf
+            - 0.02 * zf * zf
+            + 0.07 * z * zf)
+    };
+    // 3 quadratic elements over b₀ = 5 → 7 node levels; 3 profile rows; teeth −1, 0, 1.
+    let zeta: Vec<f64> = (0..7).map(|k| 5.0 * k as f64 / 6.0).collect();
+    let mut grid = InfluenceGrid {
+        profile: vec![0.0, 0.5, 1.0],
+        eta_star: vec![0.0, 0.5, 1.0],
+        tau: vec![0.0; 3],
+        zeta,
+        teeth: vec![-1, 0, 1],
+        alpha: vec![],
+        depth_h: 6e-4,
+        eta_star_rounding_start: 0.0,
+        rounding_radius_mn: 0.05,
+    };
+    let n = grid.points();
+    for &t in &[-1, 0, 1] {
+        let mut block = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let (ci, cj) = (grid.coord(i), grid.coord(j));
+                block[i * n + j] = f(t, i / 7, ci.zeta, j / 7, cj.zeta);
+            }
+        }
+        grid.alpha.push(block);
+    }
+    let g = axial_gauss_resample(&grid).expect("quadratic node levels");
+    assert_eq!(g.zeta.len(), 6);
+    assert_eq!((g.profile.clone(), g.teeth.clone()), (grid.profile.clone(), grid.teeth.clone()));
+    let h = 5.0 / 3.0;
+    for (k, &z) in g.zeta.iter().enumerate() {
+        let e = (k / 2) as f64;
+        let xi = if k % 2 == 0 { -1.0 } else { 1.0 } / 3f64.sqrt();
+        assert!((z - (e + 0.5 + 0.5 * xi) * h).abs() < 1e-12, "column {k}: ζ = {z}");
+    }
+    let m = g.points();
+    for (b, &t) in g.teeth.iter().enumerate() {
+        for i in 0..m {
+            for j in 0..m {
+                let (ci, cj) = (g.coord(i), g.coord(j));
+                let want = f(t, i / 6, ci.zeta, j / 6, cj.zeta);
+                let got = g.value(b, i, j);
+                assert!((got - want).abs() < 1e-12 * want.abs(), "tooth {t} ({i}, {j})");
+            }
+        }
+    }
+    let mut even = grid.clone();
+    even.zeta.pop();
+    even.alpha = vec![vec![1e-9; 18 * 18]; 3];
+    assert!(axial_gauss_resample(&even).is_err());
+    let mut skewed = grid.clone();
+    skewed.zeta[1] += 0.1;
+    assert!(axial_gauss_resample(&skewed).is_err());
 }

@@ -30,7 +30,8 @@
 //! [`InterpolatedInfluence`] of the neighbour blocks of the same grid.
 //!
 //! **Fitting** ([`FittedInfluence::fit`]): weighted non-linear least squares with the
-//! residuals r = (α(θ) − α*)/α*(load, load) over the same-tooth pairs (all, or every
+//! residuals r = (α(θ) − α*)/α*(load, load) over the selected same-tooth pairs (see
+//! [`PairSelection`] and [`FitOptions::max_tau`]; all pairs by default, optionally every
 //! `pair_stride`-th pair of the row-major list plus all diagonal pairs), solved by
 //! [`super::lm`] with an analytic Jacobian. The weight is the data's value at the load point, the
 //! data counterpart of ψ(load) in Eq. 9, so the cost is Σ e_rel² up to that substitution. The
@@ -38,6 +39,14 @@
 //! ψ on the diagonal (there Γ = 1 and α = ψ), with the edge terms started from the data's excess
 //! at ζ = 0 and ζ = b₀, (2) C1…C9 with ψ fixed, C1 and C9 started from a log-log regression of
 //! −ln(α*/√(ψψ_F)) against |ζ − ζ_F| on the profile-diagonal pairs, (3) all 25 together.
+//!
+//! **Domain of the formula.** At ζ = ζ_F, Γ = 1 whatever η* and η*_F are, so Eqs. 5–8 give
+//! α = √(ψψ_F) between any two profile positions of one transverse section: the formula has no
+//! decay along the profile. It is meant for α(ζ, ζ_F) along one instant contact line (Eq. 12),
+//! on which η* changes little (for Table 1 by at most 0.38·m_n over the whole face width, about
+//! one FE row spacing). [`PairSelection::SameRow`] fits exactly those pairs (observation and
+//! load on one profile row); [`PairSelection::All`] also asks the formula for couplings across
+//! the profile at equal ζ, where FE data at depth h fall well below √(ψψ_F) near the load.
 
 use std::fmt;
 
@@ -97,6 +106,29 @@ impl InfluenceParameters {
     }
 }
 
+/// Which same-tooth (observation, load) pairs of a grid enter the fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PairSelection {
+    /// Every pair (observation and load anywhere on the flank).
+    #[default]
+    All,
+    /// Pairs with observation and load on the same profile row (equal η* and τ): the pairs of
+    /// one instant contact line, along which Eq. 12 evaluates α(ζ, ζ_F) (see the module docs).
+    SameRow,
+}
+
+impl PairSelection {
+    /// Whether grid points `obs` and `load` (indices of a grid with `columns` ζ columns) form a
+    /// selected pair.
+    pub fn selects(self, obs: usize, load: usize, columns: usize) -> bool {
+        match self {
+            PairSelection::All => true,
+            PairSelection::SameRow => obs / columns == load / columns,
+        }
+    }
+}
+
 /// Settings of [`FittedInfluence::fit_with`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FitOptions {
@@ -111,11 +143,51 @@ pub struct FitOptions {
     /// combinations drift along flat valleys, lowering the cost by ~1e-9 per iteration), so a
     /// tighter value only spends iterations.
     pub cost_tol: f64,
+    /// Which pairs are fitted (before `pair_stride` thins them).
+    pub pairs: PairSelection,
+    /// Profile rows with τ above this value (rad) are left out of every stage of the fit, e.g.
+    /// the rows of the tip rounding whose normals no contact can have. `f64::INFINITY`: all
+    /// rows.
+    pub max_tau: f64,
 }
 
 impl Default for FitOptions {
     fn default() -> Self {
-        Self { pair_stride: 1, max_iterations: 400, cost_tol: 1e-8 }
+        Self {
+            pair_stride: 1,
+            max_iterations: 400,
+            cost_tol: 1e-8,
+            pairs: PairSelection::All,
+            max_tau: f64::INFINITY,
+        }
+    }
+}
+
+/// Statistics of e_rel (Eq. 9) of a fitted influence against the same-tooth block of a grid
+/// ([`FittedInfluence::deviation`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Deviation {
+    /// Standard deviation of e_rel (dimensionless).
+    pub std: f64,
+    /// Mean of e_rel.
+    pub mean: f64,
+    /// Largest |e_rel|.
+    pub max_abs: f64,
+    /// Number of (observation, load) pairs compared.
+    pub count: usize,
+}
+
+impl Deviation {
+    /// Statistics of the values `e` (all zero for an empty list).
+    fn of(e: &[f64]) -> Self {
+        if e.is_empty() {
+            return Self { std: 0.0, mean: 0.0, max_abs: 0.0, count: 0 };
+        }
+        let m = e.len() as f64;
+        let mean = e.iter().sum::<f64>() / m;
+        let var = e.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / m;
+        let max_abs = e.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        Self { std: var.sqrt(), mean, max_abs, count: e.len() }
     }
 }
 
@@ -408,32 +480,47 @@ impl FittedInfluence {
         if !(options.cost_tol.is_finite() && options.cost_tol >= 0.0) {
             return Err(FitError::Input(format!("cost_tol = {} must be ≥ 0", options.cost_tol)));
         }
+        if options.max_tau.is_nan() {
+            return Err(FitError::Input("max_tau is NaN".into()));
+        }
+        let row_used: Vec<bool> = grid.tau.iter().map(|&t| t <= options.max_tau).collect();
+        if row_used.iter().filter(|&&u| u).count() < 2 {
+            return Err(FitError::Input(format!(
+                "max_tau = {} rad leaves fewer than 2 of the {} profile rows (τ = {:?})",
+                options.max_tau,
+                grid.tau.len(),
+                grid.tau
+            )));
+        }
         let t0 = grid
             .teeth
             .iter()
             .position(|&t| t == 0)
             .ok_or_else(|| FitError::Input("grid has no tooth-0 block".into()))?;
         let n = grid.points();
+        let nc = grid.zeta.len();
+        let used = |i: usize| row_used[i / nc];
         let diag: Vec<f64> = (0..n).map(|i| grid.value(t0, i, i)).collect();
-        if let Some(i) = diag.iter().position(|&v| v <= 0.0) {
+        if let Some(i) = (0..n).filter(|&i| used(i)).find(|&i| diag[i] <= 0.0) {
             return Err(FitError::Input(format!(
                 "diagonal compliance α*({i}, {i}) = {:e} m/N must be > 0",
                 diag[i]
             )));
         }
-        let alpha_ref = diag.iter().sum::<f64>() / n as f64;
+        let used_pts: Vec<usize> = (0..n).filter(|&i| used(i)).collect();
+        let alpha_ref = used_pts.iter().map(|&i| diag[i]).sum::<f64>() / used_pts.len() as f64;
         let dscaled: Vec<f64> = diag.iter().map(|v| v / alpha_ref).collect();
         let points: Vec<FlankCoord> = (0..n).map(|i| grid.coord(i)).collect();
         let mut x = vec![0.0; PARAMETER_COUNT];
 
         // Stage 0: ψ core on the mid-face column.
-        let nc = grid.zeta.len();
         let mid = (0..nc)
             .min_by(|&a, &b| {
                 (grid.zeta[a] - 0.5 * b0).abs().total_cmp(&(grid.zeta[b] - 0.5 * b0).abs())
             })
             .unwrap_or(0);
-        let mid_pts: Vec<usize> = (0..grid.profile.len()).map(|r| grid.index(r, mid)).collect();
+        let mid_pts: Vec<usize> =
+            (0..grid.profile.len()).filter(|&r| row_used[r]).map(|r| grid.index(r, mid)).collect();
         let core_eval = |v: &[f64], r: &mut [f64], jac: Option<(&mut [f64], &[usize])>| {
             let mut g = [0.0; 16];
             let nf = jac.as_ref().map_or(0, |(_, f)| f.len());
@@ -451,7 +538,7 @@ impl FittedInfluence {
         };
         let core_free = [0, 1, 2, 13];
         let mut best_core: Option<(f64, Vec<f64>, usize)> = None;
-        let dmin = dscaled.iter().copied().fold(f64::INFINITY, f64::min);
+        let dmin = used_pts.iter().map(|&i| dscaled[i]).fold(f64::INFINITY, f64::min);
         for a2 in [-2.0, -1.0, -0.5, -0.2] {
             let mut xt = vec![0.0; PARAMETER_COUNT];
             xt[0] = 0.5 * dmin;
@@ -477,14 +564,16 @@ impl FittedInfluence {
         x.copy_from_slice(&core);
 
         // Stage 1: all of ψ on the diagonal, edge terms from the excess at ζ = 0 and ζ = b₀.
-        let nr = grid.profile.len();
+        let rows: Vec<usize> = (0..grid.profile.len()).filter(|&r| row_used[r]).collect();
         let core_at = |i: usize| {
             let c = points[i];
             x[0] + x[1] * (x[2] * c.eta_star).exp() + x[13] * c.tau
         };
         let mean_excess = |col: usize| {
-            (0..nr).map(|r| dscaled[grid.index(r, col)] - core_at(grid.index(r, col))).sum::<f64>()
-                / nr as f64
+            rows.iter()
+                .map(|&r| dscaled[grid.index(r, col)] - core_at(grid.index(r, col)))
+                .sum::<f64>()
+                / rows.len() as f64
         };
         let decay = |edge: usize, next: usize| {
             let (e0, e1) = (mean_excess(edge), mean_excess(next));
@@ -507,25 +596,27 @@ impl FittedInfluence {
             let mut g = [0.0; 16];
             let nf = jac.as_ref().map_or(0, |(_, f)| f.len());
             let mut jac = jac;
-            for (i, c) in points.iter().enumerate() {
+            for (k, &i) in used_pts.iter().enumerate() {
+                let c = points[i];
                 let psi = psi_grad(v, c.eta_star, c.tau, c.zeta, b0, Some(&mut g));
-                r[i] = (psi - dscaled[i]) / dscaled[i];
+                r[k] = (psi - dscaled[i]) / dscaled[i];
                 if let Some((jm, free)) = jac.as_mut() {
                     for (col, &p) in free.iter().enumerate() {
-                        jm[i * nf + col] = g[p] / dscaled[i];
+                        jm[k * nf + col] = g[p] / dscaled[i];
                     }
                 }
             }
         };
         let psi_free: Vec<usize> = (0..16).collect();
-        let (it1, _, _) = solve_subset(&mut x, &psi_free, n, diag_eval, 300, options.cost_tol, 1)?;
+        let (it1, _, _) =
+            solve_subset(&mut x, &psi_free, used_pts.len(), diag_eval, 300, options.cost_tol, 1)?;
 
         // Selected pairs and the scaled data.
         let mut pairs = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
+        for &i in &used_pts {
+            for &j in &used_pts {
                 let k = i * n + j;
-                if i == j || k % options.pair_stride == 0 {
+                if options.pairs.selects(i, j, nc) && (i == j || k % options.pair_stride == 0) {
                     pairs.push((i, j));
                 }
             }
@@ -595,10 +686,8 @@ impl FittedInfluence {
             let a = pair_alpha(&x, problem.geom[k], psi_fit[i], psi_fit[j], None);
             e.push((a - problem.y[k]) / psi_fit[j]);
         }
-        let mean = e.iter().sum::<f64>() / m as f64;
-        let var = e.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / m as f64;
-        let max_abs = e.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        if !(var.is_finite() && max_abs.is_finite()) {
+        let stats = Deviation::of(&e);
+        if !(stats.std.is_finite() && stats.max_abs.is_finite()) {
             return Err(FitError::Input(
                 "fitted ψ is not positive at every grid point; the data do not follow Eqs. 5–8"
                     .into(),
@@ -611,9 +700,9 @@ impl FittedInfluence {
         };
         let fitted = Self { params, b0, alpha_ref, depth_h: grid.depth_h, neighbours };
         let report = FitReport {
-            sigma_e_rel: var.sqrt(),
-            mean_e_rel: mean,
-            max_abs_e_rel: max_abs,
+            sigma_e_rel: stats.std,
+            mean_e_rel: stats.mean,
+            max_abs_e_rel: stats.max_abs,
             fitted_values: m,
             stage_iterations: [it0, it1, it2, it3],
             cost,
@@ -631,6 +720,54 @@ impl FittedInfluence {
         depth_h: f64,
     ) -> Self {
         Self { params, b0, alpha_ref, depth_h, neighbours: None }
+    }
+
+    /// Builds a fitted influence from known constants (e.g. a cached fit) with the coupling to
+    /// neighbouring teeth interpolated from the neighbour blocks of `grid` (tooth offsets ≠ 0;
+    /// its tooth-0 block is not used). `b0` in units of m_n, `alpha_ref` in m/N; the depth h
+    /// is the grid's. Errors if the grid fails validation.
+    pub fn with_neighbours(
+        params: InfluenceParameters,
+        b0: f64,
+        alpha_ref: f64,
+        grid: InfluenceGrid,
+    ) -> Result<Self, InvalidGrid> {
+        let depth_h = grid.depth_h;
+        let neighbours = if grid.teeth.iter().any(|&t| t != 0) {
+            Some(InterpolatedInfluence::new(grid)?)
+        } else {
+            grid.validate().map_err(InvalidGrid)?;
+            None
+        };
+        Ok(Self { params, b0, alpha_ref, depth_h, neighbours })
+    }
+
+    /// e_rel of Eq. 9, (α − α*)/ψ(load) with α and ψ of this formula and α* of the tooth-0
+    /// block of `grid`, over the grid pairs (observation `i`, load `j`) for which
+    /// `select(i, j)` is true. Errors if the grid fails validation or has no tooth-0 block.
+    pub fn deviation(
+        &self,
+        grid: &InfluenceGrid,
+        select: impl Fn(usize, usize) -> bool,
+    ) -> Result<Deviation, InvalidGrid> {
+        grid.validate().map_err(InvalidGrid)?;
+        let t0 = grid
+            .teeth
+            .iter()
+            .position(|&t| t == 0)
+            .ok_or_else(|| InvalidGrid("no tooth-0 block".into()))?;
+        let n = grid.points();
+        let mut e = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                if select(i, j) {
+                    let (o, l) = (grid.coord(i), grid.coord(j));
+                    let a = self.alpha(o, l, 0);
+                    e.push((a - grid.value(t0, i, j)) / self.psi(l));
+                }
+            }
+        }
+        Ok(Deviation::of(&e))
     }
 
     /// Interpolant used for tooth offsets ≠ 0, if any.

@@ -34,6 +34,21 @@
 //! land (half thickness ≈ 0.3·m_n or more). The local part (Weber–Banaschek,
 //! [`super::hertz`]) must use the same h.
 //!
+//! # Loads between the nodes ([`axial_gauss_resample`])
+//! A unit force at a flank point between the nodes acts on the FE model through its
+//! consistent nodal forces N_k (the element's shape functions at that point), so its influence
+//! is Σ_k N_k·α*(·, k). Along ζ the grid columns are the node levels of quadratic elements
+//! (corner, mid-side, corner, …). Forces at nodes are the worst-represented loads of the
+//! model: with an element (2.5 mm axially for Table 1 at the default density) much longer than
+//! h, the point at depth h beneath the load lies in the loaded element and sees its
+//! discretised near field, so α* alternates between corner and mid-side load columns (±5 % of
+//! the diagonal for Table 1). A line load q(ζ), the load of Eq. 12, does not see this: for q
+//! linear in each element its consistent response Σ_k α*(·, k)·∫N_k q is integrated exactly by
+//! the two-point Gauss rule of each element, whose abscissae ζ_g carry the kernel values
+//! Σ_k N_k(ζ_g)·α*(·, k). [`axial_gauss_resample`] samples loads (and, with the same
+//! interpolation, observations) there; the result is smooth in ζ and is what the fitted
+//! formula is fitted to ([`super::data`]).
+//!
 //! # Grid coordinates
 //! Rows are the flank grid's profile rows, tip → root: η* = (x_ref − x)/m_n with x the
 //! row's coordinate along the tooth centre line and x_ref = `eta_reference_x`; τ =
@@ -257,4 +272,82 @@ pub fn fe_influence(
     };
     grid.validate().map_err(FeError::InvalidInput)?;
     Ok(FeInfluence { grid, surface, stats: model.stats(), mesh_s, observe_s })
+}
+
+/// The influence grid resampled along ζ at the two Gauss abscissae of every axial element
+/// (see the module docs): for each element with node columns (a, m, b) (corner, mid-side,
+/// corner) the new columns are ζ_g = ζ_m ± (ζ_b − ζ_a)/(2√3), and
+///
+/// α̃(i_g, j_g) = Σ_a Σ_b N_a(ξ_i)·N_b(ξ_j)·α*(a, b)
+///
+/// with the quadratic Lagrange shape functions N of the element's three node levels, for the
+/// observation column (i) and the load column (j) of every block (rows and teeth unchanged).
+/// The load side is the FE response to a unit force at ζ_g applied through its consistent
+/// nodal forces; the observation side interpolates the (smooth) depth-h displacements with
+/// the same functions. The new columns lie strictly inside (0, b₀).
+///
+/// Errors: fewer than 3 or an even number of columns, or mid-side columns not midway between
+/// their corner columns (relative tolerance 1e-9): the grid is then not from quadratic
+/// elements.
+pub fn axial_gauss_resample(grid: &InfluenceGrid) -> Result<InfluenceGrid, FeError> {
+    grid.validate().map_err(FeError::InvalidInput)?;
+    let nc = grid.zeta.len();
+    if nc < 3 || nc % 2 == 0 {
+        return Err(FeError::InvalidInput(format!(
+            "axial Gauss resampling needs an odd number (≥ 3) of node columns, grid has {nc}"
+        )));
+    }
+    let elements = (nc - 1) / 2;
+    let g = 1.0 / 3f64.sqrt();
+    let mut zeta = Vec::with_capacity(2 * elements);
+    let mut weights: Vec<[(usize, f64); 3]> = Vec::with_capacity(2 * elements);
+    for e in 0..elements {
+        let (a, m, b) = (2 * e, 2 * e + 1, 2 * e + 2);
+        let (za, zm, zb) = (grid.zeta[a], grid.zeta[m], grid.zeta[b]);
+        if ((za + zb) / 2.0 - zm).abs() > 1e-9 * (zb - za) {
+            return Err(FeError::InvalidInput(format!(
+                "column {m} (ζ = {zm}) is not midway between columns {a} (ζ = {za}) and {b} \
+                 (ζ = {zb}): not the node levels of quadratic elements"
+            )));
+        }
+        for xi in [-g, g] {
+            zeta.push(zm + xi * (zb - za) / 2.0);
+            weights.push([
+                (a, 0.5 * xi * (xi - 1.0)),
+                (m, 1.0 - xi * xi),
+                (b, 0.5 * xi * (xi + 1.0)),
+            ]);
+        }
+    }
+    let nr = grid.profile.len();
+    let ng = zeta.len();
+    let n = grid.points();
+    let m = nr * ng;
+    let alpha = grid
+        .alpha
+        .iter()
+        .map(|block| {
+            let mut out = vec![0.0; m * m];
+            for ri in 0..nr {
+                for (ci, wi) in weights.iter().enumerate() {
+                    for rj in 0..nr {
+                        for (cj, wj) in weights.iter().enumerate() {
+                            let mut s = 0.0;
+                            for &(a, wa) in wi {
+                                let base = (ri * nc + a) * n + rj * nc;
+                                for &(b, wb) in wj {
+                                    s += wa * wb * block[base + b];
+                                }
+                            }
+                            out[(ri * ng + ci) * m + rj * ng + cj] = s;
+                        }
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    let out = InfluenceGrid { zeta, alpha, ..grid.clone() };
+    out.validate().map_err(FeError::InvalidInput)?;
+    Ok(out)
 }

@@ -19,13 +19,20 @@
 //! observation point) − (tooth of the load point) in the gear's own tooth numbering
 //! (counter-clockwise, see [`crate::geometry`]); for the pinion the tooth of contact pair j is j,
 //! for the gear it is −j.
+//!
+//! ## Data and stiffness
+//! [`data::ComplianceData`] holds both gears' FE grids, the fitted constants and their
+//! provenance (embedded for Table 1, disk cache, or computed); [`stiffness::pair_stiffness`]
+//! reduces them to the tooth-pair stiffness c′ at the pitch point (ISO 6336-1 convention).
 
+pub mod data;
 pub mod fe;
 pub mod fitted;
 pub mod hertz;
 pub mod influence_fe;
 pub mod interpolated;
 pub mod lm;
+pub mod stiffness;
 
 use serde::{Deserialize, Serialize};
 

@@ -24,12 +24,13 @@ pub mod table;
 use std::fmt;
 use std::sync::Arc;
 
+use crate::compliance::data::{CacheOptions, ComplianceData};
 use crate::compliance::fe::gear_mesh::GearMeshDensity;
 use crate::compliance::fitted::FittedInfluence;
 use crate::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence};
 use crate::compliance::interpolated::InterpolatedInfluence;
 use crate::error::ParamError;
-use crate::geometry::PairGeometry;
+use crate::geometry::{Member, PairGeometry};
 use crate::load::LoadError;
 use crate::params::GearPair;
 
@@ -226,11 +227,54 @@ pub trait MeshTorques {
 
 impl MeshModel {
     /// Builds the model of `pair` with `options`: validates the pair and the options, obtains
-    /// the FE compliance of both gears (see [`compute_compliance`]) and, for
+    /// the FE compliance of both gears ([`ComplianceData::for_pair`] with the default
+    /// [`CacheOptions`]: the embedded Table 1 data when the compliance parameters match, else a
+    /// disk cache under `HELICAL_GEAR_CACHE_DIR`, else a fresh FE run of a few seconds) and, for
     /// [`Fidelity::Table`], builds the table.
     pub fn new(pair: &GearPair, options: MeshOptions) -> Result<Self, MeshError> {
+        Self::with_cache(pair, options, &CacheOptions::default())
+    }
+
+    /// [`MeshModel::new`] with explicit cache settings (e.g. progress on stderr).
+    pub fn with_cache(
+        pair: &GearPair,
+        options: MeshOptions,
+        cache: &CacheOptions,
+    ) -> Result<Self, MeshError> {
         PairGeometry::new(pair)?;
-        let (p, g) = compute_compliance(pair, &GearMeshDensity::default(), options.compliance)?;
+        let data = ComplianceData::for_pair(pair, cache)
+            .map_err(|e| MeshError::Compliance(e.to_string()))?;
+        Self::from_data(pair, options, &data)
+    }
+
+    /// Builds the model from compliance data of this pair in the representation chosen by
+    /// [`MeshOptions::compliance`].
+    pub fn from_data(
+        pair: &GearPair,
+        options: MeshOptions,
+        data: &ComplianceData,
+    ) -> Result<Self, MeshError> {
+        if !data.matches(pair) {
+            return Err(MeshError::Compliance(
+                "the compliance data belong to another gear pair".into(),
+            ));
+        }
+        let err =
+            |e: crate::compliance::data::ComplianceError| MeshError::Compliance(e.to_string());
+        let (p, g) = match options.compliance {
+            ComplianceModel::Interpolated => (
+                GearCompliance::Interpolated(Arc::new(
+                    data.interpolated(Member::Pinion).map_err(err)?,
+                )),
+                GearCompliance::Interpolated(Arc::new(
+                    data.interpolated(Member::Gear).map_err(err)?,
+                )),
+            ),
+            ComplianceModel::Fitted => (
+                GearCompliance::Fitted(Arc::new(data.fitted(Member::Pinion).map_err(err)?)),
+                GearCompliance::Fitted(Arc::new(data.fitted(Member::Gear).map_err(err)?)),
+            ),
+        };
         Self::with_compliance(pair, options, p, g)
     }
 }
