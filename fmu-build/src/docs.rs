@@ -128,8 +128,12 @@ serialised. Error messages are always logged; debug categories when debug loggin
 <ul>
 {cats}</ul>
 <h2>Resources</h2>
-<p>The model needs no file at run time: the compliance data of the default gear pair is compiled
-into the binary. <code>resources/</code> holds a copy of that data for reference.</p>
+<p><code>resources/compliance_table1.json</code>: the finite-element compliance data of the
+default (Table 1) gear pair with its provenance (mesh density, depth h, E, &nu;, code version).
+The same data is compiled into the binary, so the FMU never reads <code>resources/</code>. For other
+gear data <code>fmi2ExitInitializationMode</code> runs the finite-element model (a few seconds);
+the result is cached on disk only when the environment variable
+<code>HELICAL_GEAR_CACHE_DIR</code> names a directory.</p>
 <h2>Variables ({n} in all, {params} parameters)</h2>
 <table>
 <tr><th>name</th><th>vr</th><th>kind</th><th>unit (display)</th><th>start</th><th>description</th></tr>

@@ -41,7 +41,21 @@ pub fn generated_files() -> Result<Vec<(&'static str, String)>, String> {
     ])
 }
 
-/// Resource files of the FMU: name inside `resources/` and contents.
-pub fn resources() -> Vec<(String, Vec<u8>)> {
-    Vec::new()
+/// Files of the repository's `resources/` that go into the FMU's `resources/`.
+pub const RESOURCE_FILES: &[&str] = &["compliance_table1.json"];
+
+/// Resource files of the FMU: name inside `resources/` and contents. The compliance data of
+/// the default gear pair is the same checked-in file that the library compiles in; the FMU
+/// carries it for reference (provenance, inspection) and never reads it at run time.
+pub fn resources() -> Result<Vec<(String, Vec<u8>)>, String> {
+    let dir = workspace_root().join("resources");
+    RESOURCE_FILES
+        .iter()
+        .map(|name| {
+            let p = dir.join(name);
+            std::fs::read(&p)
+                .map(|b| (name.to_string(), b))
+                .map_err(|e| format!("reading {}: {e}", p.display()))
+        })
+        .collect()
 }

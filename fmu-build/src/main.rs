@@ -42,7 +42,7 @@ fn build_and_pack() -> Result<PathBuf, String> {
         std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
     let (_, lib_name, _) = pack::platform()?;
     let out = target.join("fmu").join("HelicalGearMesh.fmu");
-    pack::pack(&target.join("release").join(lib_name), resources(), &out)?;
+    pack::pack(&target.join("release").join(lib_name), resources()?, &out)?;
     Ok(out)
 }
 

@@ -4,7 +4,8 @@
 //! modelDescription.xml
 //! binaries/<platform>/HelicalGearMesh.<so|dylib|dll>   the cdylib, renamed to the model identifier
 //! documentation/index.html                             variables and conventions
-//! resources/                                           reference data (not read at run time)
+//! resources/compliance_table1.json                    compliance data of the default pair
+//!                                                      (also compiled in; not read at run time)
 //! ```
 
 use std::io::Write;
@@ -66,7 +67,6 @@ pub fn pack(binary: &Path, resources: Vec<(String, Vec<u8>)>, out: &Path) -> Res
     let z = |e: zip::result::ZipError| format!("writing {}: {e}", out.display());
     let mut all = entries(resources);
     all.push(Entry { path: format!("binaries/{dir}/{MODEL_IDENTIFIER}.{ext}"), bytes: bin });
-    zip.add_directory("resources/", opts).map_err(z)?;
     for e in all {
         zip.start_file(e.path.as_str(), opts.unix_permissions(0o644)).map_err(z)?;
         zip.write_all(&e.bytes).map_err(|err| format!("writing {}: {err}", out.display()))?;

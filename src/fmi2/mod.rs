@@ -27,9 +27,11 @@
 //! tunable. Errors are always passed to the logger, with `%` escaped; debug categories
 //! (`logModel`, `logCalls`, …) only when debug logging is on.
 //!
-//! Resources: the model needs no file at run time (the compliance data of the default gear
-//! pair is compiled into the library); the decoded `resources/` path is only reported in the
-//! `logModel` category.
+//! Resources: the model needs no file at run time. The compliance data of the default gear
+//! pair is compiled into the library (the FMU's `resources/compliance_table1.json` is a copy
+//! for reference); other gear data run the FE at `fmi2ExitInitializationMode` and are cached on
+//! disk only when `HELICAL_GEAR_CACHE_DIR` is set (see [`crate::compliance::data`]). The decoded
+//! `resources/` path is only reported in the `logModel` category.
 
 mod instance;
 
