@@ -30,6 +30,7 @@ def test_packed_model_description_is_the_checked_in_one(fmu_path):
     assert packed == (ROOT / "modelDescription" / "modelDescription.xml").read_text()
     assert "binaries/linux64/HelicalGearMesh.so" in names
     assert "documentation/index.html" in names
+    assert "resources/compliance_table1.json" in names
 
 
 def test_outputs_are_direct_feedthrough(fmu):
