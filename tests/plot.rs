@@ -8,7 +8,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use helical_gear_mesh::plot::{LineChart, PlotError, Series, SeriesStyle, line_chart, write_csv};
+use helical_gear_mesh::plot::{
+    Heatmap, LineChart, PlotError, Series, SeriesStyle, Waterfall, heatmap, line_chart, waterfall,
+    write_csv,
+};
 
 /// A fresh file name in the temp directory, unique per process and call.
 fn temp_file(name: &str) -> PathBuf {
@@ -58,6 +61,34 @@ fn draw_line_chart(name: &str, c: &LineChart, size: (u32, u32)) -> Vec<u8> {
     let bytes = std::fs::read(&path).unwrap();
     done(&path);
     bytes
+}
+
+/// Synthetic Fig. 7-like data: Hertzian pressure ellipses (MPa) along ζ moving with φp.
+fn pressure_curves() -> Vec<(f64, Vec<(f64, f64)>)> {
+    (0..25)
+        .map(|k| {
+            let phi = 0.01 * k as f64;
+            let centre = 2.0 + 40.0 * phi;
+            let points = (0..=120)
+                .map(|i| {
+                    let zeta = 0.1 * i as f64;
+                    let u = (zeta - centre) / 3.0;
+                    (zeta, 900.0 * (1.0 - u * u).max(0.0).sqrt())
+                })
+                .collect();
+            (phi, points)
+        })
+        .collect()
+}
+
+fn pressure_waterfall() -> Waterfall {
+    Waterfall {
+        title: "Contact pressure".into(),
+        x_label: "ζ = z/m_n".into(),
+        y_label: "φp (rad)".into(),
+        z_label: "contact pressure (MPa)".into(),
+        curves: pressure_curves(),
+    }
 }
 
 #[test]
@@ -232,6 +263,81 @@ fn invalid_requests_are_errors_naming_the_file() {
     let e = line_chart(&missing, &c, (300, 200)).expect_err("missing directory");
     assert!(matches!(e, PlotError::Draw { .. }), "{e:?}");
     expect_err(&missing, Err(e));
+    expect_err(&missing, waterfall(&missing, &pressure_waterfall(), (300, 200)));
+    expect_err(&missing, heatmap(&missing, &Heatmap::from(&pressure_waterfall()), (300, 200)));
+
+    let bad_z = Heatmap { z_range: Some((f64::INFINITY, 0.0)), ..Heatmap::default() };
+    expect_err(&path, heatmap(&path, &bad_z, (300, 200)));
+}
+
+#[test]
+fn waterfall_writes_a_png_of_the_requested_size() {
+    let path = temp_file("waterfall.png");
+    waterfall(&path, &pressure_waterfall(), (900, 700)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(png_size(&path), (900, 700));
+    done(&path);
+}
+
+#[test]
+fn waterfall_survives_bad_and_empty_data() {
+    let mut w = pressure_waterfall();
+    w.curves[3].1[10].1 = f64::NAN;
+    w.curves[4].1[0].0 = f64::INFINITY;
+    w.curves[5].0 = f64::NAN;
+    w.curves[6].1.clear();
+    w.curves.push((0.5, vec![(f64::NAN, f64::NAN)]));
+    let empty = Waterfall { curves: vec![], ..pressure_waterfall() };
+    let flat =
+        Waterfall { curves: vec![(0.0, vec![(0.0, 0.0), (1.0, 0.0)])], ..Waterfall::default() };
+    let single =
+        Waterfall { curves: vec![(0.3, vec![(0.0, -1.0), (1.0, 2.0)])], ..Waterfall::default() };
+    let extreme = Waterfall {
+        curves: vec![
+            (0.0, vec![(-f64::MAX, f64::MAX), (f64::MAX, 1.0), (0.0, -f64::MAX)]),
+            (f64::MAX, vec![(0.0, 1.0), (1.0, 2.0)]),
+            (-f64::MAX, vec![(5e-324, 1.0)]),
+        ],
+        ..Waterfall::default()
+    };
+    let cases =
+        [("bad", w), ("empty", empty), ("flat", flat), ("single", single), ("extreme", extreme)];
+    for (name, w) in cases {
+        let path = temp_file(&format!("waterfall-{name}.png"));
+        waterfall(&path, &w, (400, 300)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(png_size(&path), (400, 300));
+        done(&path);
+    }
+}
+
+#[test]
+fn heatmap_writes_a_png_of_the_requested_size() {
+    let path = temp_file("heatmap.png");
+    let map = Heatmap::from(&pressure_waterfall());
+    heatmap(&path, &map, (900, 600)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(png_size(&path), (900, 600));
+    done(&path);
+
+    let mut bad = Heatmap { z_range: Some((0.0, 500.0)), ..map };
+    bad.rows[2].1[5].1 = f64::NAN;
+    bad.rows[3].0 = f64::INFINITY;
+    bad.rows.push((0.4, vec![(1.0, f64::NEG_INFINITY), (f64::NAN, 1.0)]));
+    let empty = Heatmap::default();
+    let constant =
+        Heatmap { rows: vec![(1.0, vec![(0.0, 7.0), (1.0, 7.0)])], ..Heatmap::default() };
+    let extreme = Heatmap {
+        rows: vec![
+            (-f64::MAX, vec![(-f64::MAX, 1.0), (f64::MAX, 2.0), (0.0, f64::MAX)]),
+            (f64::MAX, vec![(0.0, -f64::MAX), (5e-324, 0.0)]),
+        ],
+        ..Heatmap::default()
+    };
+    let cases = [("bad", bad), ("empty", empty), ("constant", constant), ("extreme", extreme)];
+    for (name, map) in cases {
+        let path = temp_file(&format!("heatmap-{name}.png"));
+        heatmap(&path, &map, (400, 300)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(png_size(&path), (400, 300));
+        done(&path);
+    }
 }
 
 #[test]

@@ -2,6 +2,8 @@
 //!
 //! * [`line_chart`]: x–y line/point charts with a legend, linear or logarithmic axes
 //!   (work-precision diagrams: error against time on log–log axes);
+//! * [`waterfall`]: the paper's Fig. 7 / 11–13 style pseudo-3D stack of curves (e.g. contact
+//!   pressure along ζ for successive φp), and [`heatmap`], the same data as a colour map;
 //! * [`write_csv`]: the numbers behind a figure, at full precision.
 //!
 //! Rendering uses `plotters` with its bitmap backend and pure-Rust `ab_glyph` text, so neither
@@ -16,10 +18,14 @@
 //! axes. Every failure is a [`PlotError`] naming the file and what failed.
 
 mod csv;
+mod heatmap;
 mod line;
+mod waterfall;
 
 pub use csv::write_csv;
+pub use heatmap::{Heatmap, heatmap};
 pub use line::{LineChart, Series, SeriesStyle, line_chart};
+pub use waterfall::{Waterfall, waterfall};
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -304,6 +310,15 @@ impl Clip {
         (self.x.0..=self.x.1).contains(&x) && (self.y.0..=self.y.1).contains(&y)
     }
 
+    /// Usable point `p` moved to the nearest point of the box (and within ±10³⁰⁰).
+    pub fn clamp(&self, p: (f64, f64)) -> (f64, f64) {
+        if self.contains(p) {
+            return p;
+        }
+        let (x, y) = self.axis_point(p);
+        self.data_point((x.clamp(self.x.0, self.x.1), y.clamp(self.y.0, self.y.1)))
+    }
+
     /// The parts of the polyline through the usable points `run` that lie in the box (each
     /// segment clipped edge by edge); a single point is kept if inside.
     pub fn polyline(&self, run: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
@@ -496,10 +511,13 @@ mod tests {
         assert_eq!(across, vec![vec![(-10.0, 0.5), (11.0, 0.5)]]);
         assert!(clip.polyline(&[(-1e9, 50.0), (1e9, 50.0)]).is_empty());
         assert!(clip.polyline(&[(1e9, 0.0)]).is_empty());
+        assert_eq!(clip.clamp((1e200, -3.0)), (11.0, -3.0));
+        assert_eq!(clip.clamp((0.5, 0.5)), (0.5, 0.5));
         // Ranges near the limits of f64: nothing beyond ±1e300 comes out.
         let clip = Clip::new((-1e300, 1e300), (-1.0, 1.0), false, false);
         let pieces = clip.polyline(&[(-f64::MAX, 0.0), (f64::MAX, 0.0)]);
         assert_eq!(pieces, vec![vec![(-1e300, 0.0), (1e300, 0.0)]]);
+        assert_eq!(clip.clamp((f64::MAX, 0.0)), (1e300, 0.0));
         // Log axis: the box is 10 decades beyond each end of 1..10.
         let clip = Clip::new((1.0, 10.0), (10.0, 1.0), true, true);
         assert!(clip.contains((1e-9, 1e11)) && !clip.contains((1e-11, 1.0)));
