@@ -28,6 +28,7 @@ pub mod geometry;
 pub mod load;
 pub mod mesh;
 pub mod params;
+pub mod plot;
 
 pub use error::ParamError;
 pub use geometry::PairGeometry;
