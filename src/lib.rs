@@ -27,6 +27,7 @@ pub mod error;
 pub mod geometry;
 pub mod load;
 pub mod mesh;
+pub mod paper;
 pub mod params;
 pub mod plot;
 

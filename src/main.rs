@@ -8,6 +8,8 @@ use std::process::ExitCode;
 
 #[path = "cli/dynamics.rs"]
 mod dynamics_cmd;
+#[path = "cli/paper.rs"]
+mod paper_cmd;
 
 use clap::{Args, Parser, Subcommand};
 use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData};
@@ -101,6 +103,9 @@ enum Command {
     /// Steady-state TE_max/STE_max over a range of pinion speeds, separation flags and the
     /// located resonances.
     Sweep(dynamics_cmd::SweepArgs),
+    /// The paper run: static TE and Fig. 7, the speed sweeps of Fig. 9, Figs. 10–13, the
+    /// resonances, separation, tip contact and a sensitivity study, into `--out DIR`.
+    Paper(paper_cmd::PaperArgs),
 }
 
 /// FE mesh density presets of `compliance --density`.
@@ -568,6 +573,7 @@ fn main() -> ExitCode {
         Command::Compliance { common, write_cache, density } => {
             compliance_cmd(common, write_cache.as_deref(), *density)
         }
+        Command::Paper(args) => paper_cmd::paper_cmd(args),
         Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
             Ok(s) => {
                 println!("{s}");
