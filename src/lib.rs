@@ -29,7 +29,9 @@ pub mod fmi2;
 pub mod geometry;
 pub mod load;
 pub mod mesh;
+pub mod paper;
 pub mod params;
+pub mod plot;
 
 pub use error::ParamError;
 pub use geometry::PairGeometry;

@@ -8,6 +8,8 @@ use std::process::ExitCode;
 
 #[path = "cli/dynamics.rs"]
 mod dynamics_cmd;
+#[path = "cli/paper.rs"]
+mod paper_cmd;
 
 use clap::{Args, Parser, Subcommand};
 use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData};
@@ -15,6 +17,7 @@ use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
 use helical_gear_mesh::mesh::{MeshModel, MeshOptions, pressure_waterfall, static_curve};
+use helical_gear_mesh::plot;
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde_json::json;
 
@@ -90,7 +93,7 @@ enum Command {
         /// Total slices over the simultaneous contact lines (the paper's 200).
         #[arg(long, default_value_t = 200)]
         slices: usize,
-        /// Write the STE curve and the pressure waterfall (Fig. 7) as CSV (and PNG) into DIR.
+        /// Write the STE curve and the pressure waterfall (Fig. 7) as CSV and PNG into DIR.
         #[arg(long, value_name = "DIR")]
         plot: Option<std::path::PathBuf>,
     },
@@ -100,6 +103,9 @@ enum Command {
     /// Steady-state TE_max/STE_max over a range of pinion speeds, separation flags and the
     /// located resonances.
     Sweep(dynamics_cmd::SweepArgs),
+    /// The paper run: static TE and Fig. 7, the speed sweeps of Fig. 9, Figs. 10–13, the
+    /// resonances, separation, tip contact and a sensitivity study, into `--out DIR`.
+    Paper(paper_cmd::PaperArgs),
 }
 
 /// FE mesh density presets of `compliance --density`.
@@ -497,7 +503,7 @@ fn static_cmd(
 }
 
 /// The STE curve and the Fig. 7 waterfall (20 rows per pitch over the whole engagement of
-/// tooth pair 0) as CSV files in `dir`.
+/// tooth pair 0) as CSV and PNG files in `dir`.
 fn write_static_files(
     dir: &std::path::Path,
     model: &mut MeshModel,
@@ -523,6 +529,32 @@ fn write_static_files(
         }
     }
     std::fs::write(dir.join("waterfall_static.csv"), csv).map_err(io)?;
+    let png = |e: helical_gear_mesh::plot::PlotError| e.to_string();
+    let chart = plot::LineChart {
+        title: format!("Static transmission error, M = {torque} N·m"),
+        x_label: "pinion angle φp (rad)".into(),
+        y_label: "STE (µm)".into(),
+        series: vec![plot::Series {
+            name: "STE".into(),
+            points: curve.points.iter().map(|e| (e.phi_p, e.te * 1e6)).collect(),
+            style: plot::SeriesStyle::LinePoints,
+        }],
+        ..plot::LineChart::default()
+    };
+    plot::line_chart(&dir.join("static_te.png"), &chart, (1000, 600)).map_err(png)?;
+    let w = plot::Waterfall {
+        title: format!("Static contact pressure of tooth pair 0 (Fig. 7), M = {torque} N·m"),
+        x_label: "ζ = z/m_n".into(),
+        y_label: "φp (rad)".into(),
+        z_label: "contact pressure (MPa)".into(),
+        curves: rows
+            .iter()
+            .map(|r| {
+                (r.phi_p, r.zeta.iter().zip(&r.pressure).map(|(&z, &p)| (z, p * 1e-6)).collect())
+            })
+            .collect(),
+    };
+    plot::waterfall(&dir.join("waterfall_static.png"), &w, (1000, 800)).map_err(png)?;
     Ok(())
 }
 
@@ -541,6 +573,7 @@ fn main() -> ExitCode {
         Command::Compliance { common, write_cache, density } => {
             compliance_cmd(common, write_cache.as_deref(), *density)
         }
+        Command::Paper(args) => paper_cmd::paper_cmd(args),
         Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
             Ok(s) => {
                 println!("{s}");

@@ -241,3 +241,41 @@ fn compliance_reads_the_cache_dir_from_the_environment() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn paper_quick_writes_the_summary_with_the_contract_keys() {
+    let dir = std::env::temp_dir().join(format!("helical-gear-paper-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let (ok, stdout, stderr) = run(&["paper", "--out", d, "--quick", "--json"]);
+    assert!(ok, "stderr: {stderr}");
+    assert!(stderr.contains("paper: static"), "stage progress on stderr: {stderr}");
+    let from_stdout: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["ste_max_um"], from_stdout["ste_max_um"]);
+    for key in [
+        "ste_max_um",
+        "omega_crit_rad_s",
+        "omega_crit_2_rad_s",
+        "omega_crit_3_rad_s",
+        "separation_d100_rad_s",
+        "separation_d200_rad_s",
+        "tip_rounding_contact_570",
+        "runtime_s",
+        "stages",
+        "assumptions",
+        "sensitivity",
+    ] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    let ste = v["ste_max_um"].as_f64().unwrap();
+    assert!(ste.is_finite() && (20.0..45.0).contains(&ste), "STE max {ste} µm");
+    let w = v["omega_crit_rad_s"].as_f64().unwrap();
+    assert!(w.is_finite() && (300.0..900.0).contains(&w), "ω_crit {w} rad/s");
+    assert!(v["tip_rounding_contact_570"].is_boolean());
+    assert!(v["runtime_s"].as_f64().unwrap() > 0.0);
+    for f in ["summary.md", "static_te.csv", "waterfall_static.csv", "sweep.csv", "fig10_te.csv"] {
+        assert!(dir.join(f).is_file(), "missing {f}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
