@@ -21,7 +21,7 @@
 //!    and with the other reading of d_mesh ([`DampingReading`]).
 //!
 //! Every figure's data goes through one function per figure (`figure_*`), which writes the CSV
-//! file; that is where a PNG rendering of the same data belongs.
+//! file and draws the same data as PNG (axes with units, legends) with [`crate::plot`].
 
 use std::path::Path;
 use std::time::Instant;
@@ -40,6 +40,7 @@ use crate::geometry::Member;
 use crate::mesh::{
     Fidelity, GearCompliance, MeshModel, MeshOptions, MeshState, pressure_waterfall, static_curve,
 };
+use crate::plot;
 
 /// The paper's values (Andersson & Vedmar 2003) that the run is compared with.
 pub mod reference {
@@ -761,8 +762,34 @@ struct DynRow {
     kind: &'static str,
 }
 
-// ---- Figures: one function per figure; each writes the figure's data as CSV (a PNG
-// rendering of the same data belongs here too).
+// ---- Figures: one function per figure; each writes the figure's data as CSV and draws it as
+// PNG with the `plot` module.
+
+fn png_err(e: crate::plot::PlotError) -> String {
+    e.to_string()
+}
+
+/// A line chart of named series into `dir/file`.
+fn line_png(
+    dir: &Path,
+    file: &str,
+    title: String,
+    x_label: &str,
+    y_label: &str,
+    series: Vec<(String, Vec<(f64, f64)>)>,
+) -> Result<(), String> {
+    let chart = plot::LineChart {
+        title,
+        x_label: x_label.into(),
+        y_label: y_label.into(),
+        series: series
+            .into_iter()
+            .map(|(name, points)| plot::Series { name, points, style: plot::SeriesStyle::Line })
+            .collect(),
+        ..plot::LineChart::default()
+    };
+    plot::line_chart(&dir.join(file), &chart, (1000, 600)).map_err(png_err)
+}
 
 /// Static TE over one pitch (Fig. 6 analogue): `static_te.csv`.
 fn figure_static_te(dir: &Path, curve: &crate::mesh::StaticCurve) -> Result<(), String> {
@@ -777,7 +804,15 @@ fn figure_static_te(dir: &Path, curve: &crate::mesh::StaticCurve) -> Result<(), 
             e.outputs.tip_contact as u8
         ));
     }
-    write_text(&dir.join("static_te.csv"), &csv)
+    write_text(&dir.join("static_te.csv"), &csv)?;
+    line_png(
+        dir,
+        "static_te.png",
+        format!("Static transmission error, M = {} N·m", curve.torque),
+        "pinion angle φp (rad)",
+        "STE (µm)",
+        vec![("STE".into(), curve.points.iter().map(|e| (e.phi_p, e.te * 1e6)).collect())],
+    )
 }
 
 /// Static pressure waterfall of tooth pair 0 (Fig. 7): `waterfall_static.csv`.
@@ -795,7 +830,20 @@ fn figure_7(dir: &Path, rows: &[crate::mesh::WaterfallRow]) -> Result<(), String
             ));
         }
     }
-    write_text(&dir.join("waterfall_static.csv"), &csv)
+    write_text(&dir.join("waterfall_static.csv"), &csv)?;
+    let w = plot::Waterfall {
+        title: "Static contact pressure of tooth pair 0 (Fig. 7)".into(),
+        x_label: "ζ = z/m_n".into(),
+        y_label: "φp (rad)".into(),
+        z_label: "contact pressure (MPa)".into(),
+        curves: rows
+            .iter()
+            .map(|r| {
+                (r.phi_p, r.zeta.iter().zip(&r.pressure).map(|(&z, &p)| (z, p * 1e-6)).collect())
+            })
+            .collect(),
+    };
+    plot::waterfall(&dir.join("waterfall_static.png"), &w, (1000, 800)).map_err(png_err)
 }
 
 /// TE_max/STE_max over the speed for the two dampings (Fig. 9): `sweep.csv`.
@@ -826,7 +874,24 @@ fn figure_9_named(dir: &Path, name: &str, sweeps: &[&SweepSummary]) -> Result<()
             ));
         }
     }
-    write_text(&dir.join(name), &csv)
+    write_text(&dir.join(name), &csv)?;
+    let series = sweeps
+        .iter()
+        .map(|s| {
+            let mut pts: Vec<(f64, f64)> =
+                s.rows.iter().map(|r| (r.omega_p_rad_s, r.te_max_over_ste_max)).collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            (format!("d_mesh = {} N·s/m", s.d_mesh_n_s_per_m), pts)
+        })
+        .collect();
+    line_png(
+        dir,
+        &name.replace(".csv", ".png"),
+        "Maximum dynamic TE over maximum static TE (Fig. 9)".into(),
+        "pinion speed ω_p (rad/s)",
+        "TE_max / STE_max",
+        series,
+    )
 }
 
 /// TE over three mesh periods at the 2nd and 3rd resonance (Fig. 10): `fig10_te.csv`.
@@ -837,7 +902,25 @@ fn figure_10(dir: &Path, runs: &[TeRun], ste_max: f64) -> Result<(), String> {
             csv.push_str(&format!("{name},{w:e},{t:e},{:e},{:e}\n", x * 1e6, x / ste_max));
         }
     }
-    write_text(&dir.join("fig10_te.csv"), &csv)
+    write_text(&dir.join("fig10_te.csv"), &csv)?;
+    let series = runs
+        .iter()
+        .map(|(name, w, te)| {
+            let t0 = te.first().map_or(0.0, |p| p.0);
+            (
+                format!("{name}, ω_p = {w:.0} rad/s"),
+                te.iter().map(|(t, x)| ((t - t0) * 1e3, x / ste_max)).collect(),
+            )
+        })
+        .collect();
+    line_png(
+        dir,
+        "fig10_te.png",
+        "TE over three mesh periods at the 2nd and 3rd resonance (Fig. 10)".into(),
+        "time from the window start (ms)",
+        "TE / STE_max",
+        series,
+    )
 }
 
 /// Dynamic pressure waterfall at one speed (Figs. 11–13): `file`.
@@ -856,7 +939,36 @@ fn figure_11_13(
             r.t, r.phi_p, r.pair, r.zeta, r.pressure, r.kind
         ));
     }
-    write_text(&dir.join(file), &csv)
+    write_text(&dir.join(file), &csv)?;
+    // One curve per instant: pressure along ζ of the loaded slices (MPa).
+    let mut curves: Vec<(f64, Vec<(f64, f64)>)> = Vec::new();
+    for r in rows {
+        match curves.last_mut() {
+            Some((t, pts)) if *t == r.t => pts.push((r.zeta, r.pressure * 1e-6)),
+            _ => curves.push((r.t, vec![(r.zeta, r.pressure * 1e-6)])),
+        }
+    }
+    let t0 = curves.first().map_or(0.0, |c| c.0);
+    for c in &mut curves {
+        c.0 = (c.0 - t0) * 1e3;
+        c.1.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // Several pairs at one ζ: draw the largest pressure.
+        c.1.dedup_by(|b, a| {
+            let same = a.0 == b.0;
+            if same {
+                a.1 = a.1.max(b.1);
+            }
+            same
+        });
+    }
+    let w = plot::Waterfall {
+        title: format!("Contact pressure at ω_p = {omega_p:.0} rad/s ({label})"),
+        x_label: "ζ = z/m_n".into(),
+        y_label: "time (ms)".into(),
+        z_label: "contact pressure (MPa)".into(),
+        curves,
+    };
+    plot::waterfall(&dir.join(file.replace(".csv", ".png")), &w, (1000, 800)).map_err(png_err)
 }
 
 fn opt_w(w: Option<f64>) -> String {

@@ -194,16 +194,33 @@ impl InterpolatedInfluence {
     /// contracted once per observation point. Equal to it up to rounding.
     pub fn matrix(&self, obs: &[FlankCoord], load: &[FlankCoord], tooth_offset: i32) -> Vec<f64> {
         let mut out = vec![0.0; obs.len() * load.len()];
+        let mut ws = MatrixWorkspace::default();
+        self.add_matrix(obs, load, tooth_offset, &mut ws, |i, j, v| out[i * load.len() + j] = v);
+        out
+    }
+
+    /// Like [`InterpolatedInfluence::matrix`], but hands each value to `put(i, j, α*)` and keeps
+    /// its scratch memory in `ws`, so repeated calls of at most the same sizes do not allocate.
+    pub fn add_matrix(
+        &self,
+        obs: &[FlankCoord],
+        load: &[FlankCoord],
+        tooth_offset: i32,
+        ws: &mut MatrixWorkspace,
+        mut put: impl FnMut(usize, usize, f64),
+    ) {
         let Some(block) = self.block(tooth_offset) else {
-            return out;
+            return;
         };
         let n = self.grid.points();
         let nc = self.grid.zeta.len();
-        let lw: Vec<PointWeights> = load.iter().map(|&c| self.point_weights(c)).collect();
-        let mut partial = vec![0.0; n];
+        ws.load.clear();
+        ws.load.extend(load.iter().map(|&c| self.point_weights(c)));
+        ws.partial.clear();
+        ws.partial.resize(n, 0.0);
         for (i, &o) in obs.iter().enumerate() {
             let ow = self.point_weights(o);
-            partial.iter_mut().for_each(|v| *v = 0.0);
+            ws.partial.iter_mut().for_each(|v| *v = 0.0);
             for a in 0..ow.row.width {
                 for b in 0..ow.col.width {
                     let w = ow.row.w[a] * ow.col.w[b];
@@ -211,26 +228,33 @@ impl InterpolatedInfluence {
                         continue;
                     }
                     let g = (ow.row.start + a) * nc + ow.col.start + b;
-                    for (p, &v) in partial.iter_mut().zip(&block[g * n..(g + 1) * n]) {
+                    for (p, &v) in ws.partial.iter_mut().zip(&block[g * n..(g + 1) * n]) {
                         *p += w * v;
                     }
                 }
             }
-            for (j, l) in lw.iter().enumerate() {
+            for (j, l) in ws.load.iter().enumerate() {
                 let mut s = 0.0;
                 for c in 0..l.row.width {
                     let base = (l.row.start + c) * nc + l.col.start;
                     let mut sr = 0.0;
                     for d in 0..l.col.width {
-                        sr += l.col.w[d] * partial[base + d];
+                        sr += l.col.w[d] * ws.partial[base + d];
                     }
                     s += l.row.w[c] * sr;
                 }
-                out[i * load.len() + j] = s;
+                put(i, j, s);
             }
         }
-        out
     }
+}
+
+/// Scratch memory of [`InterpolatedInfluence::add_matrix`] (grows to the largest sizes used,
+/// then is reused).
+#[derive(Debug, Clone, Default)]
+pub struct MatrixWorkspace {
+    load: Vec<PointWeights>,
+    partial: Vec<f64>,
 }
 
 impl Compliance for InterpolatedInfluence {

@@ -32,6 +32,12 @@
 //! with the flanks exchanged: ζ → b₀ − ζ and tooth offsets reversed. Driving and back flanks
 //! are not coupled to each other (they are never loaded together unless the teeth are crushed).
 //!
+//! # No allocation in the steady path
+//! Every buffer (contacts, slice data, compliance matrix, interpolation scratch, load-solver
+//! workspace, warm-start keys) lives in the model and is reused; after the first calls have
+//! grown them to the sizes a trajectory needs, evaluations do not touch the heap
+//! (`tests/mesh_alloc.rs` counts allocations). Clones start with empty buffers.
+//!
 //! # Warm start
 //! The loads of the previous call are kept with their keys (flank side, tooth pair, slice); a
 //! new call starts from them, which makes the active set of a nearby state exact after one
@@ -47,7 +53,7 @@ use super::{
 };
 use crate::compliance::fitted::FittedInfluence;
 use crate::compliance::hertz::LocalContact;
-use crate::compliance::interpolated::InterpolatedInfluence;
+use crate::compliance::interpolated::{InterpolatedInfluence, MatrixWorkspace};
 use crate::compliance::{Compliance, FlankCoord};
 
 use crate::contact::{ContactPoint, ContactSolver, FlankSide};
@@ -109,6 +115,7 @@ impl GearCompliance {
         offset: i32,
         same: bool,
         w: f64,
+        ws: &mut MatrixWorkspace,
         out: &mut Mat<f64>,
         r0: usize,
         c0: usize,
@@ -125,12 +132,7 @@ impl GearCompliance {
                 }
             }
             GearCompliance::Interpolated(c) => {
-                let m = c.matrix(obs, load, offset);
-                for i in 0..obs.len() {
-                    for j in 0..load.len() {
-                        out[(r0 + i, c0 + j)] += m[i * load.len() + j];
-                    }
-                }
+                c.add_matrix(obs, load, offset, ws, |i, j, v| out[(r0 + i, c0 + j)] += v);
             }
             GearCompliance::Fitted(c) => {
                 for (i, &o) in obs.iter().enumerate() {
@@ -177,6 +179,8 @@ pub struct MeshModel {
     prev_keys: Vec<(bool, i64, usize)>,
     prev_q: Vec<f64>,
     detail: Vec<SliceDetail>,
+    runs: Vec<(usize, usize)>,
+    ws: MatrixWorkspace,
     table: Option<Arc<super::table::MeshTable>>,
 }
 
@@ -206,6 +210,8 @@ impl Clone for MeshModel {
             prev_keys: Vec::new(),
             prev_q: Vec::new(),
             detail: Vec::new(),
+            runs: Vec::new(),
+            ws: MatrixWorkspace::default(),
             table: self.table.clone(),
         }
     }
@@ -278,7 +284,9 @@ impl MeshModel {
             solver: LoadSolver::with_settings(2 * n_line, LOAD_SETTINGS),
             prev_keys: Vec::with_capacity(cap),
             prev_q: Vec::with_capacity(cap),
-            detail: Vec::new(),
+            detail: Vec::with_capacity(cap),
+            runs: Vec::with_capacity(8),
+            ws: MatrixWorkspace::default(),
             table: None,
         };
         if options.fidelity == Fidelity::Table {
@@ -422,9 +430,11 @@ impl MeshModel {
                 self.cmat[(i, j)] = 0.0;
             }
         }
-        let runs = runs(&self.slices);
-        for &(a0, a1) in &runs {
-            for &(b0r, b1r) in &runs {
+        runs(&self.slices, &mut self.runs);
+        for ra in 0..self.runs.len() {
+            let (a0, a1) = self.runs[ra];
+            for rb in 0..self.runs.len() {
+                let (b0r, b1r) = self.runs[rb];
                 let (ca, cb) = (&self.slices[a0].contact, &self.slices[b0r].contact);
                 if ca.side != cb.side {
                     continue;
@@ -442,6 +452,7 @@ impl MeshModel {
                     mirror * d,
                     same,
                     w,
+                    &mut self.ws,
                     &mut self.cmat,
                     a0,
                     b0r,
@@ -452,6 +463,7 @@ impl MeshModel {
                     -mirror * d,
                     same,
                     w,
+                    &mut self.ws,
                     &mut self.cmat,
                     a0,
                     b0r,
@@ -584,9 +596,10 @@ pub fn compliance_name(c: ComplianceModel) -> &'static str {
     }
 }
 
-/// Runs of consecutive slices with equal side and pair: `(start, end)` index ranges.
-fn runs(slices: &[Slice]) -> Vec<(usize, usize)> {
-    let mut out = Vec::with_capacity(6);
+/// Runs of consecutive slices with equal side and pair: `(start, end)` index ranges, into
+/// `out` (cleared first).
+fn runs(slices: &[Slice], out: &mut Vec<(usize, usize)>) {
+    out.clear();
     let mut start = 0;
     for i in 1..=slices.len() {
         let brk = i == slices.len()
@@ -597,7 +610,6 @@ fn runs(slices: &[Slice]) -> Vec<(usize, usize)> {
             start = i;
         }
     }
-    out
 }
 
 /// Transverse radius of curvature of one flank at a contact, m; at the involute/relief corner
