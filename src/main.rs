@@ -17,7 +17,7 @@ use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
 use helical_gear_mesh::mesh::{MeshModel, MeshOptions, pressure_waterfall, static_curve};
-use helical_gear_mesh::plot;
+use helical_gear_mesh::paper;
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde_json::json;
 
@@ -444,7 +444,11 @@ fn static_cmd(
     if let Some(dir) = plot {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-        write_static_files(dir, &mut model, &curve, torque, pitch)?;
+        // The same files as the paper run's static stage.
+        paper::figure_static_te(dir, &curve)?;
+        let rows = pressure_waterfall(&mut model, torque, 0, -1.5 * pitch, 1.5 * pitch, 20)
+            .map_err(|e| e.to_string())?;
+        paper::figure_7(dir, &rows)?;
     }
     let seconds = t0.elapsed().as_secs_f64();
     let points: Vec<_> = curve
@@ -499,62 +503,6 @@ fn static_cmd(
         }
         println!("  ({seconds:.2} s, of which {build_s:.2} s building the model)");
     }
-    Ok(())
-}
-
-/// The STE curve and the Fig. 7 waterfall (20 rows per pitch over the whole engagement of
-/// tooth pair 0) as CSV and PNG files in `dir`.
-fn write_static_files(
-    dir: &std::path::Path,
-    model: &mut MeshModel,
-    curve: &helical_gear_mesh::mesh::StaticCurve,
-    torque: f64,
-    pitch: f64,
-) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("cannot write into {}: {e}", dir.display());
-    let mut csv = String::from("phi_p_rad,ste_m,n_pairs,p_max_pa,tip_contact\n");
-    for e in &curve.points {
-        csv.push_str(&format!(
-            "{:e},{:e},{},{:e},{}\n",
-            e.phi_p, e.te, e.outputs.n_pairs, e.outputs.p_max, e.outputs.tip_contact as u8
-        ));
-    }
-    std::fs::write(dir.join("static_te.csv"), csv).map_err(io)?;
-    let rows = pressure_waterfall(model, torque, 0, -1.5 * pitch, 1.5 * pitch, 20)
-        .map_err(|e| e.to_string())?;
-    let mut csv = String::from("phi_p_rad,zeta,pressure_pa\n");
-    for r in &rows {
-        for (z, p) in r.zeta.iter().zip(&r.pressure) {
-            csv.push_str(&format!("{:e},{:e},{:e}\n", r.phi_p, z, p));
-        }
-    }
-    std::fs::write(dir.join("waterfall_static.csv"), csv).map_err(io)?;
-    let png = |e: helical_gear_mesh::plot::PlotError| e.to_string();
-    let chart = plot::LineChart {
-        title: format!("Static transmission error, M = {torque} N·m"),
-        x_label: "pinion angle φp (rad)".into(),
-        y_label: "STE (µm)".into(),
-        series: vec![plot::Series {
-            name: "STE".into(),
-            points: curve.points.iter().map(|e| (e.phi_p, e.te * 1e6)).collect(),
-            style: plot::SeriesStyle::LinePoints,
-        }],
-        ..plot::LineChart::default()
-    };
-    plot::line_chart(&dir.join("static_te.png"), &chart, (1000, 600)).map_err(png)?;
-    let w = plot::Waterfall {
-        title: format!("Static contact pressure of tooth pair 0 (Fig. 7), M = {torque} N·m"),
-        x_label: "ζ = z/m_n".into(),
-        y_label: "φp (rad)".into(),
-        z_label: "contact pressure (MPa)".into(),
-        curves: rows
-            .iter()
-            .map(|r| {
-                (r.phi_p, r.zeta.iter().zip(&r.pressure).map(|(&z, &p)| (z, p * 1e-6)).collect())
-            })
-            .collect(),
-    };
-    plot::waterfall(&dir.join("waterfall_static.png"), &w, (1000, 800)).map_err(png)?;
     Ok(())
 }
 

@@ -791,8 +791,8 @@ fn line_png(
     plot::line_chart(&dir.join(file), &chart, (1000, 600)).map_err(png_err)
 }
 
-/// Static TE over one pitch (Fig. 6 analogue): `static_te.csv`.
-fn figure_static_te(dir: &Path, curve: &crate::mesh::StaticCurve) -> Result<(), String> {
+/// Static TE over one pitch (Fig. 6 analogue): `static_te.csv` and `.png` in `dir`.
+pub fn figure_static_te(dir: &Path, curve: &crate::mesh::StaticCurve) -> Result<(), String> {
     let mut csv = String::from("phi_p_rad,ste_um,n_pairs,p_max_pa,tip_contact\n");
     for e in &curve.points {
         csv.push_str(&format!(
@@ -815,8 +815,8 @@ fn figure_static_te(dir: &Path, curve: &crate::mesh::StaticCurve) -> Result<(), 
     )
 }
 
-/// Static pressure waterfall of tooth pair 0 (Fig. 7): `waterfall_static.csv`.
-fn figure_7(dir: &Path, rows: &[crate::mesh::WaterfallRow]) -> Result<(), String> {
+/// Static pressure waterfall of tooth pair 0 (Fig. 7): `waterfall_static.csv` and `.png` in `dir`.
+pub fn figure_7(dir: &Path, rows: &[crate::mesh::WaterfallRow]) -> Result<(), String> {
     let mut csv = String::from("phi_p_rad,ste_um,zeta,pressure_pa,tip_contact\n");
     for r in rows {
         for (z, p) in r.zeta.iter().zip(&r.pressure) {

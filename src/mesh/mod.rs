@@ -26,9 +26,7 @@ use std::sync::Arc;
 
 use crate::compliance::data::{CacheOptions, ComplianceData};
 use crate::compliance::fe::gear_mesh::GearMeshDensity;
-use crate::compliance::fitted::FittedInfluence;
-use crate::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence};
-use crate::compliance::interpolated::InterpolatedInfluence;
+use crate::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use crate::error::ParamError;
 use crate::geometry::{Member, PairGeometry};
 use crate::load::LoadError;
@@ -166,6 +164,8 @@ pub struct SliceDetail {
     pub pressure_pa: f64,
     /// Kind of contact, e.g. `involute/involute`, `rounding/involute` (pinion/gear).
     pub kind: &'static str,
+    /// True if the contact lies on the tip rounding or tip circle of either flank.
+    pub tip: bool,
 }
 
 /// Errors of the mesh model.
@@ -259,53 +259,39 @@ impl MeshModel {
                 "the compliance data belong to another gear pair".into(),
             ));
         }
-        let err =
-            |e: crate::compliance::data::ComplianceError| MeshError::Compliance(e.to_string());
-        let (p, g) = match options.compliance {
-            ComplianceModel::Interpolated => (
-                GearCompliance::Interpolated(Arc::new(
-                    data.interpolated(Member::Pinion).map_err(err)?,
-                )),
-                GearCompliance::Interpolated(Arc::new(
-                    data.interpolated(Member::Gear).map_err(err)?,
-                )),
-            ),
-            ComplianceModel::Fitted => (
-                GearCompliance::Fitted(Arc::new(data.fitted(Member::Pinion).map_err(err)?)),
-                GearCompliance::Fitted(Arc::new(data.fitted(Member::Gear).map_err(err)?)),
-            ),
-        };
+        let (p, g) = gear_compliances(data, options.compliance)?;
         Self::with_compliance(pair, options, p, g)
     }
 }
 
 /// FE influence data of both gears of `pair` at mesh density `density` and the default depth
-/// h, in the representation `model`.
+/// h ([`ComplianceData::compute`], fits included), in the representation `model`.
 pub fn compute_compliance(
     pair: &GearPair,
     density: &GearMeshDensity,
     model: ComplianceModel,
 ) -> Result<(GearCompliance, GearCompliance), MeshError> {
-    let geo = PairGeometry::new(pair)?;
     let h = DEFAULT_DEPTH_MN * pair.normal_module_m;
-    let mut out = Vec::with_capacity(2);
-    for g in [&geo.pinion, &geo.gear] {
-        let inf = fe_influence(g, pair, density, h, false)
-            .map_err(|e| MeshError::Compliance(format!("FE of z = {}: {e}", g.z)))?;
-        let c = match model {
-            ComplianceModel::Interpolated => GearCompliance::Interpolated(Arc::new(
-                InterpolatedInfluence::new(inf.grid)
-                    .map_err(|e| MeshError::Compliance(e.to_string()))?,
-            )),
-            ComplianceModel::Fitted => {
-                let (f, _) = FittedInfluence::fit(&inf.grid, geo.b0())
-                    .map_err(|e| MeshError::Compliance(format!("fit of z = {}: {e}", g.z)))?;
-                GearCompliance::Fitted(Arc::new(f))
+    let data = ComplianceData::compute(pair, density, h, false)
+        .map_err(|e| MeshError::Compliance(e.to_string()))?;
+    gear_compliances(&data, model)
+}
+
+/// The global compliances of pinion and gear from `data` in the representation `model`.
+fn gear_compliances(
+    data: &ComplianceData,
+    model: ComplianceModel,
+) -> Result<(GearCompliance, GearCompliance), MeshError> {
+    let err = |e: crate::compliance::data::ComplianceError| MeshError::Compliance(e.to_string());
+    let one = |m: Member| -> Result<GearCompliance, MeshError> {
+        Ok(match model {
+            ComplianceModel::Interpolated => {
+                GearCompliance::Interpolated(Arc::new(data.interpolated(m).map_err(err)?))
             }
-        };
-        out.push(c);
-    }
-    let g = out.pop().expect("two gears");
-    let p = out.pop().expect("two gears");
-    Ok((p, g))
+            ComplianceModel::Fitted => {
+                GearCompliance::Fitted(Arc::new(data.fitted(m).map_err(err)?))
+            }
+        })
+    };
+    Ok((one(Member::Pinion)?, one(Member::Gear)?))
 }

@@ -47,10 +47,7 @@ use std::sync::Arc;
 
 use faer::Mat;
 
-use super::{
-    ComplianceModel, Fidelity, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques,
-    SliceDetail,
-};
+use super::{Fidelity, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
 use crate::compliance::fitted::FittedInfluence;
 use crate::compliance::hertz::LocalContact;
 use crate::compliance::interpolated::{InterpolatedInfluence, MatrixWorkspace};
@@ -357,7 +354,7 @@ impl MeshModel {
                 return Err(MeshError::NonFinite { name, value: v });
             }
         }
-        if let Some(table) = self.table.clone() {
+        if let Some(table) = &self.table {
             if let Some(o) = table.evaluate(self, state) {
                 return Ok(o);
             }
@@ -425,11 +422,7 @@ impl MeshModel {
 
         // Compliance matrix, block by block (runs of equal side and pair).
         self.cmat.resize_with(n, n, |_, _| 0.0);
-        for j in 0..n {
-            for i in 0..n {
-                self.cmat[(i, j)] = 0.0;
-            }
-        }
+        self.cmat.fill(0.0);
         runs(&self.slices, &mut self.runs);
         for ra in 0..self.runs.len() {
             let (a0, a1) = self.runs[ra];
@@ -471,12 +464,21 @@ impl MeshModel {
             }
         }
 
-        // Warm start from the previous loads with the same keys.
+        // Warm start from the previous loads with the same keys. Slices and kept keys are both
+        // in ascending (side, pair, slice) order (the contact search's order), so one merge
+        // walk finds the matches.
         self.start.clear();
         let mut any = false;
+        let mut cursor = 0;
         for s in &self.slices {
             let key = (s.contact.side == FlankSide::Back, s.contact.pair, s.k);
-            let q = self.prev_keys.iter().position(|k| *k == key).map_or(0.0, |p| self.prev_q[p]);
+            while cursor < self.prev_keys.len() && self.prev_keys[cursor] < key {
+                cursor += 1;
+            }
+            let q = match self.prev_keys.get(cursor) {
+                Some(k) if *k == key => self.prev_q[cursor],
+                _ => 0.0,
+            };
             any |= q > 0.0;
             self.start.push(q);
         }
@@ -511,8 +513,7 @@ impl MeshModel {
                     pairs[n_pairs] = key;
                     n_pairs += 1;
                 }
-                let tip = |k: SegmentKind| matches!(k, SegmentKind::Rounding | SegmentKind::Tip);
-                out.tip_contact |= tip(c.kind_p) || tip(c.kind_g);
+                out.tip_contact |= on_tip(c);
                 out.back_contact |= c.side == FlankSide::Back;
                 if self.options.pressure {
                     let p = self.local.max_pressure(q[i], self.rho[i]).unwrap_or(0.0);
@@ -535,23 +536,13 @@ impl MeshModel {
                     q_n_per_m: q[i],
                     pressure_pa: pressure,
                     kind: kind_name(c.kind_p, c.kind_g),
+                    tip: on_tip(c),
                 });
             }
         }
         out.n_pairs = n_pairs as u32;
         out.separated = n_pairs == 0;
-        if self.options.damping && extent > 0.0 {
-            let [dp, dg] = damping_torques(
-                self.d_mesh,
-                state.w_p,
-                state.w_g,
-                geo.pinion.rb,
-                geo.gear.rb,
-                extent,
-            );
-            out.m_d_p = dp;
-            out.m_d_g = dg;
-        }
+        (out.m_d_p, out.m_d_g) = self.damping_for(state, extent);
         Ok(out)
     }
 
@@ -588,14 +579,6 @@ impl MeshTorques for MeshModel {
     }
 }
 
-/// Which compliance representation a [`ComplianceModel`] names (for messages).
-pub fn compliance_name(c: ComplianceModel) -> &'static str {
-    match c {
-        ComplianceModel::Interpolated => "interpolated",
-        ComplianceModel::Fitted => "fitted",
-    }
-}
-
 /// Runs of consecutive slices with equal side and pair: `(start, end)` index ranges, into
 /// `out` (cleared first).
 fn runs(slices: &[Slice], out: &mut Vec<(usize, usize)>) {
@@ -627,6 +610,12 @@ fn flank_radius(geo: &PairGeometry, pinion: bool, c: &ContactPoint) -> f64 {
     } else {
         rho
     }
+}
+
+/// True if the contact lies on the tip rounding or the tip circle of either flank.
+fn on_tip(c: &ContactPoint) -> bool {
+    let tip = |k: SegmentKind| matches!(k, SegmentKind::Rounding | SegmentKind::Tip);
+    tip(c.kind_p) || tip(c.kind_g)
 }
 
 /// Static name of a contact kind (pinion/gear), for the per-slice detail.

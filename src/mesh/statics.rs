@@ -278,7 +278,7 @@ pub struct WaterfallRow {
     pub zeta: Vec<f64>,
     /// Hertz pressure (Eq. 15) of the tracked pair at each slice, Pa (0 where not loaded).
     pub pressure: Vec<f64>,
-    /// True if any loaded slice of the tracked pair lies on a tip rounding.
+    /// True if any loaded slice of the tracked pair lies on a tip rounding or tip circle.
     pub tip_contact: bool,
 }
 
@@ -316,7 +316,7 @@ pub fn pressure_waterfall(
                 if s.pair == pair && !s.back && s.q_n_per_m > 0.0 {
                     let k = ((s.zeta / b0 * nl as f64) as usize).min(nl - 1);
                     pressure[k] = s.pressure_pa;
-                    tip_contact |= s.kind.starts_with("rounding") || s.kind.ends_with("rounding");
+                    tip_contact |= s.tip;
                 }
             }
             rows.push(WaterfallRow { phi_p, te: eq.te, zeta: zeta.clone(), pressure, tip_contact });

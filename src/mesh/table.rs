@@ -107,16 +107,19 @@ pub struct MeshTable {
     checked_points: usize,
 }
 
+/// The cubic Hermite basis (h00, h10, h01, h11) at t ∈ [0, 1].
+#[inline]
+fn hermite(t: f64) -> [f64; 4] {
+    let t2 = t * t;
+    let t3 = t2 * t;
+    [2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + t, -2.0 * t3 + 3.0 * t2, t3 - t2]
+}
+
 /// Catmull–Rom-type cubic Hermite weights at t ∈ [0, 1] for the four nodes i−1, i, i+1, i+2
 /// with central-difference slopes (uniform spacing).
 #[inline]
 fn weights_central(t: f64) -> [f64; 4] {
-    let t2 = t * t;
-    let t3 = t2 * t;
-    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
-    let h10 = t3 - 2.0 * t2 + t;
-    let h01 = -2.0 * t3 + 3.0 * t2;
-    let h11 = t3 - t2;
+    let [h00, h10, h01, h11] = hermite(t);
     // d_i = (v_{i+1} − v_{i−1})/2, d_{i+1} = (v_{i+2} − v_i)/2 (in units of the spacing).
     [-0.5 * h10, h00 - 0.5 * h11, h01 + 0.5 * h10, 0.5 * h11]
 }
@@ -127,13 +130,7 @@ fn weights_central(t: f64) -> [f64; 4] {
 #[inline]
 fn axis_weights(x: f64, n: usize) -> (usize, [f64; 4], usize) {
     let i = (x.floor() as isize).clamp(0, n as isize - 2) as usize;
-    let t = x - i as f64;
-    let t2 = t * t;
-    let t3 = t2 * t;
-    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
-    let h10 = t3 - 2.0 * t2 + t;
-    let h01 = -2.0 * t3 + 3.0 * t2;
-    let h11 = t3 - t2;
+    let [h00, h10, h01, h11] = hermite(x - i as f64);
     // Slopes as combinations of nodes (start index s, 4 coefficients relative to s).
     // d_i: central if 0 < i, else one-sided (−3v0 + 4v1 − v2)/2.
     // d_{i+1}: central if i + 1 < n − 1, else one-sided (v_{n−3} − 4v_{n−2} + 3v_{n−1})/2.
@@ -264,7 +261,7 @@ impl MeshTable {
             let state = state_at(model, phi_p, te);
             let full = model.evaluate_full(&state)?;
             if full.m_f_p.abs() > 0.01 * torque {
-                if let Some(t) = table.lookup(model, &state) {
+                if let Some(t) = table.evaluate(model, &state) {
                     worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
                     checked += 1;
                 }
@@ -310,10 +307,6 @@ impl MeshTable {
     /// Table evaluation at `state`, or `None` when TE is outside the covered range (the
     /// caller then uses the full model).
     pub fn evaluate(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
-        self.lookup(model, state)
-    }
-
-    fn lookup(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
         // The reduction of ContactSolver::reduce, with the constants kept here.
         let k = (state.phi_p / self.pitch_p).round();
         let phi_p_red = (-k).mul_add(self.pitch_p, state.phi_p);
