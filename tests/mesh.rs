@@ -245,3 +245,44 @@ fn table_matches_full() {
     let (a, b) = (full.evaluate(&s).unwrap(), table.evaluate(&s).unwrap());
     assert!((a.m_f_p - b.m_f_p).abs() < 1e-9 * a.m_f_p && a.n_pairs == b.n_pairs);
 }
+
+/// The ζ-precomputed compliance kernel (`SliceInfluence`) and the general interpolation give
+/// the same mesh outputs to rounding, on driving and back flanks (the back flanks use the
+/// mirrored slice index), and the kernel is on by default for interpolated compliance.
+#[test]
+fn slice_kernel_matches_general_interpolation() {
+    let mut fast = model(MeshOptions::default());
+    let mut slow = fast.clone();
+    assert!(fast.use_slice_kernel(true));
+    assert!(!slow.use_slice_kernel(false));
+    let jt = fast.geometry().backlash_te;
+    for k in 0..12 {
+        let phi_p = k as f64 * pitch() / 12.0;
+        for te in [10e-6, 40e-6, -jt - 15e-6] {
+            let s = state(&fast, phi_p, te);
+            let (a, b) = (fast.evaluate(&s).unwrap(), slow.evaluate(&s).unwrap());
+            for (x, y) in [(a.m_f_p, b.m_f_p), (a.m_f_g, b.m_f_g), (a.f_n, b.f_n)] {
+                assert!((x - y).abs() <= 1e-10 * y.abs().max(1e-9), "{x} vs {y} at {phi_p}, {te}");
+            }
+            assert_eq!((a.n_pairs, a.back_contact), (b.n_pairs, b.back_contact));
+        }
+    }
+}
+
+/// The load solver's work counters: a warm-started trajectory needs few factorisations per
+/// solve (held factors serve simplified-Newton steps), and every solve is counted.
+#[test]
+fn solve_counters() {
+    let mut m = model(MeshOptions::default());
+    for k in 0..50 {
+        let phi_p = k as f64 * pitch() / 50.0;
+        m.evaluate(&state(&m, phi_p, 30e-6)).unwrap();
+    }
+    let st = m.stats();
+    eprintln!("{st:?}");
+    assert_eq!(st.solves, 50);
+    assert!(st.factorizations >= 1 && st.iterations >= st.solves);
+    assert!(st.slices > 0 && st.evaluations > st.iterations);
+    m.reset_stats();
+    assert_eq!(m.stats().solves, 0);
+}

@@ -32,7 +32,7 @@ use crate::geometry::{Member, PairGeometry};
 use crate::load::LoadError;
 use crate::params::GearPair;
 
-pub use model::{GearCompliance, MeshModel};
+pub use model::{GearCompliance, MeshModel, SolveStats};
 pub use statics::{
     Equilibrium, EquilibriumSettings, StaticCurve, WaterfallRow, equilibrium, pressure_waterfall,
     static_curve,
