@@ -20,6 +20,7 @@
 //! radius): TE = 0 when ideal unloaded involute driving flanks just touch, TE > 0 when the teeth
 //! must deform.
 
+pub mod bench;
 pub mod capi;
 pub mod compliance;
 pub mod contact;

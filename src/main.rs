@@ -6,6 +6,8 @@
 
 use std::process::ExitCode;
 
+#[path = "cli/bench.rs"]
+mod bench_cmd;
 #[path = "cli/dynamics.rs"]
 mod dynamics_cmd;
 #[path = "cli/paper.rs"]
@@ -106,6 +108,10 @@ enum Command {
     /// The paper run: static TE and Fig. 7, the speed sweeps of Fig. 9, Figs. 10–13, the
     /// resonances, separation, tip contact and a sensitivity study, into `--out DIR`.
     Paper(paper_cmd::PaperArgs),
+    /// The work-precision benchmark: time per mesh evaluation against the torque error for
+    /// every fidelity and resolution, integrator steps against the TE error, the paper run's
+    /// wall time.
+    Bench(bench_cmd::BenchArgs),
 }
 
 /// FE mesh density presets of `compliance --density`.
@@ -522,6 +528,7 @@ fn main() -> ExitCode {
             compliance_cmd(common, write_cache.as_deref(), *density)
         }
         Command::Paper(args) => paper_cmd::paper_cmd(args),
+        Command::Bench(args) => bench_cmd::bench_cmd(args),
         Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
             Ok(s) => {
                 println!("{s}");

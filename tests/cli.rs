@@ -279,3 +279,45 @@ fn paper_quick_writes_the_summary_with_the_contract_keys() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `bench --quick --json` (a smoke run of the work-precision benchmark): the contract keys,
+/// errors against the reference that shrink with the resolution, the plots and tables.
+#[test]
+fn bench_quick_reports_the_contract_keys() {
+    let dir = std::env::temp_dir().join(format!("helical-gear-bench-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let (ok, stdout, stderr) = run(&["bench", "--quick", "--no-paper", "--json", "--out", d]);
+    assert!(ok, "stderr: {stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    for key in ["full_eval_us", "table_eval_ns", "table_max_rel_err", "paper_runtime_s", "mesh"] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    assert!(v["full_eval_us"].as_f64().unwrap() > 0.0);
+    assert!(v["table_eval_ns"].as_f64().unwrap() > 0.0);
+    let e = v["table_max_rel_err"].as_f64().unwrap();
+    assert!(e.is_finite() && e < 0.01, "table error {e}");
+    assert!(v["paper_runtime_s"].is_null());
+    // Full fidelity, interpolated compliance: the error against the reference falls with the
+    // number of slices.
+    let full: Vec<(u64, f64)> = v["mesh"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["family"] == "full interpolated")
+        .map(|c| (c["slices"].as_u64().unwrap(), c["max_rel_err"].as_f64().unwrap()))
+        .collect();
+    assert!(full.len() >= 2 && full[1].1 < full[0].1, "{full:?}");
+    // The general assembly gives the same torques as the slice kernel.
+    let general = v["mesh"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["family"] == "full interpolated, general assembly")
+        .unwrap();
+    let same = full.iter().find(|c| c.0 == general["slices"].as_u64().unwrap()).unwrap();
+    assert!((general["max_rel_err"].as_f64().unwrap() - same.1).abs() < 1e-9);
+    for f in ["bench_mesh.png", "bench_dynamics.png", "bench_mesh.csv", "bench.json"] {
+        assert!(dir.join(f).is_file(), "missing {f}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

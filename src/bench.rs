@@ -1,0 +1,577 @@
+//! Work-precision benchmark: run time against error, every error measured against a converged
+//! reference (the `helical-gear bench` command).
+//!
+//! * **Mesh evaluation.** One set of states covers a mesh period (phases (k + 0.37)/n of the
+//!   pitch, so they fall between the table's nodes) at three TE levels (0.53, 1.07 and 1.61 ×
+//!   30 µm, about the static TE at 100 N·m) at 300 rad/s, in trajectory order so the warm start
+//!   works as in a simulation. The reference is the full model with interpolated compliance at
+//!   800 slices (the 200 → 400 change in STE is below 10⁻⁵). Each case reports the time per
+//!   evaluation (the fastest of several passes over the states, single thread) and the largest
+//!   relative error of M_F,p against the reference: full fidelity at 50…400 slices, with
+//!   interpolated and fitted compliance, the general interpolation without the slice kernel
+//!   (the assembly before [`crate::compliance::interpolated::SliceInfluence`]), and the table
+//!   fidelity at four sizes (with its build time).
+//! * **Options**: what switching off pressure, damping or the neighbour coupling, or switching
+//!   on the per-slice detail, costs or saves at 200 slices (and, for the coupling, the error
+//!   it makes).
+//! * **Dynamics**: from the static-equilibrium start at 500 rad/s (near the main resonance)
+//!   over 30 mesh periods on the default table mesh, the maximum TE of the last five periods
+//!   against a 2048-steps-per-period RK4 reference: RK4 at 16…256 steps per mesh period and
+//!   DOPRI5 at tolerances 10⁻⁶…10⁻¹².
+//! * **Paper run**: the wall time of the whole `paper` run, per stage.
+//!
+//! Timing is wall time on the calling thread; run it on an idle machine.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::dynamics::integrators::{AbsTol, Dopri5Options};
+use crate::dynamics::model::{Drivetrain, GearDynamics};
+use crate::dynamics::simulate::{Stepping, simulate};
+use crate::mesh::statics::EquilibriumSettings;
+use crate::mesh::{ComplianceModel, Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
+use crate::paper::{PaperOptions, StageTiming, run_paper};
+use crate::params::GearPair;
+use crate::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
+
+/// Options of [`run_bench`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchOptions {
+    /// Small sizes and short runs (a smoke test of the benchmark, not a measurement).
+    pub quick: bool,
+    /// Also time the whole paper run (about a minute).
+    pub paper: bool,
+    /// Progress lines on stderr.
+    pub progress: bool,
+}
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        Self { quick: false, paper: true, progress: true }
+    }
+}
+
+/// One mesh-evaluation case.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MeshCase {
+    /// Family: `full interpolated`, `full interpolated, general assembly`, `full fitted` or
+    /// `table`.
+    pub family: String,
+    /// Total slices over the simultaneous contact lines.
+    pub slices: usize,
+    /// Table size `phase × TE` nodes (table family only).
+    pub table_size: Option<[usize; 2]>,
+    /// Time per evaluation, µs.
+    pub eval_us: f64,
+    /// Largest |M_F,p − M_F,p,ref| / M_F,p,ref over the states.
+    pub max_rel_err: f64,
+    /// Mean Newton iterations per load solve (full fidelity).
+    pub iterations_per_solve: Option<f64>,
+    /// Mean matrix factorisations per load solve (full fidelity).
+    pub factorizations_per_solve: Option<f64>,
+    /// Table build time, s (table family only).
+    pub build_s: Option<f64>,
+}
+
+/// The cost of one option at 200 slices, full fidelity.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OptionCase {
+    /// What was changed against the defaults.
+    pub option: String,
+    /// Time per evaluation, µs.
+    pub eval_us: f64,
+    /// Time saved against the defaults, % (negative: extra cost).
+    pub saving_percent: f64,
+    /// Largest relative change of M_F,p against the defaults (0 for options that do not touch
+    /// the torques).
+    pub max_rel_change: f64,
+}
+
+/// One integration setting of the dynamics benchmark.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DynamicsCase {
+    /// `rk4` or `dopri5`.
+    pub integrator: String,
+    /// RK4: steps per mesh period; DOPRI5: the relative tolerance.
+    pub setting: f64,
+    /// Wall time of the run, s.
+    pub run_s: f64,
+    /// Mesh evaluations.
+    pub mesh_evaluations: usize,
+    /// |max TE − max TE_ref| / max TE_ref over the last five mesh periods.
+    pub max_te_rel_err: f64,
+}
+
+/// Everything [`run_bench`] measured.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BenchReport {
+    /// Full fidelity, 200 slices, interpolated compliance, default options: µs per evaluation.
+    pub full_eval_us: f64,
+    /// The same with the general interpolation instead of the slice kernel, µs.
+    pub full_eval_general_us: f64,
+    /// Table fidelity at the default size: ns per evaluation.
+    pub table_eval_ns: f64,
+    /// Table fidelity at the default size: largest relative M_F,p error against the reference.
+    pub table_max_rel_err: f64,
+    /// Wall time of the whole paper run, s (`None` when not run).
+    pub paper_runtime_s: Option<f64>,
+    /// The paper run's stages.
+    pub paper_stages: Vec<StageTiming>,
+    /// Slices of the converged reference.
+    pub reference_slices: usize,
+    /// Number of benchmark states.
+    pub states: usize,
+    /// Mesh-evaluation cases (the work-precision rows).
+    pub mesh: Vec<MeshCase>,
+    /// Options at 200 slices.
+    pub options: Vec<OptionCase>,
+    /// Dynamics cases.
+    pub dynamics: Vec<DynamicsCase>,
+    /// Logical cores of the machine.
+    pub cores: usize,
+    /// CPU model (from /proc/cpuinfo where available).
+    pub cpu: String,
+    /// Crate version.
+    pub version: String,
+}
+
+/// Runs the benchmark on `pair` (its compliance from the embedded data or the cache).
+pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, String> {
+    let say = |s: &str| {
+        if opts.progress {
+            eprintln!("bench: {s}");
+        }
+    };
+    let q = opts.quick;
+    let err = |e: crate::mesh::MeshError| e.to_string();
+    let base = MeshOptions::default();
+    let reference_slices = if q { 200 } else { 800 };
+    let (n_phase, min_pass_s) = if q { (6, 0.02) } else { (24, 0.3) };
+
+    let mut reference =
+        MeshModel::new(pair, MeshOptions { slices: reference_slices, ..base }).map_err(err)?;
+    let states = bench_states(&reference, n_phase);
+    say(&format!("reference: {reference_slices} slices, {} states", states.len()));
+    let ref_out = states
+        .iter()
+        .map(|s| reference.evaluate_full(s).map(|o| o.m_f_p))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(err)?;
+    let rel_err = |v: &[MeshOutputs]| {
+        v.iter().zip(&ref_out).map(|(o, r)| ((o.m_f_p - r) / r).abs()).fold(0.0, f64::max)
+    };
+
+    let mut mesh = Vec::new();
+    let full_slices: &[usize] = if q { &[50, 100] } else { &[50, 100, 200, 400] };
+    let fitted_slices: &[usize] = if q { &[50] } else { &[50, 100, 200] };
+    let mut full_eval_us = f64::NAN;
+    let mut full_eval_general_us = f64::NAN;
+    let general_at = if q { 100 } else { 200 };
+    for (family, compliance, list) in [
+        ("full interpolated", ComplianceModel::Interpolated, full_slices),
+        ("full fitted", ComplianceModel::Fitted, fitted_slices),
+    ] {
+        for &slices in list {
+            let mut m =
+                MeshModel::new(pair, MeshOptions { slices, compliance, ..base }).map_err(err)?;
+            let (us, out) = time_full(&mut m, &states, min_pass_s)?;
+            let st = m.stats();
+            let per = |x: usize| Some(x as f64 / st.solves.max(1) as f64);
+            mesh.push(MeshCase {
+                family: family.into(),
+                slices,
+                table_size: None,
+                eval_us: us,
+                max_rel_err: rel_err(&out),
+                iterations_per_solve: per(st.iterations),
+                factorizations_per_solve: per(st.factorizations),
+                build_s: None,
+            });
+            say(&format!("{family}, {slices} slices: {us:.1} µs, error {:.2e}", rel_err(&out)));
+            if compliance == ComplianceModel::Interpolated && slices == general_at {
+                if slices == 200 || q {
+                    full_eval_us = us;
+                }
+                m.use_slice_kernel(false);
+                m.reset_stats();
+                let (us, out) = time_full(&mut m, &states, min_pass_s)?;
+                full_eval_general_us = us;
+                mesh.push(MeshCase {
+                    family: "full interpolated, general assembly".into(),
+                    slices,
+                    table_size: None,
+                    eval_us: us,
+                    max_rel_err: rel_err(&out),
+                    iterations_per_solve: None,
+                    factorizations_per_solve: None,
+                    build_s: None,
+                });
+                say(&format!("general assembly, {slices} slices: {us:.1} µs"));
+            }
+        }
+    }
+
+    // Table fidelity.
+    let sizes: &[[usize; 2]] =
+        if q { &[[16, 12]] } else { &[[16, 12], [32, 24], [64, 48], [128, 96]] };
+    let table_slices = if q { 50 } else { 200 };
+    let mut table_eval_ns = f64::NAN;
+    let mut table_max_rel_err = f64::NAN;
+    let mut default_table = None;
+    for &[p, t] in sizes {
+        let o = MeshOptions {
+            fidelity: Fidelity::Table,
+            slices: table_slices,
+            table_phase_points: p,
+            table_te_points: t,
+            ..base
+        };
+        let t0 = Instant::now();
+        let mut m = MeshModel::new(pair, o).map_err(err)?;
+        let build_s = t0.elapsed().as_secs_f64();
+        let (us, out) = time_eval(&mut m, &states, min_pass_s)?;
+        let e = rel_err(&out);
+        say(&format!("table {p}×{t}: {:.0} ns, error {e:.2e}, built in {build_s:.1} s", us * 1e3));
+        if [p, t] == [64, 48] || q {
+            table_eval_ns = us * 1e3;
+            table_max_rel_err = e;
+            default_table = Some(m);
+        }
+        mesh.push(MeshCase {
+            family: "table".into(),
+            slices: table_slices,
+            table_size: Some([p, t]),
+            eval_us: us,
+            max_rel_err: e,
+            iterations_per_solve: None,
+            factorizations_per_solve: None,
+            build_s: Some(build_s),
+        });
+    }
+
+    // Options.
+    let opt_slices = if q { 50 } else { 200 };
+    let mut options = Vec::new();
+    let mut default_out = Vec::new();
+    let mut default_us = 0.0;
+    let cases: [(&str, MeshOptions); 5] = [
+        ("defaults (pressure, damping on; detail off)", MeshOptions { slices: opt_slices, ..base }),
+        ("pressure off", MeshOptions { slices: opt_slices, pressure: false, ..base }),
+        ("damping off", MeshOptions { slices: opt_slices, damping: false, ..base }),
+        ("per-slice detail on", MeshOptions { slices: opt_slices, detail: true, ..base }),
+        (
+            "neighbour coupling off (changes the model)",
+            MeshOptions { slices: opt_slices, neighbour_coupling: false, ..base },
+        ),
+    ];
+    for (k, (name, o)) in cases.into_iter().enumerate() {
+        let mut m = MeshModel::new(pair, o).map_err(err)?;
+        let (us, out) = time_full(&mut m, &states, min_pass_s)?;
+        if k == 0 {
+            default_us = us;
+            default_out = out.clone();
+        }
+        let change = out
+            .iter()
+            .zip(&default_out)
+            .map(|(a, b)| ((a.m_f_p - b.m_f_p) / b.m_f_p).abs())
+            .fold(0.0, f64::max);
+        say(&format!("option {name}: {us:.1} µs"));
+        options.push(OptionCase {
+            option: name.into(),
+            eval_us: us,
+            saving_percent: 100.0 * (1.0 - us / default_us),
+            max_rel_change: change,
+        });
+    }
+
+    // Dynamics.
+    let table = default_table.ok_or("no table model")?;
+    let dynamics = dynamics_cases(pair, table, q, &say)?;
+
+    // Paper run.
+    let (paper_runtime_s, paper_stages) = if opts.paper {
+        say("paper run (quiet)");
+        let dir = std::env::temp_dir().join(format!("helical-gear-bench-{}", std::process::id()));
+        let po = PaperOptions { quick: q, progress: false, ..PaperOptions::default() };
+        let s = run_paper(pair, &dir, &po);
+        let _ = std::fs::remove_dir_all(&dir);
+        let s = s?;
+        say(&format!("paper run: {:.1} s", s.runtime_s));
+        (Some(s.runtime_s), s.stages)
+    } else {
+        (None, Vec::new())
+    };
+
+    Ok(BenchReport {
+        full_eval_us,
+        full_eval_general_us,
+        table_eval_ns,
+        table_max_rel_err,
+        paper_runtime_s,
+        paper_stages,
+        reference_slices,
+        states: states.len(),
+        mesh,
+        options,
+        dynamics,
+        cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        cpu: cpu_model(),
+        version: env!("CARGO_PKG_VERSION").into(),
+    })
+}
+
+/// The benchmark states: `n_phase` phases × three TE levels, phase-major.
+fn bench_states(m: &MeshModel, n_phase: usize) -> Vec<MeshState> {
+    let geo = m.geometry();
+    let pitch = geo.pinion.angular_pitch();
+    let w_p = 300.0;
+    let w_g = -w_p * geo.pinion.rb / geo.gear.rb;
+    let mut v = Vec::new();
+    for k in 0..n_phase {
+        let phi_p = (k as f64 + 0.37) / n_phase as f64 * pitch;
+        for f in [0.53, 1.07, 1.61] {
+            let phi_g = geo.phi_g_for_te(phi_p, f * 30e-6);
+            v.push(MeshState { phi_p, phi_g, w_p, w_g });
+        }
+    }
+    v
+}
+
+/// µs per [`MeshModel::evaluate_full`] (fastest pass of several lasting together at least
+/// `min_s`), and the outputs of the first pass.
+fn time_full(
+    m: &mut MeshModel,
+    states: &[MeshState],
+    min_s: f64,
+) -> Result<(f64, Vec<MeshOutputs>), String> {
+    time_with(m, states, min_s, |m, s| m.evaluate_full(s))
+}
+
+/// µs per [`MeshModel::evaluate`] (the configured fidelity), as [`time_full`].
+fn time_eval(
+    m: &mut MeshModel,
+    states: &[MeshState],
+    min_s: f64,
+) -> Result<(f64, Vec<MeshOutputs>), String> {
+    time_with(m, states, min_s, |m, s| m.evaluate(s))
+}
+
+fn time_with(
+    m: &mut MeshModel,
+    states: &[MeshState],
+    min_s: f64,
+    f: impl Fn(&mut MeshModel, &MeshState) -> Result<MeshOutputs, crate::mesh::MeshError>,
+) -> Result<(f64, Vec<MeshOutputs>), String> {
+    let out = states.iter().map(|s| f(m, s)).collect::<Result<Vec<_>, _>>();
+    let out = out.map_err(|e| e.to_string())?;
+    m.reset_stats();
+    let (mut best, mut total, mut passes) = (f64::INFINITY, 0.0, 0);
+    while (total < min_s || passes < 3) && passes < 10_000 {
+        let t = Instant::now();
+        for s in states {
+            std::hint::black_box(f(m, s).map_err(|e| e.to_string())?);
+        }
+        let dt = t.elapsed().as_secs_f64();
+        best = best.min(dt);
+        total += dt;
+        passes += 1;
+    }
+    Ok((best / states.len() as f64 * 1e6, out))
+}
+
+/// The dynamics cases on the table mesh `table` (see the module docs).
+fn dynamics_cases(
+    pair: &GearPair,
+    table: MeshModel,
+    quick: bool,
+    say: &dyn Fn(&str),
+) -> Result<Vec<DynamicsCase>, String> {
+    let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
+    let mut dynm = GearDynamics::new(table, drive).map_err(|e| e.to_string())?;
+    let omega = 500.0;
+    let start = dynm
+        .static_start(0.0, omega, &EquilibriumSettings::default())
+        .map_err(|e| e.to_string())?;
+    let tm = dynm.drive().mesh_period(omega);
+    let periods = if quick { 6.0 } else { 30.0 };
+    let t_end = periods * tm;
+    let window = t_end - 5.0 * tm;
+    let mut run = |stepping: &Stepping| -> Result<(f64, f64, usize), String> {
+        let e0 = dynm.mesh_evaluations();
+        let t = Instant::now();
+        let tr = simulate(&mut dynm, &start.y, t_end, stepping).map_err(|e| e.to_string())?;
+        let secs = t.elapsed().as_secs_f64();
+        let max_te = tr
+            .time
+            .iter()
+            .zip(&tr.outputs)
+            .filter(|(t, _)| **t >= window * (1.0 - 1e-12))
+            .map(|(_, o)| o.te)
+            .fold(f64::NEG_INFINITY, f64::max);
+        Ok((max_te, secs, dynm.mesh_evaluations() - e0))
+    };
+    let n_ref = if quick { 256 } else { 2048 };
+    let (te_ref, ..) = run(&Stepping::Rk4 { dt: tm / n_ref as f64 })?;
+    say(&format!("dynamics reference: RK4 {n_ref} steps per mesh period"));
+    let mut cases = Vec::new();
+    let steps: &[usize] = if quick { &[16, 64] } else { &[16, 32, 64, 128, 256] };
+    for &n in steps {
+        let (te, secs, evals) = run(&Stepping::Rk4 { dt: tm / n as f64 })?;
+        cases.push(DynamicsCase {
+            integrator: "rk4".into(),
+            setting: n as f64,
+            run_s: secs,
+            mesh_evaluations: evals,
+            max_te_rel_err: ((te - te_ref) / te_ref).abs(),
+        });
+    }
+    let tols: &[f64] = if quick { &[1e-6] } else { &[1e-6, 1e-8, 1e-10, 1e-12] };
+    for &tol in tols {
+        let options =
+            Dopri5Options { rtol: tol, atol: AbsTol::Scalar(tol * 1e-3), ..Default::default() };
+        let stepping = Stepping::Dopri5 { options, output_dt: Some(tm / 256.0) };
+        let (te, secs, evals) = run(&stepping)?;
+        cases.push(DynamicsCase {
+            integrator: "dopri5".into(),
+            setting: tol,
+            run_s: secs,
+            mesh_evaluations: evals,
+            max_te_rel_err: ((te - te_ref) / te_ref).abs(),
+        });
+    }
+    for c in &cases {
+        say(&format!(
+            "dynamics {} {:e}: {:.3} s, error {:.2e}",
+            c.integrator, c.setting, c.run_s, c.max_te_rel_err
+        ));
+    }
+    Ok(cases)
+}
+
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|v| v.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// Writes `bench_mesh.csv`, `bench_options.csv`, `bench_dynamics.csv`, `bench.json` and the
+/// log–log plots `bench_mesh.png` (error against time per evaluation) and
+/// `bench_dynamics.png` (error in max TE against run time) into `dir`; returns the paths.
+pub fn write_bench_files(r: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let e = |e: crate::plot::PlotError| e.to_string();
+    let mut files = Vec::new();
+    let family_code = |f: &str| match f {
+        "full interpolated" => 0.0,
+        "full interpolated, general assembly" => 1.0,
+        "full fitted" => 2.0,
+        _ => 3.0,
+    };
+    let p = dir.join("bench_mesh.csv");
+    write_csv(
+        &p,
+        &["family_code", "slices", "table_phase", "table_te", "eval_us", "max_rel_err", "build_s"],
+        r.mesh.iter().map(|c| {
+            let [tp, tt] = c.table_size.unwrap_or([0, 0]);
+            vec![
+                family_code(&c.family),
+                c.slices as f64,
+                tp as f64,
+                tt as f64,
+                c.eval_us,
+                c.max_rel_err,
+                c.build_s.unwrap_or(0.0),
+            ]
+        }),
+    )
+    .map_err(e)?;
+    files.push(p);
+    let p = dir.join("bench_dynamics.csv");
+    write_csv(
+        &p,
+        &["rk4_1_dopri5_2", "setting", "run_s", "mesh_evaluations", "max_te_rel_err"],
+        r.dynamics.iter().map(|c| {
+            vec![
+                if c.integrator == "rk4" { 1.0 } else { 2.0 },
+                c.setting,
+                c.run_s,
+                c.mesh_evaluations as f64,
+                c.max_te_rel_err,
+            ]
+        }),
+    )
+    .map_err(e)?;
+    files.push(p);
+    let p = dir.join("bench.json");
+    let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
+    std::fs::write(&p, json).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+    files.push(p);
+
+    // Errors of 0 (exact agreement) cannot be drawn on a log axis: floor them at 1e-16.
+    let pt = |x: f64, y: f64| (x, y.max(1e-16));
+    let series = |name: &str, family: &str| Series {
+        name: name.into(),
+        points: r
+            .mesh
+            .iter()
+            .filter(|c| c.family == family)
+            .map(|c| pt(c.eval_us, c.max_rel_err))
+            .collect(),
+        style: SeriesStyle::LinePoints,
+    };
+    let chart = LineChart {
+        title: "Mesh evaluation: error of M_F,p against time per evaluation".into(),
+        x_label: "time per evaluation (µs)".into(),
+        y_label: format!("max relative error vs {} slices", r.reference_slices),
+        series: vec![
+            series("full, interpolated compliance (50…400 slices)", "full interpolated"),
+            series("full, fitted compliance (50…200 slices)", "full fitted"),
+            series(
+                "full, general interpolation (no slice kernel)",
+                "full interpolated, general assembly",
+            ),
+            series("table (16×12 … 128×96 nodes)", "table"),
+        ],
+        x_log: true,
+        y_log: true,
+        ..LineChart::default()
+    };
+    let p = dir.join("bench_mesh.png");
+    line_chart(&p, &chart, (1000, 700)).map_err(e)?;
+    files.push(p);
+    let dseries = |name: &str, integ: &str| Series {
+        name: name.into(),
+        points: r
+            .dynamics
+            .iter()
+            .filter(|c| c.integrator == integ)
+            .map(|c| pt(c.run_s, c.max_te_rel_err))
+            .collect(),
+        style: SeriesStyle::LinePoints,
+    };
+    let chart = LineChart {
+        title: "Dynamics at 500 rad/s (table mesh): error of max TE against run time".into(),
+        x_label: "run time, 30 mesh periods (s)".into(),
+        y_label: "relative error of max TE".into(),
+        series: vec![
+            dseries("RK4, 16…256 steps per mesh period", "rk4"),
+            dseries("DOPRI5, rtol 1e-6…1e-12", "dopri5"),
+        ],
+        x_log: true,
+        y_log: true,
+        ..LineChart::default()
+    };
+    let p = dir.join("bench_dynamics.png");
+    line_chart(&p, &chart, (1000, 700)).map_err(e)?;
+    files.push(p);
+    Ok(files)
+}

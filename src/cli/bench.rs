@@ -1,0 +1,85 @@
+//! The `bench` subcommand: the work-precision benchmark
+//! ([`helical_gear_mesh::bench::run_bench`]). Progress goes to stderr; stdout gets a text
+//! table, or the report as one JSON object with `--json`.
+
+use clap::Args;
+use helical_gear_mesh::bench::{BenchOptions, run_bench, write_bench_files};
+
+use crate::{Common, load_params};
+
+/// Arguments of `helical-gear bench`.
+#[derive(Args, Clone)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Also write the CSV tables, bench.json and the log–log plots (PNG) into DIR.
+    #[arg(long, value_name = "DIR")]
+    out: Option<std::path::PathBuf>,
+    /// Small sizes and short runs: a smoke test of the benchmark, not a measurement.
+    #[arg(long)]
+    quick: bool,
+    /// Skip the timing of the whole paper run.
+    #[arg(long)]
+    no_paper: bool,
+}
+
+/// `helical-gear bench`.
+pub fn bench_cmd(a: &BenchArgs) -> Result<(), String> {
+    let pair = load_params(&a.common)?;
+    let opts = BenchOptions { quick: a.quick, paper: !a.no_paper, progress: true };
+    let r = run_bench(&pair, &opts)?;
+    if let Some(dir) = &a.out {
+        for f in write_bench_files(&r, dir)? {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    if a.common.json {
+        println!("{}", serde_json::to_string(&r).map_err(|e| e.to_string())?);
+        return Ok(());
+    }
+    println!("Work-precision benchmark ({} cores, {})", r.cores, r.cpu);
+    println!(
+        "  full_eval_us {:.1} (general assembly {:.1}), table_eval_ns {:.0}, table_max_rel_err \
+         {:.2e}, paper_runtime_s {}",
+        r.full_eval_us,
+        r.full_eval_general_us,
+        r.table_eval_ns,
+        r.table_max_rel_err,
+        r.paper_runtime_s.map_or("not run".into(), |s| format!("{s:.1}"))
+    );
+    println!("\n  mesh evaluation (error of M_F,p against {} slices):", r.reference_slices);
+    println!(
+        "  {:<38} {:>6} {:>9} {:>11} {:>10}",
+        "case", "slices", "µs/eval", "max error", "fact/solve"
+    );
+    for c in &r.mesh {
+        let name = match c.table_size {
+            Some([p, t]) => format!("{} {p}×{t}", c.family),
+            None => c.family.clone(),
+        };
+        let fact = c.factorizations_per_solve.map_or(String::new(), |f| format!("{f:.2}"));
+        println!(
+            "  {name:<38} {:>6} {:>9.3} {:>11.2e} {fact:>10}",
+            c.slices, c.eval_us, c.max_rel_err
+        );
+    }
+    println!("\n  options (full fidelity):");
+    for c in &r.options {
+        println!(
+            "  {:<44} {:>9.1} µs {:>7.1} % saved, M_F,p change {:.1e}",
+            c.option, c.eval_us, c.saving_percent, c.max_rel_change
+        );
+    }
+    println!("\n  dynamics (max TE error against the reference):");
+    for c in &r.dynamics {
+        println!(
+            "  {:<7} {:>8.0e} {:>9.2} ms {:>9} evaluations, error {:.2e}",
+            c.integrator,
+            c.setting,
+            c.run_s * 1e3,
+            c.mesh_evaluations,
+            c.max_te_rel_err
+        );
+    }
+    Ok(())
+}
