@@ -34,7 +34,10 @@
 //! function `Φ_i = min(c_i·q_i, g_i)` with `c_i = C_ii·w_i` (m per N/m, which gives both
 //! arguments the unit m), globalised by a backtracking line search on `Σ Φ_i²`:
 //!
-//! 1. the working set is `W = {i : g_i < c_i·q_i}`; slices outside W are set to q = 0;
+//! 1. the working set is `W = {i : g_i < c_i·q_i}`; slices outside W are set to q = 0. The
+//!    first step of a solve takes instead `W = {i : q_i > 0 or g_i < 0}` (the start's loaded
+//!    slices and the penetrating ones), which keeps a warm start's nearly right active set
+//!    (on a Table 1 trajectory 2.4 instead of 2.9 factorisations per solve);
 //! 2. the Newton system on W, `(C_WW·diag(w_W) + diag(u_c'))·δ_W = −g_W + C_WI·diag(w_I)·q_I`,
 //!    is solved densely: when C is exactly symmetric, the system multiplied by diag(w_W) is
 //!    symmetric and is factorised by Cholesky (half the work of LU); otherwise, or when that
@@ -623,7 +626,14 @@ impl LoadSolver {
         let n = problem.approach.len();
         self.working.clear();
         for i in 0..n {
-            let active = self.cur.g[i] < self.scale[i] * self.cur.q[i];
+            // The first step of a solve keeps every slice the start loads (and adds the
+            // penetrating ones): a warm start's active set is usually nearly right, and
+            // dropping slices whose gap opened only a little costs an extra factorisation.
+            let active = if iterations == 1 {
+                self.cur.q[i] > 0.0 || self.cur.g[i] < 0.0
+            } else {
+                self.cur.g[i] < self.scale[i] * self.cur.q[i]
+            };
             self.in_working[i] = active;
             if active {
                 self.working.push(i);
