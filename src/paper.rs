@@ -268,6 +268,9 @@ pub struct PaperSummary {
     /// Mean of the threshold over the mesh period, µm (angles without one count as the
     /// searched maximum).
     pub tip_contact_te_threshold_mean_um: f64,
+    /// Share of the pinion angles over the mesh period at which tip contact is reached within
+    /// the searched TE (default compliance).
+    pub tip_contact_te_threshold_found_share: f64,
     /// The same minimum with the compliance referred to the rim (sensitivity case), µm.
     pub tip_contact_te_threshold_rim_um: Option<f64>,
     /// Largest TE searched for the thresholds, µm.
@@ -716,6 +719,9 @@ pub fn run_paper(pair: &GearPair, out: &Path, opts: &PaperOptions) -> Result<Pap
             .sum::<f64>()
             / threshold.te.len().max(1) as f64
             * 1e6,
+        tip_contact_te_threshold_found_share: threshold.te.iter().filter(|t| t.is_some()).count()
+            as f64
+            / threshold.te.len().max(1) as f64,
         tip_contact_te_threshold_rim_um: rim.threshold.min().map(|m| m.1 * 1e6),
         tip_contact_te_searched_um: te_search * 1e6,
         tip_margins,
@@ -1021,7 +1027,8 @@ fn rim_fixed_case(
 }
 
 /// The static onset of tip contact over one mesh period, default and rim-fixed compliance:
-/// `tip_threshold.csv` and `.png` in `dir`.
+/// `tip_threshold.csv` (empty where there is none up to the searched TE) and `.png` (drawn at
+/// the searched TE there) in `dir`.
 fn figure_tip_threshold(
     dir: &Path,
     default: &TipThreshold,
@@ -1042,7 +1049,7 @@ fn figure_tip_threshold(
                 .phi_p
                 .iter()
                 .zip(&thr.te)
-                .filter_map(|(p, t)| t.map(|t| (*p, t * 1e6)))
+                .map(|(p, t)| (*p, t.unwrap_or(thr.te_max) * 1e6))
                 .collect();
             (name.to_string(), pts)
         })
@@ -1050,7 +1057,11 @@ fn figure_tip_threshold(
     line_png(
         dir,
         "tip_threshold.png",
-        "Static onset of tip contact: smallest TE with a loaded tip rounding".into(),
+        format!(
+            "Static onset of tip contact (none up to {:.0} µm: drawn at {:.0} µm)",
+            default.te_max * 1e6,
+            default.te_max * 1e6
+        ),
         "pinion angle φp (rad)",
         "TE (µm)",
         series,
@@ -1426,12 +1437,15 @@ fn tip_contact_markdown(m: &mut String, s: &PaperSummary) {
     m.push_str(&format!(
         "The static model (full fidelity, no damping) puts load on a tip rounding or tip edge once \
          TE reaches a threshold that depends on the mesh phase (`tip_threshold.csv`, TE searched \
-         up to {:.0} µm). Default compliance: smallest threshold {} at φp = {}, mean over the \
-         mesh period {:.1} µm; compliance referred to the rim: smallest {}. The static TE stays \
-         below it (STE max {:.1} µm), so there is no static tip contact, as in the paper.\n\n",
+         up to {:.0} µm). Default compliance: smallest threshold {} at φp = {}; reached within \
+         the searched TE at {:.0} % of the mesh period, mean over the period {:.1} µm (angles \
+         without it counted at the searched maximum); compliance referred to the rim: smallest \
+         {}. The static TE stays below it (STE max {:.1} µm), so there is no static tip \
+         contact, as in the paper.\n\n",
         s.tip_contact_te_searched_um,
         opt_um(s.tip_contact_te_threshold_um),
         s.tip_contact_te_threshold_phi_p_rad.map_or("—".into(), |p| format!("{p:.4} rad")),
+        100.0 * s.tip_contact_te_threshold_found_share,
         s.tip_contact_te_threshold_mean_um,
         opt_um(s.tip_contact_te_threshold_rim_um),
         s.ste_max_um,
