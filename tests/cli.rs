@@ -265,16 +265,41 @@ fn paper_quick_writes_the_summary_with_the_contract_keys() {
         "stages",
         "assumptions",
         "sensitivity",
+        "tip_contact_te_threshold_um",
+        "tip_contact_te_threshold_rim_um",
+        "tip_margins",
     ] {
         assert!(v.get(key).is_some(), "missing key {key}");
     }
+    // The static onset of tip contact lies above the static TE (no static tip contact), and
+    // the compliance referred to the rim is a sensitivity case with a stiffer mesh.
+    let thr = v["tip_contact_te_threshold_um"].as_f64().expect("threshold found");
+    assert!(thr > v["ste_max_um"].as_f64().unwrap(), "threshold {thr} µm");
+    let cases = v["sensitivity"].as_array().unwrap();
+    let rim = cases
+        .iter()
+        .find(|c| c["case"].as_str().unwrap().starts_with("compliance referred to the rim"))
+        .expect("rim-fixed case");
+    let k = |c: &serde_json::Value| c["mesh_stiffness_n_per_um"].as_f64().unwrap();
+    assert!(k(rim) > k(&cases[0]), "rim {} vs default {}", k(rim), k(&cases[0]));
+    assert!(rim["ste_max_um"].as_f64().unwrap() < cases[0]["ste_max_um"].as_f64().unwrap());
+    let margins = v["tip_margins"].as_array().unwrap();
+    assert!(margins.iter().any(|m| m["compliance"] == "rim-fixed"));
+    assert!(margins.iter().all(|m| m["te_max_um"].as_f64().unwrap() > 0.0));
     let ste = v["ste_max_um"].as_f64().unwrap();
     assert!(ste.is_finite() && (20.0..45.0).contains(&ste), "STE max {ste} µm");
     let w = v["omega_crit_rad_s"].as_f64().unwrap();
     assert!(w.is_finite() && (300.0..900.0).contains(&w), "ω_crit {w} rad/s");
     assert!(v["tip_rounding_contact_570"].is_boolean());
     assert!(v["runtime_s"].as_f64().unwrap() > 0.0);
-    for f in ["summary.md", "static_te.csv", "waterfall_static.csv", "sweep.csv", "fig10_te.csv"] {
+    for f in [
+        "summary.md",
+        "static_te.csv",
+        "waterfall_static.csv",
+        "sweep.csv",
+        "fig10_te.csv",
+        "tip_threshold.csv",
+    ] {
         assert!(dir.join(f).is_file(), "missing {f}");
     }
     std::fs::remove_dir_all(&dir).ok();

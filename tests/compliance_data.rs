@@ -394,16 +394,10 @@ fn pair_stiffness_with_the_rim_fixed() {
     let p = GearPair::paper_table1();
     let geo = PairGeometry::new(&p).expect("geometry");
     let d = GearMeshDensity::default();
-    let mn = p.normal_module_m;
-    let mut reps = Vec::new();
-    for g in [&geo.pinion, &geo.gear] {
-        let r_k = g.rf - d.rim_depth_mn * mn;
-        let mut q = p.clone();
-        q.bore_diameter_m = 2.0 * r_k / 1.06;
-        let inf = fe_influence(g, &q, &d, DEFAULT_DEPTH_MN * mn, false).expect("FE");
-        reps.push(InterpolatedInfluence::new(inf.grid).expect("grid"));
-    }
-    let rim = pair_stiffness(&geo, &reps[0], &reps[1], 200).expect("stiffness");
+    let h = DEFAULT_DEPTH_MN * p.normal_module_m;
+    let data = ComplianceData::compute_rim_fixed(&p, &d, h, false).expect("FE");
+    assert!(!data.provenance.support.is_bore());
+    let rim = data.pair_stiffness(&geo, 200).expect("stiffness");
     print_stiffness("Table 1, rim fixed", &rim);
     let bore = ComplianceData::embedded_table1()
         .expect("embedded")

@@ -2,13 +2,18 @@
 //! static equilibrium, load onset, slice convergence, robustness and the table fidelity.
 //! The FE compliance is computed once per test binary on the coarse mesh.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use helical_gear_mesh::GearPair;
+use helical_gear_mesh::compliance::data::{BodySupport, ComplianceData};
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
+use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
+use helical_gear_mesh::dynamics::mesh_stiffness;
+use helical_gear_mesh::geometry::Member;
 use helical_gear_mesh::mesh::{
     ComplianceModel, EquilibriumSettings, Fidelity, GearCompliance, MeshError, MeshModel,
     MeshOptions, MeshState, compute_compliance, equilibrium, static_curve,
+    tip_contact_threshold_curve,
 };
 
 fn coarse() -> &'static (GearCompliance, GearCompliance) {
@@ -285,4 +290,65 @@ fn solve_counters() {
     assert!(st.slices > 0 && st.evaluations > st.iterations);
     m.reset_stats();
     assert_eq!(m.stats().solves, 0);
+}
+
+/// Compliance referred to the rim (each body fixed just inside its rim,
+/// `ComplianceData::compute_rim_fixed`) against the bore-fixed default on the coarse mesh: the
+/// bodies between bore and rim are removed, so the mesh is stiffer (higher linearised mesh
+/// stiffness, lower static TE) and the provenance says so.
+#[test]
+fn rim_fixed_compliance_gives_a_stiffer_mesh() {
+    let pair = GearPair::paper_table1();
+    let h = DEFAULT_DEPTH_MN * pair.normal_module_m;
+    let data = ComplianceData::compute_rim_fixed(&pair, &GearMeshDensity::coarse(), h, false)
+        .expect("rim-fixed FE");
+    let BodySupport::Rim { diameter_p_m, diameter_g_m } = data.provenance.support else {
+        panic!("provenance: {:?}", data.provenance.support);
+    };
+    let geo = helical_gear_mesh::PairGeometry::new(&pair).expect("geometry");
+    assert!(diameter_p_m > pair.bore_diameter_m && diameter_p_m < 2.0 * geo.pinion.rf);
+    assert!(diameter_g_m > diameter_p_m && diameter_g_m < 2.0 * geo.gear.rf);
+    let interp = |m: Member| {
+        GearCompliance::Interpolated(Arc::new(data.interpolated(m).expect("interpolated")))
+    };
+    let options = MeshOptions { slices: 100, ..MeshOptions::default() };
+    let mut rim =
+        MeshModel::with_compliance(&pair, options, interp(Member::Pinion), interp(Member::Gear))
+            .expect("rim model");
+    let mut bore = model(options);
+    let torque = pair.drive.torque_nm;
+    let k_rim = mesh_stiffness(&mut rim, 0.0, torque).expect("k rim");
+    let k_bore = mesh_stiffness(&mut bore, 0.0, torque).expect("k bore");
+    let ste_rim = static_curve(&mut rim, torque, 0.0, pitch(), 8, 1).expect("STE rim").max();
+    let ste_bore = static_curve(&mut bore, torque, 0.0, pitch(), 8, 1).expect("STE bore").max();
+    eprintln!(
+        "coarse: k {:.1} → {:.1} N/µm, STE max {:.2} → {:.2} µm (bore → rim fixed)",
+        k_bore * 1e-6,
+        k_rim * 1e-6,
+        ste_bore * 1e6,
+        ste_rim * 1e6
+    );
+    assert!(k_rim > 2.0 * k_bore, "k {k_rim} vs {k_bore}");
+    assert!(ste_rim < 0.5 * ste_bore, "STE {ste_rim} vs {ste_bore}");
+}
+
+/// The static onset of tip contact: just below the threshold no tip rounding carries load, at
+/// it one does; it lies above the static TE (no static tip contact for Table 1), and the
+/// periodic interpolation of the curve returns the stored values at the stored angles.
+#[test]
+fn tip_contact_threshold_brackets_the_onset() {
+    let mut m = model(MeshOptions { slices: 100, ..MeshOptions::default() });
+    let torque = GearPair::paper_table1().drive.torque_nm;
+    let ste = static_curve(&mut m, torque, 0.0, pitch(), 8, 1).expect("STE").max();
+    let curve = tip_contact_threshold_curve(&m, 0.0, pitch(), 4, 6.0 * ste, 60).expect("curve");
+    let (phi, t) = curve.min().expect("tip contact within 6 × STE max");
+    assert!(t > ste, "threshold {t} vs STE max {ste}");
+    let tip = |m: &mut MeshModel, te: f64| m.evaluate_full(&state(m, phi, te)).unwrap().tip_contact;
+    assert!(tip(&mut m, t));
+    assert!(!tip(&mut m, t - 5e-9));
+    for (p, te) in curve.phi_p.iter().zip(&curve.te) {
+        let v = te.unwrap_or(curve.te_max);
+        assert!((curve.at(*p) - v).abs() <= 1e-12 * v);
+        assert!((curve.at(*p + pitch()) - v).abs() <= 1e-9 * v);
+    }
 }

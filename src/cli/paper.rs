@@ -62,6 +62,21 @@ pub fn paper_cmd(a: &PaperArgs) -> Result<(), String> {
         "  tip rounding   at 570 rad/s: {}; at ω_crit·570/660 = {:.0} rad/s: {}",
         s.tip_rounding_contact_570, s.omega_equivalent_570_rad_s, s.tip_rounding_contact_equivalent
     );
-    println!("  see summary.md for the assumptions and the sensitivity study");
+    let um = |x: Option<f64>| x.map_or("none".to_string(), |x| format!("{x:.1} µm"));
+    let te570 = s
+        .tip_margins
+        .iter()
+        .find(|m| m.compliance == "default" && m.omega_p_rad_s == reference::OMEGA_FIG13_RAD_S)
+        .map(|m| m.te_max_um);
+    println!(
+        "  tip onset      static TE threshold {} (rim-fixed {}); steady TE max at 570 rad/s {}",
+        um(s.tip_contact_te_threshold_um),
+        um(s.tip_contact_te_threshold_rim_um),
+        um(te570)
+    );
+    println!(
+        "  see summary.md for the assumptions, the sensitivity study and the deviations from \
+         the paper"
+    );
     Ok(())
 }

@@ -28,6 +28,15 @@
 //! densities, d_mesh and the drive line (torque, inertias, shafts). Two keys match when every
 //! value is bitwise equal (JSON round-trips f64 exactly: serde_json's `float_roundtrip`).
 //!
+//! # Body support
+//! The FE bodies are fixed at the pair's bore ([`BodySupport::Bore`]): φp, φg are hub angles and
+//! the compliance includes the body between hub and teeth, which for Table 1 (15 mm bore)
+//! carries about 70 % of the tooth-pair compliance. [`ComplianceData::compute_rim_fixed`]
+//! computes the alternative the paper leaves open, each body fixed just inside its rim
+//! ([`BodySupport::Rim`]; teeth and rim only), for the sensitivity study of the paper run; the
+//! provenance records the support and its diameters, and such data are never read from or
+//! written to the disk cache.
+//!
 //! # Regenerating the embedded resource
 //! ```text
 //! cargo run --release -- compliance --write-cache resources/compliance_table1.json
@@ -245,6 +254,52 @@ pub struct Provenance {
     pub depth_h_m: f64,
     /// A command that regenerates the data.
     pub command: String,
+    /// Where the FE bodies are fixed (absent in files: at the bore).
+    #[serde(default, skip_serializing_if = "BodySupport::is_bore")]
+    pub support: BodySupport,
+}
+
+/// Ratio of the rim radius r_K = r_f − `rim_depth_mn`·m_n to the radius of the circle where
+/// [`BodySupport::Rim`] fixes a gear body: just inside the rim, one thin web ring below it.
+pub const RIM_SUPPORT_RATIO: f64 = 1.06;
+
+/// Where the FE model of each gear body is fixed, i.e. what the angles φp, φg of the mesh model
+/// are the rotations of.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum BodySupport {
+    /// At the bore of the gear pair ([`GearPair::bore_diameter_m`]): φp, φg are hub rotations
+    /// and the compliance includes the body (web and rim) between hub and teeth. The model's
+    /// default.
+    #[default]
+    Bore,
+    /// Each body fixed just inside its rim, on the circle of diameter 2·r_K/[`RIM_SUPPORT_RATIO`]
+    /// with r_K = r_f − `rim_depth_mn`·m_n of the FE mesh density: φp, φg are rim rotations and
+    /// the compliance holds the teeth and the rim only (a rigid body below the rim). A
+    /// sensitivity case ([`ComplianceData::compute_rim_fixed`]), not a production model.
+    Rim {
+        /// Diameter of the fixed circle of the pinion, m.
+        diameter_p_m: f64,
+        /// Diameter of the fixed circle of the gear, m.
+        diameter_g_m: f64,
+    },
+}
+
+impl BodySupport {
+    /// True for [`BodySupport::Bore`].
+    pub fn is_bore(&self) -> bool {
+        *self == BodySupport::Bore
+    }
+}
+
+/// Diameter (m) of the circle where [`BodySupport::Rim`] fixes the body of gear `g` of `pair`
+/// meshed with `density`: 2·(r_f − `rim_depth_mn`·m_n)/[`RIM_SUPPORT_RATIO`].
+pub fn rim_support_diameter(
+    g: &crate::geometry::GearGeometry,
+    pair: &GearPair,
+    density: &GearMeshDensity,
+) -> f64 {
+    2.0 * (g.rf - density.rim_depth_mn * pair.normal_module_m) / RIM_SUPPORT_RATIO
 }
 
 /// Sizes and wall-clock times of the FE run of one gear.
@@ -488,19 +543,58 @@ fn round_significant(v: f64, digits: usize) -> f64 {
 
 impl ComplianceData {
     /// Runs the FE model of both gears of `pair` with mesh `density` and depth `depth_h_m` (m),
-    /// then the fits ([`FitRecord::fit`]). Progress goes to stderr when `progress` is true.
+    /// each body fixed at the bore, then the fits ([`FitRecord::fit`]). Progress goes to stderr
+    /// when `progress` is true.
     pub fn compute(
         pair: &GearPair,
         density: &GearMeshDensity,
         depth_h_m: f64,
         progress: bool,
     ) -> Result<Self, ComplianceError> {
+        Self::compute_with_support(pair, density, depth_h_m, false, progress)
+    }
+
+    /// As [`ComplianceData::compute`], but each gear body fixed just inside its rim
+    /// ([`BodySupport::Rim`], diameters from [`rim_support_diameter`]): the compliance of the
+    /// teeth and the rim alone, referred to the rim. For Table 1 at the default density the
+    /// tooth-pair stiffness at the pitch point is c′ = 16.8 N/(mm·µm) against 5.02 with the
+    /// bodies fixed at the 15 mm bore (see [`super::stiffness`]). The data carry the pair's
+    /// key, so [`ComplianceData::for_pair`] never takes them from the disk cache.
+    pub fn compute_rim_fixed(
+        pair: &GearPair,
+        density: &GearMeshDensity,
+        depth_h_m: f64,
+        progress: bool,
+    ) -> Result<Self, ComplianceError> {
+        Self::compute_with_support(pair, density, depth_h_m, true, progress)
+    }
+
+    fn compute_with_support(
+        pair: &GearPair,
+        density: &GearMeshDensity,
+        depth_h_m: f64,
+        rim: bool,
+        progress: bool,
+    ) -> Result<Self, ComplianceError> {
         let geo = PairGeometry::new(pair)?;
         let b0 = geo.b0();
         let mut members = Vec::with_capacity(2);
-        for g in [&geo.pinion, &geo.gear] {
+        let mut diameters = [pair.bore_diameter_m; 2];
+        for (i, g) in [&geo.pinion, &geo.gear].into_iter().enumerate() {
             let member = member_name(g.member);
-            let inf = fe_influence(g, pair, density, depth_h_m, progress)
+            let mut fe_pair = pair.clone();
+            if rim {
+                diameters[i] = rim_support_diameter(g, pair, density);
+                fe_pair.bore_diameter_m = diameters[i];
+                if progress {
+                    eprintln!(
+                        "compliance of the {member}: body fixed just inside the rim (diameter \
+                         {:.2} mm)",
+                        diameters[i] * 1e3
+                    );
+                }
+            }
+            let inf = fe_influence(g, &fe_pair, density, depth_h_m, progress)
                 .map_err(|source| ComplianceError::Fe { member, source })?;
             let fit = FitRecord::fit(&inf.grid, b0)
                 .map_err(|source| ComplianceError::Fit { member, source })?;
@@ -520,12 +614,22 @@ impl ComplianceData {
         let key = ComplianceKey::of(pair);
         let default_run = *density == GearMeshDensity::default()
             && depth_h_m == DEFAULT_DEPTH_MN * pair.normal_module_m;
-        let command = if key == ComplianceKey::of(&GearPair::paper_table1()) && default_run {
-            TABLE1_COMMAND.to_string()
+        let (command, support) = if rim {
+            (
+                "ComplianceData::compute_rim_fixed (library; the paper run's sensitivity case \
+                 \"compliance referred to the rim\")"
+                    .to_string(),
+                BodySupport::Rim { diameter_p_m: diameters[0], diameter_g_m: diameters[1] },
+            )
+        } else if key == ComplianceKey::of(&GearPair::paper_table1()) && default_run {
+            (TABLE1_COMMAND.to_string(), BodySupport::Bore)
         } else {
-            "helical-gear compliance --params PARAMS.json [--density coarse|default|refined] \
-             --write-cache FILE (PARAMS.json: a gear pair with this key)"
-                .to_string()
+            (
+                "helical-gear compliance --params PARAMS.json [--density coarse|default|refined] \
+                 --write-cache FILE (PARAMS.json: a gear pair with this key)"
+                    .to_string(),
+                BodySupport::Bore,
+            )
         };
         let provenance = Provenance {
             format_version: FORMAT_VERSION,
@@ -534,6 +638,7 @@ impl ComplianceData {
             density: *density,
             depth_h_m,
             command,
+            support,
         };
         let data = Self { provenance, pinion, gear, source: DataSource::Computed };
         data.check()?;
@@ -576,6 +681,7 @@ impl ComplianceData {
                 match Self::read_file(path) {
                     Ok(d)
                         if d.matches(pair)
+                            && d.provenance.support.is_bore()
                             && d.provenance.density == density
                             && d.provenance.depth_h_m == depth =>
                     {
@@ -583,7 +689,7 @@ impl ComplianceData {
                     }
                     Ok(_) => eprintln!(
                         "warning: compliance cache {} belongs to another gear pair, mesh \
-                         density or depth h; recomputing",
+                         density, depth h or body support; recomputing",
                         path.display()
                     ),
                     Err(e) => eprintln!("warning: unusable compliance cache ({e}); recomputing"),

@@ -65,7 +65,8 @@
 //! * Tip relief and tip rounding play no part at the pitch point.
 //!
 //! The numbers come from `tests/compliance_data.rs` (the rim-fixed case from an ignored test
-//! there).
+//! there, with the data of [`super::data::ComplianceData::compute_rim_fixed`], which the paper
+//! run also uses for its sensitivity case "compliance referred to the rim").
 //!
 //! Units: SI inside (m, N, N/m, rad); the result also in N/(mm·µm).
 

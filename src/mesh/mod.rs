@@ -34,8 +34,8 @@ use crate::params::GearPair;
 
 pub use model::{GearCompliance, MeshModel, SolveStats};
 pub use statics::{
-    Equilibrium, EquilibriumSettings, StaticCurve, WaterfallRow, equilibrium, pressure_waterfall,
-    static_curve,
+    Equilibrium, EquilibriumSettings, StaticCurve, TipThreshold, WaterfallRow, equilibrium,
+    pressure_waterfall, static_curve, tip_contact_threshold, tip_contact_threshold_curve,
 };
 pub use table::MeshTable;
 

@@ -8,6 +8,10 @@
 //! loaded. The root is bracketed by expanding from a guess and then found by Brent's method
 //! (inverse quadratic interpolation with bisection safeguard), which converges superlinearly
 //! on the piecewise-smooth M_F,p(TE) and never leaves the bracket.
+//!
+//! [`tip_contact_threshold_curve`] gives, over one mesh period, the smallest TE at which a
+//! loaded contact reaches a tip rounding or tip edge: the static onset of tip contact that the
+//! paper run compares with the steady dynamic TE.
 
 use super::{MeshError, MeshOutputs, MeshState, MeshTorques};
 
@@ -325,4 +329,111 @@ pub fn pressure_waterfall(
     })();
     model.set_detail(detail_before);
     result.map(|()| rows)
+}
+
+/// Onset of tip contact in the static model over one mesh period: at each pinion angle the
+/// smallest TE at which a loaded contact lies on a tip rounding or tip edge of either gear
+/// ([`MeshOutputs::tip_contact`]), see [`tip_contact_threshold_curve`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TipThreshold {
+    /// First pinion angle, rad.
+    pub phi_start: f64,
+    /// Pinion angular pitch (the mesh period in φp), rad.
+    pub pinion_pitch: f64,
+    /// Pinion angles φp, rad: `phi_start` + k·pitch/n, k = 0 … n − 1.
+    pub phi_p: Vec<f64>,
+    /// Threshold TE at each angle, m; `None` when no tip contact up to `te_max`.
+    pub te: Vec<Option<f64>>,
+    /// Largest TE searched, m.
+    pub te_max: f64,
+}
+
+impl TipThreshold {
+    /// Smallest threshold over the angles: (φp in rad, TE in m); `None` if no angle has one.
+    pub fn min(&self) -> Option<(f64, f64)> {
+        self.phi_p
+            .iter()
+            .zip(&self.te)
+            .filter_map(|(&p, t)| t.map(|t| (p, t)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Threshold at any pinion angle (rad), m: periodic linear interpolation between the
+    /// stored angles; an angle without tip contact up to `te_max` counts as `te_max`, so the
+    /// value is then a lower bound.
+    pub fn at(&self, phi_p: f64) -> f64 {
+        let n = self.te.len();
+        if n == 0 {
+            return f64::INFINITY;
+        }
+        let x =
+            (phi_p - self.phi_start).rem_euclid(self.pinion_pitch) / self.pinion_pitch * n as f64;
+        let i = (x.floor() as usize).min(n - 1);
+        let f = x - i as f64;
+        let v = |k: usize| self.te[k % n].unwrap_or(self.te_max);
+        v(i) * (1.0 - f) + v(i + 1) * f
+    }
+}
+
+/// The smallest TE (m) in (0, `te_max`] at pinion angle `phi_p` (rad) at which the full model
+/// (contact search and load solve, whatever the fidelity) puts load on a tip rounding or tip
+/// edge; `None` if there is none up to `te_max`. Scans TE in `steps` equal steps, then bisects
+/// the first step with tip contact down to `te_tol` (m). Tip contact is taken to persist once
+/// reached (more TE, more overlap at the tip); a window narrower than one scan step can be
+/// missed.
+pub fn tip_contact_threshold(
+    model: &mut super::MeshModel,
+    phi_p: f64,
+    te_max: f64,
+    steps: usize,
+    te_tol: f64,
+) -> Result<Option<f64>, MeshError> {
+    let geo = model.geometry().clone();
+    let mut tip = |te: f64| -> Result<bool, MeshError> {
+        let s = MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 };
+        Ok(model.evaluate_full(&s)?.tip_contact)
+    };
+    let steps = steps.max(1);
+    let mut lo = 0.0;
+    for k in 1..=steps {
+        let hi = te_max * k as f64 / steps as f64;
+        if tip(hi)? {
+            let mut hi = hi;
+            while hi - lo > te_tol {
+                let mid = 0.5 * (lo + hi);
+                if tip(mid)? {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Ok(Some(hi));
+        }
+        lo = hi;
+    }
+    Ok(None)
+}
+
+/// [`tip_contact_threshold`] at `points` uniform pinion angles over one pinion pitch from
+/// `phi_start` (rad), in parallel (one model clone per angle); TE scanned up to `te_max` (m) in
+/// `steps` steps and bisected to 1 nm.
+pub fn tip_contact_threshold_curve(
+    model: &super::MeshModel,
+    phi_start: f64,
+    pinion_pitch: f64,
+    points: usize,
+    te_max: f64,
+    steps: usize,
+) -> Result<TipThreshold, MeshError> {
+    use rayon::prelude::*;
+    let n = points.max(1);
+    let phi_p: Vec<f64> = (0..n).map(|k| phi_start + pinion_pitch * k as f64 / n as f64).collect();
+    let te = phi_p
+        .par_iter()
+        .map(|&phi| {
+            let mut m = model.clone();
+            tip_contact_threshold(&mut m, phi, te_max, steps, 1e-9)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(TipThreshold { phi_start, pinion_pitch, phi_p, te, te_max })
 }
