@@ -404,7 +404,7 @@ impl<M: MeshTorques> GearDynamics<M> {
 
     /// Transmission error TE = φp·g_p + φg·g_g of state `y`, m.
     pub fn te(&self, y: &[f64]) -> f64 {
-        y[PHI_P] * self.g_p + y[PHI_G] * self.g_g
+        crate::numeric::dot2(y[PHI_P], self.g_p, y[PHI_G], self.g_g)
     }
 
     /// Mesh outputs at state `y` (length 8); the last evaluation is reused for a bit-identical
