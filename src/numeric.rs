@@ -71,6 +71,14 @@ pub fn dot2(a: f64, b: f64, c: f64, d: f64) -> f64 {
     s + (es + (e1 + e2))
 }
 
+/// The gear angle φg with φp·g_p + φg·g_g = `te`: (te − φp·g_p)/g_g with the product exact
+/// (two rounding errors in all, so that a huge φp loses no digits of TE before the division).
+#[inline]
+pub fn phi_g_for_te(phi_p: f64, te: f64, g_p: f64, g_g: f64) -> f64 {
+    let (p, e) = two_prod(phi_p, g_p);
+    ((te - p) - e) / g_g
+}
+
 /// An angular pitch 2π/z as a double-double, with the exact reduction of an angle modulo it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pitch {

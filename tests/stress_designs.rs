@@ -239,8 +239,8 @@ fn invalid_designs_name_the_parameter() {
     }
 }
 
-/// Two random designs with FE compliance on the coarse mesh (about a minute each on two
-/// cores): `cargo test --release --test stress_designs -- --ignored`.
+/// Two random designs with FE compliance on the coarse mesh (about 2 s for these two; the FE
+/// cost grows with the design): `cargo test --test stress_designs -- --ignored`.
 #[test]
 #[ignore]
 fn random_designs_with_fe_compliance() {

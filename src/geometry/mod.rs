@@ -196,7 +196,6 @@ impl PairGeometry {
 
     /// Gear angle φg that gives transmission error `te` (m) at pinion angle `phi_p`, rad.
     pub fn phi_g_for_te(&self, phi_p: f64, te: f64) -> f64 {
-        let (p, e) = crate::numeric::two_prod(phi_p, self.pinion.rb);
-        ((te - p) - e) / self.gear.rb
+        crate::numeric::phi_g_for_te(phi_p, te, self.pinion.rb, self.gear.rb)
     }
 }

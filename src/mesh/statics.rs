@@ -64,7 +64,12 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     let count = std::cell::Cell::new(0usize);
     let eval = |mesh: &mut M, te: f64| -> Result<(f64, MeshOutputs), MeshError> {
         count.set(count.get() + 1);
-        let state = MeshState { phi_p, phi_g: (te - phi_p * gp) / gg, w_p: 0.0, w_g: 0.0 };
+        let state = MeshState {
+            phi_p,
+            phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
+            w_p: 0.0,
+            w_g: 0.0,
+        };
         let o = mesh.mesh(&state)?;
         Ok((o.m_f_p - torque, o))
     };
@@ -79,7 +84,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     if fa_o.0.abs() <= tol_m {
         return Ok(Equilibrium {
             phi_p,
-            phi_g: (a - phi_p * gp) / gg,
+            phi_g: crate::numeric::phi_g_for_te(phi_p, a, gp, gg),
             te: a,
             outputs: fa_o.1,
             evaluations: count.get(),
@@ -208,7 +213,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     let te = best.0;
     Ok(Equilibrium {
         phi_p,
-        phi_g: (te - phi_p * gp) / gg,
+        phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
         te,
         outputs: best.1,
         evaluations: count.get(),
