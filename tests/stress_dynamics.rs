@@ -221,7 +221,7 @@ fn real_mesh_kicked_up_to_three_omega_crit() {
     kicked_real_mesh(&[(532.0, -150.0), (1600.0, 150.0)], 3e-3);
 }
 
-/// The longer variant: four speeds from slow running to 3·ω_crit, 8 ms each (about a minute):
+/// The longer variant: four speeds from slow running to 3·ω_crit, 8 ms each (about 20 s):
 /// `cargo test --test stress_dynamics -- --ignored`.
 #[test]
 #[ignore]
