@@ -3,7 +3,8 @@
 # tests, then the FMU suite: the release FMU and CLI are built, and pytest (with fmpy, in a
 # .venv this script creates) validates and drives the FMU, compares a Python RK4 master with
 # the CLI's RK4 reference, and compiles and runs the C test of tests/c with gcc (skipped when
-# gcc is missing). Installs what it needs itself; needs Rust and Python 3.
+# gcc is missing), and once more under valgrind for memory errors and leaks (skipped with a
+# message when valgrind is missing). Installs what it needs itself; needs Rust and Python 3.
 set -euo pipefail
 cd "$(dirname "$0")"
 

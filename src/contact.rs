@@ -139,6 +139,7 @@ pub struct ContactSolver<'a> {
     psi0_p: f64,
     psi0_g: f64,
     center_g: [f64; 2],
+    pitch_p: crate::numeric::Pitch,
 }
 
 #[inline]
@@ -226,6 +227,7 @@ impl<'a> ContactSolver<'a> {
             psi0_p: inv_w - geo.pinion.lambda0,
             psi0_g: PI + inv_w - geo.gear.lambda0,
             center_g: [geo.center_distance, 0.0],
+            pitch_p: crate::numeric::Pitch::of_teeth(geo.pinion.z),
         }
     }
 
@@ -234,20 +236,20 @@ impl<'a> ContactSolver<'a> {
         self.geo
     }
 
-    /// Reduces (φp, φg) to one mesh cycle without changing the contact set; TE is computed from
-    /// the reduced angles.
+    /// Reduces (φp, φg) to one mesh cycle without changing the contact set.
+    ///
+    /// Exact in the given doubles ([`crate::numeric`]): TE = φp·g_p + φg·g_g is computed from
+    /// the absolute angles in twice the working precision and rounded once, the pinion angle is
+    /// reduced modulo a double-double pitch 2π/z_p, and the reduced gear angle is the one that
+    /// gives that TE at the reduced pinion angle (so the contacts see exactly the TE that is
+    /// reported; a gear angle reduced by whole gear pitches would differ by the few-ulp
+    /// mismatch of g_p/g_g and z_p/z_g, which 10¹² rad turn into micrometres). Without a whole
+    /// pitch to remove (k = 0) the angles pass unchanged.
     pub fn reduce(&self, phi_p: f64, phi_g: f64) -> ReducedAngles {
-        let pp = self.geo.pinion.angular_pitch();
-        let pg = self.geo.gear.angular_pitch();
-        let k = (phi_p / pp).round();
-        let rp = (-k).mul_add(pp, phi_p);
-        let rg = k.mul_add(pg, phi_g);
-        ReducedAngles {
-            phi_p: rp,
-            phi_g: rg,
-            pitches: k as i64,
-            te: self.geo.transmission_error(rp, rg),
-        }
+        let te = self.geo.transmission_error(phi_p, phi_g);
+        let (rp, k) = self.pitch_p.reduce(phi_p);
+        let rg = if k == 0.0 { phi_g } else { self.geo.phi_g_for_te(rp, te) };
+        ReducedAngles { phi_p: rp, phi_g: rg, pitches: k as i64, te }
     }
 
     /// Mid-slice coordinates ζ_i = (i + ½)·b₀/n of `n` equal axial slices.

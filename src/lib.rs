@@ -30,6 +30,7 @@ pub mod fmi2;
 pub mod geometry;
 pub mod load;
 pub mod mesh;
+pub mod numeric;
 pub mod paper;
 pub mod params;
 pub mod plot;

@@ -512,7 +512,28 @@ fn static_cmd(
     Ok(())
 }
 
+/// Restores the default action of SIGPIPE, which the Rust runtime ignores: a reader that
+/// closes our stdout early (`helical-gear simulate … --csv | head -1`) then ends the program
+/// quietly, as it does for other command-line tools, instead of a `println!` panic about a
+/// broken pipe.
+fn restore_sigpipe() {
+    #[cfg(unix)]
+    {
+        unsafe extern "C" {
+            fn signal(signum: std::ffi::c_int, handler: usize) -> usize;
+        }
+        const SIGPIPE: std::ffi::c_int = 13; // the same number on Linux, macOS and the BSDs
+        const SIG_DFL: usize = 0;
+        // SAFETY: called first thing in main, before any thread exists; SIG_DFL is a valid
+        // action for SIGPIPE.
+        unsafe {
+            signal(SIGPIPE, SIG_DFL);
+        }
+    }
+}
+
 fn main() -> ExitCode {
+    restore_sigpipe();
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Geometry { common } => geometry_cmd(common),

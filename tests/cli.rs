@@ -346,3 +346,32 @@ fn bench_quick_reports_the_contract_keys() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A reader that closes stdout early (`… | head -1`) ends the program quietly: no panic, no
+/// "Broken pipe" message.
+#[test]
+fn closed_stdout_ends_quietly() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    for args in [
+        &["contact", "--phi-p", "0.01", "--te", "20e-6", "--slices", "4000", "--json"][..],
+        &["simulate", "--omega-p", "150", "--t-end", "2e-3", "--dt", "2e-6", "--csv"][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_helical-gear"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap()).read_line(&mut first).unwrap();
+        assert!(!first.is_empty());
+        // The reader is dropped here: the pipe is closed with most of the output unread.
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !stderr.contains("panicked") && !stderr.contains("Broken pipe"),
+            "{args:?}: {stderr}"
+        );
+    }
+}

@@ -98,7 +98,9 @@ fn dopri5_trajectory_on_an_output_grid_matches_rk4() {
         let j = 10 * i;
         assert!((rk.time[j] - t).abs() < 1e-15);
         worst = worst.max((rk.outputs[j].te - o.te).abs());
-        assert_eq!(o.te, dp.states[i][PHI_P] * gp + dp.states[i][PHI_G] * gg);
+        // TE = φp·g_p + φg·g_g, correctly rounded (see helical_gear_mesh::numeric).
+        let te = helical_gear_mesh::numeric::dot2(dp.states[i][PHI_P], gp, dp.states[i][PHI_G], gg);
+        assert_eq!(o.te, te);
     }
     eprintln!("max |TE_dopri5 − TE_rk4| = {worst:.3e} m, {} DOPRI5 steps", dp.steps);
     // TE is a difference of angles of order 1 rad times radii: rtol 1e-10 on the angles

@@ -79,7 +79,7 @@ fn check_positive(name: &str, v: f64) -> Result<(), MeshError> {
 
 /// Outputs of a spring k (N/m) with clearance `c` and damper `d` (N·s/m) at `s`.
 fn spring_outputs(k: f64, d: f64, gp: f64, gg: f64, c: Clearance, s: &MeshState) -> MeshOutputs {
-    let te = s.phi_p * gp + s.phi_g * gg;
+    let te = crate::numeric::dot2(s.phi_p, gp, s.phi_g, gg);
     let (delta, front, back) = c.deflection(te);
     let contact = front || back;
     let f = k * delta;

@@ -404,7 +404,7 @@ impl<M: MeshTorques> GearDynamics<M> {
 
     /// Transmission error TE = φp·g_p + φg·g_g of state `y`, m.
     pub fn te(&self, y: &[f64]) -> f64 {
-        y[PHI_P] * self.g_p + y[PHI_G] * self.g_g
+        crate::numeric::dot2(y[PHI_P], self.g_p, y[PHI_G], self.g_g)
     }
 
     /// Mesh outputs at state `y` (length 8); the last evaluation is reused for a bit-identical
@@ -513,7 +513,12 @@ pub fn mesh_stiffness<M: MeshTorques + ?Sized>(
         equilibrium(mesh, phi_p, torque, torque / (gp * 1e8), &EquilibriumSettings::default())?;
     let dte = (0.01 * eq.te.abs()).max(1e-9);
     let at = |mesh: &mut M, te: f64| -> Result<f64, MeshError> {
-        let s = MeshState { phi_p, phi_g: (te - phi_p * gp) / gg, w_p: 0.0, w_g: 0.0 };
+        let s = MeshState {
+            phi_p,
+            phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
+            w_p: 0.0,
+            w_g: 0.0,
+        };
         Ok(mesh.mesh(&s)?.m_f_p)
     };
     let hi = at(mesh, eq.te + dte)?;

@@ -389,7 +389,7 @@ pub fn run_to_steady<M: MeshTorques>(
     let start = model.static_start(opts.phi_p0, omega_p, &opts.equilibrium)?;
     let mut y = start.y;
     let (gp, gg) = model.base_radii();
-    let te_of = |y: &[f64]| y[1] * gp + y[2] * gg;
+    let te_of = |y: &[f64]| crate::numeric::dot2(y[1], gp, y[2], gg);
     det.push(te_of(&y))?;
     let min_samples = (opts.min_periods * n) as u64;
     let window_span = opts.max_multiple as f64 * t_m;

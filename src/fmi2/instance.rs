@@ -850,7 +850,16 @@ fn deserialize(bytes: &[u8]) -> Result<Data, String> {
     d.stop_time = has_stop.then_some(stop);
     for v in VARIABLES {
         match v.access {
-            Access::RealParam(_, set) => set(&mut d.settings, r.f64()?),
+            Access::RealParam(_, set) => {
+                let x = r.f64()?;
+                if !x.is_finite() {
+                    return Err(format!(
+                        "serialised state: parameter `{}` = {x} is not finite",
+                        v.name
+                    ));
+                }
+                set(&mut d.settings, x)
+            }
             Access::IntParam(_, set) => {
                 let x = r.i32()?;
                 set(&mut d.settings, x).map_err(|a| {
@@ -858,8 +867,22 @@ fn deserialize(bytes: &[u8]) -> Result<Data, String> {
                 })?;
             }
             Access::BoolParam(_, set) => set(&mut d.settings, r.bool()?),
-            Access::Input(_, set) => set(&mut d.inputs, r.f64()?),
+            Access::Input(_, set) => {
+                let x = r.f64()?;
+                if !x.is_finite() {
+                    return Err(format!(
+                        "serialised state: input `{}` = {x} is not finite",
+                        v.name
+                    ));
+                }
+                set(&mut d.inputs, x)
+            }
             _ => {}
+        }
+    }
+    for (name, t) in [("time", d.time), ("start time", d.start_time), ("stop time", stop)] {
+        if !t.is_finite() {
+            return Err(format!("serialised state: {name} = {t} is not finite"));
         }
     }
     if r.bool()? {

@@ -35,7 +35,9 @@ pub struct Equilibrium {
 pub struct EquilibriumSettings {
     /// Torque tolerance relative to |M| (dimensionless).
     pub rel_tol: f64,
-    /// Absolute TE tolerance, m: the bracket is not narrowed below this.
+    /// Absolute TE tolerance, m: the bracket is not narrowed below this. A bracket narrowed to
+    /// it is accepted with a torque residual up to 1e-4·|M| (a very stiff mesh at a small
+    /// torque: 1e-15 m of TE can be more than `rel_tol` of the torque).
     pub te_tol: f64,
     /// Largest number of mesh evaluations.
     pub max_evaluations: usize,
@@ -66,7 +68,12 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     let count = std::cell::Cell::new(0usize);
     let eval = |mesh: &mut M, te: f64| -> Result<(f64, MeshOutputs), MeshError> {
         count.set(count.get() + 1);
-        let state = MeshState { phi_p, phi_g: (te - phi_p * gp) / gg, w_p: 0.0, w_g: 0.0 };
+        let state = MeshState {
+            phi_p,
+            phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
+            w_p: 0.0,
+            w_g: 0.0,
+        };
         let o = mesh.mesh(&state)?;
         Ok((o.m_f_p - torque, o))
     };
@@ -81,7 +88,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     if fa_o.0.abs() <= tol_m {
         return Ok(Equilibrium {
             phi_p,
-            phi_g: (a - phi_p * gp) / gg,
+            phi_g: crate::numeric::phi_g_for_te(phi_p, a, gp, gg),
             te: a,
             outputs: fa_o.1,
             evaluations: count.get(),
@@ -130,6 +137,10 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     let (mut c, mut fc) = (a, fa);
     let mut d = b - a;
     let mut e = d;
+    // Set when the bracket around the root has shrunk to the TE tolerance: on a stiff mesh a
+    // TE step of te_tol can change the torque by more than rel_tol·|M|, and the root is then
+    // as well determined as TE allows.
+    let mut bracketed_to_te_tol = false;
     while count.get() < settings.max_evaluations {
         if (fb > 0.0) == (fc > 0.0) {
             c = a;
@@ -148,6 +159,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         let tol = 2.0 * f64::EPSILON * b.abs() + 0.5 * settings.te_tol;
         let m = 0.5 * (c - b);
         if m.abs() <= tol || fb == 0.0 {
+            bracketed_to_te_tol = true;
             break;
         }
         if e.abs() >= tol && fa.abs() > fb.abs() {
@@ -190,7 +202,10 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
             break;
         }
     }
-    if best.2.abs() > tol_m.max(1e-9 * torque.abs()) {
+    // Accepted: the torque tolerance met (to 1e-9), or the bracket at the TE tolerance with a
+    // residual that a continuous M_F,p(TE) explains (a jump would leave a larger one).
+    let accept = if bracketed_to_te_tol { 1e-4 } else { 1e-9 };
+    if best.2.abs() > tol_m.max(accept * torque.abs()) {
         return Err(MeshError::Equilibrium(format!(
             "torque residual {:.3e} N·m after {} evaluations at φp = {phi_p} rad \
              (TE = {:.6e} m)",
@@ -202,7 +217,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     let te = best.0;
     Ok(Equilibrium {
         phi_p,
-        phi_g: (te - phi_p * gp) / gg,
+        phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
         te,
         outputs: best.1,
         evaluations: count.get(),

@@ -96,9 +96,8 @@ pub struct MeshTable {
     drive: TeAxis,
     back: TeAxis,
     backlash_te: f64,
-    /// Pinion and gear angular pitches and base radii, for the phase reduction.
-    pitch_p: f64,
-    pitch_g: f64,
+    /// Pinion pitch (double-double, for the exact phase reduction) and base radii.
+    pitch_p: crate::numeric::Pitch,
     rb_p: f64,
     rb_g: f64,
     nominal_torque: f64,
@@ -239,8 +238,7 @@ impl MeshTable {
             drive,
             back,
             backlash_te: jt,
-            pitch_p: geo.pinion.angular_pitch(),
-            pitch_g: geo.gear.angular_pitch(),
+            pitch_p: crate::numeric::Pitch::of_teeth(geo.pinion.z),
             rb_p: geo.pinion.rb,
             rb_g: geo.gear.rb,
             nominal_torque: torque,
@@ -307,11 +305,10 @@ impl MeshTable {
     /// Table evaluation at `state`, or `None` when TE is outside the covered range (the
     /// caller then uses the full model).
     pub fn evaluate(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
-        // The reduction of ContactSolver::reduce, with the constants kept here.
-        let k = (state.phi_p / self.pitch_p).round();
-        let phi_p_red = (-k).mul_add(self.pitch_p, state.phi_p);
-        let phi_g_red = k.mul_add(self.pitch_g, state.phi_g);
-        let te = phi_p_red * self.rb_p + phi_g_red * self.rb_g;
+        // The reduction of ContactSolver::reduce (exact in the given doubles, see
+        // crate::numeric), with the constants kept here.
+        let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
+        let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
         let axis = if te > 0.0 {
             if te > self.drive.end() {
                 return None;

@@ -7,12 +7,14 @@
  *                                      standard's fmi2Functions.h, so the compiler checks every
  *                                      exported signature against the standard's declaration
  *
- * Usage: test_capi GUID   (the FMU's GUID from modelDescription.xml)
+ * Usage: test_capi GUID [REPEAT]   (the FMU's GUID from modelDescription.xml; REPEAT is the
+ * number of create/free and instantiate/free cycles of the stress part, default 1000)
  * Exit status 0 when every check passes; each failed check is printed.
  */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "helical_gear_mesh.h"
@@ -176,13 +178,117 @@ static void test_fmi2(const char *guid) {
     fmi2FreeInstance(c);
 }
 
+/* ------------------------------------------------------------------ extreme inputs */
+
+/* TE = a*b + c*d rounded once (two-product with fma): the reference for huge angles. */
+static double dot2(double a, double b, double c, double d) {
+    double p1 = a * b, e1 = fma(a, b, -p1);
+    double p2 = c * d, e2 = fma(c, d, -p2);
+    double s = p1 + p2, bb = s - p1, es = (p1 - (s - bb)) + (p2 - bb);
+    return s + (es + (e1 + e2));
+}
+
+static void test_extremes(const char *guid, int repeat) {
+    const char *names[4] = {"phi_p", "phi_g", "w_p", "w_g"};
+    const double bad[3] = {NAN, INFINITY, -INFINITY};
+    HgmOutputs out;
+    char want[64];
+
+    HgmModel *m = hgm_create_default();
+    CHECK(m != NULL, "default model: %s", hgm_last_error(NULL));
+    if (m == NULL) return;
+    for (int i = 0; i < 4; i++) {
+        for (int k = 0; k < 3; k++) {
+            double v[4] = {0.01, -0.0060851, 100.0, -63.83};
+            v[i] = bad[k];
+            CHECK(hgm_evaluate(m, v[0], v[1], v[2], v[3], &out) == HGM_STATUS_INVALID_ARGUMENT,
+                  "%s = %g", names[i], bad[k]);
+            snprintf(want, sizeof want, "`%s` = ", names[i]);
+            CHECK(strstr(hgm_last_error(m), want) != NULL, "message: %s", hgm_last_error(m));
+        }
+    }
+    /* 1e12 rad: TE is the correctly rounded phi_p*g_p + phi_g*g_g of the given doubles. */
+    const double huge[3] = {1e12, -1e12, 7.77e11};
+    for (int i = 0; i < 3; i++) {
+        double phi_p = huge[i], phi_g = (20e-6 - phi_p * G_P) / G_G;
+        CHECK(hgm_evaluate(m, phi_p, phi_g, 150.0, -95.7, &out) == HGM_STATUS_OK, "%s",
+              hgm_last_error(m));
+        double te = dot2(phi_p, G_P, phi_g, G_G);
+        CHECK(out.te == te, "phi_p = %g: TE %.17g vs %.17g", phi_p, out.te, te);
+        CHECK(isfinite(out.m_f_p) && (te <= 0.0 || out.m_f_p > 0.0), "M_F_p = %g", out.m_f_p);
+    }
+    /* Zero and negative speeds. */
+    const double speeds[3][2] = {{0.0, 0.0}, {-100.0, 63.83}, {-1e4, 1e4}};
+    for (int i = 0; i < 3; i++) {
+        CHECK(hgm_evaluate(m, 0.01, -0.0060851, speeds[i][0], speeds[i][1], &out) ==
+                  HGM_STATUS_OK, "%s", hgm_last_error(m));
+        double dte = speeds[i][0] * G_P + speeds[i][1] * G_G;
+        CHECK(isfinite(out.m_d_p) && out.m_d_p * dte >= 0.0, "M_D_p = %g, dTE/dt = %g",
+              out.m_d_p, dte);
+    }
+    hgm_free(m);
+    for (int i = 0; i < repeat; i++) {
+        HgmModel *h = hgm_create_default();
+        CHECK(h != NULL, "create #%d", i);
+        hgm_free(h);
+    }
+
+    /* FMI: NaN/Inf in every input is an error that names it in the log. */
+    fmi2CallbackFunctions cb = {logger, NULL, NULL, NULL, NULL};
+    for (int i = 0; i < repeat; i++) {
+        fmi2Component c = fmi2Instantiate("r", fmi2CoSimulation, guid, NULL, &cb, fmi2False,
+                                          fmi2False);
+        CHECK(c != NULL, "instantiate #%d", i);
+        fmi2FreeInstance(c);
+    }
+    fmi2Component c =
+        fmi2Instantiate("x", fmi2CoSimulation, guid, NULL, &cb, fmi2False, fmi2False);
+    CHECK(c != NULL, "instance");
+    if (c == NULL) return;
+    CHECK(fmi2Terminate(c) == fmi2Error, "terminate before initialisation");
+    CHECK(strstr(last_message, "not allowed in state") != NULL, "message: %s", last_message);
+    CHECK(fmi2Reset(c) == fmi2OK, "reset");
+    CHECK(fmi2SetupExperiment(c, fmi2False, 0, 0, fmi2False, 0) == fmi2OK, "setup");
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK, "enter");
+    CHECK(fmi2ExitInitializationMode(c) == fmi2OK, "exit");
+    fmi2ValueReference in_vr[4] = {0, 1, 2, 3};
+    for (int i = 0; i < 4; i++) {
+        for (int k = 0; k < 3; k++) {
+            CHECK(fmi2SetReal(c, &in_vr[i], 1, &bad[k]) == fmi2Error, "%s = %g", names[i],
+                  bad[k]);
+            snprintf(want, sizeof want, "input `%s` = ", names[i]);
+            CHECK(strstr(last_message, want) != NULL, "message: %s", last_message);
+            CHECK(fmi2Reset(c) == fmi2OK, "reset");
+            CHECK(fmi2EnterInitializationMode(c) == fmi2OK, "enter");
+            CHECK(fmi2ExitInitializationMode(c) == fmi2OK, "exit");
+        }
+    }
+    fmi2ValueReference unknown = 9999;
+    fmi2Real x = 0;
+    CHECK(fmi2GetReal(c, &unknown, 1, &x) == fmi2Error, "unknown value reference");
+    CHECK(strstr(last_message, "9999") != NULL, "message: %s", last_message);
+    CHECK(fmi2Reset(c) == fmi2OK, "reset");
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK, "enter");
+    CHECK(fmi2ExitInitializationMode(c) == fmi2OK, "exit");
+    double v[4] = {1e12, (20e-6 - 1e12 * G_P) / G_G, -100.0, 63.83};
+    CHECK(fmi2SetReal(c, in_vr, 4, v) == fmi2OK, "1e12 rad");
+    fmi2ValueReference te_vr = 14;
+    CHECK(fmi2GetReal(c, &te_vr, 1, &x) == fmi2OK && x == dot2(v[0], G_P, v[1], G_G),
+          "TE at 1e12 rad through the FMU: %.17g", x);
+    CHECK(fmi2Terminate(c) == fmi2OK, "terminate");
+    CHECK(fmi2DoStep(c, 0.0, 1e-3, fmi2True) == fmi2Error, "step after terminate");
+    fmi2FreeInstance(c);
+}
+
 int main(int argc, char **argv) {
-    if (argc != 2) {
-        fprintf(stderr, "usage: %s GUID\n", argv[0]);
+    if (argc != 2 && argc != 3) {
+        fprintf(stderr, "usage: %s GUID [REPEAT]\n", argv[0]);
         return 2;
     }
+    int repeat = argc == 3 ? atoi(argv[2]) : 1000;
     test_fmi2(argv[1]);
     test_capi();
+    test_extremes(argv[1], repeat);
     if (failures) {
         fprintf(stderr, "%d check(s) failed\n", failures);
         return 1;

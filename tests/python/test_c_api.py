@@ -1,6 +1,8 @@
 """Compiles tests/c/test_capi.c with gcc -Wall -Wextra -Werror against the generated headers and
 the FMI 2.0 standard headers shipped with fmpy (so every exported fmi2 signature is checked
-against the standard), links the release library and runs it."""
+against the standard), links the release library and runs it; then, when valgrind is
+installed, runs it again under `valgrind --error-exitcode=1 --leak-check=full` (100
+create/free and instantiate/free cycles instead of 1000; about 10 s)."""
 
 import os
 import shutil
@@ -13,7 +15,8 @@ import pytest
 from conftest import RELEASE, ROOT
 
 
-def test_c_program_against_the_generated_headers(md, tmp_path):
+def _build_and_run(md, tmp_path):
+    """Builds the C test, runs it once and returns the executable."""
     gcc = shutil.which("gcc")
     if gcc is None:
         pytest.skip("gcc is not installed: the C test is not run")
@@ -34,4 +37,20 @@ def test_c_program_against_the_generated_headers(md, tmp_path):
     run = subprocess.run([str(exe), md.guid], capture_output=True, text=True)
     print(run.stdout)
     assert run.returncode == 0, run.stdout + run.stderr
+    assert "all C checks passed" in run.stdout
+    return exe
+
+
+def test_c_program_against_the_generated_headers(md, tmp_path):
+    _build_and_run(md, tmp_path)
+
+
+def test_c_program_under_valgrind(md, tmp_path):
+    valgrind = shutil.which("valgrind")
+    if valgrind is None:
+        pytest.skip("valgrind is not installed: the memory check of the C test is not run")
+    exe = _build_and_run(md, tmp_path)
+    cmd = [valgrind, "--error-exitcode=1", "--leak-check=full", "-q", str(exe), md.guid, "100"]
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-8000:]
     assert "all C checks passed" in run.stdout
