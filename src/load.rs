@@ -698,8 +698,8 @@ impl LoadSolver {
         self.take_step(iterations, residual)
     }
 
-    /// Right-hand side of the Newton system on the working set (unscaled), as in
-    /// [`LoadSolver::fill_system`].
+    /// Right-hand side of the Newton system on the working set (unscaled): −g_W, plus the
+    /// loads of slices leaving W (set to 0), which move to the right-hand side.
     fn fill_rhs(&mut self, problem: &LoadProblem<'_>) {
         let n = problem.approach.len();
         let c = problem.compliance;
@@ -742,7 +742,6 @@ impl LoadSolver {
     /// `C_WW·diag(w_W) + diag(u_c')`; scaled (symmetric C): both sides multiplied by diag(w_W),
     /// which makes the matrix `diag(w)·C·diag(w) + diag(w·u_c')` symmetric.
     fn fill_system(&mut self, problem: &LoadProblem<'_>, scaled: bool) -> Result<(), LoadError> {
-        let n = problem.approach.len();
         let c = problem.compliance;
         let w = problem.line_length;
         let m = self.working.len();
@@ -761,29 +760,7 @@ impl LoadSolver {
                 }
             }
         }
-        for (a, &i) in self.working.iter().enumerate() {
-            self.rhs[(a, 0)] = -self.cur.g[i];
-        }
-        // Slices leaving W are set to 0: their load moves to the right-hand side.
-        for k in 0..n {
-            let fk = w[k] * self.cur.q[k];
-            if self.in_working[k] || fk == 0.0 {
-                continue;
-            }
-            let dst = &mut self.rhs.col_as_slice_mut(0)[..m];
-            match column(c, k) {
-                Some(src) => {
-                    for (x, &i) in dst.iter_mut().zip(&self.working) {
-                        *x += src[i] * fk;
-                    }
-                }
-                None => {
-                    for (x, &i) in dst.iter_mut().zip(&self.working) {
-                        *x += c[(i, k)] * fk;
-                    }
-                }
-            }
-        }
+        self.fill_rhs(problem);
         for (a, &i) in self.working.iter().enumerate() {
             let q = self.cur.q[i];
             let slope = if q > 0.0 {

@@ -305,15 +305,7 @@ impl MeshModel {
         let b0 = geo.b0();
         let dzeta = b0 / n_line as f64;
         let zetas: Vec<f64> = (0..n_line).map(|i| (i as f64 + 0.5) * dzeta).collect();
-        let slice_comp = match (&pinion, &gear) {
-            (GearCompliance::Interpolated(p), GearCompliance::Interpolated(g)) => {
-                match (SliceInfluence::new(p, &zetas), SliceInfluence::new(g, &zetas)) {
-                    (Some(sp), Some(sg)) => Some(Arc::new([sp, sg])),
-                    _ => None,
-                }
-            }
-            _ => None,
-        };
+        let slice_comp = slice_kernel(&pinion, &gear, &zetas);
         let cos_theta = geo.base_helix_angle.cos();
         let cap = 4 * n_line;
         let mut model = Self {
@@ -413,15 +405,7 @@ impl MeshModel {
         if !on {
             self.slice_comp = None;
         } else if self.slice_comp.is_none() {
-            if let (GearCompliance::Interpolated(p), GearCompliance::Interpolated(g)) =
-                (&self.comp_p, &self.comp_g)
-            {
-                if let (Some(sp), Some(sg)) =
-                    (SliceInfluence::new(p, &self.zetas), SliceInfluence::new(g, &self.zetas))
-                {
-                    self.slice_comp = Some(Arc::new([sp, sg]));
-                }
-            }
+            self.slice_comp = slice_kernel(&self.comp_p, &self.comp_g, &self.zetas);
         }
         self.slice_comp.is_some()
     }
@@ -699,6 +683,19 @@ impl MeshTorques for MeshModel {
     fn base_radii(&self) -> (f64, f64) {
         (self.geo.pinion.rb, self.geo.gear.rb)
     }
+}
+
+/// The compliance kernel of both gears at the slice centres `zetas`, when both compliances are
+/// interpolated on grids that allow it ([`SliceInfluence::new`]).
+fn slice_kernel(
+    pinion: &GearCompliance,
+    gear: &GearCompliance,
+    zetas: &[f64],
+) -> Option<Arc<[SliceInfluence; 2]>> {
+    let (GearCompliance::Interpolated(p), GearCompliance::Interpolated(g)) = (pinion, gear) else {
+        return None;
+    };
+    Some(Arc::new([SliceInfluence::new(p, zetas)?, SliceInfluence::new(g, zetas)?]))
 }
 
 /// Runs of consecutive slices with equal side and pair: `(start, end)` index ranges, into
