@@ -186,6 +186,8 @@ pub enum MeshError {
     Load(LoadError),
     /// The static equilibrium could not be found.
     Equilibrium(String),
+    /// The implementation cannot give what was asked (e.g. analytic derivatives); names it.
+    Unsupported(&'static str),
 }
 
 impl fmt::Display for MeshError {
@@ -198,6 +200,7 @@ impl fmt::Display for MeshError {
             MeshError::Compliance(m) => write!(f, "compliance: {m}"),
             MeshError::Load(e) => write!(f, "load distribution: {e}"),
             MeshError::Equilibrium(m) => write!(f, "static equilibrium: {m}"),
+            MeshError::Unsupported(what) => write!(f, "not supported by this mesh model: {what}"),
         }
     }
 }
@@ -216,6 +219,41 @@ impl From<LoadError> for MeshError {
     }
 }
 
+/// Partial derivatives of the four mesh torques with respect to the mesh state at one state.
+///
+/// `d[i][j]` = ∂torque_i/∂state_j with the torques in the order (M_F,p, M_F,g, M_D,p, M_D,g)
+/// ([`MeshJacobian::M_F_P`] …) and the state in the order (φp, φg, φ̇p, φ̇g)
+/// ([`MeshJacobian::PHI_P`] …). Units: N·m/rad for the angle columns, N·m·s/rad for the rate
+/// columns. Signs follow the torques' (positive in normal drive, entering Eqs. 2–3 with a minus
+/// sign), so a loaded mesh has ∂M_F,p/∂φp = g_p·k > 0 with k the mesh stiffness along the line
+/// of action. Where the contact state changes (a slice starts or stops carrying load) the
+/// torques are not differentiable; the values are then the one-sided derivatives of the
+/// contact set found at the state.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MeshJacobian {
+    /// ∂torque_i/∂state_j, see the type's doc.
+    pub d: [[f64; 4]; 4],
+}
+
+impl MeshJacobian {
+    /// Row of M_F,p.
+    pub const M_F_P: usize = 0;
+    /// Row of M_F,g.
+    pub const M_F_G: usize = 1;
+    /// Row of M_D,p.
+    pub const M_D_P: usize = 2;
+    /// Row of M_D,g.
+    pub const M_D_G: usize = 3;
+    /// Column of φp.
+    pub const PHI_P: usize = 0;
+    /// Column of φg.
+    pub const PHI_G: usize = 1;
+    /// Column of φ̇p.
+    pub const W_P: usize = 2;
+    /// Column of φ̇g.
+    pub const W_G: usize = 3;
+}
+
 /// Anything that gives the mesh torques for a state: the [`MeshModel`], or a stand-in in tests.
 pub trait MeshTorques {
     /// Mesh outputs for `state`.
@@ -223,6 +261,17 @@ pub trait MeshTorques {
 
     /// Base radii (g_p, g_g), m, that define TE = φp·g_p + φg·g_g.
     fn base_radii(&self) -> (f64, f64);
+
+    /// Mesh outputs and their partial derivatives with respect to the state at `state`,
+    /// computed from the model (not by finite differences). Implementations that cannot give
+    /// them return [`MeshError::Unsupported`].
+    fn mesh_jacobian(
+        &mut self,
+        state: &MeshState,
+    ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
+        let _ = state;
+        Err(MeshError::Unsupported("analytic mesh Jacobian"))
+    }
 }
 
 impl MeshModel {
