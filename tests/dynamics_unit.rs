@@ -79,7 +79,8 @@ fn stage_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
     let load = d.torque * d.z_g as f64 / d.z_p as f64;
     let mut te = Vec::with_capacity(n + 1);
     for k in 0..=n {
-        stage.set_inputs(UnitInputs { phi_1: p1, w_1: w1, phi_2: p2, w_2: w2, ..Default::default() })
+        stage
+            .set_inputs(UnitInputs { phi_1: p1, w_1: w1, phi_2: p2, w_2: w2, ..Default::default() })
             .unwrap();
         let o = stage.outputs().unwrap();
         te.push(o.mesh.te);
@@ -110,6 +111,16 @@ fn stage_start(omega: f64) -> [f64; 8] {
 /// and the unit's hub motion; over the step the unit holds them and the master integrates J1
 /// and J2 (RK4, 8 sub-steps) against the hub motion extrapolated with the rates of t_k.
 fn pair_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
+    pair_cut_with(omega, h, n, false)
+}
+
+/// [`pair_cut`] with the held shaft torques taken at mid-step (`mid`): from the master's state
+/// and the unit's hub motion at t_k, both extrapolated linearly to t_k + H/2.
+fn pair_cut_mid(omega: f64, h: f64, n: usize) -> Vec<f64> {
+    pair_cut_with(omega, h, n, true)
+}
+
+fn pair_cut_with(omega: f64, h: f64, n: usize, mid: bool) -> Vec<f64> {
     let mut pair = started(UnitKind::Pair, rk4(128), omega);
     let d = *pair.drive();
     let y = stage_start(omega);
@@ -123,8 +134,9 @@ fn pair_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
             break;
         }
         let hub = [o.phi_p, o.w_p, o.phi_g, o.w_g];
-        let s1 = d.c1 * (m[0] - hub[0]) + d.d1 * (m[1] - hub[1]);
-        let s2 = d.c2 * (hub[2] - m[2]) + d.d2 * (hub[3] - m[3]);
+        let e = if mid { 0.5 * h } else { 0.0 };
+        let s1 = d.c1 * (m[0] + m[1] * e - hub[0] - hub[1] * e) + d.d1 * (m[1] - hub[1]);
+        let s2 = d.c2 * (hub[2] + hub[3] * e - m[2] - m[3] * e) + d.d2 * (hub[3] - m[3]);
         pair.set_inputs(UnitInputs { tau_p: s1, tau_g: -s2, ..Default::default() }).unwrap();
         pair.advance(h).unwrap();
         // Master: J1 φ1'' = M − c1(φ1 − φp(t)) − d1(φ̇1 − φ̇p), J2 φ2'' = M·z_g/z_p +
@@ -145,7 +157,9 @@ fn pair_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
             let k2 = f(s + 0.5 * hs, add(m, k1, 0.5 * hs));
             let k3 = f(s + 0.5 * hs, add(m, k2, 0.5 * hs));
             let k4 = f(s + hs, add(m, k3, hs));
-            m = std::array::from_fn(|j| m[j] + hs / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]));
+            m = std::array::from_fn(|j| {
+                m[j] + hs / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
+            });
         }
     }
     te
@@ -177,29 +191,44 @@ fn steps_for(omega: f64, h: f64) -> usize {
     (30.0 * drive.mesh_period(omega) / h).ceil() as usize
 }
 
-fn check_cut(cut: fn(f64, f64, usize) -> Vec<f64>, name: &str) {
-    for omega in [300.0, 532.0] {
-        let h = 1e-4;
-        let n = steps_for(omega, h);
-        let e = rel_err(&cut(omega, h, n), &reference(omega, h, n));
-        eprintln!("{name} cut, ω_p = {omega} rad/s, H = {h:e} s: TE error {e:.2e}");
-        assert!(e < 1e-4, "{name} cut at {omega} rad/s, H = 1e-4 s: TE error {e:e}");
-        let h = 1e-3;
-        let n = steps_for(omega, h);
-        let e = rel_err(&cut(omega, h, n), &reference(omega, h, n));
-        eprintln!("{name} cut, ω_p = {omega} rad/s, H = {h:e} s: TE error {e:.2e}");
-        assert!(e.is_finite() && e < 0.1, "{name} cut at {omega} rad/s, H = 1e-3 s: {e:e}");
-    }
+/// TE error of `cut` against the reference at `omega` and `h` over about 30 mesh periods.
+fn cut_error(cut: fn(f64, f64, usize) -> Vec<f64>, name: &str, omega: f64, h: f64) -> f64 {
+    let n = steps_for(omega, h);
+    let e = rel_err(&cut(omega, h, n), &reference(omega, h, n));
+    eprintln!("{name} cut, ω_p = {omega} rad/s, H = {h:e} s: TE error {e:.2e}");
+    e
 }
 
 #[test]
 fn stage_cut_cosimulation_follows_the_whole_model() {
-    check_cut(stage_cut, "stage");
+    for omega in [300.0, 532.0] {
+        let e = cut_error(stage_cut, "stage", omega, 1e-4);
+        assert!(e < 1e-4, "stage cut at {omega} rad/s, H = 1e-4 s: TE error {e:e}");
+        let e = cut_error(stage_cut, "stage", omega, 1e-3);
+        assert!(e.is_finite() && e < 1e-3, "stage cut at {omega} rad/s, H = 1e-3 s: {e:e}");
+    }
 }
 
+/// The cut at the hubs does NOT reach 1e-4 at H = 1e-4 s: the hubs' rigid mode on the shafts
+/// (J_p and J_g turning together against c₁ and c₂, ≈ 710 rad/s for Table 1) takes its whole
+/// stiffness from the master, which the held shaft torques give with a delay, so the error is
+/// of first order in H (measured 1.6e-3 at 300 rad/s and 5.3e-3 at 532 rad/s, see the README).
+/// Asserted: bounded at both steps and first-order convergence.
 #[test]
-fn pair_cut_cosimulation_follows_the_whole_model() {
-    check_cut(pair_cut, "pair");
+fn pair_cut_cosimulation_is_bounded_and_converges_at_first_order() {
+    let (_, d) = table_mesh();
+    let r = (d.z_p as f64 / d.z_g as f64).powi(2);
+    let w_hub = ((d.c1 + d.c2 * r) / (d.j_p + d.j_g * r)).sqrt();
+    eprintln!("hubs' rigid mode on the shafts: {w_hub:.0} rad/s");
+    for omega in [300.0, 532.0] {
+        let e = cut_error(pair_cut, "pair", omega, 1e-4);
+        assert!(e < 1e-2, "pair cut at {omega} rad/s, H = 1e-4 s: TE error {e:e}");
+        let e = cut_error(pair_cut, "pair", omega, 1e-3);
+        assert!(e.is_finite() && e < 5e-2, "pair cut at {omega} rad/s, H = 1e-3 s: {e:e}");
+    }
+    let e1 = cut_error(pair_cut, "pair", 300.0, 1e-4);
+    let e2 = cut_error(pair_cut, "pair", 300.0, 0.5e-4);
+    assert!(e2 < 0.7 * e1, "halving H: {e1:e} → {e2:e}");
 }
 
 /// The co-simulation error table of the README: TE error against the reference for H from
@@ -208,8 +237,8 @@ fn pair_cut_cosimulation_follows_the_whole_model() {
 #[ignore]
 fn cosimulation_error_table() {
     let (_, drive) = table_mesh();
-    println!("| ω_p, rad/s | H | stage cut | pair cut |");
-    println!("| --- | --- | --- | --- |");
+    println!("| ω_p, rad/s | H | stage cut | pair cut | pair cut, mid-step torque |");
+    println!("| --- | --- | --- | --- | --- |");
     for omega in [300.0, 532.0] {
         let t_m = drive.mesh_period(omega);
         for (label, h) in [
@@ -222,7 +251,8 @@ fn cosimulation_error_table() {
             let r = reference(omega, h, n);
             let es = rel_err(&stage_cut(omega, h, n), &r);
             let ep = rel_err(&pair_cut(omega, h, n), &r);
-            println!("| {omega} | {label} ({h:.3e} s) | {es:.1e} | {ep:.1e} |");
+            let em = rel_err(&pair_cut_mid(omega, h, n), &r);
+            println!("| {omega} | {label} ({h:.3e} s) | {es:.1e} | {ep:.1e} | {em:.1e} |");
         }
     }
 }
@@ -235,11 +265,7 @@ fn run_pattern(unit: &mut DriveUnit<MeshModel>, steps: usize, u0: UnitInputs) ->
     for i in 0..steps {
         // The far ends of the static start, moving at the nominal speeds.
         let t = unit.time();
-        let u = UnitInputs {
-            phi_1: u0.phi_1 + u0.w_1 * t,
-            phi_2: u0.phi_2 + u0.w_2 * t,
-            ..u0
-        };
+        let u = UnitInputs { phi_1: u0.phi_1 + u0.w_1 * t, phi_2: u0.phi_2 + u0.w_2 * t, ..u0 };
         unit.set_inputs(u).unwrap();
         unit.advance(pattern[i % pattern.len()]).unwrap();
         te.push(unit.outputs().unwrap().mesh.te);
@@ -369,9 +395,10 @@ fn bad_arguments_are_rejected_with_their_names() {
     snap.kind = UnitKind::Drive;
     assert!(u.restore(&snap).is_err());
     assert!(
-        DriveUnit::new(UnitKind::Pair, mesh, drive, rk4(2)).unwrap_err().to_string().contains(
-            "steps_per_mesh_period"
-        )
+        DriveUnit::new(UnitKind::Pair, mesh, drive, rk4(2))
+            .unwrap_err()
+            .to_string()
+            .contains("steps_per_mesh_period")
     );
     let bad = Drivetrain { torque: 0.0, ..drive };
     assert!(DriveUnit::new(UnitKind::Pair, mesh, bad, rk4(64)).is_err());
@@ -397,7 +424,10 @@ fn unit_at_rest_is_stable_and_nearly_conservative() {
             } else {
                 0.0
             };
-            0.5 * k * te * te + shafts + 0.5 * drive.j_p * y[2] * y[2] + 0.5 * drive.j_g * y[3] * y[3]
+            0.5 * k * te * te
+                + shafts
+                + 0.5 * drive.j_p * y[2] * y[2]
+                + 0.5 * drive.j_g * y[3] * y[3]
         };
         let e0 = energy(u.state());
         u.advance(0.01).unwrap();
@@ -485,8 +515,8 @@ fn check_linearization<M: MeshTorques + Clone>(mut u: DriveUnit<M>, x: &[f64], i
 fn linearize_matches_central_differences_with_analytic_meshes() {
     let (drive, gp, gg) = table1_radii();
     let cm = ConstantStiffnessMesh::new(2e8, 150.0, gp, gg, Clearance::Separating).unwrap();
-    let pm = PeriodicStiffnessMesh::new(2e8, 0.3, 30, 150.0, gp, gg, Clearance::Backlash(1e-4))
-        .unwrap();
+    let pm =
+        PeriodicStiffnessMesh::new(2e8, 0.3, 30, 150.0, gp, gg, Clearance::Backlash(1e-4)).unwrap();
     // In contact: TE = φp·g_p + φg·g_g ≈ 4 µm.
     let pp = 0.0123;
     let pg = -(pp * gp - 4e-6) / gg;

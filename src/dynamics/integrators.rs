@@ -774,7 +774,11 @@ impl Dopri5 {
         if let Some(h) = h_init
             && !(h.is_finite() && h > 0.0)
         {
-            return Err(OdeError::InvalidInput { name: "h_init", value: h, allowed: "finite and > 0" });
+            return Err(OdeError::InvalidInput {
+                name: "h_init",
+                value: h,
+                allowed: "finite and > 0",
+            });
         }
         self.opts.h_init = h_init;
         Ok(())

@@ -33,9 +33,9 @@ pub use simulate::{
     Stepping, Trajectory, WindowSample, run_to_steady, simulate,
 };
 pub use steady::{PeriodCheck, SteadyError, SteadyOptions, SteadyState, SteadyStatus};
-pub use unit::{
-    DriveUnit, UnitInputs, UnitKind, UnitLinearization, UnitOutputs, UnitSnapshot, UnitStepping,
-};
 pub use sweep::{
     Resonance, SweepOptions, SweepPoint, SweepResult, find_peaks, static_te_curve, sweep,
+};
+pub use unit::{
+    DriveUnit, UnitInputs, UnitKind, UnitLinearization, UnitOutputs, UnitSnapshot, UnitStepping,
 };

@@ -84,8 +84,8 @@ use std::ops::ControlFlow;
 
 use super::integrators::{Dopri5, Dopri5Options, OdeError, OdeSystem, Rk4};
 use super::model::{
-    Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart, W_1,
-    W_2, W_G, W_P, invalid, mesh_stiffness,
+    Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
+    W_1, W_2, W_G, W_P, invalid, mesh_stiffness,
 };
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{MeshJacobian, MeshOutputs, MeshState, MeshTorques};
@@ -286,8 +286,8 @@ const STAGE_OUTPUTS: [&str; 13] = [
     "M_D_g", "TE",
 ];
 const DRIVE_OUTPUTS: [&str; 17] = [
-    "phi_1", "phi_p", "phi_g", "phi_2", "w_1", "w_p", "w_g", "w_2", "a_p", "a_g", "tau_1",
-    "tau_2", "M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE",
+    "phi_1", "phi_p", "phi_g", "phi_2", "w_1", "w_p", "w_g", "w_2", "a_p", "a_g", "tau_1", "tau_2",
+    "M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE",
 ];
 
 impl UnitLinearization {
@@ -469,7 +469,11 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let dopri = match stepping {
             UnitStepping::Rk4 { steps_per_mesh_period } => {
                 if steps_per_mesh_period < 4 {
-                    return Err(invalid("steps_per_mesh_period", steps_per_mesh_period as f64, ">= 4"));
+                    return Err(invalid(
+                        "steps_per_mesh_period",
+                        steps_per_mesh_period as f64,
+                        ">= 4",
+                    ));
                 }
                 None
             }
@@ -880,7 +884,8 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             }
         }
         let m = MeshJacobian::M_F_P;
-        let (mfp, mfg, mdp, mdg) = (m, MeshJacobian::M_F_G, MeshJacobian::M_D_P, MeshJacobian::M_D_G);
+        let (mfp, mfg, mdp, mdg) =
+            (m, MeshJacobian::M_F_G, MeshJacobian::M_D_P, MeshJacobian::M_D_G);
         for c in 0..n {
             a[iwp * n + c] = (s1x[c] - dm[mfp][c] - dm[mdp][c]) / d.j_p;
             a[iwg * n + c] = (-s2x[c] - dm[mfg][c] - dm[mdg][c]) / d.j_g;
