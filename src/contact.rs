@@ -321,6 +321,19 @@ impl<'a> ContactSolver<'a> {
         red
     }
 
+    /// Tooth rotation angles (Θp, Θg), rad, of the teeth of contact `pair` (as numbered in
+    /// [`ContactPoint::pair`]) on flanks `side` at slice `zeta`, for the reduced angles `red`
+    /// of the call that found the contact. Θ = φ + constant, so ∂Θp/∂φp = ∂Θg/∂φg = 1.
+    pub(crate) fn tooth_angles(
+        &self,
+        side: FlankSide,
+        red: &ReducedAngles,
+        pair: i64,
+        zeta: f64,
+    ) -> (f64, f64) {
+        self.theta(side, red.phi_p, red.phi_g, pair + red.pitches, zeta)
+    }
+
     /// Tooth rotation angles (Θp, Θg) of pair `k` at slice `zeta` for reduced angles.
     fn theta(&self, side: FlankSide, phi_p: f64, phi_g: f64, k: i64, zeta: f64) -> (f64, f64) {
         let g = self.geo;

@@ -144,6 +144,38 @@ impl Axis {
         }
         Weights { start, width, w }
     }
+
+    /// d/dx of the weights of [`Axis::weights`] at `x`: the derivative of the interpolant with
+    /// respect to its coordinate; zero outside the axis range (constant extrapolation there).
+    fn weights_dx(&self, x: f64) -> Weights {
+        let nodes = &self.nodes;
+        let n = nodes.len();
+        let mut out = self.weights(x);
+        if !(x >= nodes[0] && x <= nodes[n - 1]) {
+            out.w = [0.0; 4];
+            return out;
+        }
+        let i = nodes.partition_point(|&v| v <= x).saturating_sub(1).min(n - 2);
+        let h = nodes[i + 1] - nodes[i];
+        let t = (x - nodes[i]) / h;
+        let t2 = t * t;
+        let h00 = (6.0 * t2 - 6.0 * t) / h;
+        let h10 = 3.0 * t2 - 4.0 * t + 1.0;
+        let h01 = (-6.0 * t2 + 6.0 * t) / h;
+        let h11 = 3.0 * t2 - 2.0 * t;
+        let start = out.start;
+        let mut w = [0.0; 4];
+        w[i - start] += h00;
+        w[i + 1 - start] += h01;
+        for &(k, c) in &self.slopes[i] {
+            w[k - start] += h10 * c;
+        }
+        for &(k, c) in &self.slopes[i + 1] {
+            w[k - start] += h11 * c;
+        }
+        out.w = w;
+        out
+    }
 }
 
 /// Precomputed weights of one flank point (profile and ζ axes).
@@ -356,6 +388,29 @@ impl SliceInfluence {
             }
         }
         SliceWeights { k, row: rw.start, row_w: rw.w, base: rw.start * self.cols + cw.start, w16 }
+    }
+
+    /// The weights of the derivative with respect to the profile coordinate p
+    /// ([`FlankCoord::profile`], units of m_n) at the point of [`SliceInfluence::weights`]:
+    /// used in place of either point's weights in [`SliceInfluence::add_block`] they give
+    /// ∂α*/∂p of that point, m/N per m_n (zero where p is outside the grid).
+    pub fn weights_dp(&self, c: FlankCoord, k: usize) -> SliceWeights {
+        let p = c.profile(self.eta_star_rounding_start, self.rounding_radius_mn);
+        let rw = self.rows.weights_dx(p);
+        let cw = self.col_w[k];
+        let mut w16 = [0.0; 16];
+        for a in 0..4 {
+            for d in 0..4 {
+                w16[a * 4 + d] = rw.w[a] * cw.w[d];
+            }
+        }
+        SliceWeights { k, row: rw.start, row_w: rw.w, base: rw.start * self.cols + cw.start, w16 }
+    }
+
+    /// (∂p/∂η*, ∂p/∂τ) of the profile coordinate at `c` ([`FlankCoord::profile`]): (1, 0)
+    /// below the rounding, (0, −ρ_r/m_n) on it (units of m_n per m_n and per rad).
+    pub fn profile_rates(&self, c: FlankCoord) -> (f64, f64) {
+        if c.tau > 0.0 { (0.0, -self.rounding_radius_mn) } else { (1.0, 0.0) }
     }
 
     /// Adds α*(obs_i, load_j, `tooth_offset`) (m/N) to `out[(r0 + i, c0 + j)]` for every

@@ -52,6 +52,8 @@
 //! new call starts from them, which makes the active set of a nearby state exact after one
 //! Newton step in dynamic use.
 
+mod jacobian;
+
 use std::sync::Arc;
 
 use faer::Mat;
@@ -434,13 +436,7 @@ impl MeshModel {
 
     /// Evaluates the mesh at `state` with the configured fidelity (see the module docs).
     pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
-        for (name, v) in
-            [("phi_p", state.phi_p), ("phi_g", state.phi_g), ("w_p", state.w_p), ("w_g", state.w_g)]
-        {
-            if !v.is_finite() {
-                return Err(MeshError::NonFinite { name, value: v });
-            }
-        }
+        check_state(state)?;
         if let Some(table) = &self.table {
             if let Some(o) = table.evaluate(self, state) {
                 return Ok(o);
@@ -476,6 +472,10 @@ impl MeshModel {
             }
         }
         let n = self.slices.len();
+        let limit = super::MAX_OVERLAP_MN * self.pair.normal_module_m;
+        if self.slices.iter().any(|s| s.contact.overlap_m > limit) {
+            return Err(out_of_range(&geo, te, red.phi_p, &self.slices, None));
+        }
         let mut out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
         if self.options.detail {
             self.detail.clear();
@@ -602,7 +602,10 @@ impl MeshModel {
             local: if self.options.local_contact { Some(&hertz) } else { None },
         };
         let start = if any { Start::From(&self.start) } else { Start::Cold };
-        let report = self.solver.solve(&problem, start)?;
+        let report = match self.solver.solve(&problem, start) {
+            Ok(r) => r,
+            Err(e) => return Err(load_failure(e, &geo, te, red.phi_p, &self.slices)),
+        };
         self.stats.add(&report, n);
         let q = self.solver.load();
 
@@ -694,6 +697,74 @@ impl MeshTorques for MeshModel {
     fn base_radii(&self) -> (f64, f64) {
         (self.geo.pinion.rb, self.geo.gear.rb)
     }
+
+    /// Exact partial derivatives: at table fidelity those of the table's interpolant
+    /// ([`super::table::MeshTable::evaluate_jacobian`]), else (and outside the table) those of
+    /// the full model from the load solution's sensitivity (see the `jacobian` module docs).
+    fn mesh_jacobian(
+        &mut self,
+        state: &MeshState,
+    ) -> Result<(MeshOutputs, super::MeshJacobian), MeshError> {
+        check_state(state)?;
+        if let Some(table) = &self.table {
+            if let Some(r) = table.evaluate_jacobian(self, state) {
+                return Ok(r);
+            }
+        }
+        self.jacobian_full(state)
+    }
+}
+
+/// [`MeshError::OutOfRange`] for the state with TE `te` and phase `phase` whose candidate
+/// slices are `slices`, with the load solver's failure `cause` if any.
+fn out_of_range(
+    geo: &PairGeometry,
+    te: f64,
+    phase: f64,
+    slices: &[Slice],
+    cause: Option<crate::load::LoadError>,
+) -> MeshError {
+    let max_overlap = slices.iter().map(|s| s.contact.overlap_m).fold(0.0, f64::max);
+    let limit = super::MAX_OVERLAP_MN * geo.params.normal_module_m;
+    MeshError::OutOfRange {
+        te,
+        phase,
+        max_overlap,
+        limit,
+        te_valid: (-geo.backlash_te - limit, limit),
+        cause,
+    }
+}
+
+/// The error of a failed load solve: an ill-posed problem (non-P compliance or a singular
+/// Newton matrix) means the state lies outside the model's range ([`MeshError::OutOfRange`]);
+/// any other failure is passed on as it is.
+fn load_failure(
+    e: crate::load::LoadError,
+    geo: &PairGeometry,
+    te: f64,
+    phase: f64,
+    slices: &[Slice],
+) -> MeshError {
+    use crate::load::LoadError;
+    match e {
+        LoadError::Indefinite { .. } | LoadError::Singular { .. } => {
+            out_of_range(geo, te, phase, slices, Some(e))
+        }
+        e => MeshError::Load(e),
+    }
+}
+
+/// Rejects a state with a NaN or infinite component, naming it.
+fn check_state(state: &MeshState) -> Result<(), MeshError> {
+    for (name, v) in
+        [("phi_p", state.phi_p), ("phi_g", state.phi_g), ("w_p", state.w_p), ("w_g", state.w_g)]
+    {
+        if !v.is_finite() {
+            return Err(MeshError::NonFinite { name, value: v });
+        }
+    }
+    Ok(())
 }
 
 /// The compliance kernel of both gears at the slice centres `zetas`, when both compliances are

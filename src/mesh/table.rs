@@ -38,7 +38,7 @@
 
 use super::model::MeshModel;
 use super::statics::{EquilibriumSettings, equilibrium};
-use super::{MeshError, MeshOutputs, MeshState};
+use super::{MeshError, MeshJacobian, MeshOutputs, MeshState};
 
 /// Number of interpolated real-valued outputs per node.
 const NV: usize = 5;
@@ -114,11 +114,24 @@ fn hermite(t: f64) -> [f64; 4] {
     [2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + t, -2.0 * t3 + 3.0 * t2, t3 - t2]
 }
 
+/// d/dt of the cubic Hermite basis of [`hermite`] at t ∈ [0, 1].
+#[inline]
+fn hermite_dt(t: f64) -> [f64; 4] {
+    let t2 = t * t;
+    [6.0 * t2 - 6.0 * t, 3.0 * t2 - 4.0 * t + 1.0, -6.0 * t2 + 6.0 * t, 3.0 * t2 - 2.0 * t]
+}
+
 /// Catmull–Rom-type cubic Hermite weights at t ∈ [0, 1] for the four nodes i−1, i, i+1, i+2
 /// with central-difference slopes (uniform spacing).
 #[inline]
 fn weights_central(t: f64) -> [f64; 4] {
-    let [h00, h10, h01, h11] = hermite(t);
+    weights_central_of(hermite(t))
+}
+
+/// [`weights_central`] for a given basis (the Hermite basis, or its derivative for the
+/// derivative of the interpolant).
+#[inline]
+fn weights_central_of([h00, h10, h01, h11]: [f64; 4]) -> [f64; 4] {
     // d_i = (v_{i+1} − v_{i−1})/2, d_{i+1} = (v_{i+2} − v_i)/2 (in units of the spacing).
     [-0.5 * h10, h00 - 0.5 * h11, h01 + 0.5 * h10, 0.5 * h11]
 }
@@ -128,8 +141,19 @@ fn weights_central(t: f64) -> [f64; 4] {
 /// second-order slopes at the ends).
 #[inline]
 fn axis_weights(x: f64, n: usize) -> (usize, [f64; 4], usize) {
-    let i = (x.floor() as isize).clamp(0, n as isize - 2) as usize;
-    let [h00, h10, h01, h11] = hermite(x - i as f64);
+    let i = axis_cell(x, n);
+    axis_weights_of(i, n, hermite(x - i as f64))
+}
+
+/// Cell of coordinate `x` (node units) on a non-periodic axis of `n` nodes.
+#[inline]
+fn axis_cell(x: f64, n: usize) -> usize {
+    (x.floor() as isize).clamp(0, n as isize - 2) as usize
+}
+
+/// [`axis_weights`] in cell `i` for a given basis (the Hermite basis, or its derivative).
+#[inline]
+fn axis_weights_of(i: usize, n: usize, [h00, h10, h01, h11]: [f64; 4]) -> (usize, [f64; 4], usize) {
     // Slopes as combinations of nodes (start index s, 4 coefficients relative to s).
     // d_i: central if 0 < i, else one-sided (−3v0 + 4v1 − v2)/2.
     // d_{i+1}: central if i + 1 < n − 1, else one-sided (v_{n−3} − 4v_{n−2} + 3v_{n−1})/2.
@@ -364,6 +388,100 @@ impl MeshTable {
             separated: f & 0xff == 0,
             back_contact: f & 0x200 != 0,
         })
+    }
+
+    /// Table evaluation at `state` with the exact partial derivatives of the interpolant
+    /// (see [`crate::mesh::MeshJacobian`]), or `None` when TE is outside the covered range.
+    ///
+    /// With M_F = v(x_p, x_t)·δ (v the interpolated secant, x_p = (phase − phase₀)/h_p,
+    /// x_t = (n − 1)·√(δ/range), δ = |TE − TE_onset|): ∂M_F/∂phase = δ·∂v/∂x_p / h_p and
+    /// ∂M_F/∂TE = dir·(v + ∂v/∂x_t·x_t/2); the loaded extent E = v₃ (no δ factor) has
+    /// ∂E/∂TE = dir·∂v₃/∂x_t·x_t/(2δ), which grows like δ^(−1/2) towards the onset, as the
+    /// interpolant does. Angles: ∂/∂φp = ∂/∂phase + g_p·∂/∂TE, ∂/∂φg = g_g·∂/∂TE. The damping
+    /// torques are differentiated as in [`MeshModel::damping_for`]. The discrete outputs
+    /// (nearest node) do not enter.
+    pub fn evaluate_jacobian(
+        &self,
+        model: &MeshModel,
+        state: &MeshState,
+    ) -> Option<(MeshOutputs, MeshJacobian)> {
+        let out = self.evaluate(model, state)?;
+        let te = out.te;
+        let mut jac = MeshJacobian::default();
+        let axis = if te > 0.0 {
+            &self.drive
+        } else if te < -self.backlash_te {
+            &self.back
+        } else {
+            return Some((out, jac));
+        };
+        let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
+        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
+        let ipf = xp.floor();
+        let tp = xp - ipf;
+        let (wp, dwp) = (weights_central(tp), weights_central_of(hermite_dt(tp)));
+        let ip0 = ipf as i64 - 1;
+        let dist = (te - axis.onset).abs();
+        let xt_raw = (dist / axis.range).sqrt() * (axis.n - 1) as f64;
+        let xt = xt_raw.clamp(0.0, (axis.n - 1) as f64);
+        let it = axis_cell(xt, axis.n);
+        let (it0, wt, nt) = axis_weights_of(it, axis.n, hermite(xt - it as f64));
+        let (_, dwt, _) = axis_weights_of(it, axis.n, hermite_dt(xt - it as f64));
+        // dx_t/dδ·δ = x_t/2 inside the axis, 0 where x_t is clamped.
+        let half_xt = if xt_raw == xt { 0.5 * xt } else { 0.0 };
+        let np = self.np as i64;
+        // v, ∂v/∂x_p, ∂v/∂x_t for M_F,p, M_F,g and the extent.
+        let (mut v, mut vp, mut vt) = ([0.0; NV], [0.0; NV], [0.0; NV]);
+        for a in 0..4 {
+            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            for b in 0..nt {
+                let base = (ip * axis.n + it0 + b) * NV;
+                for k in 0..NV {
+                    let x = axis.values[base + k];
+                    v[k] += wp[a] * wt[b] * x;
+                    vp[k] += dwp[a] * wt[b] * x;
+                    vt[k] += wp[a] * dwt[b] * x;
+                }
+            }
+        }
+        let (rb_p, rb_g) = (self.rb_p, self.rb_g);
+        let mut fill = |row: usize, d_phase: f64, d_te: f64| {
+            jac.d[row][MeshJacobian::PHI_P] = d_phase + rb_p * d_te;
+            jac.d[row][MeshJacobian::PHI_G] = rb_g * d_te;
+        };
+        for (row, k) in [(MeshJacobian::M_F_P, 0), (MeshJacobian::M_F_G, 1)] {
+            fill(row, dist * vp[k] / self.phase_h, axis.dir * (v[k] + vt[k] * half_xt));
+        }
+        // Damping: M_D,k = d·(φ̇p·g_p + φ̇g·g_g)·E·g_k with E = max(v₃, 0).
+        if v[3] > 0.0 {
+            let (de_phase, de_te) = (vp[3] / self.phase_h, axis.dir * vt[3] * half_xt / dist);
+            damping_rows(model, state, v[3], [de_phase + rb_p * de_te, rb_g * de_te], &mut jac);
+        }
+        Some((out, jac))
+    }
+}
+
+/// Fills the damping rows of `jac` for Eq. 14 as [`MeshModel::damping_for`] computes it, with
+/// loaded extent `extent` (units of m_n, > 0) and its derivatives `d_extent` with respect to
+/// (φp, φg) (per rad).
+pub(crate) fn damping_rows(
+    model: &MeshModel,
+    state: &MeshState,
+    extent: f64,
+    d_extent: [f64; 2],
+    jac: &mut MeshJacobian,
+) {
+    if !model.options().damping || extent <= 0.0 {
+        return;
+    }
+    let (rb_p, rb_g) = (model.geometry().pinion.rb, model.geometry().gear.rb);
+    let d = model.d_mesh();
+    let rate = state.w_p * rb_p + state.w_g * rb_g;
+    for (row, rb_k) in [(MeshJacobian::M_D_P, rb_p), (MeshJacobian::M_D_G, rb_g)] {
+        jac.d[row][MeshJacobian::W_P] = d * rb_p * extent * rb_k;
+        jac.d[row][MeshJacobian::W_G] = d * rb_g * extent * rb_k;
+        jac.d[row][MeshJacobian::PHI_P] = d * rate * d_extent[0] * rb_k;
+        jac.d[row][MeshJacobian::PHI_G] = d * rate * d_extent[1] * rb_k;
     }
 }
 
