@@ -223,3 +223,116 @@ fn crowned_patch_shifts_under_misalignment() {
     assert!((shift - b0 / 16.0).abs() < 2.0 * b0 / 200.0, "shift {shift} vs {}", b0 / 16.0);
     assert!(rel(p1, p0) < 5e-3, "peak {p1} vs {p0}");
 }
+
+/// Static TE of `model` at `n` pinion angles per pitch over `pitches` pitches from `phi0`.
+fn ste(model: &mut MeshModel, torque: f64, phi0: f64, n: usize, pitches: usize) -> Vec<f64> {
+    let pitch = model.geometry().pinion.angular_pitch();
+    helical_gear_mesh::mesh::static_curve(model, torque, phi0, pitch, n, pitches)
+        .unwrap()
+        .points
+        .iter()
+        .map(|e| e.te)
+        .collect()
+}
+
+/// A position deviation e of one pinion flank with a linear (Winkler) compliance and no loss
+/// of contact. At every instant the static TE satisfies Σ_i k_i·(TE − e_i) = F, so the extra
+/// TE is ΔTE(t) = k_j(t)·e/K(t) with K = Σ_i k_i. The pairs are identical and shifted by one
+/// mesh period T_m, so Σ_n k_j(t + n·T_m)/K(t) = 1 and ∫ΔTE dt = e·T_m: in pinion angle,
+/// ∫ΔTE dφp = e·2π/z_p, i.e. the mean static TE over a pinion revolution rises by e/z_p.
+/// (Derived here; the relief zones of Table 1 stay loaded the same way because e is small
+/// against the TE, which the tolerance allows for.)
+#[test]
+fn single_pitch_deviation_pulse_integral() {
+    let e = 1e-6;
+    let torque = 150.0;
+    let n = 16;
+    let base = GearPair::paper_table1();
+    let mut perfect = MeshModel::new(&base, winkler_options(100)).unwrap();
+    let mut dev = base.clone();
+    dev.modifications.pinion.pitch_deviations_m = vec![0.0; base.z_p as usize];
+    dev.modifications.pinion.pitch_deviations_m[0] = e;
+    let mut deviated = MeshModel::new(&dev, winkler_options(100)).unwrap();
+    let pitch = perfect.geometry().pinion.angular_pitch();
+    let one = ste(&mut perfect, torque, -4.0 * pitch, n, 1);
+    let window = ste(&mut deviated, torque, -4.0 * pitch, n, 8);
+    let delta: Vec<f64> = window.iter().enumerate().map(|(i, t)| t - one[i % n]).collect();
+    // The pulse is over inside the window and never negative.
+    assert!(delta[..n].iter().chain(&delta[7 * n..]).all(|d| d.abs() < 1e-12), "{delta:?}");
+    assert!(delta.iter().all(|&d| d > -1e-12 && d <= e * (1.0 + 1e-9)), "{delta:?}");
+    let integral: f64 = delta.iter().sum::<f64>() * pitch / n as f64;
+    assert!(rel(integral, e * pitch) < 1e-2, "∫ΔTE dφ = {integral} vs e·2π/z_p = {}", e * pitch);
+    let mean_shift = integral / std::f64::consts::TAU;
+    assert!(rel(mean_shift, e / base.z_p as f64) < 1e-2);
+}
+
+/// Deviations on the pinion only make the static TE periodic in one pinion revolution, so over
+/// two revolutions its spectrum has no line at half orders of the pinion rotation; a deviation
+/// on a gear tooth (period z_g meshes) does.
+#[test]
+fn pinion_deviations_give_pinion_orders_only() {
+    use helical_gear_mesh::numeric::amplitude_spectrum;
+    let base = GearPair::paper_table1();
+    let spectrum = |mods: helical_gear_mesh::Modifications| {
+        let p = GearPair { modifications: mods, ..base.clone() };
+        let mut m = MeshModel::new(&p, winkler_options(60)).unwrap();
+        amplitude_spectrum(&ste(&mut m, 100.0, 0.0, 4, 2 * base.z_p as usize))
+    };
+    let mut pin = Modifications::default();
+    pin.pinion.pitch_deviations_m = (0..base.z_p).map(|i| 1e-6 * (i as f64 * 0.7).sin()).collect();
+    pin.pinion.runout_m = 3e-6;
+    let a = spectrum(pin);
+    let half = a.iter().skip(1).step_by(2).copied().fold(0.0, f64::max);
+    let whole = a.iter().skip(2).step_by(2).copied().fold(0.0, f64::max);
+    assert!(whole > 1e-7 && half < 1e-13, "whole orders {whole}, half orders {half}");
+    let mut gear = Modifications::default();
+    gear.gear.pitch_deviations_m = vec![0.0; base.z_g as usize];
+    gear.gear.pitch_deviations_m[3] = 2e-6;
+    let g = spectrum(gear);
+    let half_g = g.iter().skip(1).step_by(2).copied().fold(0.0, f64::max);
+    assert!(half_g > 1e-9, "gear deviation: half orders {half_g}");
+}
+
+/// The separation formulas and their signs at known points (the worked example of the module
+/// docs): misalignment f at ζ = b₀ only, cancelled by a helix slope −f on the pinion; crowning
+/// C at both face ends and 0 mid-face; gear tip relief C at the tip circle; pitch deviation of
+/// pinion tooth k and gear tooth −k on pair k.
+#[test]
+fn separation_signs_and_values() {
+    use helical_gear_mesh::geometry::PairGeometry;
+    use helical_gear_mesh::modifications::Separation;
+    let mut p = GearPair::paper_table1();
+    let geo0 = PairGeometry::new(&p).unwrap();
+    let (rp, rg) = (geo0.pinion.r, geo0.gear.r);
+    let b0 = geo0.b0();
+    let at = |p: &GearPair, zeta: f64, pair: i64, rp: f64, rg: f64| {
+        Separation::new(&PairGeometry::new(p).unwrap()).unwrap().at(zeta, pair, rp, rg)
+    };
+    p.modifications.mesh_misalignment_m = 10e-6;
+    assert_eq!(at(&p, 0.0, 0, rp, rg), 0.0);
+    assert!((at(&p, b0, 0, rp, rg) - 10e-6).abs() < 1e-18);
+    assert!((at(&p, 0.5 * b0, 0, rp, rg) - 5e-6).abs() < 1e-18);
+    p.modifications.pinion.helix_slope_m = -10e-6;
+    assert!(at(&p, 0.3 * b0, 0, rp, rg).abs() < 1e-18);
+    let mut c = GearPair::paper_table1();
+    c.modifications.gear.lead_crowning_m = 8e-6;
+    assert!((at(&c, 0.0, 0, rp, rg) - 8e-6).abs() < 1e-18);
+    assert!((at(&c, b0, 0, rp, rg) - 8e-6).abs() < 1e-18);
+    assert!(at(&c, 0.5 * b0, 0, rp, rg).abs() < 1e-18);
+    let mut t = GearPair::paper_table1();
+    let ra = geo0.gear.ra;
+    t.modifications.gear.tip_relief =
+        TipRelief { amount_m: 6e-6, start_diameter_m: 2.0 * rg, shape: ReliefShape::Parabolic };
+    assert!((at(&t, 1.0, 0, rp, ra) - 6e-6).abs() < 1e-15);
+    assert_eq!(at(&t, 1.0, 0, rp, rg), 0.0);
+    let mut d = GearPair::paper_table1();
+    d.modifications.pinion.pitch_deviations_m = vec![0.0; 30];
+    d.modifications.pinion.pitch_deviations_m[7] = 3e-6;
+    d.modifications.gear.pitch_deviations_m = vec![0.0; 47];
+    d.modifications.gear.pitch_deviations_m[47 - 7] = 1e-6;
+    assert!((at(&d, 1.0, 7, rp, rg) - 4e-6).abs() < 1e-18);
+    assert!((at(&d, 1.0, 7 + 30 * 47, rp, rg) - 4e-6).abs() < 1e-18);
+    assert!((at(&d, 1.0, 37, rp, rg) - 3e-6).abs() < 1e-18);
+    assert_eq!(at(&d, 1.0, 8, rp, rg), 0.0);
+    assert_eq!(Modifications::hunting_meshes(30, 47), 1410);
+}

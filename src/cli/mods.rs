@@ -10,6 +10,7 @@ use helical_gear_mesh::mesh::{
     static_curve,
 };
 use helical_gear_mesh::modifications::Modifications;
+use helical_gear_mesh::numeric::amplitude_spectrum;
 use helical_gear_mesh::plot::PlotError;
 use helical_gear_mesh::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
 use serde::Deserialize;
@@ -279,26 +280,6 @@ pub struct SpectrumArgs {
     /// Write spectrum.csv, ste_hunting.csv and spectrum.png into DIR.
     #[arg(long, value_name = "DIR")]
     out: Option<std::path::PathBuf>,
-}
-
-/// Single-sided amplitude spectrum of `x` (one period sampled uniformly): amplitude of bin j,
-/// the mean at j = 0, by a direct DFT (O(n²), fine for the sizes of a hunting period).
-pub fn amplitude_spectrum(x: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    let mut out = Vec::with_capacity(n / 2 + 1);
-    let w = std::f64::consts::TAU / n as f64;
-    for j in 0..=n / 2 {
-        let (mut re, mut im) = (0.0, 0.0);
-        // Twiddles by index product modulo n: exact angles, no drift.
-        for (i, &v) in x.iter().enumerate() {
-            let a = w * ((i * j) % n) as f64;
-            re += v * a.cos();
-            im -= v * a.sin();
-        }
-        let scale = if j == 0 || 2 * j == n { 1.0 } else { 2.0 };
-        out.push(scale * re.hypot(im) / n as f64);
-    }
-    out
 }
 
 /// `helical-gear spectrum`: the static TE over a whole hunting period and its spectrum in
