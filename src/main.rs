@@ -491,6 +491,7 @@ fn static_cmd(
         "mesh_stiffness_mean_n_per_um": stiffness * 1e-6,
         "tip_rounding_contact": curve.tip_rounding_contact(),
         "k_h_beta_max": fl.k_h_beta_max,
+        "k_h_beta_cycle": fl.k_h_beta_cycle,
         "k_h_beta_iso": fl.k_h_beta_iso,
         "f_beta_y_um": fl.f_beta_y_m * 1e6,
         "c_gamma_n_per_mm_per_um": fl.c_gamma_n_per_mm_um,
@@ -515,8 +516,10 @@ fn static_cmd(
         println!("  mean mesh stiffness {:.2} N/µm along the line of action", stiffness * 1e-6);
         println!("  tip-rounding contact: {}", curve.tip_rounding_contact());
         println!(
-            "  K_Hβ max {:.4}; ISO 6336-1 method C {:.4} (F_βy = {:.2} µm, c_γ = {:.2} N/(mm·µm))",
+            "  K_Hβ max {:.4}, of the cycle-averaged line load {:.4}; ISO 6336-1 method C {:.4} \
+             (F_βy = {:.2} µm, c_γ = {:.2} N/(mm·µm))",
             fl.k_h_beta_max,
+            fl.k_h_beta_cycle,
             fl.k_h_beta_iso,
             fl.f_beta_y_m * 1e6,
             fl.c_gamma_n_per_mm_um

@@ -68,6 +68,10 @@ pub struct FaceLoads {
     pub points: Vec<(f64, f64, f64)>,
     /// Largest K_Hβ over the points.
     pub k_h_beta_max: f64,
+    /// K_Hβ of the line load averaged over the points (uniform over whole mesh periods): the
+    /// distribution ISO 6336-1 describes (a helical pair's instantaneous line load varies
+    /// along the face with the number of contact lines crossing each ζ even when perfect).
+    pub k_h_beta_cycle: f64,
     /// ISO 6336-1 method C for F_βy = |f_ma + f_Hβ,p + f_Hβ,g| and the aligned pair's mean
     /// mesh stiffness per unit face width.
     pub k_h_beta_iso: f64,
@@ -88,10 +92,14 @@ pub fn face_loads(
 ) -> Result<FaceLoads, String> {
     let mut points = Vec::with_capacity(curve.points.len());
     let mut k_max = f64::NEG_INFINITY;
+    let mut sum = vec![0.0; model.slices_per_line()];
     for e in &curve.points {
         let s = MeshState { phi_p: e.phi_p, phi_g: e.phi_g, w_p: 0.0, w_g: 0.0 };
         model.evaluate(&s).map_err(|e| e.to_string())?;
         let fl = face_load(model);
+        for (a, w) in sum.iter_mut().zip(&fl.line_load) {
+            *a += w;
+        }
         let k = fl.k_h_beta();
         k_max = k_max.max(k);
         points.push((k, fl.max() * 1e-3, fl.mean() * 1e-3));
@@ -113,9 +121,12 @@ pub fn face_loads(
     let b = pair.face_width_m;
     let c_gamma = stiffness / b;
     let w_m = curve.torque / rb / b;
+    let cycle_mean = sum.iter().sum::<f64>() / sum.len() as f64;
+    let k_h_beta_cycle = sum.iter().copied().fold(0.0, f64::max) / cycle_mean;
     Ok(FaceLoads {
         points,
         k_h_beta_max: k_max,
+        k_h_beta_cycle,
         k_h_beta_iso: k_h_beta_iso(f_beta_y, c_gamma, w_m),
         f_beta_y_m: f_beta_y,
         c_gamma_n_per_mm_um: c_gamma * 1e-9,
