@@ -30,6 +30,7 @@ pub mod fmi2;
 pub mod geometry;
 pub mod load;
 pub mod mesh;
+pub mod modifications;
 pub mod numeric;
 pub mod paper;
 pub mod params;
@@ -37,4 +38,5 @@ pub mod plot;
 
 pub use error::ParamError;
 pub use geometry::PairGeometry;
+pub use modifications::Modifications;
 pub use params::{DriveLine, GearPair, Material};

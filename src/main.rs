@@ -10,6 +10,8 @@ use std::process::ExitCode;
 mod bench_cmd;
 #[path = "cli/dynamics.rs"]
 mod dynamics_cmd;
+#[path = "cli/mods.rs"]
+mod mods_cmd;
 #[path = "cli/paper.rs"]
 mod paper_cmd;
 
@@ -18,7 +20,7 @@ use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData};
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
-use helical_gear_mesh::mesh::{MeshModel, MeshOptions, pressure_waterfall, static_curve};
+use helical_gear_mesh::mesh::{MeshModel, pressure_waterfall, static_curve};
 use helical_gear_mesh::paper;
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde_json::json;
@@ -98,7 +100,13 @@ enum Command {
         /// Write the STE curve and the pressure waterfall (Fig. 7) as CSV and PNG into DIR.
         #[arg(long, value_name = "DIR")]
         plot: Option<std::path::PathBuf>,
+        #[command(flatten)]
+        model: mods_cmd::ModelArgs,
     },
+    /// Harris map: peak-to-peak static TE against torque for a set of modification variants.
+    Harris(mods_cmd::HarrisArgs),
+    /// Spectrum of the static TE over a hunting period, in orders of the pinion rotation.
+    Spectrum(mods_cmd::SpectrumArgs),
     /// One trajectory of Eqs. 1–4 from the static equilibrium at a nominal speed: time, the
     /// eight states, TE and the four mesh torques.
     Simulate(dynamics_cmd::SimulateArgs),
@@ -425,6 +433,7 @@ fn static_cmd(
     pitches: usize,
     slices: usize,
     plot: Option<&std::path::Path>,
+    model_args: &mods_cmd::ModelArgs,
 ) -> Result<(), String> {
     let p = load_params(common)?;
     let torque = torque.unwrap_or(p.drive.torque_nm);
@@ -438,13 +447,14 @@ fn static_cmd(
         ));
     }
     let t0 = std::time::Instant::now();
-    let options = MeshOptions { slices, ..MeshOptions::default() };
+    let options = model_args.options(slices);
     let mut model = MeshModel::new(&p, options).map_err(|e| e.to_string())?;
     let build_s = t0.elapsed().as_secs_f64();
     let geo = model.geometry().clone();
     let pitch = geo.pinion.angular_pitch();
     let curve = static_curve(&mut model, torque, 0.0, pitch, points_per_pitch, pitches)
         .map_err(|e| e.to_string())?;
+    let fl = mods_cmd::face_loads(&mut model, &curve, pitch, points_per_pitch, pitches)?;
     let rb = geo.pinion.rb;
     let stiffness = curve.mean_stiffness(rb);
     if let Some(dir) = plot {
@@ -460,11 +470,14 @@ fn static_cmd(
     let points: Vec<_> = curve
         .points
         .iter()
-        .map(|e| {
+        .zip(&fl.points)
+        .map(|(e, &(k, w_max, w_mean))| {
             json!({
                 "phi_p_rad": e.phi_p, "ste_um": e.te * 1e6, "n_pairs": e.outputs.n_pairs,
                 "p_max_pa": e.outputs.p_max, "tip_contact": e.outputs.tip_contact,
                 "contact_length_m": e.outputs.contact_length,
+                "k_h_beta": k, "line_load_max_n_per_mm": w_max,
+                "line_load_mean_n_per_mm": w_mean,
             })
         })
         .collect();
@@ -477,6 +490,11 @@ fn static_cmd(
         "ste_peak_to_peak_um": (curve.max() - curve.min()) * 1e6,
         "mesh_stiffness_mean_n_per_um": stiffness * 1e-6,
         "tip_rounding_contact": curve.tip_rounding_contact(),
+        "k_h_beta_max": fl.k_h_beta_max,
+        "k_h_beta_cycle": fl.k_h_beta_cycle,
+        "k_h_beta_iso": fl.k_h_beta_iso,
+        "f_beta_y_um": fl.f_beta_y_m * 1e6,
+        "c_gamma_n_per_mm_per_um": fl.c_gamma_n_per_mm_um,
         "model_build_s": build_s,
         "seconds": seconds,
         "points": points,
@@ -497,14 +515,28 @@ fn static_cmd(
         );
         println!("  mean mesh stiffness {:.2} N/µm along the line of action", stiffness * 1e-6);
         println!("  tip-rounding contact: {}", curve.tip_rounding_contact());
-        println!("  {:>10} {:>10} {:>6} {:>10}", "phi_p_rad", "ste_um", "pairs", "p_max_MPa");
-        for e in &curve.points {
+        println!(
+            "  K_Hβ max {:.4}, of the cycle-averaged line load {:.4}; ISO 6336-1 method C {:.4} \
+             (F_βy = {:.2} µm, c_γ = {:.2} N/(mm·µm))",
+            fl.k_h_beta_max,
+            fl.k_h_beta_cycle,
+            fl.k_h_beta_iso,
+            fl.f_beta_y_m * 1e6,
+            fl.c_gamma_n_per_mm_um
+        );
+        println!(
+            "  {:>10} {:>10} {:>6} {:>10} {:>8} {:>12}",
+            "phi_p_rad", "ste_um", "pairs", "p_max_MPa", "K_Hβ", "w_max_N/mm"
+        );
+        for (e, (k, w_max, _)) in curve.points.iter().zip(&fl.points) {
             println!(
-                "  {:10.5} {:10.4} {:6} {:10.1}",
+                "  {:10.5} {:10.4} {:6} {:10.1} {:8.4} {:12.2}",
                 e.phi_p,
                 e.te * 1e6,
                 e.outputs.n_pairs,
-                e.outputs.p_max * 1e-6
+                e.outputs.p_max * 1e-6,
+                k,
+                w_max
             );
         }
         println!("  ({seconds:.2} s, of which {build_s:.2} s building the model)");
@@ -540,9 +572,19 @@ fn main() -> ExitCode {
         Command::Contact { common, phi_p, te, slices, back } => {
             contact_cmd(common, *phi_p, *te, *slices, *back)
         }
-        Command::Static { common, torque, points_per_pitch, pitches, slices, plot } => {
-            static_cmd(common, *torque, *points_per_pitch, *pitches, *slices, plot.as_deref())
+        Command::Static { common, torque, points_per_pitch, pitches, slices, plot, model } => {
+            static_cmd(
+                common,
+                *torque,
+                *points_per_pitch,
+                *pitches,
+                *slices,
+                plot.as_deref(),
+                model,
+            )
         }
+        Command::Harris(args) => mods_cmd::harris_cmd(args),
+        Command::Spectrum(args) => mods_cmd::spectrum_cmd(args),
         Command::Simulate(args) => dynamics_cmd::simulate_cmd(args),
         Command::Sweep(args) => dynamics_cmd::sweep_cmd(args),
         Command::Compliance { common, write_cache, density } => {

@@ -125,6 +125,26 @@ impl Pitch {
     }
 }
 
+/// Single-sided amplitude spectrum of `x` (one period sampled uniformly): amplitude of bin j,
+/// the mean at j = 0, by a direct DFT (O(n²), fine for the sizes of a hunting period).
+pub fn amplitude_spectrum(x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    let mut out = Vec::with_capacity(n / 2 + 1);
+    let w = std::f64::consts::TAU / n as f64;
+    for j in 0..=n / 2 {
+        let (mut re, mut im) = (0.0, 0.0);
+        // Twiddles by index product modulo n: exact angles, no drift.
+        for (i, &v) in x.iter().enumerate() {
+            let a = w * ((i * j) % n) as f64;
+            re += v * a.cos();
+            im -= v * a.sin();
+        }
+        let scale = if j == 0 || 2 * j == n { 1.0 } else { 2.0 };
+        out.push(scale * re.hypot(im) / n as f64);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

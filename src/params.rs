@@ -24,6 +24,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ParamError;
+use crate::modifications::Modifications;
 
 /// Elastic and mass properties of one gear's material.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -132,6 +133,10 @@ pub struct GearPair {
     pub d_mesh_n_s_per_m: f64,
     /// The shafts and masses on both sides (Eqs. 1–4).
     pub drive: DriveLine,
+    /// Flank modifications, misalignment and tooth deviations ([`crate::modifications`]);
+    /// optional in JSON, all zero by default, and left out when serialised at the default.
+    #[serde(default, skip_serializing_if = "Modifications::is_default")]
+    pub modifications: Modifications,
 }
 
 impl Default for GearPair {
@@ -170,6 +175,7 @@ impl GearPair {
             material_g: Material::steel(),
             d_mesh_n_s_per_m: 100.0,
             drive: DriveLine::paper_table1(),
+            modifications: Modifications::default(),
         }
     }
 

@@ -71,7 +71,8 @@ impl PairGeometry {
     /// in the tooth space; a relief that starts above the form circle; a tip rounding that fits
     /// between relief and tip circle; a remaining tip land; a bore inside the root circle with
     /// a rim of at least one module; no tip interference with the mating fillet; total contact
-    /// ratio ε_α + ε_β ≥ 1.
+    /// ratio ε_α + ε_β ≥ 1; flank modifications and deviations within their limits
+    /// ([`crate::modifications::Modifications::validate`]).
     pub fn new(p: &GearPair) -> Result<Self, ParamError> {
         p.check_ranges()?;
         let pinion = GearGeometry::new(p, Member::Pinion)?;
@@ -155,7 +156,7 @@ impl PairGeometry {
             p.bore_diameter_m / 2.0,
             p.material_g.density_kg_m3,
         );
-        Ok(Self {
+        let geo = Self {
             params: p.clone(),
             pinion,
             gear,
@@ -171,7 +172,9 @@ impl PairGeometry {
             path_end,
             j_p,
             j_g,
-        })
+        };
+        p.modifications.validate(&geo)?;
+        Ok(geo)
     }
 
     /// The gear of `member`.

@@ -28,6 +28,7 @@
 //! crushed through) are outside the model and rejected with [`MeshError::OutOfRange`], which
 //! names TE, the mesh phase and the valid range.
 
+pub mod face_load;
 pub mod model;
 pub mod statics;
 pub mod table;
@@ -43,6 +44,7 @@ use crate::geometry::{Member, PairGeometry};
 use crate::load::LoadError;
 use crate::params::GearPair;
 
+pub use face_load::{FaceLoad, face_load, k_h_beta_crowned, k_h_beta_iso};
 pub use model::{GearCompliance, MeshModel, SolveStats};
 pub use statics::{
     Equilibrium, EquilibriumSettings, StaticCurve, TipThreshold, WaterfallRow, equilibrium,
@@ -139,6 +141,12 @@ pub struct MeshOptions {
     pub table_phase_points: usize,
     /// Table resolution: points along TE.
     pub table_te_points: usize,
+    /// A Winkler reference compliance instead of the FE data: the tooth-pair stiffness c′ per
+    /// unit contact-line length, N/m² (1 N/(mm·µm) = 1e9 N/m²), pure linear springs along the
+    /// line (each slice deflects under its own load only, no neighbour teeth), split equally
+    /// between the gears. `None` (default): the FE compliance of [`MeshOptions::compliance`].
+    /// Combine with `local_contact: false` for the pure elastic-foundation model of ISO 6336.
+    pub winkler_c_prime: Option<f64>,
 }
 
 impl Default for MeshOptions {
@@ -154,6 +162,7 @@ impl Default for MeshOptions {
             detail: false,
             table_phase_points: 64,
             table_te_points: 48,
+            winkler_c_prime: None,
         }
     }
 }
@@ -348,6 +357,10 @@ impl MeshModel {
         cache: &CacheOptions,
     ) -> Result<Self, MeshError> {
         PairGeometry::new(pair)?;
+        if let Some(c) = options.winkler_c_prime {
+            let (p, g) = winkler_compliances(pair, c)?;
+            return Self::with_compliance(pair, options, p, g);
+        }
         let data = ComplianceData::for_pair(pair, cache)
             .map_err(|e| MeshError::Compliance(e.to_string()))?;
         Self::from_data(pair, options, &data)
@@ -381,6 +394,29 @@ pub fn compute_compliance(
     let data = ComplianceData::compute(pair, density, h, false)
         .map_err(|e| MeshError::Compliance(e.to_string()))?;
     gear_compliances(&data, model)
+}
+
+/// The Winkler compliances of pinion and gear for a tooth-pair stiffness `c_prime` per unit
+/// contact-line length (N/m², finite and in [1e6, 1e13]), split equally: each gear deflects by
+/// q/(2c′) under the load intensity q (N/m); the depth h of the (optional) local term is the
+/// FE default.
+pub fn winkler_compliances(
+    pair: &GearPair,
+    c_prime: f64,
+) -> Result<(GearCompliance, GearCompliance), MeshError> {
+    if !(c_prime.is_finite() && (1e6..=1e13).contains(&c_prime)) {
+        return Err(ParamError::new(
+            "winkler_c_prime",
+            c_prime,
+            "in [1e6, 1e13] N/m² (0.001 … 10 000 N/(mm·µm))",
+        )
+        .into());
+    }
+    let w = GearCompliance::Winkler {
+        compliance: 0.5 / c_prime,
+        depth_h: DEFAULT_DEPTH_MN * pair.normal_module_m,
+    };
+    Ok((w.clone(), w))
 }
 
 /// The global compliances of pinion and gear from `data` in the representation `model`.

@@ -70,6 +70,7 @@ use crate::contact::{ContactPoint, ContactSolver, FlankSide};
 use crate::error::ParamError;
 use crate::geometry::{PairGeometry, SegmentKind};
 use crate::load::{HertzLocal, LoadProblem, LoadSettings, LoadSolver, Start, damping_torques};
+use crate::modifications::Separation;
 use crate::params::GearPair;
 
 /// Load-solver tolerances of the mesh model: gaps to 1e-15 m + 1e-12·max|d| (TE is of
@@ -199,6 +200,8 @@ pub struct MeshModel {
     ws: MatrixWorkspace,
     table: Option<Arc<super::table::MeshTable>>,
     stats: SolveStats,
+    /// Flank modifications and deviations ([`crate::modifications`]); `None` without any.
+    separation: Option<Arc<Separation>>,
 }
 
 /// Work counters of the full evaluations of a [`MeshModel`] (since construction or the last
@@ -261,6 +264,7 @@ impl Clone for MeshModel {
             ws: MatrixWorkspace::default(),
             table: self.table.clone(),
             stats: SolveStats::default(),
+            separation: self.separation.clone(),
         }
     }
 }
@@ -342,8 +346,17 @@ impl MeshModel {
             ws: MatrixWorkspace::default(),
             table: None,
             stats: SolveStats::default(),
+            separation: None,
         };
-        if options.fidelity == Fidelity::Table {
+        model.separation = Separation::new(&model.geo).map(Arc::new);
+        // The table is exact for modifications that repeat on every tooth and remove material
+        // only (it assumes periodicity in one pitch and no contact below TE = 0); otherwise
+        // the model stays at full fidelity (see `crate::modifications`).
+        let table_ok = model
+            .separation
+            .as_ref()
+            .is_none_or(|s| !s.has_tooth_deviations() && s.min_bound() >= 0.0);
+        if options.fidelity == Fidelity::Table && table_ok {
             let table = super::table::MeshTable::build(&mut model)?;
             model.table = Some(Arc::new(table));
         }
@@ -456,18 +469,23 @@ impl MeshModel {
         let nl = self.zetas.len();
         // Drive flanks only when TE > 0 and back flanks only below −backlash: the actual
         // flanks lie inside the full involutes, whose overlap is TE (resp. −TE − backlash).
-        let tol = 1e-12;
+        // Flank modifications (material added) can let the driving flanks touch below TE = 0.
+        let tol = 1e-12 - self.separation.as_ref().map_or(0.0, |s| s.min_bound());
         for (side, active) in
-            [(FlankSide::Drive, te > -tol), (FlankSide::Back, te < -geo.backlash_te + tol)]
+            [(FlankSide::Drive, te > -tol), (FlankSide::Back, te < -geo.backlash_te + 1e-12)]
         {
             if !active {
                 continue;
             }
             cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut self.contacts);
             for c in &self.contacts {
+                let mut c = *c;
+                if let Some(sep) = &self.separation {
+                    c.overlap_m -= sep.of_contact(&c);
+                }
                 if c.overlap_m > 0.0 {
                     let k = ((c.zeta / self.dzeta) as usize).min(nl - 1);
-                    self.slices.push(Slice { contact: *c, k });
+                    self.slices.push(Slice { contact: c, k });
                 }
             }
         }

@@ -1,0 +1,338 @@
+//! Flank modifications, misalignment and tooth deviations (`helical_gear_mesh::modifications`)
+//! against analytic oracles derived in the comments of each test.
+
+use helical_gear_mesh::GearPair;
+use helical_gear_mesh::mesh::{
+    EquilibriumSettings, MeshModel, MeshOptions, MeshState, equilibrium, face_load,
+    k_h_beta_crowned, k_h_beta_iso,
+};
+use helical_gear_mesh::modifications::{Modifications, ReliefShape, TipRelief};
+
+/// Tooth-pair stiffness per unit contact length of the Winkler tests, N/m² (14 N/(mm·µm),
+/// ISO 6336's typical single stiffness c′).
+const C_PRIME: f64 = 14e9;
+
+fn winkler_options(slices: usize) -> MeshOptions {
+    MeshOptions {
+        slices,
+        winkler_c_prime: Some(C_PRIME),
+        local_contact: false,
+        detail: true,
+        ..MeshOptions::default()
+    }
+}
+
+/// Table 1 as a spur pair: in the single-contact zone the loaded pair's contact is
+/// involute/involute, so its overlap is TE − separation, and the contact line spans the whole
+/// face; the tip relief keeps the neighbouring pairs' tips off the flanks (the tests check it).
+fn spur() -> GearPair {
+    let mut p = GearPair::paper_table1();
+    p.helix_angle_rad = 0.0;
+    p
+}
+
+fn state(m: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+    MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// Zero modifications given explicitly (a zero list of pitch deviations per gear, zero
+/// misalignment) run the modification code and must reproduce the unmodified model to the
+/// last digit; a pair without the key serialises exactly as before.
+#[test]
+fn zero_modifications_are_bit_for_bit() {
+    let base = GearPair::paper_table1();
+    let text = serde_json::to_string(&base).unwrap();
+    assert!(!text.contains("modifications"), "default must not be serialised");
+    assert_eq!(GearPair::from_json(&text).unwrap(), base);
+    let mut zero = base.clone();
+    zero.modifications.pinion.pitch_deviations_m = vec![0.0; base.z_p as usize];
+    zero.modifications.gear.pitch_deviations_m = vec![0.0; base.z_g as usize];
+    zero.modifications.mesh_misalignment_m = 0.0;
+    assert!(!zero.modifications.is_default());
+    let back = GearPair::from_json(&serde_json::to_string(&zero).unwrap()).unwrap();
+    assert_eq!(back, zero);
+    let options = MeshOptions { slices: 100, ..MeshOptions::default() };
+    let mut a = MeshModel::new(&base, options).unwrap();
+    let mut b = MeshModel::new(&zero, options).unwrap();
+    let pitch = a.geometry().pinion.angular_pitch();
+    for k in 0..12 {
+        let phi = pitch * (k as f64 / 4.0 - 1.3) + 40.0 * std::f64::consts::TAU;
+        for te in [2e-6, 25e-6, 60e-6] {
+            let s = MeshState { w_p: 150.0, w_g: -95.0, ..state(&a, phi, te) };
+            let (oa, ob) = (a.evaluate(&s).unwrap(), b.evaluate(&s).unwrap());
+            assert_eq!(oa, ob, "φp = {phi}, TE = {te}");
+        }
+        let ea = equilibrium(&mut a, phi, 100.0, 2e-5, &EquilibriumSettings::default()).unwrap();
+        let eb = equilibrium(&mut b, phi, 100.0, 2e-5, &EquilibriumSettings::default()).unwrap();
+        assert_eq!(ea.te.to_bits(), eb.te.to_bits());
+    }
+}
+
+/// Bad input is rejected at construction with the parameter's key and its limit.
+#[test]
+fn bad_modifications_name_parameter_and_limit() {
+    let check = |f: &dyn Fn(&mut Modifications), key: &str, limit: &str| {
+        let mut p = GearPair::paper_table1();
+        f(&mut p.modifications);
+        let e = p.validate().expect_err(key);
+        assert_eq!(e.name, key, "{e}");
+        assert!(e.allowed.contains(limit), "{e}");
+        assert!(MeshModel::new(&p, MeshOptions::default()).is_err());
+    };
+    // A crowning that removes more than a tenth of the module (more than the tip thickness
+    // can give).
+    check(&|m| m.pinion.lead_crowning_m = 1e-3, "modifications.pinion.lead_crowning_m", "0.1·m_n");
+    check(&|m| m.gear.profile_crowning_m = -1e-6, "modifications.gear.profile_crowning_m", "[0,");
+    check(&|m| m.mesh_misalignment_m = f64::NAN, "modifications.mesh_misalignment_m", "finite");
+    check(
+        &|m| m.pinion.pitch_deviations_m = vec![1e-6; 29],
+        "modifications.pinion.pitch_deviations_m",
+        "z = 30",
+    );
+    check(
+        &|m| {
+            m.gear.pitch_deviations_m = vec![0.0; 47];
+            m.gear.pitch_deviations_m[5] = f64::INFINITY;
+        },
+        "modifications.gear.pitch_deviations_m[5]",
+        "finite",
+    );
+    check(
+        &|m| {
+            m.pinion.tip_relief =
+                TipRelief { amount_m: 5e-6, start_diameter_m: 0.2, shape: ReliefShape::Linear }
+        },
+        "modifications.pinion.tip_relief.start_diameter_m",
+        "tip diameter",
+    );
+    check(
+        &|m| {
+            m.gear.end_relief.amount_start_m = 5e-6;
+            m.gear.end_relief.length_start_m = 0.02;
+        },
+        "modifications.gear.end_relief.length_start_m",
+        "face width",
+    );
+    // Unknown keys and wrong types are JSON errors.
+    let text = serde_json::to_string(&GearPair::paper_table1()).unwrap();
+    let bad = text.replacen('{', r#"{"modifications":{"pinion":{"crowning":1}},"#, 1);
+    assert!(GearPair::from_json(&bad).unwrap_err().contains("crowning"));
+}
+
+/// Phase of the spur pair where a single tooth pair carries the load in the middle of its
+/// path (pair 0 at the pitch point).
+const PHI_SINGLE: f64 = 0.0;
+
+/// Linear misalignment f across the face on a Winkler foundation: line load
+/// w(ζ) = c_γ·(δ − f·ζ/b₀) with c_γ = c′ per pair (spur, one pair), whose K_Hβ is ISO 6336-1's
+/// elastic-foundation result (derivation in `mesh::face_load`): 1 + f·c_γ·b/(2F) with contact
+/// over the whole face, √(2f·c_γ·b/F) over part of it.
+#[test]
+fn misaligned_winkler_pair_matches_elastic_foundation() {
+    let f = 20e-6;
+    let mut p = spur();
+    p.modifications.mesh_misalignment_m = f;
+    let mut m = MeshModel::new(&p, winkler_options(200)).unwrap();
+    let b = p.face_width_m;
+    for (te, full) in [(40e-6, true), (26e-6, true), (12e-6, false), (5e-6, false)] {
+        let o = m.evaluate(&state(&m, PHI_SINGLE, te)).unwrap();
+        assert_eq!(o.n_pairs, 1, "TE {te}");
+        assert!(m.slices().iter().all(|s| s.kind == "involute/involute" || s.q_n_per_m == 0.0));
+        let fl = face_load(&m);
+        let w_m = o.f_n / b;
+        assert!(rel(fl.mean(), w_m) < 1e-12, "mean line load {} vs F/b {w_m}", fl.mean());
+        let k_iso = k_h_beta_iso(f, C_PRIME, w_m);
+        assert_eq!(k_iso <= 2.0, full);
+        // Discretisation: the largest load sits at the first slice centre ζ = Δζ/2, not at
+        // ζ = 0, which lowers K by exactly (K − 1)/n over the whole face (the mean of a linear
+        // load is exact); over part of the face the patch end adds O(1/n).
+        let n = m.slices_per_line() as f64;
+        if full {
+            let dk = fl.k_h_beta() - k_iso;
+            assert!(
+                (dk + (k_iso - 1.0) / n).abs() < 1e-9,
+                "TE {te}: K {} vs {k_iso}",
+                fl.k_h_beta()
+            );
+        } else {
+            // Bound: one slice of the loaded patch, relative.
+            let loaded = fl.line_load.iter().filter(|w| **w > 0.0).count() as f64;
+            assert!(
+                rel(fl.k_h_beta(), k_iso) < 1.0 / loaded,
+                "TE {te}: K {} vs {k_iso}",
+                fl.k_h_beta()
+            );
+        }
+    }
+}
+
+/// Lead crowning C (sum of both gears) on a Winkler foundation: w(ζ) = c_γ·(δ − C·(2ζ/b₀ − 1)²),
+/// whose K_Hβ is 1 + c_γ·C·b/(3F) (whole face) or (3/2)·√(C/δ) (central patch).
+#[test]
+fn crowned_winkler_pair_matches_elastic_foundation() {
+    let mut p = spur();
+    p.modifications.pinion.lead_crowning_m = 6e-6;
+    p.modifications.gear.lead_crowning_m = 4e-6;
+    let c = 10e-6;
+    let mut m = MeshModel::new(&p, winkler_options(200)).unwrap();
+    let b = p.face_width_m;
+    for (te, full) in [(40e-6, true), (15e-6, true), (6e-6, false), (2e-6, false)] {
+        let o = m.evaluate(&state(&m, PHI_SINGLE, te)).unwrap();
+        assert_eq!(o.n_pairs, 1, "TE {te}");
+        let fl = face_load(&m);
+        let w_m = o.f_n / b;
+        let k = k_h_beta_crowned(c, C_PRIME, w_m);
+        assert_eq!(k <= 1.5, full);
+        let tol = if full { 1e-3 } else { 1.5e-2 };
+        assert!(rel(fl.k_h_beta(), k) < tol, "TE {te}: K {} vs {k}", fl.k_h_beta());
+        // The peak line load is c′·δ at the crown's middle.
+        assert!(rel(fl.max(), C_PRIME * te) < 2e-3, "peak {} vs {}", fl.max(), C_PRIME * te);
+    }
+}
+
+/// A crowned pair under a misalignment that keeps the contact patch inside the face: the gap
+/// C·u² + f·(u + 1)/2 (u = 2ζ/b₀ − 1) is the same parabola shifted by u* = −f/(4C), so under
+/// the same torque the patch only moves and the peak line load is unchanged.
+#[test]
+fn crowned_patch_shifts_under_misalignment() {
+    let torque = 20.0;
+    let peak = |f: f64| {
+        let mut p = spur();
+        p.modifications.pinion.lead_crowning_m = 10e-6;
+        p.modifications.gear.lead_crowning_m = 10e-6;
+        p.modifications.mesh_misalignment_m = f;
+        let mut m = MeshModel::new(&p, winkler_options(400)).unwrap();
+        let eq =
+            equilibrium(&mut m, PHI_SINGLE, torque, 5e-6, &EquilibriumSettings::default()).unwrap();
+        m.evaluate(&state(&m, PHI_SINGLE, eq.te)).unwrap();
+        let fl = face_load(&m);
+        // The loaded patch (first and last loaded slice).
+        let loaded: Vec<f64> =
+            fl.zeta.iter().zip(&fl.line_load).filter(|(_, w)| **w > 0.0).map(|(z, _)| *z).collect();
+        (fl.max(), loaded[0], *loaded.last().unwrap(), m.geometry().b0())
+    };
+    let (p0, lo0, hi0, b0) = peak(0.0);
+    let (p1, lo1, hi1, _) = peak(10e-6);
+    // Patch inside the face and shifted towards ζ = 0 by b₀·f/(8C) = b₀/16.
+    assert!(lo0 > 0.1 && hi0 < b0 - 0.1 && lo1 > 0.05 && hi1 < b0 - 0.1, "{lo0} {hi0} {lo1} {hi1}");
+    let shift = 0.5 * ((lo0 + hi0) - (lo1 + hi1));
+    assert!((shift - b0 / 16.0).abs() < 2.0 * b0 / 200.0, "shift {shift} vs {}", b0 / 16.0);
+    assert!(rel(p1, p0) < 5e-3, "peak {p1} vs {p0}");
+}
+
+/// Static TE of `model` at `n` pinion angles per pitch over `pitches` pitches from `phi0`.
+fn ste(model: &mut MeshModel, torque: f64, phi0: f64, n: usize, pitches: usize) -> Vec<f64> {
+    let pitch = model.geometry().pinion.angular_pitch();
+    helical_gear_mesh::mesh::static_curve(model, torque, phi0, pitch, n, pitches)
+        .unwrap()
+        .points
+        .iter()
+        .map(|e| e.te)
+        .collect()
+}
+
+/// A position deviation e of one pinion flank with a linear (Winkler) compliance and no loss
+/// of contact. At every instant the static TE satisfies Σ_i k_i·(TE − e_i) = F, so the extra
+/// TE is ΔTE(t) = k_j(t)·e/K(t) with K = Σ_i k_i. The pairs are identical and shifted by one
+/// mesh period T_m, so Σ_n k_j(t + n·T_m)/K(t) = 1 and ∫ΔTE dt = e·T_m: in pinion angle,
+/// ∫ΔTE dφp = e·2π/z_p, i.e. the mean static TE over a pinion revolution rises by e/z_p.
+/// (Derived here; the relief zones of Table 1 stay loaded the same way because e is small
+/// against the TE, which the tolerance allows for.)
+#[test]
+fn single_pitch_deviation_pulse_integral() {
+    let e = 1e-6;
+    let torque = 150.0;
+    let n = 16;
+    let base = GearPair::paper_table1();
+    let mut perfect = MeshModel::new(&base, winkler_options(100)).unwrap();
+    let mut dev = base.clone();
+    dev.modifications.pinion.pitch_deviations_m = vec![0.0; base.z_p as usize];
+    dev.modifications.pinion.pitch_deviations_m[0] = e;
+    let mut deviated = MeshModel::new(&dev, winkler_options(100)).unwrap();
+    let pitch = perfect.geometry().pinion.angular_pitch();
+    let one = ste(&mut perfect, torque, -4.0 * pitch, n, 1);
+    let window = ste(&mut deviated, torque, -4.0 * pitch, n, 8);
+    let delta: Vec<f64> = window.iter().enumerate().map(|(i, t)| t - one[i % n]).collect();
+    // The pulse is over inside the window and never negative.
+    assert!(delta[..n].iter().chain(&delta[7 * n..]).all(|d| d.abs() < 1e-12), "{delta:?}");
+    assert!(delta.iter().all(|&d| d > -1e-12 && d <= e * (1.0 + 1e-9)), "{delta:?}");
+    let integral: f64 = delta.iter().sum::<f64>() * pitch / n as f64;
+    assert!(rel(integral, e * pitch) < 1e-2, "∫ΔTE dφ = {integral} vs e·2π/z_p = {}", e * pitch);
+    let mean_shift = integral / std::f64::consts::TAU;
+    assert!(rel(mean_shift, e / base.z_p as f64) < 1e-2);
+}
+
+/// Deviations on the pinion only make the static TE periodic in one pinion revolution, so over
+/// two revolutions its spectrum has no line at half orders of the pinion rotation; a deviation
+/// on a gear tooth (period z_g meshes) does.
+#[test]
+fn pinion_deviations_give_pinion_orders_only() {
+    use helical_gear_mesh::numeric::amplitude_spectrum;
+    let base = GearPair::paper_table1();
+    let spectrum = |mods: helical_gear_mesh::Modifications| {
+        let p = GearPair { modifications: mods, ..base.clone() };
+        let mut m = MeshModel::new(&p, winkler_options(60)).unwrap();
+        amplitude_spectrum(&ste(&mut m, 100.0, 0.0, 4, 2 * base.z_p as usize))
+    };
+    let mut pin = Modifications::default();
+    pin.pinion.pitch_deviations_m = (0..base.z_p).map(|i| 1e-6 * (i as f64 * 0.7).sin()).collect();
+    pin.pinion.runout_m = 3e-6;
+    let a = spectrum(pin);
+    let half = a.iter().skip(1).step_by(2).copied().fold(0.0, f64::max);
+    let whole = a.iter().skip(2).step_by(2).copied().fold(0.0, f64::max);
+    assert!(whole > 1e-7 && half < 1e-13, "whole orders {whole}, half orders {half}");
+    let mut gear = Modifications::default();
+    gear.gear.pitch_deviations_m = vec![0.0; base.z_g as usize];
+    gear.gear.pitch_deviations_m[3] = 2e-6;
+    let g = spectrum(gear);
+    let half_g = g.iter().skip(1).step_by(2).copied().fold(0.0, f64::max);
+    assert!(half_g > 1e-9, "gear deviation: half orders {half_g}");
+}
+
+/// The separation formulas and their signs at known points (the worked example of the module
+/// docs): misalignment f at ζ = b₀ only, cancelled by a helix slope −f on the pinion; crowning
+/// C at both face ends and 0 mid-face; gear tip relief C at the tip circle; pitch deviation of
+/// pinion tooth k and gear tooth −k on pair k.
+#[test]
+fn separation_signs_and_values() {
+    use helical_gear_mesh::geometry::PairGeometry;
+    use helical_gear_mesh::modifications::Separation;
+    let mut p = GearPair::paper_table1();
+    let geo0 = PairGeometry::new(&p).unwrap();
+    let (rp, rg) = (geo0.pinion.r, geo0.gear.r);
+    let b0 = geo0.b0();
+    let at = |p: &GearPair, zeta: f64, pair: i64, rp: f64, rg: f64| {
+        Separation::new(&PairGeometry::new(p).unwrap()).unwrap().at(zeta, pair, rp, rg)
+    };
+    p.modifications.mesh_misalignment_m = 10e-6;
+    assert_eq!(at(&p, 0.0, 0, rp, rg), 0.0);
+    assert!((at(&p, b0, 0, rp, rg) - 10e-6).abs() < 1e-18);
+    assert!((at(&p, 0.5 * b0, 0, rp, rg) - 5e-6).abs() < 1e-18);
+    p.modifications.pinion.helix_slope_m = -10e-6;
+    assert!(at(&p, 0.3 * b0, 0, rp, rg).abs() < 1e-18);
+    let mut c = GearPair::paper_table1();
+    c.modifications.gear.lead_crowning_m = 8e-6;
+    assert!((at(&c, 0.0, 0, rp, rg) - 8e-6).abs() < 1e-18);
+    assert!((at(&c, b0, 0, rp, rg) - 8e-6).abs() < 1e-18);
+    assert!(at(&c, 0.5 * b0, 0, rp, rg).abs() < 1e-18);
+    let mut t = GearPair::paper_table1();
+    let ra = geo0.gear.ra;
+    t.modifications.gear.tip_relief =
+        TipRelief { amount_m: 6e-6, start_diameter_m: 2.0 * rg, shape: ReliefShape::Parabolic };
+    assert!((at(&t, 1.0, 0, rp, ra) - 6e-6).abs() < 1e-15);
+    assert_eq!(at(&t, 1.0, 0, rp, rg), 0.0);
+    let mut d = GearPair::paper_table1();
+    d.modifications.pinion.pitch_deviations_m = vec![0.0; 30];
+    d.modifications.pinion.pitch_deviations_m[7] = 3e-6;
+    d.modifications.gear.pitch_deviations_m = vec![0.0; 47];
+    d.modifications.gear.pitch_deviations_m[47 - 7] = 1e-6;
+    assert!((at(&d, 1.0, 7, rp, rg) - 4e-6).abs() < 1e-18);
+    assert!((at(&d, 1.0, 7 + 30 * 47, rp, rg) - 4e-6).abs() < 1e-18);
+    assert!((at(&d, 1.0, 37, rp, rg) - 3e-6).abs() < 1e-18);
+    assert_eq!(at(&d, 1.0, 8, rp, rg), 0.0);
+    assert_eq!(Modifications::hunting_meshes(30, 47), 1410);
+}
