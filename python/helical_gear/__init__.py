@@ -38,6 +38,8 @@ from ._api import (
     sweep,
 )
 
+from . import study  # noqa: E402  (pandas, dask, tqdm are imported when a study runs)
+
 __version__ = LIBRARY_VERSION
 
 __all__ = [

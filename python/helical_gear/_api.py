@@ -176,7 +176,8 @@ class MeshModel:
     ``"table"`` interpolates in a (mesh phase, TE) table built once from the full model (about
     2 s) and falls back to the full model outside it. `slices`: total axial slices over the
     simultaneous contact lines (the paper's 200). `compliance`: FE data of this pair (default:
-    `compliance(pair)`). Pickles as pair + options (+ the compliance when given) and is rebuilt
+    `compliance(pair)`). `table_size`: the table's points per mesh period × points along TE
+    (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³). Pickles as pair + options (+ the compliance when given) and is rebuilt
     on unpickling.
     """
 
@@ -186,17 +187,26 @@ class MeshModel:
         fidelity: str = "full",
         slices: int = 200,
         compliance: Compliance | None = None,
+        table_size: tuple[int, int] = (64, 48),
     ):
         self.pair = _pair(pair)
         self.fidelity = fidelity
         self.slices = int(slices)
         self.compliance = compliance
+        self.table_size = (int(table_size[0]), int(table_size[1]))
         self._m = _native.MeshModel(
-            self.pair.to_json(), fidelity, self.slices, None if compliance is None else compliance._c
+            self.pair.to_json(),
+            fidelity,
+            self.slices,
+            None if compliance is None else compliance._c,
+            *self.table_size,
         )
 
     def __reduce__(self):
-        return (MeshModel, (self.pair, self.fidelity, self.slices, self.compliance))
+        return (
+            MeshModel,
+            (self.pair, self.fidelity, self.slices, self.compliance, self.table_size),
+        )
 
     def __repr__(self):
         return f"MeshModel({self.pair!r}, fidelity={self.fidelity!r}, slices={self.slices})"

@@ -90,6 +90,7 @@ class Settings:
     steps_per_period: int
     max_periods: int
     refine_runs: int
+    table_size: tuple
     cache_dir: str | None
 
 
@@ -165,7 +166,7 @@ def design_task(pair: GearPair, comp, speeds: tuple, settings: Settings, key: st
             row["static_s"] = time.perf_counter() - t0
         if "sweep" in settings.analyses:
             t0 = time.perf_counter()
-            m = MeshModel(pair, "table", settings.slices, c)
+            m = MeshModel(pair, "table", settings.slices, c, settings.table_size)
             t1 = time.perf_counter()
             row["table_s"] = t1 - t0
             w_from, w_to, points = speeds
@@ -274,6 +275,7 @@ def run(
     steps_per_period: int = 128,
     max_periods: int = 3000,
     refine_runs: int = 4,
+    table_size: tuple = (64, 48),
     cache_dir: str | os.PathLike | None = None,
     progress: bool = True,
     flush_seconds: float = 2.0,
@@ -281,7 +283,10 @@ def run(
     """Runs `analyses` on every design of the DataFrame `designs` and returns the table (see
     the module doc). `client`: None (serial, in this process), a ``distributed.Client``, or a
     scheduler address (a client is opened and closed here). `sweep`: default speed range
-    (from, to, points), rad/s. `refine_runs`: extra runs per resonance (golden section)."""
+    (from, to, points), rad/s. `refine_runs`: extra runs per resonance (golden section).
+    `static_points`: pinion angles of the static TE curve; `slices`: axial slices of the mesh
+    model; `table_size`: the sweep's table resolution (see `MeshModel`); `max_periods`,
+    `steps_per_period`: the steady-state runs (as the CLI's ``sweep``)."""
     import pandas as pd
 
     if isinstance(analyses, str):
@@ -302,6 +307,7 @@ def run(
         steps_per_period=int(steps_per_period),
         max_periods=int(max_periods),
         refine_runs=int(refine_runs),
+        table_size=(int(table_size[0]), int(table_size[1])),
         cache_dir=None if cache_dir is None else os.fspath(cache_dir),
     )
 

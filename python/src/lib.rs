@@ -362,15 +362,19 @@ fn array<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
 impl MeshModel {
     /// Builds the model of `pair_json` at `fidelity` ("full" or "table") with `slices` slices
     /// over the simultaneous contact lines, from `compliance` when given (it must belong to the
-    /// pair) or from the library's default source ([`Compliance::for_pair`]).
+    /// pair) or from the library's default source ([`Compliance::for_pair`]). The table
+    /// fidelity's resolution: `table_phase_points` per mesh period × `table_te_points` along TE
+    /// (the library's defaults 64 × 48).
     #[new]
-    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None))]
+    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48))]
     fn new(
         py: Python<'_>,
         pair_json: &str,
         fidelity: &str,
         slices: usize,
         compliance: Option<&Compliance>,
+        table_phase_points: usize,
+        table_te_points: usize,
     ) -> PyResult<Self> {
         let data = compliance.map(|c| c.data.clone());
         run(py, move || {
@@ -378,6 +382,8 @@ impl MeshModel {
             let options = MeshOptions {
                 fidelity: self::fidelity(fidelity)?,
                 slices,
+                table_phase_points,
+                table_te_points,
                 ..MeshOptions::default()
             };
             let model = match data {
