@@ -309,13 +309,25 @@ def static_curve(
     )
 
 
-STATE_NAMES = ("phi_1", "phi_p", "phi_g", "phi_2", "w_1", "w_p", "w_g", "w_2")
+#: The eight states of Eqs. 1–4 as `Trajectory` keys (the library's names: angles rad, rates
+#: rad/s): φ₁, φp, φg, φ₂, φ̇₁, φ̇p, φ̇g, φ̇₂.
+STATE_NAMES = (
+    "phi_1_rad",
+    "phi_p_rad",
+    "phi_g_rad",
+    "phi_2_rad",
+    "w_1_rad_s",
+    "w_p_rad_s",
+    "w_g_rad_s",
+    "w_2_rad_s",
+)
 
 
 @dataclass(frozen=True)
 class Trajectory(_Result):
-    """One solution of Eqs. 1–4: time (s), the eight states (rad, rad/s), TE (m) and the four
-    mesh torques (N·m) per output time."""
+    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`), ``TE`` (m) and
+    the four mesh torques ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m) per output time, as
+    attributes (numpy arrays) and in ``arrays``."""
 
     arrays: dict = field(repr=False)
     steps: int

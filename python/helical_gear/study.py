@@ -20,8 +20,9 @@ any ``dask.distributed`` cluster, written incrementally to Parquet.
   TE_max/STE_max of every run).
 * The result: the input rows in input order, input columns kept, then the result columns,
   ``error`` (None, or the message of the exception that stopped this design), the seconds
-  ``fe_s`` (FE run and fits of the design's compliance data, 0 when they came from the embedded
-  Table 1 data or the disk cache), ``table_s``, ``static_s``, ``sweep_s``, and ``design_key``
+  ``fe_s`` (the FE run and fits that produced the design's compliance data, reported by every
+  design sharing them; 0 when they came from the embedded Table 1 data or the disk cache),
+  ``table_s`` (building the sweep's table), ``static_s``, ``sweep_s``, and ``design_key``
   (a hash of the design's parameters and the study settings).
 
 The FE compliance of a design is computed once and shared by its analyses and by every design

@@ -159,6 +159,33 @@ def test_static_curve_equals_the_cli(tmp_path):
     assert list(df.columns)[:2] == ["phi_p", "ste"] and len(df) == 6
 
 
+def test_simulate_equals_the_cli(tmp_path):
+    cli = RELEASE / "helical-gear"
+    pair = hg.GearPair()
+    t_m = 2 * math.pi / (pair.z_p * 300.0)  # mesh period at 300 rad/s
+    dt = t_m / 64
+    t_end = 64 * dt
+    run = subprocess.run([str(cli), "simulate", "--omega-p", "300", "--t-end", repr(t_end),
+                          "--dt", repr(dt), "--json"], capture_output=True, text=True, check=True)
+    ref = json.loads(run.stdout)
+    tr = hg.simulate(pair, 300.0, t_end, dt=dt)
+    assert list(tr.time) == ref["time_s"]
+    assert list(tr.TE) == ref["te_m"] and list(tr.M_F_p) == ref["m_f_p_nm"]
+    assert list(tr.w_p_rad_s) == ref["w_p_rad_s"]
+    assert tr.steps == ref["steps"] == 64
+    assert set(tr.to_dataframe().columns) >= {"time", "TE", "phi_p_rad", "M_F_g"}
+
+
+def test_compliance_pickles_losslessly():
+    c = hg.compliance()  # Table 1: the embedded data
+    assert c.source == "embedded"
+    c2 = pickle.loads(pickle.dumps(c))
+    args = (np.linspace(0.0, 0.2, 5), -0.0001 - np.linspace(0.0, 0.2, 5) * 30 / 47, 300.0, -191.0)
+    a = hg.MeshModel(compliance=c).evaluate(*args)
+    b = hg.MeshModel(compliance=c2).evaluate(*args)
+    assert all(a[k].tobytes() == b[k].tobytes() for k in hg.OUTPUT_NAMES)
+
+
 # ---------------------------------------------------------------------------------------------
 # Design studies
 
