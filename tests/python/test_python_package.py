@@ -159,6 +159,39 @@ def test_static_curve_equals_the_cli(tmp_path):
     assert list(df.columns)[:2] == ["phi_p", "ste"] and len(df) == 6
 
 
+def test_long_calls_release_the_gil():
+    import threading
+
+    model = hg.MeshModel()
+    phi = np.linspace(0.0, 0.2, 400)
+    started = threading.Event()
+
+    def work():
+        started.set()
+        model.evaluate(phi, -0.0001 - phi * 30 / 47, 300.0, -191.0)
+
+    t = threading.Thread(target=work)
+    t.start()
+    started.wait()
+    spins = 0
+    while t.is_alive():
+        spins += 1
+    t.join()
+    # With the GIL held for the whole Rust call this thread could not spin at all meanwhile.
+    assert spins > 1000
+
+
+def test_results_plot_and_tabulate():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    c = hg.static_curve(points_per_pitch=4)
+    ax = c.plot()
+    (line,) = ax.get_lines()
+    assert np.array_equal(line.get_ydata(), c.ste * 1e6)
+    assert len(c.to_dataframe()) == 4
+
+
 def test_simulate_equals_the_cli(tmp_path):
     cli = RELEASE / "helical-gear"
     pair = hg.GearPair()
