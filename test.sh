@@ -27,5 +27,17 @@ if [ -d tests/python ] && ls tests/python/test_*.py >/dev/null 2>&1; then
     python3 -m venv .venv
   fi
   .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt
-  .venv/bin/python -m pytest -q tests/python
+
+  echo "== python package helical_gear (python/: PyO3 + maturin, release build into .venv)"
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check ./python
+
+  # pytest exits 5 when it collects no test: say so instead of failing on a bare status.
+  pytest_status=0
+  .venv/bin/python -m pytest -q tests/python || pytest_status=$?
+  if [ "$pytest_status" -eq 5 ]; then
+    echo "pytest collected no test in tests/python"
+  elif [ "$pytest_status" -ne 0 ]; then
+    exit "$pytest_status"
+  fi
 fi

@@ -1,0 +1,77 @@
+"""Design-study throughput: designs per hour on one core (serial) and on a two-process Dask
+LocalCluster, and the split of the cost per design (FE and fits, table build, static
+analysis, speed sweep), at the default FE density.
+
+    python python/bench/bench_study.py [--designs N] [--workers 2] [--analyses static,sweep]
+
+Designs: a Latin hypercube over helix angle, face width and tip relief (none equals the
+Table 1 pair, so every design runs its own FE; no disk cache is used). The same designs are
+run serially and on the cluster; the tables must agree. Run it on an otherwise idle machine
+(it prints the load average).
+"""
+
+import argparse
+import os
+import time
+
+import numpy as np
+import pandas as pd
+
+
+def latin_hypercube(n: int, seed: int = 1) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    u = (np.argsort(rng.random((3, n)), axis=1) + rng.random((3, n))) / n
+    return pd.DataFrame({
+        "helix_angle_rad": np.radians(8.0 + 12.0 * u[0]),
+        "face_width_m": 0.010 + 0.010 * u[1],
+        "tip_relief_depth_mn": 0.005 + 0.025 * u[2],
+    })
+
+
+def main() -> None:
+    import helical_gear as hg
+    from distributed import Client, LocalCluster
+
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--designs", type=int, default=8)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--analyses", default="static,sweep")
+    a = ap.parse_args()
+    os.environ.pop("HELICAL_GEAR_CACHE_DIR", None)
+    analyses = tuple(a.analyses.split(","))
+    designs = latin_hypercube(a.designs)
+
+    load_before = os.getloadavg()[0]
+    # One core: the serial run (and the table build's threads, which follow the affinity mask)
+    # on CPU 0 only; the cluster's worker processes are started with every core allowed.
+    cores = os.sched_getaffinity(0)
+    os.sched_setaffinity(0, {min(cores)})
+    t0 = time.perf_counter()
+    serial = hg.study.run(designs, analyses=analyses, progress=False)
+    t_serial = time.perf_counter() - t0
+    os.sched_setaffinity(0, cores)
+
+    with LocalCluster(n_workers=a.workers, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        client.run(lambda: __import__("helical_gear"))  # workers import the package first
+        t0 = time.perf_counter()
+        dist = hg.study.run(designs, analyses=analyses, client=client, progress=False)
+        t_dist = time.perf_counter() - t0
+
+    cols = ["ste_max_um", "omega_crit_rad_s", "peak_te_ratio", "error"]
+    same = serial[cols].equals(dist[cols])
+    split = serial[["fe_s", "table_s", "static_s", "sweep_s"]].mean()
+    n = len(designs)
+    print(f"{n} designs, analyses {analyses}, default FE density; tables equal: {same}")
+    print(f"serial (1 core):       {t_serial:8.1f} s  {3600 * n / t_serial:8.0f} designs/h")
+    print(f"{a.workers} workers (LocalCluster): {t_dist:8.1f} s  {3600 * n / t_dist:8.0f} designs/h"
+          f"  speed-up {t_serial / t_dist:.2f}x")
+    print("mean cost per design, s: " + ", ".join(f"{k} {v:.2f}" for k, v in split.items()))
+    for i, e in serial["error"].dropna().items():
+        print(f"design {i} failed: {e}")
+    print(f"load average (1 min) before {load_before:.1f}, after {os.getloadavg()[0]:.1f} "
+          f"on {len(cores)} cores")
+
+
+if __name__ == "__main__":
+    main()

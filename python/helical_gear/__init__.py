@@ -1,0 +1,67 @@
+"""helical_gear: the Andersson–Vedmar helical-gear mesh model from Python.
+
+Contact outside the plane of action, FE tooth compliance, the non-linear load distribution
+along the contact lines, mesh torques and the torsional dynamics of Eqs. 1–4 (A. Andersson,
+L. Vedmar, J. Sound Vib. 260 (2003) 195–212), computed by the Rust library ``helical_gear_mesh``.
+
+>>> import helical_gear as hg
+>>> pair = hg.GearPair(beta=0.2)             # Table 1 with a 0.2 rad helix angle
+>>> curve = hg.static_curve(pair)            # static TE over one pinion pitch
+>>> curve.ste_max                            # m
+
+SI units throughout. Errors derive from `GearMeshError` and carry the library's message.
+Design studies: `helical_gear.study.run`.
+"""
+
+from ._native import (
+    ComplianceError,
+    GearMeshError,
+    LIBRARY_VERSION,
+    ParameterError,
+    SolverError,
+)
+from ._pair import ISO_SYMBOLS, GearPair, Group
+from ._api import (
+    OUTPUT_NAMES,
+    STATE_NAMES,
+    Compliance,
+    Geometry,
+    MeshModel,
+    StaticCurve,
+    SweepResult,
+    Trajectory,
+    compliance,
+    geometry,
+    paper,
+    simulate,
+    static_curve,
+    sweep,
+)
+
+from . import study  # noqa: E402  (pandas, dask, tqdm are imported when a study runs)
+
+__version__ = LIBRARY_VERSION
+
+__all__ = [
+    "Compliance",
+    "ComplianceError",
+    "GearMeshError",
+    "GearPair",
+    "Geometry",
+    "Group",
+    "ISO_SYMBOLS",
+    "MeshModel",
+    "OUTPUT_NAMES",
+    "ParameterError",
+    "STATE_NAMES",
+    "SolverError",
+    "StaticCurve",
+    "SweepResult",
+    "Trajectory",
+    "compliance",
+    "geometry",
+    "paper",
+    "simulate",
+    "static_curve",
+    "sweep",
+]

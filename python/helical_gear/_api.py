@@ -1,0 +1,500 @@
+"""The main calls: geometry, compliance, the mesh model, static TE, simulation, speed sweep and
+the paper run. Every call is a thin wrapper of the Rust library (`helical_gear._native`); the
+Rust work runs with the GIL released.
+
+Units are SI: angles rad, speeds rad/s, torques N·m, TE m, times s. Angles φp, φg are hub
+rotations in one absolute sense (the pinion drives in the positive sense); the transmission
+error is TE = φp·g_p + φg·g_g (Eq. 16; > 0 when the teeth must deform). The mesh torques are
+positive in normal drive and enter the equations of motion with a minus sign.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from . import _native
+from ._pair import GearPair
+
+#: Keys of `MeshModel.evaluate`'s result (the FMU's output names, then extras).
+OUTPUT_NAMES = (
+    "M_F_p",
+    "M_F_g",
+    "M_D_p",
+    "M_D_g",
+    "TE",
+    "F_n",
+    "contact_length",
+    "p_max",
+    "n_pairs",
+    "tip_contact",
+    "separated",
+    "back_contact",
+)
+
+FE_DENSITIES = ("coarse", "default", "refined")
+
+
+def _pair(pair: GearPair | None) -> GearPair:
+    if pair is None:
+        return GearPair()
+    if not isinstance(pair, GearPair):
+        raise TypeError(f"expected a GearPair, got {type(pair).__name__}")
+    return pair
+
+
+class _Result:
+    """Base of the result objects: numpy arrays, `to_dataframe()` and `plot()`."""
+
+    _columns: tuple[str, ...] = ()
+
+    def to_dataframe(self):
+        """The per-sample arrays as a pandas DataFrame (pandas is imported here)."""
+        import pandas as pd
+
+        return pd.DataFrame({c: np.asarray(getattr(self, c)) for c in self._columns})
+
+    def _axes(self, ax):
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            _, ax = plt.subplots()
+        return ax
+
+
+class Mapping_(Mapping):
+    """A read-only mapping with attribute access (geometry, summaries)."""
+
+    def __init__(self, d: Mapping[str, Any]):
+        self.__dict__["_d"] = dict(d)
+
+    def __getitem__(self, k):
+        return self._d[k]
+
+    def __iter__(self):
+        return iter(self._d)
+
+    def __len__(self):
+        return len(self._d)
+
+    def __getattr__(self, k):
+        try:
+            return self._d[k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self._d!r})"
+
+
+class Geometry(Mapping_):
+    """Derived geometry of a pair (keys of ``helical-gear geometry --json``): contact ratios
+    ``eps_alpha``, ``eps_beta``; radii ``*_radius_p_m``/``*_g_m``; ``center_distance_m``;
+    angles ``*_rad``; ``base_pitch_m``; ``backlash_te_m``; inertias ``j_p_kgm2``, ``j_g_kgm2``."""
+
+
+def geometry(pair: GearPair | None = None) -> Geometry:
+    """Derived geometry of `pair` (default Table 1)."""
+    return Geometry(json.loads(_native.geometry_json(_pair(pair).to_json())))
+
+
+class Compliance:
+    """FE compliance data of both gears of a pair (influence grids and fitted constants of
+    Eqs. 5–8). Pickles losslessly (every float exact), so a model rebuilt from unpickled data
+    equals the original bit for bit."""
+
+    __slots__ = ("pair", "_c", "fe_density")
+
+    def __init__(self, pair: GearPair, native, fe_density: str):
+        self.pair = pair
+        self._c = native
+        self.fe_density = fe_density
+
+    @property
+    def source(self) -> str:
+        """Where the data came from: ``computed``, ``embedded`` (Table 1) or ``disk`` (cache)."""
+        return self._c.source()
+
+    def summary(self) -> Mapping_:
+        """Source (``computed``, ``embedded``, ``disk``), density, FE sizes and seconds, fit
+        quality σ(e_rel) and the tooth-pair stiffness c′ at the pitch point, N/(mm·µm)."""
+        return Mapping_(json.loads(self._c.summary_json(self.pair.to_json())))
+
+    def __reduce__(self):
+        return (_compliance_from_json, (self.pair, self._c.to_json(), self.fe_density))
+
+    def __repr__(self):
+        s = self.summary()
+        return (
+            f"Compliance({s['source']}, {s['density']} density, {s['fe_dofs_p']}/"
+            f"{s['fe_dofs_g']} DOFs, c′ = {s['pair_stiffness_n_per_mm_per_um']:.3f} N/(mm·µm))"
+        )
+
+
+def _compliance_from_json(pair: GearPair, text: str, fe_density: str) -> Compliance:
+    return Compliance(pair, _native.Compliance.from_json(text), fe_density)
+
+
+def compliance(
+    pair: GearPair | None = None,
+    fe_density: str = "default",
+    cache_dir: str | os.PathLike | None = None,
+    progress: bool = False,
+) -> Compliance:
+    """FE compliance data of `pair`.
+
+    ``fe_density="default"`` takes the library's default source: the embedded data of the
+    Table 1 pair when the compliance parameters match, else the disk cache in `cache_dir`
+    (default: the environment variable ``HELICAL_GEAR_CACHE_DIR``), else a fresh FE run at the
+    default mesh density (a few seconds; written to the cache when a directory is set).
+    ``"coarse"`` (for tests; about 3 % stiffer) and ``"refined"`` always run the FE at that
+    density and never touch the cache.
+    """
+    pair = _pair(pair)
+    if fe_density not in FE_DENSITIES:
+        raise _native.ParameterError(
+            f"fe_density = {fe_density!r}: allowed {', '.join(map(repr, FE_DENSITIES))}"
+        )
+    if fe_density == "default":
+        c = _native.Compliance.for_pair(
+            pair.to_json(), None if cache_dir is None else os.fspath(cache_dir), progress
+        )
+    else:
+        c = _native.Compliance.compute(pair.to_json(), fe_density, progress)
+    return Compliance(pair, c, fe_density)
+
+
+class MeshModel:
+    """The Andersson–Vedmar mesh model of a pair.
+
+    ``fidelity="full"`` does the contact search and load solve at every evaluation;
+    ``"table"`` interpolates in a (mesh phase, TE) table built once from the full model (about
+    2 s) and falls back to the full model outside it. `slices`: total axial slices over the
+    simultaneous contact lines (the paper's 200). `compliance`: FE data of this pair (default:
+    `compliance(pair)`). `table_size`: the table's points per mesh period × points along TE
+    (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³). Pickles as pair + options (+ the compliance when given) and is rebuilt
+    on unpickling.
+    """
+
+    def __init__(
+        self,
+        pair: GearPair | None = None,
+        fidelity: str = "full",
+        slices: int = 200,
+        compliance: Compliance | None = None,
+        table_size: tuple[int, int] = (64, 48),
+    ):
+        self.pair = _pair(pair)
+        self.fidelity = fidelity
+        self.slices = int(slices)
+        self.compliance = compliance
+        self.table_size = (int(table_size[0]), int(table_size[1]))
+        self._m = _native.MeshModel(
+            self.pair.to_json(),
+            fidelity,
+            self.slices,
+            None if compliance is None else compliance._c,
+            *self.table_size,
+        )
+
+    def __reduce__(self):
+        return (
+            MeshModel,
+            (self.pair, self.fidelity, self.slices, self.compliance, self.table_size),
+        )
+
+    def __repr__(self):
+        return f"MeshModel({self.pair!r}, fidelity={self.fidelity!r}, slices={self.slices})"
+
+    @property
+    def table_build_seconds(self) -> float:
+        """Seconds the table took to build (0 for the full fidelity)."""
+        return self._m.table_build_seconds()
+
+    def evaluate(self, phi_p, phi_g, w_p=0.0, w_g=0.0) -> dict[str, np.ndarray]:
+        """Mesh outputs at the states (φp, φg, φ̇p, φ̇g) (rad, rad/s); the four arguments are
+        broadcast against each other (numpy rules) and evaluated in C order, each exactly as
+        the library's ``MeshModel::evaluate``. Returns a dict of arrays of the broadcast shape:
+        ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m), ``TE`` (m), ``F_n`` (N),
+        ``contact_length`` (m), ``p_max`` (Pa), ``n_pairs``, ``tip_contact``, ``separated``,
+        ``back_contact``."""
+        arrays = np.broadcast_arrays(
+            *(np.asarray(a, dtype=np.float64) for a in (phi_p, phi_g, w_p, w_g))
+        )
+        shape = arrays[0].shape
+        flat = [np.ascontiguousarray(a.ravel()) for a in arrays]
+        out = self._m.evaluate(*flat)
+        return {k: out[k].reshape(shape) for k in OUTPUT_NAMES}
+
+
+def _model(pair_or_model, fidelity: str, slices: int, compliance: Compliance | None) -> MeshModel:
+    if isinstance(pair_or_model, MeshModel):
+        return pair_or_model
+    return MeshModel(_pair(pair_or_model), fidelity, slices, compliance)
+
+
+@dataclass(frozen=True)
+class StaticCurve(_Result):
+    """Static transmission error over pinion angles (Eq. 16) at one torque."""
+
+    #: Driving torque on the pinion, N·m.
+    torque_nm: float
+    #: Pinion angles, rad.
+    phi_p: np.ndarray
+    #: Static TE, m.
+    ste: np.ndarray
+    #: Loaded tooth pairs.
+    n_pairs: np.ndarray
+    #: Largest Hertz pressure, Pa.
+    p_max: np.ndarray
+    #: Loaded contact on the tip rounding.
+    tip_contact: np.ndarray
+    #: Loaded contact length, m.
+    contact_length: np.ndarray
+    #: max, min, mean STE, m; peak to peak, m.
+    ste_max: float
+    ste_min: float
+    ste_mean: float
+    #: Mean mesh stiffness along the line of action, N/m.
+    mesh_stiffness_mean: float
+    _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length")
+
+    @property
+    def ste_peak_to_peak(self) -> float:
+        """STE max − min, m."""
+        return self.ste_max - self.ste_min
+
+    def plot(self, ax=None):
+        """STE (µm) over the pinion angle (rad) on `ax` (a new figure when None)."""
+        ax = self._axes(ax)
+        ax.plot(self.phi_p, self.ste * 1e6, marker=".")
+        ax.set_xlabel("pinion angle φp (rad)")
+        ax.set_ylabel("static TE (µm)")
+        ax.set_title(f"Static transmission error, M = {self.torque_nm:g} N·m")
+        return ax
+
+
+def static_curve(
+    pair: GearPair | MeshModel | None = None,
+    torque: float | None = None,
+    points_per_pitch: int = 20,
+    pitches: int = 1,
+    slices: int = 200,
+    compliance: Compliance | None = None,
+) -> StaticCurve:
+    """Static TE of `pair` (or of a `MeshModel`, full fidelity recommended) at `torque` N·m
+    (default: the pair's ``drive.torque_nm``) on `points_per_pitch` angles per pinion pitch
+    over `pitches` pitches from φp = 0 (the library's ``mesh::static_curve``, as the CLI's
+    ``static``)."""
+    m = _model(pair, "full", slices, compliance)
+    t = m.pair.drive.torque_nm if torque is None else float(torque)
+    d = json.loads(m._m.static_curve_json(t, int(points_per_pitch), int(pitches)))
+    return StaticCurve(
+        torque_nm=d["torque_nm"],
+        phi_p=np.array(d["phi_p_rad"]),
+        ste=np.array(d["ste_m"]),
+        n_pairs=np.array(d["n_pairs"], dtype=np.uint32),
+        p_max=np.array(d["p_max_pa"]),
+        tip_contact=np.array(d["tip_contact"], dtype=bool),
+        contact_length=np.array(d["contact_length_m"]),
+        ste_max=d["ste_max_m"],
+        ste_min=d["ste_min_m"],
+        ste_mean=d["ste_mean_m"],
+        mesh_stiffness_mean=d["mesh_stiffness_mean_n_per_m"],
+    )
+
+
+#: The eight states of Eqs. 1–4 as `Trajectory` keys (the library's names: angles rad, rates
+#: rad/s): φ₁, φp, φg, φ₂, φ̇₁, φ̇p, φ̇g, φ̇₂.
+STATE_NAMES = (
+    "phi_1_rad",
+    "phi_p_rad",
+    "phi_g_rad",
+    "phi_2_rad",
+    "w_1_rad_s",
+    "w_p_rad_s",
+    "w_g_rad_s",
+    "w_2_rad_s",
+)
+
+
+@dataclass(frozen=True)
+class Trajectory(_Result):
+    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`), ``TE`` (m) and
+    the four mesh torques ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m) per output time, as
+    attributes (numpy arrays) and in ``arrays``."""
+
+    arrays: dict = field(repr=False)
+    steps: int
+    mesh_evaluations: int
+
+    def __getattr__(self, k):
+        try:
+            return self.__dict__["arrays"][k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+    @property
+    def _columns(self):
+        return tuple(self.arrays)
+
+    def plot(self, ax=None):
+        """TE (µm) over time (s)."""
+        ax = self._axes(ax)
+        ax.plot(self.arrays["time"], self.arrays["TE"] * 1e6)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("TE (µm)")
+        return ax
+
+
+def simulate(
+    pair: GearPair | MeshModel | None,
+    w_p: float,
+    t_end: float,
+    dt: float | None = None,
+    method: str = "rk4",
+    fidelity: str = "full",
+    phi_p0: float = 0.0,
+    rtol: float = 1e-8,
+    atol: float = 1e-12,
+    slices: int = 200,
+    compliance: Compliance | None = None,
+) -> Trajectory:
+    """One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
+    (rad/s) to `t_end` (s), as the CLI's ``simulate``: RK4 with fixed step `dt` (default the
+    mesh period / 128, shortened to divide `t_end`) or adaptive ``method="dopri5"`` (`dt` is
+    then the output interval). Drivetrain and mesh damping from the pair."""
+    m = _model(pair, fidelity, slices, compliance)
+    d = m._m.simulate(
+        m.pair.to_json(), float(w_p), float(t_end), dt, method, float(phi_p0), rtol, atol
+    )
+    steps = d.pop("steps")
+    evals = d.pop("mesh_evaluations")
+    return Trajectory(arrays=dict(d), steps=steps, mesh_evaluations=evals)
+
+
+@dataclass(frozen=True)
+class SweepResult(_Result):
+    """Steady-state TE_max/STE_max per pinion speed and the located resonances."""
+
+    #: Pinion speeds, rad/s.
+    speeds: np.ndarray
+    #: Steady TE max and min over STE max (dynamic factor of TE).
+    te_max_over_ste_max: np.ndarray
+    te_min_over_ste_max: np.ndarray
+    separated: np.ndarray
+    back_contact: np.ndarray
+    tip_contact: np.ndarray
+    steady: np.ndarray
+    #: Resonance speeds (rad/s) and their TE_max/STE_max (refined by golden section).
+    resonances: np.ndarray
+    resonance_te_max_over_ste_max: np.ndarray
+    #: Largest TE_max/STE_max over every run (grid and refinement).
+    peak_te_ratio: float
+    #: STE max of the sweep's static pass, m; mean mesh stiffness, N/m.
+    ste_max: float
+    mesh_stiffness: float | None
+    warnings: tuple
+    wall_seconds: float
+    _columns = (
+        "speeds",
+        "te_max_over_ste_max",
+        "te_min_over_ste_max",
+        "separated",
+        "back_contact",
+        "tip_contact",
+        "steady",
+    )
+
+    @property
+    def omega_crit(self) -> float:
+        """The main resonance: the resonance speed with the largest TE_max/STE_max, rad/s
+        (NaN when the sweep found none)."""
+        if len(self.resonances) == 0:
+            return float("nan")
+        return float(self.resonances[int(np.argmax(self.resonance_te_max_over_ste_max))])
+
+    def plot(self, ax=None):
+        """TE_max/STE_max over the pinion speed, resonances marked."""
+        ax = self._axes(ax)
+        ax.plot(self.speeds, self.te_max_over_ste_max, marker=".", label="TE max / STE max")
+        ax.plot(self.resonances, self.resonance_te_max_over_ste_max, "rv", label="resonance")
+        ax.set_xlabel("pinion speed ω_p (rad/s)")
+        ax.set_ylabel("TE max / STE max")
+        ax.legend()
+        return ax
+
+
+def sweep(
+    pair: GearPair | MeshModel | None = None,
+    speeds=None,
+    *,
+    w_from: float = 100.0,
+    w_to: float = 1200.0,
+    points: int = 23,
+    fidelity: str = "table",
+    steps_per_period: int = 128,
+    max_periods: int = 3000,
+    refine_runs: int = 6,
+    min_prominence: float = 0.005,
+    threads: int | None = None,
+    slices: int = 200,
+    compliance: Compliance | None = None,
+) -> SweepResult:
+    """Steady-state runs at every speed (rad/s; default a uniform grid of `points` from
+    `w_from` to `w_to`) and the resonances, as the CLI's ``sweep`` (the library's
+    ``dynamics::sweep``; `threads` worker threads, default one per core)."""
+    m = _model(pair, fidelity, slices, compliance)
+    if speeds is None:
+        speeds = np.linspace(w_from, w_to, int(points)) if points > 1 else np.array([w_from])
+    sp = [float(s) for s in np.asarray(speeds, dtype=float).ravel()]
+    d = json.loads(
+        m._m.sweep_json(
+            m.pair.to_json(),
+            sp,
+            int(steps_per_period),
+            int(max_periods),
+            int(refine_runs),
+            float(min_prominence),
+            threads,
+        )
+    )
+    return SweepResult(
+        speeds=np.array(d["speeds_rad_s"]),
+        te_max_over_ste_max=np.array(d["te_max_over_ste_max"]),
+        te_min_over_ste_max=np.array(d["te_min_over_ste_max"]),
+        separated=np.array(d["separated"], dtype=bool),
+        back_contact=np.array(d["back_contact"], dtype=bool),
+        tip_contact=np.array(d["tip_contact"], dtype=bool),
+        steady=np.array(d["steady"], dtype=bool),
+        resonances=np.array(d["resonances_rad_s"], dtype=float),
+        resonance_te_max_over_ste_max=np.array(d["resonance_te_max_over_ste_max"], dtype=float),
+        peak_te_ratio=d["peak_te_max_over_ste_max"],
+        ste_max=d["ste_max_m"],
+        mesh_stiffness=d["mesh_stiffness_n_per_m"],
+        warnings=tuple(d["warnings"]),
+        wall_seconds=d["wall_seconds"],
+    )
+
+
+def paper(
+    out_dir: str | os.PathLike,
+    pair: GearPair | None = None,
+    quick: bool = False,
+    slices: int = 200,
+    threads: int | None = None,
+    progress: bool = True,
+) -> dict:
+    """The whole paper run (static TE and Fig. 7, the sweeps of Fig. 9, Figs. 10–13, the
+    resonances, separation, tip contact, sensitivity study) into `out_dir`, as the CLI's
+    ``paper``; returns the summary (also in ``out_dir/summary.json``). `quick`: a smoke run."""
+    return json.loads(
+        _native.paper_json(
+            _pair(pair).to_json(), os.fspath(out_dir), quick, int(slices), threads, progress
+        )
+    )

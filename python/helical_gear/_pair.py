@@ -1,0 +1,253 @@
+"""The gear-pair parameters: an immutable, JSON-backed value with attribute access.
+
+`GearPair` holds the nested JSON object of the library's gear-pair schema (the output of
+``helical-gear params``), SI units, basic-rack quantities in units of the normal module. It is
+generic over that schema: every key, nested groups included (``material_p``, ``drive``, and
+``modifications`` once the library has it), is accepted and forwarded to the Rust side, which
+validates the whole pair at construction and raises `ParameterError` naming the value and the
+limit.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import Any
+
+from . import _native
+
+#: ISO 21771 / ISO 6336 symbols accepted as keyword aliases of the JSON keys.
+ISO_SYMBOLS: Mapping[str, str] = MappingProxyType(
+    {
+        "z1": "z_p",
+        "z2": "z_g",
+        "m_n": "normal_module_m",
+        "alpha_n": "pressure_angle_rad",
+        "beta": "helix_angle_rad",
+        "b": "face_width_m",
+        "x1": "profile_shift_p",
+        "x2": "profile_shift_g",
+        "h_aP": "addendum_mn",
+        "h_fP": "dedendum_mn",
+        "rho_fP": "rack_fillet_radius_mn",
+        "C_a": "tip_relief_depth_mn",
+        "h_Ca": "tip_relief_height_mn",
+        "rho_aP": "tip_rounding_radius_mn",
+        "j_n": "normal_backlash_mn",
+        "d_bore": "bore_diameter_m",
+        "d_mesh": "d_mesh_n_s_per_m",
+        "T1": "drive.torque_nm",
+    }
+)
+
+
+def _freeze(value: Any) -> Any:
+    if isinstance(value, Mapping):
+        return Group({k: _freeze(v) for k, v in value.items()})
+    if isinstance(value, list):
+        return tuple(_freeze(v) for v in value)
+    return value
+
+
+def _thaw(value: Any) -> Any:
+    if isinstance(value, Group):
+        return {k: _thaw(v) for k, v in value.items()}
+    if isinstance(value, tuple):
+        return [_thaw(v) for v in value]
+    return value
+
+
+class Group(Mapping):
+    """A read-only nested group of parameters (e.g. ``pair.drive``): a mapping whose keys are
+    also attributes."""
+
+    __slots__ = ("_d",)
+
+    def __init__(self, d: Mapping[str, Any]):
+        object.__setattr__(self, "_d", dict(d))
+
+    def __getitem__(self, k: str) -> Any:
+        return self._d[k]
+
+    def __iter__(self):
+        return iter(self._d)
+
+    def __len__(self) -> int:
+        return len(self._d)
+
+    def __getattr__(self, k: str) -> Any:
+        try:
+            return self._d[k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+    def __setattr__(self, k, v):
+        raise AttributeError("parameter groups are immutable: use GearPair.replace")
+
+    def __repr__(self) -> str:
+        return f"Group({self._d!r})"
+
+
+def _set_path(d: dict, path: str, value: Any) -> None:
+    parts = path.split(".")
+    for p in parts[:-1]:
+        sub = d.get(p)
+        if not isinstance(sub, dict):
+            sub = {}
+            d[p] = sub
+        d = sub
+    d[parts[-1]] = value
+
+
+def _get_path(d: Mapping, path: str) -> Any:
+    for p in path.split("."):
+        d = d[p]
+    return d
+
+
+def _coerce(default: Any, value: Any) -> Any:
+    """Integral floats become ints where the default is an int (tables read from CSV or pandas
+    give 30.0 for 30); numpy scalars become Python numbers."""
+    if hasattr(value, "item") and not isinstance(value, (list, dict)):
+        value = value.item()
+    if isinstance(default, int) and not isinstance(default, bool) and isinstance(value, float):
+        if math.isfinite(value) and value == int(value):
+            return int(value)
+    return value
+
+
+def _merge(base: dict, updates: Mapping[str, Any]) -> dict:
+    """`base` with `updates` applied: keys are JSON keys, dotted paths (``drive.torque_nm``) or
+    ISO symbols; a mapping value merges into the group."""
+    out = json.loads(json.dumps(base))
+    for k, v in updates.items():
+        k = ISO_SYMBOLS.get(k, k)
+        v = _thaw(v)
+        if isinstance(v, Mapping):
+            for sk, sv in _flatten(v).items():
+                _set_path(out, f"{k}.{sk}", sv)
+            continue
+        try:
+            default = _get_path(out, k)
+        except (KeyError, TypeError):
+            default = None
+        _set_path(out, k, _coerce(default, v))
+    return out
+
+
+def _flatten(d: Mapping, prefix: str = "") -> dict:
+    out = {}
+    for k, v in d.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, Mapping):
+            out.update(_flatten(v, key + "."))
+        else:
+            out[key] = v
+    return out
+
+
+_DEFAULT: dict | None = None
+
+
+def _default() -> dict:
+    global _DEFAULT
+    if _DEFAULT is None:
+        _DEFAULT = json.loads(_native.default_pair_json())
+    return _DEFAULT
+
+
+class GearPair:
+    """Parameters of a helical gear pair (defaults: Table 1 of Andersson & Vedmar 2003).
+
+    ``GearPair(**kw)`` starts from the defaults and applies ``kw``: JSON keys
+    (``helix_angle_rad=0.2``), ISO symbols (``beta=0.2``, see `ISO_SYMBOLS`), nested groups as
+    mappings (``drive={"torque_nm": 50}``) or dotted paths through ``**{"drive.torque_nm": 50}``.
+    SI units: m, rad, Pa, N·m, kg·m², N·s/m; basic-rack quantities (``*_mn``) in units of m_n.
+    The pair is validated by the library at construction (`ParameterError` names the value and
+    the limit), is immutable and hashable, compares by value, and pickles as its JSON.
+    """
+
+    __slots__ = ("_json", "_data")
+
+    def __init__(self, **kw: Any):
+        data = _merge(_default(), kw) if kw else _default()
+        self._init(json.dumps(data))
+
+    def _init(self, text: str) -> None:
+        norm = _native.normalize_pair(text)
+        object.__setattr__(self, "_json", norm)
+        object.__setattr__(self, "_data", _freeze(json.loads(norm)))
+
+    @classmethod
+    def from_json(cls, text: str) -> "GearPair":
+        """The pair of a JSON text in the library's schema (unknown keys are the library's to
+        accept or reject)."""
+        self = cls.__new__(cls)
+        self._init(text)
+        return self
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "GearPair":
+        """The pair of a nested mapping in the JSON schema."""
+        return cls.from_json(json.dumps(_thaw(d) if isinstance(d, Group) else d))
+
+    def to_json(self, indent: int | None = None) -> str:
+        """JSON in the library's schema (every key present)."""
+        if indent is None:
+            return self._json
+        return json.dumps(json.loads(self._json), indent=indent)
+
+    def to_dict(self) -> dict:
+        """A nested (mutable) dict copy of the parameters."""
+        return json.loads(self._json)
+
+    def flat(self) -> dict:
+        """Flat dict keyed by dotted paths (``drive.torque_nm``): the design-table columns."""
+        return _flatten(json.loads(self._json))
+
+    def replace(self, **kw: Any) -> "GearPair":
+        """A copy with `kw` applied (the same keys as the constructor)."""
+        return GearPair.from_json(json.dumps(_merge(json.loads(self._json), kw)))
+
+    def __getattr__(self, k: str) -> Any:
+        if k.startswith("_"):
+            raise AttributeError(k)
+        try:
+            return _get_path(self._data, ISO_SYMBOLS.get(k, k))
+        except KeyError:
+            raise AttributeError(k) from None
+
+    def __getitem__(self, k: str) -> Any:
+        return _get_path(self._data, ISO_SYMBOLS.get(k, k))
+
+    def __setattr__(self, k, v):
+        raise AttributeError("GearPair is immutable: use GearPair.replace(...)")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, GearPair) and other._json == self._json
+
+    def __hash__(self) -> int:
+        return hash(self._json)
+
+    def __reduce__(self):
+        return (GearPair.from_json, (self._json,))
+
+    def __repr__(self) -> str:
+        d = self.flat()
+        default = _flatten(_default())
+        changed = {k: v for k, v in d.items() if default.get(k) != v}
+        args = ", ".join(f"{k}={v!r}" for k, v in changed.items())
+        return f"GearPair({args})" if args else "GearPair()  # Table 1"
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(json.loads(self._json)) | set(ISO_SYMBOLS))
+
+    def assumptions(self) -> list[str]:
+        """The modelling assumptions the library makes for this pair, one sentence each."""
+        return _native.assumptions(self._json)
+
+    def compliance_key(self) -> str:
+        """16 hex digits identifying every parameter that changes the FE compliance."""
+        return _native.compliance_key(self._json)

@@ -1,0 +1,735 @@
+//! `helical_gear._native`: the PyO3 glue between the `helical_gear` Python package and the
+//! `helical_gear_mesh` library. No physics lives here: every function parses its arguments,
+//! calls the library and converts the result.
+//!
+//! Conventions of the glue:
+//! * Gear pairs cross the boundary as JSON text in the schema of
+//!   [`helical_gear_mesh::GearPair`] (the Python `GearPair` keeps the JSON, so keys the Rust
+//!   side learns later pass through unchanged).
+//! * Every call runs through [`run`]: the GIL is released ([`Python::detach`]) for the Rust
+//!   work, a panic is caught ([`std::panic::catch_unwind`]) and becomes
+//!   `helical_gear.GearMeshError`, and library errors become a subclass of it carrying the
+//!   library's message: `ParameterError` (invalid parameter or input),
+//!   `ComplianceError` (FE compliance data), `SolverError` (load solve, equilibrium,
+//!   integration).
+//! * Structured results cross as JSON text (small) or numpy arrays (per-sample data).
+//! * Units are SI (m, rad, rad/s, N·m, s) as in the library.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData, ComplianceKey};
+use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
+use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
+use helical_gear_mesh::dynamics::model::STATE_NAMES;
+use helical_gear_mesh::dynamics::{
+    DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, DynamicsError, GearDynamics,
+    SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate, sweep,
+};
+use helical_gear_mesh::mesh::{
+    EquilibriumSettings, Fidelity, MeshError, MeshModel as RustMeshModel, MeshOptions, MeshState,
+    static_curve,
+};
+use helical_gear_mesh::paper::{PaperOptions, run_paper};
+use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use serde_json::{Value, json};
+
+create_exception!(
+    _native,
+    GearMeshError,
+    PyException,
+    "Base of every error of the helical_gear package; the message is the library's."
+);
+create_exception!(
+    _native,
+    ParameterError,
+    GearMeshError,
+    "An invalid gear-pair parameter, option or input (names the value and the limit)."
+);
+create_exception!(
+    _native,
+    ComplianceError,
+    GearMeshError,
+    "The FE compliance data could not be computed, read or used."
+);
+create_exception!(
+    _native,
+    SolverError,
+    GearMeshError,
+    "A load solve, static equilibrium, integration or steady-state run failed."
+);
+
+/// A library failure with the Python exception class it maps to.
+enum Failure {
+    Param(String),
+    Compliance(String),
+    Solver(String),
+    Internal(String),
+}
+
+impl From<ParamError> for Failure {
+    fn from(e: ParamError) -> Self {
+        Failure::Param(e.to_string())
+    }
+}
+
+impl From<MeshError> for Failure {
+    fn from(e: MeshError) -> Self {
+        match e {
+            MeshError::Param(_) | MeshError::NonFinite { .. } => Failure::Param(e.to_string()),
+            MeshError::Compliance(_) => Failure::Compliance(e.to_string()),
+            _ => Failure::Solver(e.to_string()),
+        }
+    }
+}
+
+impl From<DynamicsError> for Failure {
+    fn from(e: DynamicsError) -> Self {
+        match e {
+            DynamicsError::Param(_) | DynamicsError::InvalidInput { .. } => {
+                Failure::Param(e.to_string())
+            }
+            _ => Failure::Solver(e.to_string()),
+        }
+    }
+}
+
+impl From<helical_gear_mesh::compliance::data::ComplianceError> for Failure {
+    fn from(e: helical_gear_mesh::compliance::data::ComplianceError) -> Self {
+        use helical_gear_mesh::compliance::data::ComplianceError as E;
+        match e {
+            E::Param(_) | E::Input(_) => Failure::Param(e.to_string()),
+            _ => Failure::Compliance(e.to_string()),
+        }
+    }
+}
+
+impl From<Failure> for PyErr {
+    fn from(f: Failure) -> Self {
+        match f {
+            Failure::Param(m) => ParameterError::new_err(m),
+            Failure::Compliance(m) => ComplianceError::new_err(m),
+            Failure::Solver(m) => SolverError::new_err(m),
+            Failure::Internal(m) => GearMeshError::new_err(m),
+        }
+    }
+}
+
+type Res<T> = Result<T, Failure>;
+
+/// Runs `f` without the GIL, with panics caught and failures mapped to Python exceptions.
+fn run<T: Send>(py: Python<'_>, f: impl FnOnce() -> Res<T> + Send) -> PyResult<T> {
+    let r = py.detach(|| catch_unwind(AssertUnwindSafe(f)));
+    match r {
+        Ok(Ok(v)) => Ok(v),
+        Ok(Err(e)) => Err(e.into()),
+        Err(p) => {
+            let what = p
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| p.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic payload".into());
+            Err(GearMeshError::new_err(format!("internal error (panic): {what}")))
+        }
+    }
+}
+
+/// Parses and validates gear-pair JSON.
+fn parse_pair(text: &str) -> Res<GearPair> {
+    let p = GearPair::from_json(text).map_err(Failure::Param)?;
+    p.validate()?;
+    Ok(p)
+}
+
+fn to_json_text(v: &impl serde::Serialize) -> Res<String> {
+    serde_json::to_string(v).map_err(|e| Failure::Internal(format!("JSON: {e}")))
+}
+
+fn density(name: &str) -> Res<GearMeshDensity> {
+    match name {
+        "coarse" => Ok(GearMeshDensity::coarse()),
+        "default" => Ok(GearMeshDensity::default()),
+        "refined" => Ok(GearMeshDensity::refined()),
+        other => Err(Failure::Param(format!(
+            "fe_density = {other:?}: allowed \"coarse\", \"default\" or \"refined\""
+        ))),
+    }
+}
+
+fn density_name(d: &GearMeshDensity) -> &'static str {
+    [
+        ("coarse", GearMeshDensity::coarse()),
+        ("default", GearMeshDensity::default()),
+        ("refined", GearMeshDensity::refined()),
+    ]
+    .into_iter()
+    .find(|(_, v)| v == d)
+    .map_or("custom", |(n, _)| n)
+}
+
+fn fidelity(name: &str) -> Res<Fidelity> {
+    match name {
+        "full" => Ok(Fidelity::Full),
+        "table" => Ok(Fidelity::Table),
+        other => {
+            Err(Failure::Param(format!("fidelity = {other:?}: allowed \"full\" or \"table\"")))
+        }
+    }
+}
+
+/// The Table 1 gear pair of the paper as JSON.
+#[pyfunction]
+fn default_pair_json(py: Python<'_>) -> PyResult<String> {
+    run(py, || to_json_text(&GearPair::paper_table1()))
+}
+
+/// Parses and validates gear-pair JSON; returns it re-serialised with every key (defaults of
+/// optional keys filled in). Raises `ParameterError` naming the value and the limit.
+#[pyfunction]
+fn normalize_pair(py: Python<'_>, pair_json: &str) -> PyResult<String> {
+    run(py, || to_json_text(&parse_pair(pair_json)?))
+}
+
+/// The modelling assumptions of the pair, one sentence each.
+#[pyfunction]
+fn assumptions(py: Python<'_>, pair_json: &str) -> PyResult<Vec<String>> {
+    run(py, || Ok(parse_pair(pair_json)?.assumptions()))
+}
+
+/// Derived geometry of the pair as JSON (the keys of `helical-gear geometry --json`, SI).
+#[pyfunction]
+fn geometry_json(py: Python<'_>, pair_json: &str) -> PyResult<String> {
+    run(py, || {
+        let p = parse_pair(pair_json)?;
+        let g = PairGeometry::new(&p)?;
+        to_json_text(&json!({
+            "eps_alpha": g.eps_alpha,
+            "eps_beta": g.eps_beta,
+            "base_radius_p_m": g.pinion.rb,
+            "base_radius_g_m": g.gear.rb,
+            "tip_radius_p_m": g.pinion.ra,
+            "tip_radius_g_m": g.gear.ra,
+            "root_radius_p_m": g.pinion.rf,
+            "root_radius_g_m": g.gear.rf,
+            "reference_radius_p_m": g.pinion.r,
+            "reference_radius_g_m": g.gear.r,
+            "form_radius_p_m": g.pinion.r_form,
+            "form_radius_g_m": g.gear.r_form,
+            "center_distance_m": g.center_distance,
+            "transverse_pressure_angle_rad": g.alpha_t,
+            "operating_pressure_angle_rad": g.alpha_wt,
+            "base_helix_angle_rad": g.base_helix_angle,
+            "base_pitch_m": g.base_pitch,
+            "backlash_te_m": g.backlash_te,
+            "angular_pitch_p_rad": g.pinion.angular_pitch(),
+            "j_p_kgm2": g.j_p,
+            "j_g_kgm2": g.j_g,
+        }))
+    })
+}
+
+/// 16 hex digits: the FNV-1a hash of the parameters that change the FE compliance
+/// (`ComplianceKey`), the content key of the compliance data of a pair.
+#[pyfunction]
+fn compliance_key(py: Python<'_>, pair_json: &str) -> PyResult<String> {
+    run(py, || Ok(format!("{:016x}", ComplianceKey::of(&parse_pair(pair_json)?).hash())))
+}
+
+/// FE compliance data of both gears of a pair (shared, immutable).
+#[pyclass(module = "helical_gear._native", frozen)]
+struct Compliance {
+    data: Arc<ComplianceData>,
+}
+
+#[pymethods]
+impl Compliance {
+    /// Runs the FE model of both gears at mesh density `density` ("coarse", "default",
+    /// "refined") and the default depth h, then the fits. Never reads or writes a cache.
+    #[staticmethod]
+    #[pyo3(signature = (pair_json, density = "default", progress = false))]
+    fn compute(py: Python<'_>, pair_json: &str, density: &str, progress: bool) -> PyResult<Self> {
+        run(py, || {
+            let p = parse_pair(pair_json)?;
+            let d = self::density(density)?;
+            let data =
+                ComplianceData::compute(&p, &d, DEFAULT_DEPTH_MN * p.normal_module_m, progress)?;
+            Ok(Self { data: Arc::new(data) })
+        })
+    }
+
+    /// The library's default source at the default density: the embedded Table 1 data when the
+    /// pair matches, else the disk cache in `cache_dir` (default: `HELICAL_GEAR_CACHE_DIR`),
+    /// else a fresh FE run (written to the cache directory when one is set).
+    #[staticmethod]
+    #[pyo3(signature = (pair_json, cache_dir = None, progress = false))]
+    fn for_pair(
+        py: Python<'_>,
+        pair_json: &str,
+        cache_dir: Option<PathBuf>,
+        progress: bool,
+    ) -> PyResult<Self> {
+        run(py, || {
+            let p = parse_pair(pair_json)?;
+            let mut options = CacheOptions::default();
+            if cache_dir.is_some() {
+                options.dir = cache_dir;
+            }
+            options.progress = progress;
+            Ok(Self { data: ComplianceData::for_pair(&p, &options)? })
+        })
+    }
+
+    /// Lossless JSON of the data (every f64 exact), for pickling.
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        let data = self.data.clone();
+        run(py, move || to_json_text(&*data))
+    }
+
+    /// Data from [`Compliance::to_json`] (or a cache file), checked.
+    #[staticmethod]
+    fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
+        run(py, || Ok(Self { data: Arc::new(ComplianceData::from_json(text)?) }))
+    }
+
+    /// True iff the data belong to the pair (every compliance parameter bitwise equal).
+    fn matches(&self, py: Python<'_>, pair_json: &str) -> PyResult<bool> {
+        let data = self.data.clone();
+        run(py, move || Ok(data.matches(&parse_pair(pair_json)?)))
+    }
+
+    /// Where the data came from: "computed", "embedded" or "disk".
+    fn source(&self) -> &'static str {
+        self.data.source().as_str()
+    }
+
+    /// FE wall time of both gears when the data were computed, s.
+    fn fe_seconds(&self) -> f64 {
+        self.data.fe_seconds()
+    }
+
+    /// Summary as JSON: source, density, FE sizes and times, fit quality, and the tooth-pair
+    /// stiffness at the pitch point of `pair_json` (200 slices).
+    fn summary_json(&self, py: Python<'_>, pair_json: &str) -> PyResult<String> {
+        let data = self.data.clone();
+        run(py, move || {
+            let p = parse_pair(pair_json)?;
+            let geo = PairGeometry::new(&p)?;
+            let st = data.pair_stiffness(&geo, 200)?;
+            let (gp, gg) = (&data.pinion, &data.gear);
+            to_json_text(&json!({
+                "source": data.source().as_str(),
+                "density": density_name(&data.provenance.density),
+                "depth_h_m": data.provenance.depth_h_m,
+                "fe_seconds": data.fe_seconds(),
+                "fit_seconds": gp.fit.fit_s + gg.fit.fit_s,
+                "fe_dofs_p": gp.fe.dofs,
+                "fe_dofs_g": gg.fe.dofs,
+                "grid_rows": gp.grid.profile.len(),
+                "grid_columns": gp.grid.zeta.len(),
+                "e_rel_std_p": gp.fit.report.sigma_e_rel,
+                "e_rel_std_g": gg.fit.report.sigma_e_rel,
+                "alpha_ref_p_m_per_n": gp.fit.alpha_ref_m_per_n,
+                "alpha_ref_g_m_per_n": gg.fit.alpha_ref_m_per_n,
+                "pair_stiffness_n_per_mm_per_um": st.c_prime_n_per_mm_per_um,
+            }))
+        })
+    }
+}
+
+/// The mesh model of a pair (the library's `MeshModel`), behind a mutex so that calls from
+/// several Python threads serialise.
+#[pyclass(module = "helical_gear._native", frozen)]
+struct MeshModel {
+    model: Mutex<RustMeshModel>,
+}
+
+fn lock(m: &Mutex<RustMeshModel>) -> Res<std::sync::MutexGuard<'_, RustMeshModel>> {
+    m.lock()
+        .map_err(|_| Failure::Internal("the mesh model was poisoned by an earlier panic".into()))
+}
+
+fn array<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_vec(py, v)
+}
+
+#[pymethods]
+impl MeshModel {
+    /// Builds the model of `pair_json` at `fidelity` ("full" or "table") with `slices` slices
+    /// over the simultaneous contact lines, from `compliance` when given (it must belong to the
+    /// pair) or from the library's default source ([`Compliance::for_pair`]). The table
+    /// fidelity's resolution: `table_phase_points` per mesh period × `table_te_points` along TE
+    /// (the library's defaults 64 × 48).
+    #[new]
+    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48))]
+    fn new(
+        py: Python<'_>,
+        pair_json: &str,
+        fidelity: &str,
+        slices: usize,
+        compliance: Option<&Compliance>,
+        table_phase_points: usize,
+        table_te_points: usize,
+    ) -> PyResult<Self> {
+        let data = compliance.map(|c| c.data.clone());
+        run(py, move || {
+            let p = parse_pair(pair_json)?;
+            let options = MeshOptions {
+                fidelity: self::fidelity(fidelity)?,
+                slices,
+                table_phase_points,
+                table_te_points,
+                ..MeshOptions::default()
+            };
+            let model = match data {
+                Some(d) => RustMeshModel::from_data(&p, options, &d)?,
+                None => RustMeshModel::new(&p, options)?,
+            };
+            Ok(Self { model: Mutex::new(model) })
+        })
+    }
+
+    /// Evaluates the mesh at every state (φp, φg, φ̇p, φ̇g) of four equally long float64 arrays
+    /// (rad, rad/s), in order, exactly as the library's `MeshModel::evaluate` does one after
+    /// another; returns a dict of arrays keyed like the FMU outputs.
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        phi_p: PyReadonlyArray1<'py, f64>,
+        phi_g: PyReadonlyArray1<'py, f64>,
+        w_p: PyReadonlyArray1<'py, f64>,
+        w_g: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let inputs = [phi_p.as_array(), phi_g.as_array(), w_p.as_array(), w_g.as_array()];
+        let n = inputs[0].len();
+        if inputs.iter().any(|a| a.len() != n) {
+            return Err(ParameterError::new_err(format!(
+                "evaluate: the four state arrays must have one length (got {}, {}, {}, {})",
+                inputs[0].len(),
+                inputs[1].len(),
+                inputs[2].len(),
+                inputs[3].len()
+            )));
+        }
+        let states: Vec<MeshState> = (0..n)
+            .map(|i| MeshState {
+                phi_p: inputs[0][i],
+                phi_g: inputs[1][i],
+                w_p: inputs[2][i],
+                w_g: inputs[3][i],
+            })
+            .collect();
+        let out = run(py, || {
+            let mut m = lock(&self.model)?;
+            let mut cols: [Vec<f64>; 8] = std::array::from_fn(|_| Vec::with_capacity(n));
+            let mut flags: [Vec<bool>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+            let mut pairs = Vec::with_capacity(n);
+            for (i, s) in states.iter().enumerate() {
+                let o = m.evaluate(s).map_err(|e| match Failure::from(e) {
+                    Failure::Param(msg) => Failure::Param(format!("state {i}: {msg}")),
+                    Failure::Solver(msg) => Failure::Solver(format!("state {i}: {msg}")),
+                    other => other,
+                })?;
+                for (c, v) in cols.iter_mut().zip([
+                    o.m_f_p,
+                    o.m_f_g,
+                    o.m_d_p,
+                    o.m_d_g,
+                    o.te,
+                    o.f_n,
+                    o.contact_length,
+                    o.p_max,
+                ]) {
+                    c.push(v);
+                }
+                for (c, v) in flags.iter_mut().zip([o.tip_contact, o.separated, o.back_contact]) {
+                    c.push(v);
+                }
+                pairs.push(o.n_pairs);
+            }
+            Ok((cols, flags, pairs))
+        })?;
+        let (cols, flags, pairs) = out;
+        let d = PyDict::new(py);
+        for (name, c) in
+            ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"]
+                .into_iter()
+                .zip(cols)
+        {
+            d.set_item(name, array(py, c))?;
+        }
+        d.set_item("n_pairs", PyArray1::from_vec(py, pairs))?;
+        for (name, c) in ["tip_contact", "separated", "back_contact"].into_iter().zip(flags) {
+            d.set_item(name, PyArray1::from_vec(py, c))?;
+        }
+        Ok(d)
+    }
+
+    /// Static transmission error (Eq. 16) at torque `torque` (N·m) on `points_per_pitch`
+    /// pinion angles per pitch over `pitches` pitches from φp = 0: JSON with per-point arrays
+    /// (`phi_p_rad`, `ste_m`, `n_pairs`, `p_max_pa`, `tip_contact`, `contact_length_m`) and the
+    /// summary (`ste_max_m`, `ste_min_m`, `ste_mean_m`, `mesh_stiffness_mean_n_per_m`).
+    #[pyo3(signature = (torque, points_per_pitch = 20, pitches = 1))]
+    fn static_curve_json(
+        &self,
+        py: Python<'_>,
+        torque: f64,
+        points_per_pitch: usize,
+        pitches: usize,
+    ) -> PyResult<String> {
+        run(py, || {
+            if !(torque.is_finite() && torque > 0.0) {
+                return Err(Failure::Param(format!(
+                    "torque = {torque} N·m: allowed > 0 and finite"
+                )));
+            }
+            if !(1..=10_000).contains(&points_per_pitch) || !(1..=100).contains(&pitches) {
+                return Err(Failure::Param(format!(
+                    "points_per_pitch = {points_per_pitch} (allowed 1 … 10000), pitches = \
+                     {pitches} (allowed 1 … 100)"
+                )));
+            }
+            let mut m = lock(&self.model)?;
+            let geo = m.geometry().clone();
+            let pitch = geo.pinion.angular_pitch();
+            let c = static_curve(&mut *m, torque, 0.0, pitch, points_per_pitch, pitches)?;
+            let pts = &c.points;
+            to_json_text(&json!({
+                "torque_nm": torque,
+                "phi_p_rad": pts.iter().map(|e| e.phi_p).collect::<Vec<_>>(),
+                "ste_m": pts.iter().map(|e| e.te).collect::<Vec<_>>(),
+                "n_pairs": pts.iter().map(|e| e.outputs.n_pairs).collect::<Vec<_>>(),
+                "p_max_pa": pts.iter().map(|e| e.outputs.p_max).collect::<Vec<_>>(),
+                "tip_contact": pts.iter().map(|e| e.outputs.tip_contact).collect::<Vec<_>>(),
+                "contact_length_m": pts.iter().map(|e| e.outputs.contact_length).collect::<Vec<_>>(),
+                "ste_max_m": c.max(),
+                "ste_min_m": c.min(),
+                "ste_mean_m": c.mean(),
+                "mesh_stiffness_mean_n_per_m": c.mean_stiffness(geo.pinion.rb),
+                "tip_rounding_contact": c.tip_rounding_contact(),
+            }))
+        })
+    }
+
+    /// One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
+    /// (rad/s) to `t_end` (s), with RK4 steps `dt` (default: the mesh period / 128, shortened to
+    /// divide `t_end`) or adaptive DOPRI5 (`method="dopri5"`, `dt` = output interval); the
+    /// drivetrain and mesh damping from `pair_json`. Returns a dict of arrays: `time`, the eight
+    /// states, `TE`, `M_F_p`, `M_F_g`, `M_D_p`, `M_D_g`; and `steps`, `mesh_evaluations`.
+    #[pyo3(signature = (pair_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        pair_json: &str,
+        w_p: f64,
+        t_end: f64,
+        dt: Option<f64>,
+        method: &str,
+        phi_p0: f64,
+        rtol: f64,
+        atol: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (tr_time, states, outs, steps, evals) = run(py, || {
+            if !(w_p.is_finite() && w_p > 0.0) {
+                return Err(Failure::Param(format!("w_p = {w_p}: allowed finite and > 0 (rad/s)")));
+            }
+            if !(t_end.is_finite() && t_end > 0.0) {
+                return Err(Failure::Param(format!("t_end = {t_end}: allowed finite and > 0 (s)")));
+            }
+            if let Some(dt) = dt
+                && !(dt.is_finite() && dt > 0.0 && dt <= t_end)
+            {
+                return Err(Failure::Param(format!(
+                    "dt = {dt}: allowed finite, > 0 and <= t_end (s)"
+                )));
+            }
+            if !phi_p0.is_finite() {
+                return Err(Failure::Param(format!("phi_p0 = {phi_p0}: allowed finite (rad)")));
+            }
+            let pair = parse_pair(pair_json)?;
+            let drive = Drivetrain::from_pair(&pair)?;
+            let t_m = drive.mesh_period(w_p);
+            let stepping = match method {
+                "rk4" => {
+                    let dt = match dt {
+                        Some(dt) => {
+                            let n = (t_end / dt).round();
+                            if (n * dt - t_end).abs() > 1e-9 * t_end || n > 1e9 {
+                                return Err(Failure::Param(format!(
+                                    "t_end = {t_end} is not a whole number of RK4 steps dt = \
+                                     {dt} (within 1e-9), or more than 1e9 steps"
+                                )));
+                            }
+                            dt
+                        }
+                        None => {
+                            let n = (t_end / (t_m / DEFAULT_STEPS_PER_MESH_PERIOD as f64)).ceil();
+                            t_end / n.max(1.0)
+                        }
+                    };
+                    Stepping::Rk4 { dt }
+                }
+                "dopri5" => {
+                    let mut options = Dopri5Options::with_tolerances(rtol, atol);
+                    options.h_max = Some(t_m);
+                    options.max_steps = 10_000_000;
+                    Stepping::Dopri5 { options, output_dt: dt }
+                }
+                other => {
+                    return Err(Failure::Param(format!(
+                        "method = {other:?}: allowed \"rk4\" or \"dopri5\""
+                    )));
+                }
+            };
+            let mut mesh = lock(&self.model)?.clone();
+            mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
+            let mut model = GearDynamics::new(mesh, drive)?;
+            let start = model
+                .static_start(phi_p0, w_p, &EquilibriumSettings::default())
+                .map_err(|e| Failure::Solver(format!("static start: {e}")))?;
+            let tr = simulate(&mut model, &start.y, t_end, &stepping)?;
+            Ok((tr.time, tr.states, tr.outputs, tr.steps, tr.mesh_evaluations))
+        })?;
+        let d = PyDict::new(py);
+        d.set_item("time", array(py, tr_time))?;
+        for (i, name) in STATE_NAMES.iter().enumerate() {
+            d.set_item(*name, array(py, states.iter().map(|y| y[i]).collect()))?;
+        }
+        d.set_item("TE", array(py, outs.iter().map(|o| o.te).collect()))?;
+        d.set_item("M_F_p", array(py, outs.iter().map(|o| o.m_f_p).collect()))?;
+        d.set_item("M_F_g", array(py, outs.iter().map(|o| o.m_f_g).collect()))?;
+        d.set_item("M_D_p", array(py, outs.iter().map(|o| o.m_d_p).collect()))?;
+        d.set_item("M_D_g", array(py, outs.iter().map(|o| o.m_d_g).collect()))?;
+        d.set_item("steps", steps)?;
+        d.set_item("mesh_evaluations", evals)?;
+        Ok(d)
+    }
+
+    /// Steady-state TE_max/STE_max at every speed of `speeds` (rad/s, > 0, ascending) with the
+    /// drivetrain and mesh damping of `pair_json`, and the located resonances (the library's
+    /// `dynamics::sweep`): JSON with per-speed arrays, `resonances_rad_s`,
+    /// `resonance_te_max_over_ste_max`, `ste_max_m`, `mesh_stiffness_n_per_m`, `warnings`.
+    #[pyo3(signature = (pair_json, speeds, steps_per_period = DEFAULT_STEPS_PER_MESH_PERIOD, max_periods = 3000, refine_runs = 6, min_prominence = 0.005, threads = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep_json(
+        &self,
+        py: Python<'_>,
+        pair_json: &str,
+        speeds: Vec<f64>,
+        steps_per_period: usize,
+        max_periods: usize,
+        refine_runs: usize,
+        min_prominence: f64,
+        threads: Option<usize>,
+    ) -> PyResult<String> {
+        run(py, || {
+            let pair = parse_pair(pair_json)?;
+            let drive = Drivetrain::from_pair(&pair)?;
+            let mut mesh = lock(&self.model)?.clone();
+            mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
+            let opts = SweepOptions {
+                run: SteadyRunOptions {
+                    method: SteadyMethod::Rk4 { steps_per_period },
+                    max_periods,
+                    keep_window: false,
+                    ..SteadyRunOptions::default()
+                },
+                threads,
+                refine_runs,
+                min_prominence,
+                progress: false,
+                ..SweepOptions::default()
+            };
+            let r = sweep(&mesh, &drive, &speeds, &opts)?;
+            let pts = &r.points;
+            let all_runs = pts.iter().chain(r.resonances.iter().flat_map(|x| x.refinement.iter()));
+            let warnings: Vec<String> = all_runs
+                .clone()
+                .filter_map(|p| p.warning.map(|w| format!("ω_p = {} rad/s: {w}", p.omega_p)))
+                .collect();
+            let peak = all_runs.map(|p| p.te_max_over_ste_max).fold(f64::NEG_INFINITY, f64::max);
+            to_json_text(&json!({
+                "speeds_rad_s": speeds,
+                "te_max_over_ste_max": pts.iter().map(|p| p.te_max_over_ste_max).collect::<Vec<_>>(),
+                "te_min_over_ste_max": pts.iter().map(|p| p.te_min_over_ste_max).collect::<Vec<_>>(),
+                "separated": pts.iter().map(|p| p.separated).collect::<Vec<_>>(),
+                "back_contact": pts.iter().map(|p| p.back_contact).collect::<Vec<_>>(),
+                "tip_contact": pts.iter().map(|p| p.tip_contact).collect::<Vec<_>>(),
+                "steady": pts.iter().map(|p| p.steady).collect::<Vec<_>>(),
+                "periods": pts.iter().map(|p| p.periods).collect::<Vec<_>>(),
+                "resonances_rad_s": r.resonances.iter().map(|x| x.omega_p).collect::<Vec<_>>(),
+                "resonance_te_max_over_ste_max":
+                    r.resonances.iter().map(|x| x.te_max_over_ste_max).collect::<Vec<_>>(),
+                "peak_te_max_over_ste_max": peak,
+                "ste_max_m": r.ste.max(),
+                "mesh_stiffness_n_per_m": r.mesh_stiffness,
+                "max_step_s": r.max_step,
+                "warnings": warnings,
+                "wall_seconds": r.wall_seconds,
+            }))
+        })
+    }
+
+    /// Seconds spent building the table (0 for the full fidelity).
+    fn table_build_seconds(&self, py: Python<'_>) -> PyResult<f64> {
+        run(py, || Ok(lock(&self.model)?.table().map_or(0.0, |t| t.build_seconds())))
+    }
+}
+
+/// The whole paper run into `out_dir` (summary.json, summary.md, the CSV and PNG figures);
+/// returns the summary as JSON. `quick`: coarse speed grids, a smoke run.
+#[pyfunction]
+#[pyo3(signature = (pair_json, out_dir, quick = false, slices = 200, threads = None, progress = true))]
+fn paper_json(
+    py: Python<'_>,
+    pair_json: &str,
+    out_dir: PathBuf,
+    quick: bool,
+    slices: usize,
+    threads: Option<usize>,
+    progress: bool,
+) -> PyResult<String> {
+    run(py, || {
+        if threads == Some(0) {
+            return Err(Failure::Param("threads = 0: allowed >= 1".into()));
+        }
+        let pair = parse_pair(pair_json)?;
+        let opts = PaperOptions { quick, slices, threads, progress };
+        let s = run_paper(&pair, &out_dir, &opts).map_err(Failure::Solver)?;
+        let v: Value = serde_json::to_value(&s).map_err(|e| Failure::Internal(e.to_string()))?;
+        to_json_text(&v)
+    })
+}
+
+/// Raises a Rust panic inside [`run`] (tests check that it arrives as `GearMeshError`).
+#[pyfunction]
+fn _panic_for_test(py: Python<'_>) -> PyResult<()> {
+    run(py, || -> Res<()> { panic!("deliberate panic for the boundary test") })
+}
+
+/// The extension module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("GearMeshError", py.get_type::<GearMeshError>())?;
+    m.add("ParameterError", py.get_type::<ParameterError>())?;
+    m.add("ComplianceError", py.get_type::<ComplianceError>())?;
+    m.add("SolverError", py.get_type::<SolverError>())?;
+    m.add("LIBRARY_VERSION", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<Compliance>()?;
+    m.add_class::<MeshModel>()?;
+    m.add_function(wrap_pyfunction!(default_pair_json, m)?)?;
+    m.add_function(wrap_pyfunction!(normalize_pair, m)?)?;
+    m.add_function(wrap_pyfunction!(assumptions, m)?)?;
+    m.add_function(wrap_pyfunction!(geometry_json, m)?)?;
+    m.add_function(wrap_pyfunction!(compliance_key, m)?)?;
+    m.add_function(wrap_pyfunction!(paper_json, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    Ok(())
+}
