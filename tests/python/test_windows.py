@@ -176,12 +176,18 @@ def windir(tmp_path_factory):
 
 def test_c_program_under_wine(md, wine, windir):
     exe = windir / "test_capi.exe"
-    # GNU ld links against the DLL itself (no import library needed).
+    # GNU ld links against the FMU's DLL itself (no import library needed). The import is
+    # recorded under the name in the DLL's export directory, the crate's
+    # `helical_gear_mesh.dll` (as with cargo's import library), so the program finds the FMU's
+    # DLL under that name.
+    dll = windir / "helical_gear_mesh.dll"
+    shutil.copyfile(windir / "HelicalGearMesh.dll", dll)
     mingw([f"-I{ROOT / 'include'}", f"-I{FMI2_HEADERS}", ROOT / "tests" / "c" / "test_capi.c",
-           windir / "HelicalGearMesh.dll", "-o", exe])
+           dll, "-o", exe])
     run = wine([exe, md.guid, "100"], cwd=windir)
     print(run.stdout)
-    assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-4000:]
+    assert run.returncode == 0, f"exit status {run.returncode} (53: a DLL was not found)\n" + \
+        run.stdout[-4000:] + run.stderr[-4000:]
     assert "all C checks passed" in run.stdout
 
 
