@@ -3,13 +3,15 @@
 //! ```text
 //! modelDescription.xml
 //! binaries/<platform>/HelicalGearMesh.<so|dylib|dll>   the cdylib, renamed to the model identifier
+//!                                                      (the build machine's platform, and win64
+//!                                                      when cross-compiled)
 //! documentation/index.html                             variables and conventions
 //! resources/compliance_table1.json                    compliance data of the default pair
 //!                                                      (also compiled in; not read at run time)
 //! ```
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use helical_gear_mesh::fmi2::variables::MODEL_IDENTIFIER;
 use zip::CompressionMethod;
@@ -23,6 +25,21 @@ pub fn platform() -> Result<(&'static str, &'static str, &'static str), String> 
         ("macos", "x86_64") => Ok(("darwin64", "libhelical_gear_mesh.dylib", "dylib")),
         ("windows", "x86_64") => Ok(("win64", "helical_gear_mesh.dll", "dll")),
         (os, arch) => Err(format!("no FMI 2.0 platform name for {os}/{arch}")),
+    }
+}
+
+/// FMI platform directory of the Windows DLL cross-compiled for `x86_64-pc-windows-gnu`.
+pub const WIN64_DIR: &str = "win64";
+/// File name of the cdylib built for `x86_64-pc-windows-gnu`.
+pub const WIN64_LIB: &str = "helical_gear_mesh.dll";
+
+/// File extension of the FMU binary in FMI platform directory `dir`.
+pub fn extension(dir: &str) -> Result<&'static str, String> {
+    match dir {
+        "linux64" | "linux32" => Ok("so"),
+        "darwin64" => Ok("dylib"),
+        "win64" | "win32" => Ok("dll"),
+        other => Err(format!("unknown FMI platform directory `{other}`")),
     }
 }
 
@@ -54,10 +71,28 @@ pub fn entries(resources: Vec<(String, Vec<u8>)>) -> Vec<Entry> {
     e
 }
 
-/// Writes the FMU to `out` with the cdylib at `binary`.
-pub fn pack(binary: &Path, resources: Vec<(String, Vec<u8>)>, out: &Path) -> Result<(), String> {
-    let (dir, _, ext) = platform()?;
-    let bin = std::fs::read(binary).map_err(|e| format!("reading {}: {e}", binary.display()))?;
+/// The FMU entries `binaries/<dir>/<MODEL_IDENTIFIER>.<ext>` of `binaries`, each a FMI platform
+/// directory and the built cdylib for it.
+pub fn binary_entries(binaries: &[(&str, PathBuf)]) -> Result<Vec<Entry>, String> {
+    binaries
+        .iter()
+        .map(|(dir, file)| {
+            let bytes =
+                std::fs::read(file).map_err(|e| format!("reading {}: {e}", file.display()))?;
+            let ext = extension(dir)?;
+            Ok(Entry { path: format!("binaries/{dir}/{MODEL_IDENTIFIER}.{ext}"), bytes })
+        })
+        .collect()
+}
+
+/// Writes the FMU to `out` with `binaries`: FMI platform directory and built cdylib of each
+/// platform the FMU carries.
+pub fn pack(
+    binaries: &[(&str, PathBuf)],
+    resources: Vec<(String, Vec<u8>)>,
+    out: &Path,
+) -> Result<(), String> {
+    let bins = binary_entries(binaries)?;
     if let Some(parent) = out.parent() {
         std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
     }
@@ -66,7 +101,7 @@ pub fn pack(binary: &Path, resources: Vec<(String, Vec<u8>)>, out: &Path) -> Res
     let opts = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
     let z = |e: zip::result::ZipError| format!("writing {}: {e}", out.display());
     let mut all = entries(resources);
-    all.push(Entry { path: format!("binaries/{dir}/{MODEL_IDENTIFIER}.{ext}"), bytes: bin });
+    all.extend(bins);
     for e in all {
         zip.start_file(e.path.as_str(), opts.unix_permissions(0o644)).map_err(z)?;
         zip.write_all(&e.bytes).map_err(|err| format!("writing {}: {err}", out.display()))?;
