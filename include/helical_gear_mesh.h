@@ -29,9 +29,46 @@ typedef enum {
 } HgmStatus;
 
 /**
+ * Which part of the drive line a unit holds (see `HgmUnit`).
+ */
+typedef enum {
+  /**
+   * J_p, J_g and the mesh; inputs `tau_p`, `tau_g`.
+   */
+  HGM_UNIT_KIND_PAIR = 0,
+  /**
+   * The pair plus the shafts c1/d1, c2/d2; inputs `phi_1`, `w_1`, `phi_2`, `w_2`.
+   */
+  HGM_UNIT_KIND_STAGE = 1,
+  /**
+   * The whole 4-DOF model of Eqs. 1–4; input `torque` (M).
+   */
+  HGM_UNIT_KIND_DRIVE = 2,
+} HgmUnitKind;
+
+/**
+ * Mesh evaluation of a unit.
+ */
+typedef enum {
+  /**
+   * Interpolation in a table built at creation (a few seconds), full model outside it.
+   */
+  HGM_FIDELITY_TABLE = 0,
+  /**
+   * Contact search and load solve at every evaluation.
+   */
+  HGM_FIDELITY_FULL = 1,
+} HgmFidelity;
+
+/**
  * A mesh model (opaque to C).
  */
 typedef struct HgmModel HgmModel;
+
+/**
+ * A stateful drive-line unit (opaque to C).
+ */
+typedef struct HgmUnit HgmUnit;
 
 /**
  * Outputs of one evaluation (all SI).
@@ -86,6 +123,110 @@ typedef struct {
    */
   bool back_contact;
 } HgmOutputs;
+
+/**
+ * Inputs of a unit (SI); each kind reads only its own fields, held over a step.
+ */
+typedef struct {
+  /**
+   * Pair: torque the pinion shaft exerts on the pinion hub, N·m.
+   */
+  double tau_p;
+  /**
+   * Pair: torque the gear shaft exerts on the gear hub, N·m.
+   */
+  double tau_g;
+  /**
+   * Stage: angle of the pinion shaft's far end, rad (moves with `w_1` over a step).
+   */
+  double phi_1;
+  /**
+   * Stage: rate of the pinion shaft's far end, rad/s.
+   */
+  double w_1;
+  /**
+   * Stage: angle of the gear shaft's far end, rad (moves with `w_2` over a step).
+   */
+  double phi_2;
+  /**
+   * Stage: rate of the gear shaft's far end, rad/s.
+   */
+  double w_2;
+  /**
+   * Drive: driving torque M on J1, N·m (load on J2: M·z_g/z_p).
+   */
+  double torque;
+} HgmUnitInputs;
+
+/**
+ * Outputs of a unit at its current time (SI).
+ */
+typedef struct {
+  /**
+   * Time, s.
+   */
+  double t;
+  /**
+   * Pinion hub angle, rad.
+   */
+  double phi_p;
+  /**
+   * Pinion hub rate, rad/s.
+   */
+  double w_p;
+  /**
+   * Pinion hub acceleration, rad/s².
+   */
+  double a_p;
+  /**
+   * Gear hub angle, rad.
+   */
+  double phi_g;
+  /**
+   * Gear hub rate, rad/s.
+   */
+  double w_g;
+  /**
+   * Gear hub acceleration, rad/s².
+   */
+  double a_g;
+  /**
+   * J1 angle (Drive) or pinion shaft far-end angle (Stage), rad; 0 for Pair.
+   */
+  double phi_1;
+  /**
+   * J1 rate (Drive) or pinion shaft far-end rate (Stage), rad/s; 0 for Pair.
+   */
+  double w_1;
+  /**
+   * J2 angle (Drive) or gear shaft far-end angle (Stage), rad; 0 for Pair.
+   */
+  double phi_2;
+  /**
+   * J2 rate (Drive) or gear shaft far-end rate (Stage), rad/s; 0 for Pair.
+   */
+  double w_2;
+  /**
+   * Torque the pinion shaft exerts on J1, N·m (J1·φ1'' = M + tau_1); 0 for Pair.
+   */
+  double tau_1;
+  /**
+   * Torque the gear shaft exerts on J2, N·m (J2·φ2'' = M·z_g/z_p + tau_2); 0 for Pair.
+   */
+  double tau_2;
+  /**
+   * Torque the pinion shaft exerts on the pinion hub, N·m (the input for Pair).
+   */
+  double tau_p;
+  /**
+   * Torque the gear shaft exerts on the gear hub, N·m (the input for Pair).
+   */
+  double tau_g;
+  /**
+   * Mesh outputs (torques, TE, F_n, flags).
+   */
+  HgmOutputs mesh;
+} HgmUnitOutputs;
 
 #ifdef __cplusplus
 extern "C" {
@@ -147,6 +288,93 @@ const char *hgm_last_error(const HgmModel *h);
  * `h` must be NULL or a live handle, not used afterwards.
  */
 void hgm_free(HgmModel *h);
+
+/**
+ * Creates a unit of `kind` for the gear pair of `json` (the schema of `helical-gear params`)
+ * or, with `json` NULL, the paper's Table 1 pair; its drivetrain (J1, J2, shafts, nominal
+ * torque M) is the pair's `drive` section. `fidelity` chooses the mesh evaluation. Integration:
+ * `steps_per_mesh_period` > 0 gives RK4 on a grid of at most T_m/steps_per_mesh_period
+ * (≥ 4; 128 is the crate's default); 0 gives adaptive DOPRI5 with `rtol`, `atol` (> 0).
+ * The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
+ * Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
+ *
+ * # Safety
+ * `json` must be NULL or a zero-terminated string.
+ */
+HgmUnit *hgm_unit_create(HgmUnitKind kind,
+                         const char *json,
+                         HgmFidelity fidelity,
+                         uint32_t steps_per_mesh_period,
+                         double rtol,
+                         double atol);
+
+/**
+ * Puts the unit in static equilibrium at nominal pinion speed `w_p_start` (rad/s) under the
+ * pair's nominal torque, at time `t0` (s); the inputs are set to the ones that keep it.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle.
+ */
+HgmStatus hgm_unit_start_static(HgmUnit *u, double t0, double w_p_start);
+
+/**
+ * Sets the inputs (all finite), held from the unit's current time on.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle; `inputs` NULL or readable.
+ */
+HgmStatus hgm_unit_set_inputs(HgmUnit *u, const HgmUnitInputs *inputs);
+
+/**
+ * Advances the unit by `h` seconds (finite, > 0) with the inputs held. On failure the unit's
+ * time and state are unchanged and the message names the time and the cause.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle.
+ */
+HgmStatus hgm_unit_advance(HgmUnit *u, double h);
+
+/**
+ * Writes the outputs at the unit's current time to `*out`.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle; `out` NULL or writable.
+ */
+HgmStatus hgm_unit_outputs(HgmUnit *u, HgmUnitOutputs *out);
+
+/**
+ * The unit's snapshot (time, state, inputs, integrator hint) as JSON text, valid until the
+ * next call on this handle; NULL on failure. `hgm_unit_restore` continues from it bit for bit.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle.
+ */
+const char *hgm_unit_snapshot(HgmUnit *u);
+
+/**
+ * Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle; `json` NULL or a zero-terminated string.
+ */
+HgmStatus hgm_unit_restore(HgmUnit *u, const char *json);
+
+/**
+ * The unit's last error message (empty when there was none); with `u` NULL the calling
+ * thread's. Valid until the next failing call on the handle or thread.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle.
+ */
+const char *hgm_unit_last_error(const HgmUnit *u);
+
+/**
+ * Frees a unit. NULL is a no-op.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle, not used afterwards.
+ */
+void hgm_unit_free(HgmUnit *u);
 
 #ifdef __cplusplus
 }  // extern "C"

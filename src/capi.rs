@@ -19,12 +19,35 @@
 //! why a constructor failed). No function panics across the C boundary; every pointer argument
 //! may be NULL (reported as `HGM_STATUS_INVALID_ARGUMENT`). A handle may be used from any
 //! thread, but from one thread at a time.
+//!
+//! # Stateful units
+//!
+//! `HgmUnit` is a drive-line part with its own state and integrator
+//! ([`crate::dynamics::unit`]): the gear pair (inputs the shaft torques on the hubs), the gear
+//! stage (inputs the shafts' far-end motion, outputs the shaft torques on J1 and J2) or the
+//! whole drive of Eqs. 1–4 (input the driving torque M):
+//!
+//! ```c
+//! HgmUnit *u = hgm_unit_create(HGM_UNIT_KIND_STAGE, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+//! hgm_unit_start_static(u, 0.0, 532.0);          /* static equilibrium at 532 rad/s */
+//! HgmUnitInputs in; HgmUnitOutputs out;
+//! hgm_unit_outputs(u, &out);                     /* phi_1 … w_2: the far ends it holds */
+//! in.phi_1 = out.phi_1; in.w_1 = out.w_1; in.phi_2 = out.phi_2; in.w_2 = out.w_2;
+//! hgm_unit_set_inputs(u, &in);
+//! hgm_unit_advance(u, 1e-4);                     /* one communication step */
+//! hgm_unit_outputs(u, &out);                     /* out.tau_1, out.tau_2, out.mesh.te, … */
+//! hgm_unit_free(u);
+//! ```
 
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use crate::mesh::{MeshModel, MeshOptions, MeshOutputs, MeshState};
+use crate::dynamics::{
+    DriveUnit, Drivetrain, UnitInputs, UnitKind, UnitOutputs, UnitSnapshot, UnitStepping,
+};
+use crate::mesh::statics::EquilibriumSettings;
+use crate::mesh::{Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
 use crate::params::GearPair;
 
 /// Result of a C API call.
@@ -165,19 +188,32 @@ pub unsafe extern "C" fn hgm_create_from_json(json: *const c_char) -> *mut HgmMo
     create(pair)
 }
 
-/// Runs `f` on the model behind `h` with panic containment and error bookkeeping.
-fn with_model(
-    h: *mut HgmModel,
+/// A C handle: its payload and its last error message.
+trait Handle {
+    type Inner;
+    fn parts(&mut self) -> (&mut Self::Inner, &mut CString);
+}
+
+impl Handle for HgmModel {
+    type Inner = MeshModel;
+    fn parts(&mut self) -> (&mut MeshModel, &mut CString) {
+        (&mut self.model, &mut self.last_error)
+    }
+}
+
+/// Runs `f` on the payload behind `h` with panic containment and error bookkeeping.
+fn with_handle<H: Handle>(
+    h: *mut H,
     what: &str,
-    f: impl FnOnce(&mut MeshModel) -> Result<(), (HgmStatus, String)>,
+    f: impl FnOnce(&mut H::Inner) -> Result<(), (HgmStatus, String)>,
 ) -> HgmStatus {
     if h.is_null() {
-        set_thread_error(&format!("{what}: the model handle is NULL"));
+        set_thread_error(&format!("{what}: the handle is NULL"));
         return HgmStatus::InvalidArgument;
     }
     let r = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: non-null handle from a constructor (caller contract).
-        f(&mut unsafe { &mut *h }.model)
+        f(unsafe { &mut *h }.parts().0)
     }));
     let (status, msg) = match r {
         Ok(Ok(())) => return HgmStatus::Ok,
@@ -186,8 +222,17 @@ fn with_model(
     };
     set_thread_error(&msg);
     // SAFETY: as above.
-    unsafe { (*h).last_error = to_cstring(&msg) };
+    *unsafe { &mut *h }.parts().1 = to_cstring(&msg);
     status
+}
+
+/// Runs `f` on the model behind `h` (see [`with_handle`]).
+fn with_model(
+    h: *mut HgmModel,
+    what: &str,
+    f: impl FnOnce(&mut MeshModel) -> Result<(), (HgmStatus, String)>,
+) -> HgmStatus {
+    with_handle(h, what, f)
 }
 
 /// Evaluates the mesh at hub angles `phi_p`, `phi_g` (rad) and speeds `w_p`, `w_g` (rad/s) and
@@ -263,6 +308,346 @@ pub unsafe extern "C" fn hgm_free(h: *mut HgmModel) {
         let _ = catch_unwind(|| {
             // SAFETY: created by Box::into_raw in a constructor (caller contract).
             drop(unsafe { Box::from_raw(h) });
+        });
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stateful units
+// ---------------------------------------------------------------------------------------------
+
+/// Which part of the drive line a unit holds (see `HgmUnit`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HgmUnitKind {
+    /// J_p, J_g and the mesh; inputs `tau_p`, `tau_g`.
+    Pair = 0,
+    /// The pair plus the shafts c1/d1, c2/d2; inputs `phi_1`, `w_1`, `phi_2`, `w_2`.
+    Stage = 1,
+    /// The whole 4-DOF model of Eqs. 1–4; input `torque` (M).
+    Drive = 2,
+}
+
+/// Mesh evaluation of a unit.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HgmFidelity {
+    /// Interpolation in a table built at creation (a few seconds), full model outside it.
+    Table = 0,
+    /// Contact search and load solve at every evaluation.
+    Full = 1,
+}
+
+/// Inputs of a unit (SI); each kind reads only its own fields, held over a step.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HgmUnitInputs {
+    /// Pair: torque the pinion shaft exerts on the pinion hub, N·m.
+    pub tau_p: f64,
+    /// Pair: torque the gear shaft exerts on the gear hub, N·m.
+    pub tau_g: f64,
+    /// Stage: angle of the pinion shaft's far end, rad (moves with `w_1` over a step).
+    pub phi_1: f64,
+    /// Stage: rate of the pinion shaft's far end, rad/s.
+    pub w_1: f64,
+    /// Stage: angle of the gear shaft's far end, rad (moves with `w_2` over a step).
+    pub phi_2: f64,
+    /// Stage: rate of the gear shaft's far end, rad/s.
+    pub w_2: f64,
+    /// Drive: driving torque M on J1, N·m (load on J2: M·z_g/z_p).
+    pub torque: f64,
+}
+
+/// Outputs of a unit at its current time (SI).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HgmUnitOutputs {
+    /// Time, s.
+    pub t: f64,
+    /// Pinion hub angle, rad.
+    pub phi_p: f64,
+    /// Pinion hub rate, rad/s.
+    pub w_p: f64,
+    /// Pinion hub acceleration, rad/s².
+    pub a_p: f64,
+    /// Gear hub angle, rad.
+    pub phi_g: f64,
+    /// Gear hub rate, rad/s.
+    pub w_g: f64,
+    /// Gear hub acceleration, rad/s².
+    pub a_g: f64,
+    /// J1 angle (Drive) or pinion shaft far-end angle (Stage), rad; 0 for Pair.
+    pub phi_1: f64,
+    /// J1 rate (Drive) or pinion shaft far-end rate (Stage), rad/s; 0 for Pair.
+    pub w_1: f64,
+    /// J2 angle (Drive) or gear shaft far-end angle (Stage), rad; 0 for Pair.
+    pub phi_2: f64,
+    /// J2 rate (Drive) or gear shaft far-end rate (Stage), rad/s; 0 for Pair.
+    pub w_2: f64,
+    /// Torque the pinion shaft exerts on J1, N·m (J1·φ1'' = M + tau_1); 0 for Pair.
+    pub tau_1: f64,
+    /// Torque the gear shaft exerts on J2, N·m (J2·φ2'' = M·z_g/z_p + tau_2); 0 for Pair.
+    pub tau_2: f64,
+    /// Torque the pinion shaft exerts on the pinion hub, N·m (the input for Pair).
+    pub tau_p: f64,
+    /// Torque the gear shaft exerts on the gear hub, N·m (the input for Pair).
+    pub tau_g: f64,
+    /// Mesh outputs (torques, TE, F_n, flags).
+    pub mesh: HgmOutputs,
+}
+
+/// A stateful drive-line unit (opaque to C).
+pub struct HgmUnit {
+    inner: UnitHandle,
+    last_error: CString,
+}
+
+/// The payload of an [`HgmUnit`]: the unit and the text of its last snapshot.
+struct UnitHandle {
+    unit: DriveUnit<MeshModel>,
+    snapshot: CString,
+}
+
+impl Handle for HgmUnit {
+    type Inner = UnitHandle;
+    fn parts(&mut self) -> (&mut UnitHandle, &mut CString) {
+        (&mut self.inner, &mut self.last_error)
+    }
+}
+
+fn model_err(e: impl std::fmt::Display) -> (HgmStatus, String) {
+    (HgmStatus::ModelError, e.to_string())
+}
+
+fn invalid_arg(msg: impl Into<String>) -> (HgmStatus, String) {
+    (HgmStatus::InvalidArgument, msg.into())
+}
+
+/// Creates a unit of `kind` for the gear pair of `json` (the schema of `helical-gear params`)
+/// or, with `json` NULL, the paper's Table 1 pair; its drivetrain (J1, J2, shafts, nominal
+/// torque M) is the pair's `drive` section. `fidelity` chooses the mesh evaluation. Integration:
+/// `steps_per_mesh_period` > 0 gives RK4 on a grid of at most T_m/steps_per_mesh_period
+/// (≥ 4; 128 is the crate's default); 0 gives adaptive DOPRI5 with `rtol`, `atol` (> 0).
+/// The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
+/// Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
+///
+/// # Safety
+/// `json` must be NULL or a zero-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_create(
+    kind: HgmUnitKind,
+    json: *const c_char,
+    fidelity: HgmFidelity,
+    steps_per_mesh_period: u32,
+    rtol: f64,
+    atol: f64,
+) -> *mut HgmUnit {
+    let r = catch_unwind(AssertUnwindSafe(|| -> Result<HgmUnit, String> {
+        let pair = if json.is_null() {
+            GearPair::paper_table1()
+        } else {
+            // SAFETY: caller contract.
+            let text = unsafe { CStr::from_ptr(json) }
+                .to_str()
+                .map_err(|e| format!("hgm_unit_create: `json` is not UTF-8: {e}"))?;
+            GearPair::from_json(text)?
+        };
+        let fidelity = match fidelity {
+            HgmFidelity::Table => Fidelity::Table,
+            HgmFidelity::Full => Fidelity::Full,
+        };
+        let kind = match kind {
+            HgmUnitKind::Pair => UnitKind::Pair,
+            HgmUnitKind::Stage => UnitKind::Stage,
+            HgmUnitKind::Drive => UnitKind::Drive,
+        };
+        let stepping = if steps_per_mesh_period > 0 {
+            UnitStepping::Rk4 { steps_per_mesh_period }
+        } else {
+            UnitStepping::Dopri5 { rtol, atol }
+        };
+        let mesh = MeshModel::new(&pair, MeshOptions { fidelity, ..MeshOptions::default() })
+            .map_err(|e| e.to_string())?;
+        let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
+        let unit = DriveUnit::new(kind, mesh, drive, stepping).map_err(|e| e.to_string())?;
+        Ok(HgmUnit {
+            inner: UnitHandle { unit, snapshot: CString::default() },
+            last_error: CString::default(),
+        })
+    }));
+    match r {
+        Ok(Ok(u)) => Box::into_raw(Box::new(u)),
+        Ok(Err(msg)) => {
+            set_thread_error(&format!("hgm_unit_create: {msg}"));
+            std::ptr::null_mut()
+        }
+        Err(p) => {
+            set_thread_error(&panic_message(&*p));
+            std::ptr::null_mut()
+        }
+    }
+}
+
+/// Puts the unit in static equilibrium at nominal pinion speed `w_p_start` (rad/s) under the
+/// pair's nominal torque, at time `t0` (s); the inputs are set to the ones that keep it.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_start_static(
+    u: *mut HgmUnit,
+    t0: f64,
+    w_p_start: f64,
+) -> HgmStatus {
+    with_handle(u, "hgm_unit_start_static", |h| {
+        h.unit.start_static(t0, w_p_start, &EquilibriumSettings::default()).map_err(model_err)?;
+        Ok(())
+    })
+}
+
+/// Sets the inputs (all finite), held from the unit's current time on.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle; `inputs` NULL or readable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_set_inputs(
+    u: *mut HgmUnit,
+    inputs: *const HgmUnitInputs,
+) -> HgmStatus {
+    with_handle(u, "hgm_unit_set_inputs", |h| {
+        if inputs.is_null() {
+            return Err(invalid_arg("`inputs` is NULL"));
+        }
+        // SAFETY: non-null, caller contract.
+        let i = unsafe { inputs.read() };
+        let v = UnitInputs {
+            tau_p: i.tau_p,
+            tau_g: i.tau_g,
+            phi_1: i.phi_1,
+            w_1: i.w_1,
+            phi_2: i.phi_2,
+            w_2: i.w_2,
+            torque: i.torque,
+        };
+        h.unit.set_inputs(v).map_err(|e| invalid_arg(e.to_string()))
+    })
+}
+
+/// Advances the unit by `h` seconds (finite, > 0) with the inputs held. On failure the unit's
+/// time and state are unchanged and the message names the time and the cause.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_advance(u: *mut HgmUnit, h: f64) -> HgmStatus {
+    with_handle(u, "hgm_unit_advance", |x| {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(invalid_arg(format!("step `h` = {h}: allowed finite and > 0 (s)")));
+        }
+        x.unit.advance(h).map_err(model_err)
+    })
+}
+
+/// Writes the outputs at the unit's current time to `*out`.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle; `out` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutputs) -> HgmStatus {
+    with_handle(u, "hgm_unit_outputs", |h| {
+        if out.is_null() {
+            return Err(invalid_arg("`out` is NULL"));
+        }
+        let o: UnitOutputs = h.unit.outputs().map_err(model_err)?;
+        let c = HgmUnitOutputs {
+            t: h.unit.time(),
+            phi_p: o.phi_p,
+            w_p: o.w_p,
+            a_p: o.a_p,
+            phi_g: o.phi_g,
+            w_g: o.w_g,
+            a_g: o.a_g,
+            phi_1: o.phi_1,
+            w_1: o.w_1,
+            phi_2: o.phi_2,
+            w_2: o.w_2,
+            tau_1: o.tau_1,
+            tau_2: o.tau_2,
+            tau_p: o.tau_p,
+            tau_g: o.tau_g,
+            mesh: o.mesh.into(),
+        };
+        // SAFETY: non-null, caller contract.
+        unsafe { out.write(c) };
+        Ok(())
+    })
+}
+
+/// The unit's snapshot (time, state, inputs, integrator hint) as JSON text, valid until the
+/// next call on this handle; NULL on failure. `hgm_unit_restore` continues from it bit for bit.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_snapshot(u: *mut HgmUnit) -> *const c_char {
+    let st = with_handle(u, "hgm_unit_snapshot", |h| {
+        let json = serde_json::to_string(&h.unit.snapshot()).map_err(model_err)?;
+        h.snapshot = to_cstring(&json);
+        Ok(())
+    });
+    if st == HgmStatus::Ok {
+        // SAFETY: live handle (checked non-null by with_handle).
+        unsafe { (*u).inner.snapshot.as_ptr() }
+    } else {
+        std::ptr::null()
+    }
+}
+
+/// Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle; `json` NULL or a zero-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_restore(u: *mut HgmUnit, json: *const c_char) -> HgmStatus {
+    with_handle(u, "hgm_unit_restore", |h| {
+        if json.is_null() {
+            return Err(invalid_arg("`json` is NULL"));
+        }
+        // SAFETY: caller contract.
+        let text = unsafe { CStr::from_ptr(json) }
+            .to_str()
+            .map_err(|e| invalid_arg(format!("`json` is not UTF-8: {e}")))?;
+        let s: UnitSnapshot =
+            serde_json::from_str(text).map_err(|e| invalid_arg(format!("snapshot JSON: {e}")))?;
+        h.unit.restore(&s).map_err(|e| invalid_arg(e.to_string()))
+    })
+}
+
+/// The unit's last error message (empty when there was none); with `u` NULL the calling
+/// thread's. Valid until the next failing call on the handle or thread.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_last_error(u: *const HgmUnit) -> *const c_char {
+    if u.is_null() {
+        LAST_ERROR.try_with(|e| e.borrow().as_ptr()).unwrap_or(c"".as_ptr())
+    } else {
+        // SAFETY: live handle (caller contract).
+        unsafe { (*u).last_error.as_ptr() }
+    }
+}
+
+/// Frees a unit. NULL is a no-op.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle, not used afterwards.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_free(u: *mut HgmUnit) {
+    if !u.is_null() {
+        let _ = catch_unwind(|| {
+            // SAFETY: created by Box::into_raw in hgm_unit_create (caller contract).
+            drop(unsafe { Box::from_raw(u) });
         });
     }
 }

@@ -127,6 +127,61 @@ static void test_capi(void) {
     hgm_free(m);
 }
 
+/* ------------------------------------------------------------------ stateful units */
+
+static void test_units(void) {
+    CHECK(hgm_unit_advance(NULL, 1e-4) == HGM_STATUS_INVALID_ARGUMENT, "NULL unit");
+    CHECK(strstr(hgm_unit_last_error(NULL), "NULL") != NULL, "message: %s",
+          hgm_unit_last_error(NULL));
+    CHECK(hgm_unit_create(HGM_UNIT_KIND_STAGE, NULL, HGM_FIDELITY_TABLE, 2, 0, 0) == NULL,
+          "too few steps per mesh period");
+    CHECK(strstr(hgm_unit_last_error(NULL), "steps_per_mesh_period") != NULL, "message: %s",
+          hgm_unit_last_error(NULL));
+    hgm_unit_free(NULL);
+
+    /* The whole drive at 532 rad/s from its static equilibrium. */
+    HgmUnit *u = hgm_unit_create(HGM_UNIT_KIND_DRIVE, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+    CHECK(u != NULL, "drive unit: %s", hgm_unit_last_error(NULL));
+    CHECK(hgm_unit_start_static(u, 0.0, 532.0) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    HgmUnitOutputs out;
+    CHECK(hgm_unit_outputs(u, &out) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    CHECK(out.mesh.te > 0.0 && fabs(out.tau_1 + 100.0) < 1.0, "static start: TE %g, tau_1 %g",
+          out.mesh.te, out.tau_1);
+    for (int i = 0; i < 20; i++) {
+        CHECK(hgm_unit_advance(u, 1e-4) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    }
+    const char *snap = hgm_unit_snapshot(u);
+    CHECK(snap != NULL, "%s", hgm_unit_last_error(u));
+    char saved[4096];
+    CHECK(strlen(snap) < sizeof saved, "snapshot length");
+    strcpy(saved, snap);
+    CHECK(hgm_unit_advance(u, 3e-4) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    HgmUnitOutputs a, b;
+    CHECK(hgm_unit_outputs(u, &a) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    CHECK(fabs(a.t - 2.3e-3) < 1e-12 && a.w_p > 500.0 && a.w_p < 560.0, "t %g, w_p %g", a.t,
+          a.w_p);
+    CHECK(hgm_unit_restore(u, saved) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    CHECK(hgm_unit_advance(u, 3e-4) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    CHECK(hgm_unit_outputs(u, &b) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
+    CHECK(a.mesh.te == b.mesh.te && a.phi_p == b.phi_p, "restore: TE %.17g vs %.17g",
+          a.mesh.te, b.mesh.te);
+
+    /* Errors leave the unit usable. */
+    CHECK(hgm_unit_advance(u, -1.0) == HGM_STATUS_INVALID_ARGUMENT, "negative step");
+    CHECK(strstr(hgm_unit_last_error(u), "`h` = -1") != NULL, "message: %s",
+          hgm_unit_last_error(u));
+    HgmUnitInputs in = {0};
+    in.torque = NAN;
+    CHECK(hgm_unit_set_inputs(u, &in) == HGM_STATUS_INVALID_ARGUMENT, "NaN torque");
+    CHECK(strstr(hgm_unit_last_error(u), "torque") != NULL, "message: %s",
+          hgm_unit_last_error(u));
+    CHECK(hgm_unit_restore(u, "{ not json") == HGM_STATUS_INVALID_ARGUMENT, "bad snapshot");
+    CHECK(hgm_unit_outputs(u, NULL) == HGM_STATUS_INVALID_ARGUMENT, "NULL out");
+    CHECK(hgm_unit_advance(u, 1e-4) == HGM_STATUS_OK, "usable after errors: %s",
+          hgm_unit_last_error(u));
+    hgm_unit_free(u);
+}
+
 /* ------------------------------------------------------------------ FMI functions */
 
 static char last_message[1024];
@@ -288,6 +343,7 @@ int main(int argc, char **argv) {
     int repeat = argc == 3 ? atoi(argv[2]) : 1000;
     test_fmi2(argv[1]);
     test_capi();
+    test_units();
     test_extremes(argv[1], repeat);
     if (failures) {
         fprintf(stderr, "%d check(s) failed\n", failures);
