@@ -108,23 +108,33 @@ fn nominal_te(m: &mut MeshModel, phi_p: f64) -> f64 {
 fn full_fidelity_matches_central_differences() {
     let mut m = model(MeshOptions { slices: 50, detail: true, ..MeshOptions::default() });
     let te_nom = nominal_te(&mut m, 0.1 * pitch());
-    let (mut checked, mut worst) = (0, 0.0f64);
-    for load in [0.02, 1.0, 3.0] {
+    let (mut checked, mut worst, mut tip, mut back) = (0, 0.0f64, 0, 0);
+    let jt = m.geometry().backlash_te;
+    // Light (near the onset), nominal, overload up to tip contact; back flanks.
+    let mut tes: Vec<f64> = [0.02, 1.0, 3.0, 8.0, 15.0].iter().map(|l| l * te_nom).collect();
+    tes.extend([1.0, 3.0].iter().map(|l| -jt - l * te_nom));
+    for (load, &te) in tes.iter().enumerate() {
         for k in 0..5 {
             let phi_p = pitch() * (k as f64 + 0.3) / 5.0;
-            let s = state(&m, phi_p, load * te_nom);
+            let s = state(&m, phi_p, te);
             let (out, jac) = m.mesh_jacobian(&s).expect("jacobian");
             assert_eq!(torques(&out), torques(&m.evaluate(&s).unwrap()), "outputs as evaluate");
             assert!(jac.d[0][0] > 0.0 && jac.d[2][2] > 0.0, "stiffness and damping positive");
             let Some(fd) = central(&mut m, &s, true) else { continue };
+            tip += usize::from(out.tip_contact);
+            back += usize::from(out.back_contact);
             let e = disagreement(&jac, &fd, &out);
-            assert!(e <= 1.0, "load {load}, phase {k}: error {e:.3}·1e-5\n{jac:?}\n{fd:?}");
+            assert!(e <= 1.0, "TE #{load}, phase {k}: error {e:.3}·1e-5\n{jac:?}\n{fd:?}");
             worst = worst.max(e);
             checked += 1;
         }
     }
-    eprintln!("full fidelity: {checked} states, worst disagreement {worst:.3}·1e-5 of the row");
-    assert!(checked >= 10, "only {checked} states kept their loaded set");
+    eprintln!(
+        "full fidelity: {checked} states ({tip} with tip contact, {back} on the back flanks), worst disagreement \
+         {worst:.3}·1e-5 of the row"
+    );
+    assert!(checked >= 20, "only {checked} states kept their loaded set");
+    assert!(tip >= 2 && back >= 4, "tip {tip}, back {back}: the off-plane terms need testing");
 }
 
 #[test]
