@@ -264,3 +264,25 @@ fn jacobian_cost() {
         eprintln!("{fidelity:?}: evaluate {e:.3} µs, mesh_jacobian {j:.3} µs ({:.2}×)", j / e);
     }
 }
+
+/// Invalid states are rejected as by `evaluate`; a compliance representation without an
+/// analytic derivative (the fitted Eqs. 5–8) says so instead of guessing.
+#[test]
+fn jacobian_rejects_what_it_cannot_do() {
+    let mut m = model(MeshOptions { slices: 50, ..MeshOptions::default() });
+    let mut s = state(&m, 0.0, 10e-6);
+    s.w_g = f64::NAN;
+    assert!(matches!(m.mesh_jacobian(&s), Err(MeshError::NonFinite { name: "w_g", .. })));
+    let opts = MeshOptions {
+        slices: 50,
+        compliance: helical_gear_mesh::mesh::ComplianceModel::Fitted,
+        ..MeshOptions::default()
+    };
+    let mut f = model(opts);
+    let s = state(&f, 0.0, 10e-6);
+    let e = f.mesh_jacobian(&s).expect_err("fitted");
+    assert!(matches!(e, MeshError::Unsupported(_)), "{e}");
+    // Separated: outputs and derivatives are zero.
+    let (o, j) = m.mesh_jacobian(&state(&m, 0.0, -1e-6)).unwrap();
+    assert!(o.separated && j.d.iter().flatten().all(|&v| v == 0.0));
+}
