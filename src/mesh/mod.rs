@@ -24,9 +24,9 @@
 //! module documents every term; nothing is neglected). Both agree with central differences of
 //! [`MeshModel::evaluate`] to better than 1e-5 of the row (`tests/mesh_jacobian.rs`).
 //!
-//! States whose flanks would have to overlap by more than [`MAX_OVERLAP_MN`]·m_n (teeth
-//! crushed through) are outside the model and rejected with [`MeshError::OutOfRange`], which
-//! names TE, the mesh phase and the valid range.
+//! A state so far outside the model that its load problem is not well posed (teeth crushed
+//! through) is reported as [`MeshError::OutOfRange`], which names TE, the mesh phase and the
+//! overlap against the module.
 
 pub mod face_load;
 pub mod model;
@@ -208,9 +208,9 @@ pub enum MeshError {
     Equilibrium(String),
     /// The implementation cannot give what was asked (e.g. analytic derivatives); names it.
     Unsupported(&'static str),
-    /// The state lies outside the range where the model holds: the required overlap of the
-    /// flanks exceeds [`MAX_OVERLAP_MN`]·m_n (teeth crushed through), or the load problem of
-    /// Eq. 12 is not well posed there.
+    /// The state lies outside the range where the model holds: the flanks would have to
+    /// overlap so far (teeth crushed through) that the load problem of Eq. 12 is not well
+    /// posed there (the compliance matrix of the loaded slices is not a P-matrix).
     OutOfRange {
         /// Transmission error of the state, m.
         te: f64,
@@ -218,13 +218,10 @@ pub enum MeshError {
         phase: f64,
         /// Largest required overlap Δ·m_n of a slice, m.
         max_overlap: f64,
-        /// Largest overlap the model accepts, [`MAX_OVERLAP_MN`]·m_n, m.
-        limit: f64,
-        /// TE range in which contacts in the plane of action stay within the limit:
-        /// (−j_t − limit, limit), m.
-        te_valid: (f64, f64),
-        /// The load solver's failure, when that is how the state showed itself.
-        cause: Option<LoadError>,
+        /// Normal module m_n, m (the scale of the tooth).
+        module: f64,
+        /// The load solver's failure.
+        cause: LoadError,
     },
 }
 
@@ -239,20 +236,16 @@ impl fmt::Display for MeshError {
             MeshError::Load(e) => write!(f, "load distribution: {e}"),
             MeshError::Equilibrium(m) => write!(f, "static equilibrium: {m}"),
             MeshError::Unsupported(what) => write!(f, "not supported by this mesh model: {what}"),
-            MeshError::OutOfRange { te, phase, max_overlap, limit, te_valid, cause } => {
-                write!(
-                    f,
-                    "mesh state outside the model's range: TE = {te:e} m at mesh phase \
-                     {phase:.6} rad requires a flank overlap of {max_overlap:e} m; the model \
-                     holds for overlaps up to {limit:e} m ({MAX_OVERLAP_MN}·m_n), i.e. TE from \
-                     {:e} to {:e} m in the plane of action",
-                    te_valid.0, te_valid.1
-                )?;
-                match cause {
-                    Some(c) => write!(f, " (here the load problem is not well posed: {c})"),
-                    None => Ok(()),
-                }
-            }
+            MeshError::OutOfRange { te, phase, max_overlap, module, cause } => write!(
+                f,
+                "mesh state outside the model's range: TE = {te:e} m at mesh phase {phase:.6} \
+                 rad requires a flank overlap of {max_overlap:e} m ({:.3}·m_n); the model holds \
+                 for elastic approaches small against the tooth (for Table 1 the load problem \
+                 was measured well posed up to overlaps of 0.19·m_n with the fitted and 0.59·m_n \
+                 with the interpolated compliance; the nominal load needs about 0.003·m_n), and \
+                 here the load problem is not well posed ({cause})",
+                max_overlap / module
+            ),
         }
     }
 }
@@ -270,15 +263,6 @@ impl From<LoadError> for MeshError {
         MeshError::Load(e)
     }
 }
-
-/// Largest flank overlap the mesh model accepts, in units of the normal module m_n: a quarter
-/// of the module is some 25 times the elastic approach of a tooth pair at its nominal load
-/// (Table 1: 10 µm at 100 N·m against 750 µm), far beyond any load the linear-elastic model
-/// describes; beyond it the teeth would be crushed through and the compliance model (an
-/// elastic interpolation over the flank) has no meaning, and the load problem stops being well
-/// posed (measured: at 0.2–0.4·m_n with the fitted compliance, 0.6·m_n with the interpolated
-/// one).
-pub const MAX_OVERLAP_MN: f64 = 0.25;
 
 /// Partial derivatives of the four mesh torques with respect to the mesh state at one state.
 ///

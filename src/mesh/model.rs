@@ -490,10 +490,6 @@ impl MeshModel {
             }
         }
         let n = self.slices.len();
-        let limit = super::MAX_OVERLAP_MN * self.pair.normal_module_m;
-        if self.slices.iter().any(|s| s.contact.overlap_m > limit) {
-            return Err(out_of_range(&geo, te, red.phi_p, &self.slices, None));
-        }
         let mut out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
         if self.options.detail {
             self.detail.clear();
@@ -733,30 +729,10 @@ impl MeshTorques for MeshModel {
     }
 }
 
-/// [`MeshError::OutOfRange`] for the state with TE `te` and phase `phase` whose candidate
-/// slices are `slices`, with the load solver's failure `cause` if any.
-fn out_of_range(
-    geo: &PairGeometry,
-    te: f64,
-    phase: f64,
-    slices: &[Slice],
-    cause: Option<crate::load::LoadError>,
-) -> MeshError {
-    let max_overlap = slices.iter().map(|s| s.contact.overlap_m).fold(0.0, f64::max);
-    let limit = super::MAX_OVERLAP_MN * geo.params.normal_module_m;
-    MeshError::OutOfRange {
-        te,
-        phase,
-        max_overlap,
-        limit,
-        te_valid: (-geo.backlash_te - limit, limit),
-        cause,
-    }
-}
-
 /// The error of a failed load solve: an ill-posed problem (non-P compliance or a singular
-/// Newton matrix) means the state lies outside the model's range ([`MeshError::OutOfRange`]);
-/// any other failure is passed on as it is.
+/// Newton matrix) means the state lies outside the model's range ([`MeshError::OutOfRange`],
+/// with TE, the mesh phase and the largest overlap against the module); any other failure is
+/// passed on as it is.
 fn load_failure(
     e: crate::load::LoadError,
     geo: &PairGeometry,
@@ -767,7 +743,14 @@ fn load_failure(
     use crate::load::LoadError;
     match e {
         LoadError::Indefinite { .. } | LoadError::Singular { .. } => {
-            out_of_range(geo, te, phase, slices, Some(e))
+            let max_overlap = slices.iter().map(|s| s.contact.overlap_m).fold(0.0, f64::max);
+            MeshError::OutOfRange {
+                te,
+                phase,
+                max_overlap,
+                module: geo.params.normal_module_m,
+                cause: e,
+            }
         }
         e => MeshError::Load(e),
     }

@@ -397,9 +397,9 @@ impl MeshTable {
     /// x_t = (n − 1)·√(δ/range), δ = |TE − TE_onset|): ∂M_F/∂phase = δ·∂v/∂x_p / h_p and
     /// ∂M_F/∂TE = dir·(v + ∂v/∂x_t·x_t/2); the loaded extent E = v₃ (no δ factor) has
     /// ∂E/∂TE = dir·∂v₃/∂x_t·x_t/(2δ), which grows like δ^(−1/2) towards the onset, as the
-    /// interpolant does. Angles: ∂/∂φp = ∂/∂phase + g_p·∂/∂TE, ∂/∂φg = g_g·∂/∂TE. The damping
-    /// torques are differentiated as in [`MeshModel::damping_for`]. The discrete outputs
-    /// (nearest node) do not enter.
+    /// interpolant does. Angles: ∂/∂φp = ∂/∂phase + g_p·∂/∂TE, ∂/∂φg = g_g·∂/∂TE. The
+    /// damping torques (Eq. 14, [`crate::load::damping_torques`]) are differentiated exactly.
+    /// The discrete outputs (nearest node) do not enter.
     pub fn evaluate_jacobian(
         &self,
         model: &MeshModel,

@@ -25,7 +25,14 @@
 //!   component of that motion and ∂τ = ∓(∂ν − ∂Θ) on the rounding; the profile coordinate p of
 //!   the compliance grid follows ([`SliceInfluence::profile_rates`]);
 //! * radii of curvature: ∂L/∂ν_local = −K on an involute, 0 on an arc; the corner's radius
-//!   (fixed point) does not change; ∂ρ = ρ_t²·cos θ·(∂ρ_p/ρ_p² + ∂ρ_g/ρ_g²)/cos θ² as ρ is built.
+//!   (a fixed point of the tooth) does not change; with ρ = R/cos θ, R = ρ_p·ρ_g/(ρ_p + ρ_g):
+//!   ∂ρ = R²·(∂ρ_p/ρ_p² + ∂ρ_g/ρ_g²)/cos θ.
+//!
+//! Units: angles rad, lengths m, loads N/m, torques N·m; the signs are those of
+//! [`MeshJacobian`]. Measured against central differences of `evaluate` on Table 1 (50
+//! slices, light load to 15× nominal TE, tip and back-flank contacts): agreement to 1.4e-6 of
+//! the row's largest entry beyond the rounding allowance of the differences
+//! (`tests/mesh_jacobian.rs`).
 //!
 //! # The sensitivity system
 //! On the loaded set A the solution satisfies g_i = Σ_j C_ij·w_j·q_j + u_c(q_i, ρ_i) − d_i = 0.
