@@ -336,3 +336,18 @@ fn separation_signs_and_values() {
     assert_eq!(at(&d, 1.0, 8, rp, rg), 0.0);
     assert_eq!(Modifications::hunting_meshes(30, 47), 1410);
 }
+
+/// With tooth deviations the mesh is not periodic in one pitch: a `table` model is not built
+/// on the per-pitch table and evaluates at full fidelity (the same outputs as a full model).
+#[test]
+fn tooth_deviations_fall_back_to_full_fidelity() {
+    use helical_gear_mesh::mesh::Fidelity;
+    let mut p = GearPair::paper_table1();
+    p.modifications.gear.runout_m = 4e-6;
+    let table_opts = MeshOptions { fidelity: Fidelity::Table, ..winkler_options(40) };
+    let mut t = MeshModel::new(&p, table_opts).unwrap();
+    assert!(t.table().is_none());
+    let mut f = MeshModel::new(&p, winkler_options(40)).unwrap();
+    let s = state(&f, 3.7, 20e-6);
+    assert_eq!(t.evaluate(&s).unwrap(), f.evaluate(&s).unwrap());
+}

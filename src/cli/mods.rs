@@ -353,7 +353,11 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
                 points: keep.iter().skip(1).map(|&j| (orders[j], amp[j] * 1e6)).collect(),
                 style: SeriesStyle::Line,
             }],
-            y_log: false,
+            // From zero: the lines are amplitudes (≥ 0).
+            y_range: Some((
+                0.0,
+                1.05 * keep.iter().skip(1).map(|&j| amp[j] * 1e6).fold(1e-9, f64::max),
+            )),
             ..LineChart::default()
         };
         line_chart(&dir.join("spectrum.png"), &chart, (1000, 600)).map_err(plot_err)?;
