@@ -61,7 +61,11 @@
 //! # Periodicity
 //! Flank modifications that are the same on every tooth keep the mesh periodic in one pinion
 //! pitch; pitch deviations and runout repeat only after the hunting period of
-//! z_p·z_g/gcd(z_p, z_g) meshes ([`Modifications::hunting_meshes`], 1410 for Table 1).
+//! z_p·z_g/gcd(z_p, z_g) meshes ([`Modifications::hunting_meshes`], 1410 for Table 1). The
+//! contact search keeps the absolute tooth-pair number, which picks the deviations of the
+//! engaged teeth. The per-pitch table of the `table` fidelity is exact only for modifications
+//! that repeat on every tooth and remove material; otherwise the mesh model evaluates at full
+//! fidelity ([`crate::mesh::MeshModel::with_compliance`]).
 
 use serde::{Deserialize, Serialize};
 

@@ -15,7 +15,7 @@ use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::mesh::{
     ComplianceModel, EquilibriumSettings, GearCompliance, MeshError, MeshModel, MeshOptions,
-    MeshOutputs, MeshState, compute_compliance, equilibrium,
+    MeshOutputs, MeshState, compute_compliance, equilibrium, winkler_compliances,
 };
 
 /// xorshift64* (Vigna): small, seeded, no dependency.
@@ -60,11 +60,10 @@ fn random_design(rng: &mut Rng) -> GearPair {
     p
 }
 
-/// Typical tooth-pair compliance: c′ = 14 N/(mm·µm) (ISO 6336), split equally.
+/// Typical tooth-pair compliance: c′ = 14 N/(mm·µm) (ISO 6336), split equally
+/// ([`winkler_compliances`], depth h = 0.2·m_n).
 fn winkler(pair: &GearPair) -> (GearCompliance, GearCompliance) {
-    let c = 0.5 / 14e9;
-    let w = GearCompliance::Winkler { compliance: c, depth_h: 0.2 * pair.normal_module_m };
-    (w.clone(), w)
+    winkler_compliances(pair, 14e9).expect("c′ in range")
 }
 
 fn options() -> MeshOptions {

@@ -344,16 +344,25 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
             curve.points.iter().map(|e| vec![e.phi_p, e.te * 1e6]),
         )
         .map_err(plot_err)?;
+        let amp_max = keep.iter().skip(1).map(|&j| amp[j]).fold(0.0, f64::max);
         let chart = LineChart {
             title: format!("Static TE spectrum over a hunting period ({meshes} meshes)"),
             x_label: "order of the pinion rotation".into(),
             y_label: "amplitude (µm)".into(),
             series: vec![Series {
                 name: String::new(),
-                points: keep.iter().skip(1).map(|&j| (orders[j], amp[j] * 1e6)).collect(),
-                style: SeriesStyle::Line,
+                // Markers at the lines above 0.2 % of the largest (a line through thousands of
+                // near-zero bins with sharp spikes draws miter artefacts).
+                points: keep
+                    .iter()
+                    .skip(1)
+                    .filter(|&&j| amp[j] > 2e-3 * amp_max)
+                    .map(|&j| (orders[j], amp[j] * 1e6))
+                    .collect(),
+                style: SeriesStyle::Points,
             }],
-            y_log: false,
+            // From zero: the lines are amplitudes (≥ 0).
+            y_range: Some((0.0, 1.05 * (amp_max * 1e6).max(1e-9))),
             ..LineChart::default()
         };
         line_chart(&dir.join("spectrum.png"), &chart, (1000, 600)).map_err(plot_err)?;

@@ -294,7 +294,10 @@ fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
 impl MeshModel {
     /// Builds the model of `pair` with `options` and the given global compliances of pinion and
     /// gear (both must use the same depth h). Validates the pair (geometry) and the options;
-    /// with [`Fidelity::Table`] the table is built here (see [`super::table`]).
+    /// with [`Fidelity::Table`] the table is built here (see [`super::table`]) unless the
+    /// pair's modifications include tooth deviations or add material
+    /// ([`crate::modifications`]): the table is per pitch and starts at TE = 0, so such a model
+    /// evaluates at full fidelity ([`MeshModel::table`] is then `None`).
     pub fn with_compliance(
         pair: &GearPair,
         options: MeshOptions,
