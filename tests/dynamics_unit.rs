@@ -550,3 +550,34 @@ fn linearize_reports_unsupported_meshes() {
         other => panic!("expected Unsupported, got {other:?}"),
     }
 }
+
+/// In-process speed of the Drive unit at 532 rad/s, table fidelity, H = 1e-4 s: simulated
+/// seconds per wall-clock second and the TE error against RK4 at T_m/1024 (the converged
+/// reference), over 0.1 s of drive-line time.
+/// `cargo test --release --test dynamics_unit drive_unit_speed -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn drive_unit_speed() {
+    let omega = 532.0;
+    let h = 1e-4;
+    let n = 1000;
+    let run = |steps: u32| -> (Vec<f64>, f64) {
+        let mut u = started(UnitKind::Drive, rk4(steps), omega);
+        let t0 = std::time::Instant::now();
+        let mut te = Vec::with_capacity(n);
+        for _ in 0..n {
+            u.advance(h).unwrap();
+            te.push(u.outputs().unwrap().mesh.te);
+        }
+        (te, t0.elapsed().as_secs_f64())
+    };
+    let (reference, _) = run(1024);
+    for steps in [16, 32, 64, 128] {
+        let (te, wall) = run(steps);
+        let e = rel_err(&te, &reference);
+        println!(
+            "N = {steps}: {:.1} simulated s per wall s, TE error {e:.1e}",
+            n as f64 * h / wall
+        );
+    }
+}

@@ -459,7 +459,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         stepping: UnitStepping,
     ) -> Result<Self, DynamicsError> {
         drive.validate()?;
-        if drive.torque <= 0.0 {
+        if drive.torque.is_nan() || drive.torque <= 0.0 {
             return Err(invalid(
                 "torque",
                 drive.torque,
