@@ -22,7 +22,7 @@
 use std::f64::consts::PI;
 
 use crate::error::ParamError;
-use crate::mesh::{MeshError, MeshOutputs, MeshState, MeshTorques};
+use crate::mesh::{MeshError, MeshJacobian, MeshOutputs, MeshState, MeshTorques};
 
 /// What the mesh force does away from positive TE.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,6 +100,37 @@ fn spring_outputs(k: f64, d: f64, gp: f64, gg: f64, c: Clearance, s: &MeshState)
     }
 }
 
+/// Exact partial derivatives of [`spring_outputs`] with stiffness `k` (N/m) and its derivative
+/// `dk_dphi_p` (N/m/rad) with respect to φp: F = k·δ(TE), F_D = d·dTE/dt in contact, so
+/// ∂F/∂φp = k′·δ + k·g_p, ∂F/∂φg = k·g_g and ∂F_D/∂φ̇i = d·g_i while a flank touches (all 0
+/// in the backlash; at the contact switch the derivative of the side found is given).
+fn spring_jacobian(
+    k: f64,
+    dk_dphi_p: f64,
+    d: f64,
+    gp: f64,
+    gg: f64,
+    c: Clearance,
+    s: &MeshState,
+) -> (MeshOutputs, MeshJacobian) {
+    let o = spring_outputs(k, d, gp, gg, c, s);
+    let (delta, front, back) = c.deflection(o.te);
+    let mut j = MeshJacobian::default();
+    if front || back {
+        let df = [dk_dphi_p * delta + k * gp, k * gg];
+        let dfd = [d * gp, d * gg];
+        for (row, arm) in [(MeshJacobian::M_F_P, gp), (MeshJacobian::M_F_G, gg)] {
+            j.d[row][MeshJacobian::PHI_P] = df[0] * arm;
+            j.d[row][MeshJacobian::PHI_G] = df[1] * arm;
+        }
+        for (row, arm) in [(MeshJacobian::M_D_P, gp), (MeshJacobian::M_D_G, gg)] {
+            j.d[row][MeshJacobian::W_P] = dfd[0] * arm;
+            j.d[row][MeshJacobian::W_G] = dfd[1] * arm;
+        }
+    }
+    (o, j)
+}
+
 /// A mesh of constant stiffness k along the line of action (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConstantStiffnessMesh {
@@ -152,6 +183,14 @@ impl MeshTorques for ConstantStiffnessMesh {
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         check_state(state)?;
         Ok(spring_outputs(self.k, self.d_mesh, self.g_p, self.g_g, self.clearance, state))
+    }
+
+    fn mesh_jacobian(
+        &mut self,
+        state: &MeshState,
+    ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
+        check_state(state)?;
+        Ok(spring_jacobian(self.k, 0.0, self.d_mesh, self.g_p, self.g_g, self.clearance, state))
     }
 
     fn base_radii(&self) -> (f64, f64) {
@@ -234,6 +273,17 @@ impl MeshTorques for PeriodicStiffnessMesh {
         check_state(state)?;
         let k = self.stiffness(state.phi_p);
         Ok(spring_outputs(k, self.d_mesh, self.g_p, self.g_g, self.clearance, state))
+    }
+
+    fn mesh_jacobian(
+        &mut self,
+        state: &MeshState,
+    ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
+        check_state(state)?;
+        let k = self.stiffness(state.phi_p);
+        let z = self.z_p as f64;
+        let dk = -self.k0 * self.a * z * (z * state.phi_p).sin();
+        Ok(spring_jacobian(k, dk, self.d_mesh, self.g_p, self.g_g, self.clearance, state))
     }
 
     fn base_radii(&self) -> (f64, f64) {

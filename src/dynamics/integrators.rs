@@ -766,6 +766,24 @@ impl Dopri5 {
         &self.opts
     }
 
+    /// Sets the initial step of the next [`Self::integrate`] calls ([`Dopri5Options::h_init`]),
+    /// s: `Some(h)` with h finite and > 0, or `None` for the automatic choice. Lets a caller
+    /// continue with the step the controller proposed ([`Dopri5Stats::h_next`]) without
+    /// building a new workspace.
+    pub fn set_h_init(&mut self, h_init: Option<f64>) -> Result<(), OdeError> {
+        if let Some(h) = h_init
+            && !(h.is_finite() && h > 0.0)
+        {
+            return Err(OdeError::InvalidInput {
+                name: "h_init",
+                value: h,
+                allowed: "finite and > 0",
+            });
+        }
+        self.opts.h_init = h_init;
+        Ok(())
+    }
+
     /// Statistics of the last [`Self::integrate`] call, also after it returned an error.
     pub fn stats(&self) -> &Dopri5Stats {
         &self.stats

@@ -10,6 +10,8 @@
 //!   drivetrain data, the static-equilibrium start and the linearised natural frequencies.
 //! * [`simulate`](mod@simulate): trajectories and runs to the steady state.
 //! * [`sweep`](mod@sweep): speed sweeps in parallel, the static TE curve and the location of resonances.
+//! * [`unit`]: stateful drive-line units (pair, stage, whole drive) with their own state and
+//!   integrator, for co-simulation and Model Exchange.
 //! * [`analytic_mesh`]: linear-spring mesh models with closed-form behaviour, for verification.
 
 pub mod analytic_mesh;
@@ -18,6 +20,7 @@ pub mod model;
 pub mod simulate;
 pub mod steady;
 pub mod sweep;
+pub mod unit;
 
 pub use analytic_mesh::{Clearance, ConstantStiffnessMesh, PeriodicStiffnessMesh};
 pub use integrators::{
@@ -32,4 +35,7 @@ pub use simulate::{
 pub use steady::{PeriodCheck, SteadyError, SteadyOptions, SteadyState, SteadyStatus};
 pub use sweep::{
     Resonance, SweepOptions, SweepPoint, SweepResult, find_peaks, static_te_curve, sweep,
+};
+pub use unit::{
+    DriveUnit, UnitInputs, UnitKind, UnitLinearization, UnitOutputs, UnitSnapshot, UnitStepping,
 };

@@ -348,14 +348,35 @@ pub struct StaticStart {
 /// A [`MeshError`] in the right-hand side is returned as [`OdeError::Rhs`] with the error as
 /// its source; [`DynamicsError`]'s `From<OdeError>` turns it back into
 /// [`DynamicsError::Mesh`].
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct GearDynamics<M> {
     mesh: M,
     drive: Drivetrain,
     g_p: f64,
     g_g: f64,
-    cache: Option<([u64; 4], MeshOutputs)>,
+    /// The last evaluation: key (bits of φp, φg, φ̇p, φ̇g), outputs, and whether it was the
+    /// first evaluation after [`Self::forget_history`] (a "cold" one, free of earlier calls).
+    cache: Option<([u64; 4], MeshOutputs, bool)>,
+    /// True between [`Self::forget_history`] and the next actual mesh evaluation.
+    cold: bool,
     evaluations: usize,
+}
+
+impl<M: Clone> Clone for GearDynamics<M> {
+    /// A copy; the remembered evaluation is copied but no longer counts as the first one after
+    /// a history reset (the clone's mesh may not carry the original's history), so that
+    /// [`Self::forget_history`] treats both alike.
+    fn clone(&self) -> Self {
+        Self {
+            mesh: self.mesh.clone(),
+            drive: self.drive,
+            g_p: self.g_p,
+            g_g: self.g_g,
+            cache: self.cache.map(|(k, o, _)| (k, o, false)),
+            cold: self.cold,
+            evaluations: self.evaluations,
+        }
+    }
 }
 
 impl<M: MeshTorques> GearDynamics<M> {
@@ -368,7 +389,7 @@ impl<M: MeshTorques> GearDynamics<M> {
                 return Err(invalid(name, v, "finite and > 0 (mesh base radius, m)"));
             }
         }
-        Ok(Self { mesh, drive, g_p, g_g, cache: None, evaluations: 0 })
+        Ok(Self { mesh, drive, g_p, g_g, cache: None, cold: false, evaluations: 0 })
     }
 
     /// The drivetrain parameters.
@@ -384,6 +405,7 @@ impl<M: MeshTorques> GearDynamics<M> {
     /// The mesh model, mutable (forgets the remembered evaluation).
     pub fn mesh_mut(&mut self) -> &mut M {
         self.cache = None;
+        self.cold = false;
         &mut self.mesh
     }
 
@@ -418,17 +440,52 @@ impl<M: MeshTorques> GearDynamics<M> {
 
     /// [`Self::outputs`] without the length check (`y.len() >= 8`).
     fn eval_mesh(&mut self, y: &[f64]) -> Result<MeshOutputs, MeshError> {
-        let key = [y[PHI_P].to_bits(), y[PHI_G].to_bits(), y[W_P].to_bits(), y[W_G].to_bits()];
-        if let Some((k, o)) = &self.cache
+        self.mesh_at(y[PHI_P], y[PHI_G], y[W_P], y[W_G])
+    }
+
+    /// Mesh outputs at hub angles `phi_p`, `phi_g` (rad) and rates `w_p`, `w_g` (rad/s); the
+    /// last evaluation is reused for bit-identical arguments.
+    pub(crate) fn mesh_at(
+        &mut self,
+        phi_p: f64,
+        phi_g: f64,
+        w_p: f64,
+        w_g: f64,
+    ) -> Result<MeshOutputs, MeshError> {
+        let key = [phi_p.to_bits(), phi_g.to_bits(), w_p.to_bits(), w_g.to_bits()];
+        if let Some((k, o, _)) = &self.cache
             && *k == key
         {
             return Ok(*o);
         }
-        let state = MeshState { phi_p: y[PHI_P], phi_g: y[PHI_G], w_p: y[W_P], w_g: y[W_G] };
+        let state = MeshState { phi_p, phi_g, w_p, w_g };
         self.evaluations += 1;
+        let cold = std::mem::replace(&mut self.cold, false);
         let o = self.mesh.mesh(&state)?;
-        self.cache = Some((key, o));
+        self.cache = Some((key, o, cold));
         Ok(o)
+    }
+
+    /// Makes the next mesh evaluation, which must be at (`phi_p`, `phi_g`, `w_p`, `w_g`),
+    /// independent of earlier calls: the mesh forgets its history
+    /// ([`MeshTorques::forget_history`], e.g. the load solver's warm start) and the remembered
+    /// evaluation is dropped, unless that evaluation is itself the first one after such a reset
+    /// and at exactly this state (then it is what a fresh evaluation would give, and is kept).
+    pub(crate) fn forget_history(&mut self, phi_p: f64, phi_g: f64, w_p: f64, w_g: f64) {
+        let key = [phi_p.to_bits(), phi_g.to_bits(), w_p.to_bits(), w_g.to_bits()];
+        if let Some((k, _, true)) = &self.cache
+            && *k == key
+        {
+            return;
+        }
+        self.cache = None;
+        self.mesh.forget_history();
+        self.cold = true;
+    }
+
+    /// Sets the driving torque M (N·m, finite; the caller checks) of Eqs. 1 and 4.
+    pub(crate) fn set_torque(&mut self, torque: f64) {
+        self.drive.torque = torque;
     }
 
     /// The static-equilibrium start at pinion angle `phi_p0` (rad) and nominal pinion speed
@@ -451,6 +508,7 @@ impl<M: MeshTorques> GearDynamics<M> {
         let eq = equilibrium(&mut self.mesh, phi_p0, d.torque, guess, settings)
             .map_err(|source| DynamicsError::Mesh { t: None, source })?;
         self.cache = None;
+        self.cold = false;
         let w_g = d.gear_speed(omega_p);
         let y = [
             phi_p0 + d.torque / d.c1,

@@ -272,6 +272,11 @@ pub trait MeshTorques {
         let _ = state;
         Err(MeshError::Unsupported("analytic mesh Jacobian"))
     }
+
+    /// Forgets whatever earlier calls left behind that can change the next result (e.g. the
+    /// warm start of an iterative load solver), so that the next call gives bit for bit what a
+    /// fresh clone would give. Stateless implementations keep the default, which does nothing.
+    fn forget_history(&mut self) {}
 }
 
 impl MeshModel {

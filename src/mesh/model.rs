@@ -425,6 +425,13 @@ impl MeshModel {
         &self.detail
     }
 
+    /// Drops the warm start (the loads of the previous call): the next full evaluation starts
+    /// cold and gives bit for bit what a fresh clone of the model would give.
+    pub fn forget_warm_start(&mut self) {
+        self.prev_keys.clear();
+        self.prev_q.clear();
+    }
+
     /// Evaluates the mesh at `state` with the configured fidelity (see the module docs).
     pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         for (name, v) in
@@ -676,6 +683,10 @@ impl MeshModel {
 }
 
 impl MeshTorques for MeshModel {
+    fn forget_history(&mut self) {
+        self.forget_warm_start();
+    }
+
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         self.evaluate(state)
     }

@@ -1,0 +1,1008 @@
+//! Stateful drive-line units: a part of the drive line of Eqs. 1–4 with its own state and
+//! integrator, advanced over communication steps with its inputs held (co-simulation), or
+//! evaluated as a right-hand side with its linearisation (Model Exchange).
+//!
+//! # Kinds and their equations
+//!
+//! All angles in one absolute rotational sense (the crate's: the pinion drives turning in the
+//! positive sense); mesh torques M_F, M_D from the [`MeshTorques`] implementation, positive in
+//! normal drive and entering with a minus sign (see [`super::model`]).
+//!
+//! * [`UnitKind::Pair`]: the gear bodies and the mesh. States (φp, φg, φ̇p, φ̇g), inputs the
+//!   torques the shafts exert on the hubs, `tau_p`, `tau_g`:
+//!   ```text
+//!   J_p φ̈p = tau_p − M_F,p − M_D,p          J_g φ̈g = tau_g − M_F,g − M_D,g
+//!   ```
+//!   (steady running under M: tau_p = M, tau_g = M_F,g = M·z_g/z_p).
+//! * [`UnitKind::Stage`]: the pair plus the massless shafts c₁/d₁, c₂/d₂ of Eqs. 2–3. States as
+//!   for the pair, inputs the motion of the shafts' far ends (φ₁, φ̇₁, φ₂, φ̇₂):
+//!   ```text
+//!   tau_p = c₁(φ₁ − φp) + d₁(φ̇₁ − φ̇p)        tau_g = −c₂(φg − φ₂) − d₂(φ̇g − φ̇₂)
+//!   J_p φ̈p = tau_p − M_F,p − M_D,p          J_g φ̈g = tau_g − M_F,g − M_D,g
+//!   ```
+//!   Outputs the torques the shafts exert on J₁ and J₂, tau_1 = −tau_p and tau_2 = −tau_g, so
+//!   that the master integrates J₁ φ̈₁ = M + tau_1 and J₂ φ̈₂ = M·z_g/z_p + tau_2 (steady
+//!   running: tau_1 = −M).
+//! * [`UnitKind::Drive`]: the whole 4-DOF model of Eqs. 1–4 ([`GearDynamics`]), eight states in
+//!   the order of [`super::model`], input the driving torque M (the load on J₂ is M·z_g/z_p).
+//!
+//! # Inputs over a communication step
+//!
+//! Inputs are held from the time they were set ([`DriveUnit::set_inputs`] records the unit's
+//! time t_u): torques are constant (zero-order hold); the Stage's far-end angles move with the
+//! given rates, φ₁(t) = φ₁ + φ̇₁·(t − t_u), φ₂(t) = φ₂ + φ̇₂·(t − t_u) (first-order hold of
+//! the angle, consistent with the held rate). [`DriveUnit::derivatives`] and
+//! [`DriveUnit::linearize`] (Model Exchange, where the inputs are set at every time) use the
+//! inputs as set, without this extrapolation.
+//!
+//! # Sub-step grid
+//!
+//! [`UnitStepping::Rk4`]: each [`DriveUnit::advance`]`(h)` is cut into n = ⌈h/h_max⌉ equal
+//! sub-steps of the classical RK4 ([`Rk4`]), with
+//! ```text
+//! h_max = min( T_m/N , T_fast/32 ),   T_m = 2π/(z_p·|φ̇p|) at the start of the step
+//! ```
+//! N = `steps_per_mesh_period` and T_fast = 2π/ω_fast the period of the unit's fastest
+//! linearised mode (the mesh mode), with the mesh stiffness k measured at construction at the
+//! static equilibrium under the nominal torque `drive.torque` ([`mesh_stiffness`]). At rest
+//! (φ̇p = 0, T_m = ∞) and at low speed the second bound holds: ω_fast·h ≤ 2π/32 ≈ 0.2, far
+//! inside RK4's stability interval (|ω·h| < 2.8 on the imaginary axis), so a unit at rest is
+//! stable and its mesh mode resolved even if the actual stiffness is several times k (the
+//! mesh stiffens with load). For Table 1 (ω_fast ≈ 1.6·10⁴ rad/s) the mesh-period bound
+//! governs above ≈ 34 rad/s at N = 128.
+//!
+//! [`UnitStepping::Dopri5`]: each advance is one [`Dopri5::integrate`] call from t to t + h
+//! with the given tolerances; its first step is the step the controller proposed at the end of
+//! the previous advance (the "step hint", part of the snapshot), so a run cut into
+//! communication steps does not restart the step-size control at each of them.
+//!
+//! Neither path allocates in its step loop: the integrator workspaces live in the unit. On any
+//! failure (mesh model, non-finite value, step-size collapse) `advance` returns the error,
+//! which names the time and the cause, and leaves time, state and step hint as they were
+//! before the call; no NaN reaches the state or the outputs.
+//!
+//! # History, snapshots and bit-for-bit restarts
+//!
+//! The full-fidelity [`crate::mesh::MeshModel`] warm-starts its load solver from the previous
+//! evaluation, so its results depend on the call history at the level of the solver
+//! tolerance. A unit therefore makes every [`DriveUnit::advance`] and [`DriveUnit::outputs`]
+//! start from a clean history: the first mesh evaluation of each is a cold one
+//! ([`MeshTorques::forget_history`]; the remembered evaluation is kept only when it is itself
+//! such a cold evaluation of the same state). Within an advance the warm start works as usual.
+//! The trajectory is then a function of (time, state, inputs, input time, step hint) alone —
+//! the [`UnitSnapshot`] — and continuing after [`DriveUnit::restore`] reproduces it bit for
+//! bit, in the same unit, a clone, or a fresh unit built from the same parameters after a
+//! serde round trip (serde_json with `float_roundtrip` keeps every f64 exactly). The cost is
+//! one cold load solve per communication step (measured in `tests/dynamics_unit.rs`,
+//! `full_fidelity_history_reset_cost`). Meshes without history (the table inside its range,
+//! the analytic meshes) are unaffected: for them a Drive unit stepped with RK4 at the step of
+//! [`super::simulate`] reproduces its trajectory bit for bit.
+//! [`DriveUnit::derivatives`] and [`DriveUnit::linearize`] keep the warm start (a Model
+//! Exchange master evaluates many nearby states).
+
+use std::ops::ControlFlow;
+
+use super::integrators::{Dopri5, Dopri5Options, OdeError, OdeSystem, Rk4};
+use super::model::{
+    Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
+    W_1, W_2, W_G, W_P, invalid, mesh_stiffness,
+};
+use crate::mesh::statics::EquilibriumSettings;
+use crate::mesh::{MeshJacobian, MeshOutputs, MeshState, MeshTorques};
+
+/// Sub-steps per period of the fastest linearised mode at most (see the module doc).
+pub const STEPS_PER_FAST_PERIOD: f64 = 32.0;
+
+/// Which part of the drive line a unit holds (DESIGN.md §10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum UnitKind {
+    /// J_p, J_g and the mesh. States (φp, φg, φ̇p, φ̇g). Inputs tau_p, tau_g.
+    Pair,
+    /// Pair plus the shafts c1/d1, c2/d2. States (φp, φg, φ̇p, φ̇g). Inputs phi_1, w_1, phi_2,
+    /// w_2.
+    Stage,
+    /// The whole 4-DOF model of Eqs. 1–4. States in the order of dynamics::model (8). Input M.
+    Drive,
+}
+
+impl UnitKind {
+    /// Number of states: 4 for Pair and Stage, 8 for Drive.
+    pub fn n_states(self) -> usize {
+        match self {
+            UnitKind::Pair | UnitKind::Stage => 4,
+            UnitKind::Drive => N_STATES,
+        }
+    }
+
+    /// State names in state order (rad, rad/s).
+    pub fn state_names(self) -> &'static [&'static str] {
+        match self {
+            UnitKind::Pair | UnitKind::Stage => &["phi_p", "phi_g", "w_p", "w_g"],
+            UnitKind::Drive => &["phi_1", "phi_p", "phi_g", "phi_2", "w_1", "w_p", "w_g", "w_2"],
+        }
+    }
+
+    /// Indices of (φp, φg, φ̇p, φ̇g) in the state vector.
+    fn hub_indices(self) -> [usize; 4] {
+        match self {
+            UnitKind::Pair | UnitKind::Stage => [0, 1, 2, 3],
+            UnitKind::Drive => [PHI_P, PHI_G, W_P, W_G],
+        }
+    }
+}
+
+/// How a unit integrates inside a communication step.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum UnitStepping {
+    /// Classic RK4 (dynamics::Rk4) on a grid tied to the mesh period: every communication step
+    /// is cut into equal sub-steps no longer than T_m/steps_per_mesh_period (T_m at the current
+    /// pinion speed, bounded so that a unit at rest stays stable: see the module doc).
+    Rk4 {
+        /// Sub-steps per mesh period N (≥ 4).
+        steps_per_mesh_period: u32,
+    },
+    /// Dormand–Prince 5(4) (dynamics::Dopri5) with these tolerances; the step-size hint is part
+    /// of the unit's state (snapshot).
+    Dopri5 {
+        /// Relative tolerance (> 0).
+        rtol: f64,
+        /// Absolute tolerance, rad and rad/s (> 0).
+        atol: f64,
+    },
+}
+
+/// Inputs of a unit (SI). Each kind reads only its own fields (see UnitKind).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct UnitInputs {
+    /// Pair: torque the pinion shaft exerts on the pinion hub, N·m
+    /// (J_p·φp'' = tau_p − M_F_p − M_D_p).
+    pub tau_p: f64,
+    /// Pair: torque the gear shaft exerts on the gear hub, N·m (J_g·φg'' = tau_g − M_F_g − M_D_g).
+    pub tau_g: f64,
+    /// Stage: angle of the pinion shaft's far end (J1 side), rad.
+    pub phi_1: f64,
+    /// Stage: rate of the pinion shaft's far end, rad/s.
+    pub w_1: f64,
+    /// Stage: angle of the gear shaft's far end (J2 side), rad.
+    pub phi_2: f64,
+    /// Stage: rate of the gear shaft's far end, rad/s.
+    pub w_2: f64,
+    /// Drive: driving torque M on J1, N·m (the load on J2 is M·z_g/z_p as in Eq. 4).
+    pub torque: f64,
+}
+
+impl UnitInputs {
+    fn check(&self) -> Result<(), DynamicsError> {
+        for (name, v) in [
+            ("tau_p", self.tau_p),
+            ("tau_g", self.tau_g),
+            ("phi_1", self.phi_1),
+            ("w_1", self.w_1),
+            ("phi_2", self.phi_2),
+            ("w_2", self.w_2),
+            ("torque", self.torque),
+        ] {
+            if !v.is_finite() {
+                return Err(invalid(name, v, "finite"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Outputs of a unit at its current time and state (SI). Fields a kind does not hold are the
+/// values it sees (Stage: phi_1…w_2 are the far-end inputs at the current time) or 0.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct UnitOutputs {
+    /// Pinion hub angle φp, rad.
+    pub phi_p: f64,
+    /// Pinion hub rate φ̇p, rad/s.
+    pub w_p: f64,
+    /// Pinion hub acceleration φ̈p, rad/s².
+    pub a_p: f64,
+    /// Gear hub angle φg, rad.
+    pub phi_g: f64,
+    /// Gear hub rate φ̇g, rad/s.
+    pub w_g: f64,
+    /// Gear hub acceleration φ̈g, rad/s².
+    pub a_g: f64,
+    /// Angle of J1 (Drive) or of the pinion shaft's far end (Stage), rad; 0 for Pair.
+    pub phi_1: f64,
+    /// Rate of J1 (Drive) or of the pinion shaft's far end (Stage), rad/s; 0 for Pair.
+    pub w_1: f64,
+    /// Angle of J2 (Drive) or of the gear shaft's far end (Stage), rad; 0 for Pair.
+    pub phi_2: f64,
+    /// Rate of J2 (Drive) or of the gear shaft's far end (Stage), rad/s; 0 for Pair.
+    pub w_2: f64,
+    /// Torque the pinion shaft exerts on J1 (Stage, Drive), N·m: J1·φ1'' = M + tau_1
+    /// (steady running: tau_1 = −M); 0 for Pair.
+    pub tau_1: f64,
+    /// Torque the gear shaft exerts on J2 (Stage, Drive), N·m: J2·φ2'' = M·z_g/z_p + tau_2;
+    /// 0 for Pair.
+    pub tau_2: f64,
+    /// Torque the pinion shaft exerts on the pinion hub (Stage, Drive; the input for Pair), N·m.
+    pub tau_p: f64,
+    /// Torque the gear shaft exerts on the gear hub (Stage, Drive; the input for Pair), N·m.
+    pub tau_g: f64,
+    /// The mesh outputs (torques, TE, F_n, flags) at the current state.
+    pub mesh: MeshOutputs,
+}
+
+impl UnitOutputs {
+    /// The output called `name` (the names of [`UnitLinearization::outputs`] and the state
+    /// names: `phi_p`, `w_p`, `a_p`, …, `tau_1`, `tau_2`, `tau_p`, `tau_g`, `M_F_p`, `M_F_g`,
+    /// `M_D_p`, `M_D_g`, `TE`, `F_n`), or `None` for an unknown name.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "phi_p" => self.phi_p,
+            "w_p" => self.w_p,
+            "a_p" => self.a_p,
+            "phi_g" => self.phi_g,
+            "w_g" => self.w_g,
+            "a_g" => self.a_g,
+            "phi_1" => self.phi_1,
+            "w_1" => self.w_1,
+            "phi_2" => self.phi_2,
+            "w_2" => self.w_2,
+            "tau_1" => self.tau_1,
+            "tau_2" => self.tau_2,
+            "tau_p" => self.tau_p,
+            "tau_g" => self.tau_g,
+            "M_F_p" => self.mesh.m_f_p,
+            "M_F_g" => self.mesh.m_f_g,
+            "M_D_p" => self.mesh.m_d_p,
+            "M_D_g" => self.mesh.m_d_g,
+            "TE" => self.mesh.te,
+            "F_n" => self.mesh.f_n,
+            _ => return None,
+        })
+    }
+}
+
+/// Dense linearisation (row-major matrices) at one (t, x, u):
+/// ẋ ≈ A·δx + B·δu, out ≈ C·δx + D·δu.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnitLinearization {
+    /// Number of states (columns of A and C).
+    pub n_x: usize,
+    /// Number of inputs (columns of B and D), in the order of [`Self::inputs`].
+    pub n_u: usize,
+    /// Number of outputs (rows of C and D), in the order of [`Self::outputs`].
+    pub n_y: usize,
+    /// A = ∂ẋ/∂x, n_x × n_x, row-major (units: those of ẋ over those of x).
+    pub a: Vec<f64>,
+    /// B = ∂ẋ/∂u, n_x × n_u.
+    pub b: Vec<f64>,
+    /// C = ∂out/∂x, n_y × n_x.
+    pub c: Vec<f64>,
+    /// D = ∂out/∂u, n_y × n_u.
+    pub d: Vec<f64>,
+}
+
+const PAIR_OUTPUTS: [&str; 11] =
+    ["phi_p", "w_p", "a_p", "phi_g", "w_g", "a_g", "M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"];
+const STAGE_OUTPUTS: [&str; 13] = [
+    "phi_p", "w_p", "a_p", "phi_g", "w_g", "a_g", "tau_1", "tau_2", "M_F_p", "M_F_g", "M_D_p",
+    "M_D_g", "TE",
+];
+const DRIVE_OUTPUTS: [&str; 17] = [
+    "phi_1", "phi_p", "phi_g", "phi_2", "w_1", "w_p", "w_g", "w_2", "a_p", "a_g", "tau_1", "tau_2",
+    "M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE",
+];
+
+impl UnitLinearization {
+    /// Input names in column order of B and D, per kind: Pair `tau_p`, `tau_g`; Stage
+    /// `phi_1`, `w_1`, `phi_2`, `w_2`; Drive `M`.
+    pub fn inputs(kind: UnitKind) -> &'static [&'static str] {
+        match kind {
+            UnitKind::Pair => &["tau_p", "tau_g"],
+            UnitKind::Stage => &["phi_1", "w_1", "phi_2", "w_2"],
+            UnitKind::Drive => &["M"],
+        }
+    }
+
+    /// Output names in row order of C and D (FMU output names): Pair `phi_p`, `w_p`, `a_p`,
+    /// `phi_g`, `w_g`, `a_g`, `M_F_p`, `M_F_g`, `M_D_p`, `M_D_g`, `TE`; Stage the same with
+    /// `tau_1`, `tau_2` after `a_g`; Drive the eight states, `a_p`, `a_g`, `tau_1`, `tau_2` and
+    /// the mesh torques and `TE`.
+    pub fn outputs(kind: UnitKind) -> &'static [&'static str] {
+        match kind {
+            UnitKind::Pair => &PAIR_OUTPUTS,
+            UnitKind::Stage => &STAGE_OUTPUTS,
+            UnitKind::Drive => &DRIVE_OUTPUTS,
+        }
+    }
+}
+
+/// Everything needed to continue a unit's trajectory bit for bit (see the module doc).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct UnitSnapshot {
+    /// Kind of the unit it was taken from (restore checks it).
+    pub kind: UnitKind,
+    /// Time, s.
+    pub time: f64,
+    /// State, in the kind's order (rad, rad/s).
+    pub state: Vec<f64>,
+    /// Inputs as set.
+    pub inputs: UnitInputs,
+    /// Time at which the inputs were set (the origin of the Stage's far-end extrapolation), s.
+    pub input_time: f64,
+    /// DOPRI5: first step of the next advance, s (`None`: automatic choice).
+    pub step_hint: Option<f64>,
+}
+
+/// The right-hand side of a unit: the kind's equations over a [`GearDynamics`].
+#[derive(Debug, Clone)]
+struct UnitSystem<M> {
+    kind: UnitKind,
+    model: GearDynamics<M>,
+    inputs: UnitInputs,
+    input_time: f64,
+    /// Move the Stage's far ends with their rates from `input_time` (co-simulation).
+    extrapolate: bool,
+}
+
+/// Shaft torques (on the pinion hub, c₁(φ₁ − φp) + d₁(φ̇₁ − φ̇p); and the gear shaft's
+/// c₂(φg − φ₂) + d₂(φ̇g − φ̇₂), which acts on the gear hub with a minus sign), N·m.
+fn shaft_torques(d: &Drivetrain, far: [f64; 4], hub: [f64; 4]) -> (f64, f64) {
+    let [a1, v1, a2, v2] = far;
+    let [pp, pg, wp, wg] = hub;
+    (d.c1 * (a1 - pp) + d.d1 * (v1 - wp), d.c2 * (pg - a2) + d.d2 * (wg - v2))
+}
+
+impl<M: MeshTorques> UnitSystem<M> {
+    /// Far-end motion (φ₁, φ̇₁, φ₂, φ̇₂) the Stage sees at time `t`.
+    fn far_ends(&self, t: f64) -> [f64; 4] {
+        let u = &self.inputs;
+        let dt = if self.extrapolate { t - self.input_time } else { 0.0 };
+        [u.phi_1 + u.w_1 * dt, u.w_1, u.phi_2 + u.w_2 * dt, u.w_2]
+    }
+
+    /// Hub torques (tau_p, tau_g) of a 4-state kind at time `t` and hub state `hub`.
+    fn hub_torques(&self, t: f64, hub: [f64; 4]) -> (f64, f64) {
+        match self.kind {
+            UnitKind::Pair => (self.inputs.tau_p, self.inputs.tau_g),
+            _ => {
+                let (s1, s2) = shaft_torques(self.model.drive(), self.far_ends(t), hub);
+                (s1, -s2)
+            }
+        }
+    }
+
+    fn hub(&self, y: &[f64]) -> [f64; 4] {
+        let [i, j, k, l] = self.kind.hub_indices();
+        [y[i], y[j], y[k], y[l]]
+    }
+
+    fn forget_history(&mut self, y: &[f64]) {
+        let [pp, pg, wp, wg] = self.hub(y);
+        self.model.forget_history(pp, pg, wp, wg);
+    }
+
+    /// Mesh outputs at `y`, as an [`OdeError`] at time `t` on failure.
+    fn mesh(&mut self, t: f64, y: &[f64]) -> Result<MeshOutputs, OdeError> {
+        let [pp, pg, wp, wg] = self.hub(y);
+        self.model.mesh_at(pp, pg, wp, wg).map_err(|e| OdeError::rhs(t, e))
+    }
+}
+
+impl<M: MeshTorques> OdeSystem for UnitSystem<M> {
+    fn dim(&self) -> usize {
+        self.kind.n_states()
+    }
+
+    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), OdeError> {
+        if self.kind == UnitKind::Drive {
+            return self.model.rhs(t, y, dydt);
+        }
+        let n = self.dim();
+        if y.len() != n || dydt.len() != n {
+            return Err(OdeError::DimensionMismatch {
+                what: "y/dydt",
+                expected: n,
+                found: if y.len() != n { y.len() } else { dydt.len() },
+            });
+        }
+        let o = self.mesh(t, y)?;
+        let hub = self.hub(y);
+        let (tau_p, tau_g) = self.hub_torques(t, hub);
+        let d = self.model.drive();
+        dydt[0] = y[2];
+        dydt[1] = y[3];
+        dydt[2] = (tau_p - o.m_f_p - o.m_d_p) / d.j_p;
+        dydt[3] = (tau_g - o.m_f_g - o.m_d_g) / d.j_g;
+        Ok(())
+    }
+}
+
+/// A unit: a drive-line part with its own state and integrator (see the module doc).
+#[derive(Debug, Clone)]
+pub struct DriveUnit<M> {
+    sys: UnitSystem<M>,
+    stepping: UnitStepping,
+    /// The drivetrain as built (its torque is the nominal load of the static start).
+    drive0: Drivetrain,
+    t: f64,
+    y: [f64; N_STATES],
+    rk4: Rk4,
+    dopri: Option<Dopri5>,
+    step_hint: Option<f64>,
+    /// Largest RK4 sub-step from the fastest linearised mode, T_fast/32, s.
+    h_fast: f64,
+    /// Angular frequency of the fastest linearised mode, rad/s.
+    omega_fast: f64,
+    dydt: [f64; N_STATES],
+}
+
+/// Largest eigenvalue ω of K v = ω² J v for two inertias `j` and a symmetric stiffness `k`.
+fn fastest_2x2(j: [f64; 2], k: [[f64; 2]; 2]) -> f64 {
+    let a = k[0][0] / j[0];
+    let d = k[1][1] / j[1];
+    let b = k[0][1] / (j[0] * j[1]).sqrt();
+    let mean = 0.5 * (a + d);
+    let rad = (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    (mean + rad).max(0.0).sqrt()
+}
+
+impl<M: MeshTorques + Clone> DriveUnit<M> {
+    /// A unit of `kind` with mesh `mesh`, drivetrain `drive` (validated; `drive.torque` > 0 is
+    /// the nominal load of the static start and of the mesh-stiffness estimate behind the
+    /// low-speed step bound) and integration `stepping`. Time 0, state 0, inputs 0 (Drive:
+    /// torque = `drive.torque`).
+    ///
+    /// Errors: invalid drivetrain, stepping or torque (named), or a mesh that fails at the
+    /// static equilibrium used to estimate its stiffness.
+    pub fn new(
+        kind: UnitKind,
+        mut mesh: M,
+        drive: Drivetrain,
+        stepping: UnitStepping,
+    ) -> Result<Self, DynamicsError> {
+        drive.validate()?;
+        if !(drive.torque > 0.0) {
+            return Err(invalid(
+                "torque",
+                drive.torque,
+                "> 0 (N·m; the nominal load of the static start and the step bound)",
+            ));
+        }
+        let dopri = match stepping {
+            UnitStepping::Rk4 { steps_per_mesh_period } => {
+                if steps_per_mesh_period < 4 {
+                    return Err(invalid(
+                        "steps_per_mesh_period",
+                        steps_per_mesh_period as f64,
+                        ">= 4",
+                    ));
+                }
+                None
+            }
+            UnitStepping::Dopri5 { rtol, atol } => {
+                if !(rtol.is_finite() && rtol > 0.0) {
+                    return Err(invalid("rtol", rtol, "finite and > 0"));
+                }
+                if !(atol.is_finite() && atol > 0.0) {
+                    return Err(invalid("atol", atol, "finite and > 0"));
+                }
+                let opts = Dopri5Options::with_tolerances(rtol, atol);
+                Some(Dopri5::new(kind.n_states(), opts)?)
+            }
+        };
+        let k = mesh_stiffness(&mut mesh, 0.0, drive.torque)
+            .map_err(|source| DynamicsError::Mesh { t: None, source })?;
+        if !(k.is_finite() && k > 0.0) {
+            return Err(invalid("mesh stiffness", k, "finite and > 0 at the nominal load (N/m)"));
+        }
+        mesh.forget_history();
+        let model = GearDynamics::new(mesh, drive)?;
+        let (gp, gg) = model.base_radii();
+        let d = &drive;
+        let (c1, c2) = if kind == UnitKind::Pair { (0.0, 0.0) } else { (d.c1, d.c2) };
+        let hub = fastest_2x2(
+            [d.j_p, d.j_g],
+            [[c1 + k * gp * gp, k * gp * gg], [k * gp * gg, c2 + k * gg * gg]],
+        );
+        let omega_fast = match kind {
+            UnitKind::Drive => hub.max(d.linear_frequencies(k, gp, gg)[3]),
+            _ => hub,
+        };
+        let h_fast = 2.0 * std::f64::consts::PI / omega_fast / STEPS_PER_FAST_PERIOD;
+        let inputs = UnitInputs { torque: drive.torque, ..UnitInputs::default() };
+        Ok(Self {
+            sys: UnitSystem { kind, model, inputs, input_time: 0.0, extrapolate: true },
+            stepping,
+            drive0: drive,
+            t: 0.0,
+            y: [0.0; N_STATES],
+            rk4: Rk4::new(kind.n_states()),
+            dopri,
+            step_hint: None,
+            h_fast,
+            omega_fast,
+            dydt: [0.0; N_STATES],
+        })
+    }
+
+    /// Which part of the drive line the unit holds.
+    pub fn kind(&self) -> UnitKind {
+        self.sys.kind
+    }
+
+    /// Number of states (4 or 8).
+    pub fn n_states(&self) -> usize {
+        self.sys.kind.n_states()
+    }
+
+    /// State names in state order.
+    pub fn state_names(&self) -> &'static [&'static str] {
+        self.sys.kind.state_names()
+    }
+
+    /// The integration settings.
+    pub fn stepping(&self) -> UnitStepping {
+        self.stepping
+    }
+
+    /// The drivetrain (torque: the nominal load given at construction).
+    pub fn drive(&self) -> &Drivetrain {
+        &self.drive0
+    }
+
+    /// Angular frequency of the unit's fastest linearised mode (the mesh mode) at the nominal
+    /// load, rad/s; it bounds the RK4 sub-step at low speed (see the module doc).
+    pub fn fastest_mode(&self) -> f64 {
+        self.omega_fast
+    }
+
+    /// Current time, s.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// Current state (length [`Self::n_states`]), rad and rad/s.
+    pub fn state(&self) -> &[f64] {
+        &self.y[..self.n_states()]
+    }
+
+    /// Sets the time (s, finite).
+    pub fn set_time(&mut self, t: f64) -> Result<(), DynamicsError> {
+        if !t.is_finite() {
+            return Err(invalid("t", t, "finite (s)"));
+        }
+        self.t = t;
+        Ok(())
+    }
+
+    /// Sets the state (length [`Self::n_states`], every component finite).
+    pub fn set_state(&mut self, y: &[f64]) -> Result<(), DynamicsError> {
+        let n = self.n_states();
+        if y.len() != n {
+            return Err(invalid("state length", y.len() as f64, "the unit's number of states"));
+        }
+        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
+            return Err(invalid("state component", *v, "finite"));
+        }
+        self.y[..n].copy_from_slice(y);
+        Ok(())
+    }
+
+    /// The inputs as set.
+    pub fn inputs(&self) -> &UnitInputs {
+        &self.sys.inputs
+    }
+
+    /// Time at which the inputs were set, s (origin of the Stage's far-end extrapolation).
+    pub fn input_time(&self) -> f64 {
+        self.sys.input_time
+    }
+
+    /// Sets the inputs (every field finite), valid from the current time on.
+    pub fn set_inputs(&mut self, u: UnitInputs) -> Result<(), DynamicsError> {
+        u.check()?;
+        self.sys.inputs = u;
+        self.sys.input_time = self.t;
+        self.sys.model.set_torque(u.torque);
+        Ok(())
+    }
+
+    /// Static equilibrium at nominal pinion speed `w_p_start` (rad/s, finite), φp = 0, under
+    /// the nominal torque `drive.torque` (as [`super::simulate`]'s start,
+    /// [`GearDynamics::static_start`]): sets the time to `t0`, the state to the equilibrium's
+    /// and the inputs to the ones that keep it (Pair: tau_p = M, tau_g = the shaft's torque on
+    /// the gear hub; Stage: the far ends of the 8-state start; Drive: M = `drive.torque`).
+    /// The DOPRI5 step hint is cleared.
+    pub fn start_static(
+        &mut self,
+        t0: f64,
+        w_p_start: f64,
+        settings: &EquilibriumSettings,
+    ) -> Result<StaticStart, DynamicsError> {
+        if !t0.is_finite() {
+            return Err(invalid("t0", t0, "finite (s)"));
+        }
+        let m = self.drive0.torque;
+        self.sys.model.set_torque(m);
+        let start = match self.sys.model.static_start(0.0, w_p_start, settings) {
+            Ok(s) => s,
+            Err(e) => {
+                self.sys.model.set_torque(self.sys.inputs.torque);
+                return Err(e);
+            }
+        };
+        let y = start.y;
+        let (s1, s2) = shaft_torques(
+            &self.drive0,
+            [y[PHI_1], y[W_1], y[PHI_2], y[W_2]],
+            [y[PHI_P], y[PHI_G], y[W_P], y[W_G]],
+        );
+        let mut u = UnitInputs { torque: m, ..UnitInputs::default() };
+        match self.sys.kind {
+            UnitKind::Pair => {
+                u.tau_p = s1;
+                u.tau_g = -s2;
+            }
+            UnitKind::Stage => {
+                u.phi_1 = y[PHI_1];
+                u.w_1 = y[W_1];
+                u.phi_2 = y[PHI_2];
+                u.w_2 = y[W_2];
+            }
+            UnitKind::Drive => {}
+        }
+        match self.sys.kind {
+            UnitKind::Drive => self.y = y,
+            _ => self.y[..4].copy_from_slice(&[y[PHI_P], y[PHI_G], y[W_P], y[W_G]]),
+        }
+        self.t = t0;
+        self.step_hint = None;
+        self.set_inputs(u)?;
+        Ok(start)
+    }
+
+    /// Largest RK4 sub-step at the current state, s: min(T_m/N, T_fast/32) (module doc).
+    fn rk4_max_step(&self, steps_per_mesh_period: u32) -> f64 {
+        let [_, _, iw, _] = self.sys.kind.hub_indices();
+        let w = self.y[iw].abs();
+        let z = self.drive0.z_p as f64;
+        let t_m = 2.0 * std::f64::consts::PI / (z * w);
+        (t_m / steps_per_mesh_period as f64).min(self.h_fast)
+    }
+
+    /// Advances from time() to time()+h (h > 0, finite), inputs held over the step (Stage: the
+    /// far-end angles move with their given rates, phi_1(t) = phi_1 + w_1·(t − t_u), t_u the
+    /// time the inputs were set). On error: state, time and step hint unchanged, the error
+    /// names the time and the cause.
+    pub fn advance(&mut self, h: f64) -> Result<(), DynamicsError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(invalid("h", h, "finite and > 0 (s)"));
+        }
+        let n = self.n_states();
+        let t0 = self.t;
+        let t1 = t0 + h;
+        if !t1.is_finite() {
+            return Err(invalid("t + h", t1, "finite (s)"));
+        }
+        let y0 = self.y;
+        self.sys.extrapolate = true;
+        self.sys.forget_history(&self.y[..n]);
+        let result = match self.stepping {
+            UnitStepping::Rk4 { steps_per_mesh_period } => {
+                let h_max = self.rk4_max_step(steps_per_mesh_period);
+                let steps = (h / h_max).ceil().max(1.0);
+                if steps > 1e12 {
+                    return Err(invalid("h", h, "at most 1e12 RK4 sub-steps of the unit's grid"));
+                }
+                let steps = steps as u64;
+                let hs = h / steps as f64;
+                let mut r = Ok(());
+                for i in 0..steps {
+                    let t = if i == 0 { t0 } else { t0 + i as f64 * hs };
+                    if let Err(e) = self.rk4.step(&mut self.sys, t, hs, &mut self.y[..n]) {
+                        r = Err(e);
+                        break;
+                    }
+                }
+                r
+            }
+            UnitStepping::Dopri5 { .. } => {
+                let dp = self.dopri.as_mut().expect("Dopri5 stepping has its workspace");
+                match dp.set_h_init(self.step_hint) {
+                    Err(e) => Err(e),
+                    Ok(()) => dp
+                        .integrate(&mut self.sys, t0, t1, &mut self.y[..n], |_| {
+                            ControlFlow::Continue(())
+                        })
+                        .map(|stats| {
+                            let hn = stats.h_next;
+                            self.step_hint = (hn.is_finite() && hn > 0.0).then_some(hn);
+                        }),
+                }
+            }
+        };
+        match result {
+            Ok(()) => {
+                self.t = t1;
+                Ok(())
+            }
+            Err(e) => {
+                self.y = y0;
+                Err(e.into())
+            }
+        }
+    }
+
+    /// The outputs at the current time and state (the mesh evaluated from a clean history, see
+    /// the module doc). Errors: a mesh failure, with the current time.
+    pub fn outputs(&mut self) -> Result<UnitOutputs, DynamicsError> {
+        let n = self.n_states();
+        let t = self.t;
+        self.sys.extrapolate = true;
+        self.sys.forget_history(&self.y[..n]);
+        let mut dydt = self.dydt;
+        self.sys.rhs(t, &self.y[..n], &mut dydt[..n]).map_err(DynamicsError::from)?;
+        let o = self.sys.mesh(t, &self.y[..n]).map_err(DynamicsError::from)?;
+        let hub = self.sys.hub(&self.y);
+        let [.., iwp, iwg] = self.sys.kind.hub_indices();
+        let mut out = UnitOutputs {
+            phi_p: hub[0],
+            w_p: hub[2],
+            a_p: dydt[iwp],
+            phi_g: hub[1],
+            w_g: hub[3],
+            a_g: dydt[iwg],
+            mesh: o,
+            ..UnitOutputs::default()
+        };
+        let far = match self.sys.kind {
+            UnitKind::Pair => None,
+            UnitKind::Stage => Some(self.sys.far_ends(t)),
+            UnitKind::Drive => {
+                let y = &self.y;
+                Some([y[PHI_1], y[W_1], y[PHI_2], y[W_2]])
+            }
+        };
+        match far {
+            None => {
+                out.tau_p = self.sys.inputs.tau_p;
+                out.tau_g = self.sys.inputs.tau_g;
+            }
+            Some(f) => {
+                let (s1, s2) = shaft_torques(self.sys.model.drive(), f, hub);
+                [out.phi_1, out.w_1, out.phi_2, out.w_2] = f;
+                out.tau_1 = -s1;
+                out.tau_2 = s2;
+                out.tau_p = s1;
+                out.tau_g = -s2;
+            }
+        }
+        Ok(out)
+    }
+
+    /// Model Exchange: state derivative at (`t`, `y`) with the inputs as set (no
+    /// extrapolation), into `dydt` (both of length [`Self::n_states`]).
+    pub fn derivatives(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        dydt: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let n = self.n_states();
+        if y.len() != n || dydt.len() != n {
+            return Err(invalid(
+                "y/dydt length",
+                y.len().max(dydt.len()) as f64,
+                "the unit's number of states",
+            ));
+        }
+        if !t.is_finite() {
+            return Err(invalid("t", t, "finite (s)"));
+        }
+        if let Some(v) = y.iter().find(|v| !v.is_finite()) {
+            return Err(invalid("state component", *v, "finite"));
+        }
+        self.sys.extrapolate = false;
+        let r = self.sys.rhs(t, y, dydt);
+        self.sys.extrapolate = true;
+        r?;
+        if let Some(v) = dydt.iter().find(|v| !v.is_finite()) {
+            return Err(invalid("derivative component", *v, "finite"));
+        }
+        Ok(())
+    }
+
+    /// Model Exchange: linearisation at the current (t, y, u), inputs as set (no
+    /// extrapolation), from [`MeshTorques::mesh_jacobian`] (exact, no finite differences):
+    /// A = ∂f/∂x, B = ∂f/∂u, C = ∂out/∂x, D = ∂out/∂u, with u and out in the orders of
+    /// [`UnitLinearization::inputs`] / [`UnitLinearization::outputs`].
+    ///
+    /// Errors: the mesh's error ([`crate::mesh::MeshError::Unsupported`] for meshes without derivatives),
+    /// with the current time.
+    pub fn linearize(&mut self) -> Result<UnitLinearization, DynamicsError> {
+        let kind = self.sys.kind;
+        let n = kind.n_states();
+        let t = self.t;
+        let hub = self.sys.hub(&self.y);
+        let state = MeshState { phi_p: hub[0], phi_g: hub[1], w_p: hub[2], w_g: hub[3] };
+        let (_, jac) = self
+            .sys
+            .model
+            .mesh_mut()
+            .mesh_jacobian(&state)
+            .map_err(|source| DynamicsError::Mesh { t: Some(t), source })?;
+        let d = *self.sys.model.drive();
+        let (gp, gg) = self.sys.model.base_radii();
+        let idx = kind.hub_indices();
+        let inputs = UnitLinearization::inputs(kind);
+        let outputs = UnitLinearization::outputs(kind);
+        let n_u = inputs.len();
+        let n_y = outputs.len();
+        let mut a = vec![0.0; n * n];
+        let mut b = vec![0.0; n * n_u];
+        // Mesh torque rows in state columns: dm[r][col].
+        let mut dm = [[0.0; N_STATES]; 4];
+        for (r, row) in dm.iter_mut().enumerate() {
+            for (c, &i) in idx.iter().enumerate() {
+                row[i] += jac.d[r][c];
+            }
+        }
+        let (ipp, ipg, iwp, iwg) = (idx[0], idx[1], idx[2], idx[3]);
+        // Kinematic rows: φ' = ω.
+        for i in 0..n / 2 {
+            a[i * n + n / 2 + i] = 1.0;
+        }
+        // Shaft torques s1 (on the pinion hub) and s2 (gear shaft) as linear forms in
+        // (x, u): coefficients on the state and on the inputs.
+        let mut s1x = [0.0; N_STATES];
+        let mut s2x = [0.0; N_STATES];
+        let mut s1u = [0.0; 4];
+        let mut s2u = [0.0; 4];
+        match kind {
+            UnitKind::Pair => {
+                // tau_p = u0, tau_g = u1 = −s2 → s2 = −u1.
+                s1u[0] = 1.0;
+                s2u[1] = -1.0;
+            }
+            UnitKind::Stage => {
+                s1x[ipp] = -d.c1;
+                s1x[iwp] = -d.d1;
+                s1u[0] = d.c1;
+                s1u[1] = d.d1;
+                s2x[ipg] = d.c2;
+                s2x[iwg] = d.d2;
+                s2u[2] = -d.c2;
+                s2u[3] = -d.d2;
+            }
+            UnitKind::Drive => {
+                s1x[PHI_1] = d.c1;
+                s1x[PHI_P] = -d.c1;
+                s1x[W_1] = d.d1;
+                s1x[W_P] = -d.d1;
+                s2x[PHI_G] = d.c2;
+                s2x[PHI_2] = -d.c2;
+                s2x[W_G] = d.d2;
+                s2x[W_2] = -d.d2;
+            }
+        }
+        let m = MeshJacobian::M_F_P;
+        let (mfp, mfg, mdp, mdg) =
+            (m, MeshJacobian::M_F_G, MeshJacobian::M_D_P, MeshJacobian::M_D_G);
+        for c in 0..n {
+            a[iwp * n + c] = (s1x[c] - dm[mfp][c] - dm[mdp][c]) / d.j_p;
+            a[iwg * n + c] = (-s2x[c] - dm[mfg][c] - dm[mdg][c]) / d.j_g;
+        }
+        for c in 0..n_u {
+            b[iwp * n_u + c] = s1u[c] / d.j_p;
+            b[iwg * n_u + c] = -s2u[c] / d.j_g;
+        }
+        if kind == UnitKind::Drive {
+            for c in 0..n {
+                a[W_1 * n + c] = -s1x[c] / d.j1;
+                a[W_2 * n + c] = s2x[c] / d.j2;
+            }
+            b[W_1 * n_u] = 1.0 / d.j1;
+            b[W_2 * n_u] = d.z_g as f64 / d.z_p as f64 / d.j2;
+        }
+        // Output rows.
+        let mut c_mat = vec![0.0; n_y * n];
+        let mut d_mat = vec![0.0; n_y * n_u];
+        let names = kind.state_names();
+        for (r, name) in outputs.iter().enumerate() {
+            let crow = &mut c_mat[r * n..(r + 1) * n];
+            let drow = &mut d_mat[r * n_u..(r + 1) * n_u];
+            if let Some(i) = names.iter().position(|s| s == name) {
+                crow[i] = 1.0;
+                continue;
+            }
+            match *name {
+                "a_p" | "a_g" => {
+                    let i = if *name == "a_p" { iwp } else { iwg };
+                    crow.copy_from_slice(&a[i * n..(i + 1) * n]);
+                    drow.copy_from_slice(&b[i * n_u..(i + 1) * n_u]);
+                }
+                "tau_1" => {
+                    for (cv, s) in crow.iter_mut().zip(&s1x) {
+                        *cv = -s;
+                    }
+                    for (dv, s) in drow.iter_mut().zip(&s1u) {
+                        *dv = -s;
+                    }
+                }
+                "tau_2" => {
+                    crow.copy_from_slice(&s2x[..n]);
+                    drow.copy_from_slice(&s2u[..n_u]);
+                }
+                "M_F_p" => crow.copy_from_slice(&dm[mfp][..n]),
+                "M_F_g" => crow.copy_from_slice(&dm[mfg][..n]),
+                "M_D_p" => crow.copy_from_slice(&dm[mdp][..n]),
+                "M_D_g" => crow.copy_from_slice(&dm[mdg][..n]),
+                "TE" => {
+                    crow[ipp] = gp;
+                    crow[ipg] = gg;
+                }
+                other => unreachable!("output `{other}` has no linearisation row"),
+            }
+        }
+        Ok(UnitLinearization { n_x: n, n_u, n_y, a, b, c: c_mat, d: d_mat })
+    }
+
+    /// Everything needed to continue bit for bit: time, state, inputs (and the time they were
+    /// set), integrator step hint.
+    pub fn snapshot(&self) -> UnitSnapshot {
+        UnitSnapshot {
+            kind: self.sys.kind,
+            time: self.t,
+            state: self.state().to_vec(),
+            inputs: self.sys.inputs,
+            input_time: self.sys.input_time,
+            step_hint: self.step_hint,
+        }
+    }
+
+    /// Restores a snapshot of a unit of the same kind (checked, as are all values: finite,
+    /// right length, step hint > 0).
+    pub fn restore(&mut self, s: &UnitSnapshot) -> Result<(), DynamicsError> {
+        if s.kind != self.sys.kind {
+            return Err(invalid("snapshot kind", s.kind.n_states() as f64, "the unit's kind"));
+        }
+        let n = self.n_states();
+        if s.state.len() != n {
+            return Err(invalid("snapshot state length", s.state.len() as f64, "the unit's"));
+        }
+        if let Some(v) = s.state.iter().find(|v| !v.is_finite()) {
+            return Err(invalid("snapshot state component", *v, "finite"));
+        }
+        s.inputs.check()?;
+        for (name, v) in [("snapshot time", s.time), ("snapshot input_time", s.input_time)] {
+            if !v.is_finite() {
+                return Err(invalid(name, v, "finite (s)"));
+            }
+        }
+        if let Some(h) = s.step_hint
+            && !(h.is_finite() && h > 0.0)
+        {
+            return Err(invalid("snapshot step_hint", h, "finite and > 0 (s)"));
+        }
+        self.t = s.time;
+        self.y[..n].copy_from_slice(&s.state);
+        self.sys.inputs = s.inputs;
+        self.sys.input_time = s.input_time;
+        self.sys.model.set_torque(s.inputs.torque);
+        self.step_hint = s.step_hint;
+        Ok(())
+    }
+
+    /// The mesh model.
+    pub fn mesh(&self) -> &M {
+        self.sys.model.mesh()
+    }
+
+    /// The mesh model, mutable (the remembered evaluation is dropped).
+    pub fn mesh_mut(&mut self) -> &mut M {
+        self.sys.model.mesh_mut()
+    }
+
+    /// Actual mesh evaluations so far (remembered ones not counted).
+    pub fn mesh_evaluations(&self) -> usize {
+        self.sys.model.mesh_evaluations()
+    }
+}

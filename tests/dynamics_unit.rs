@@ -1,0 +1,552 @@
+//! Stateful drive-line units (`dynamics::unit`): agreement with `dynamics::simulate`,
+//! co-simulation of the drive line cut at the shafts (Stage) and at the hubs (Pair) with a
+//! zero-order-hold master, snapshots, failures, stability at rest and the linearisation.
+//!
+//! The Table 1 pair runs at table fidelity with the default table (64 × 48 nodes, built once
+//! for the whole file, a few seconds).
+
+use std::sync::OnceLock;
+
+use helical_gear_mesh::dynamics::model::{PHI_1, PHI_2, W_1, W_2};
+use helical_gear_mesh::dynamics::{
+    Clearance, ConstantStiffnessMesh, DriveUnit, Drivetrain, DynamicsError, GearDynamics,
+    PeriodicStiffnessMesh, Stepping, UnitInputs, UnitKind, UnitLinearization, UnitSnapshot,
+    UnitStepping, simulate,
+};
+use helical_gear_mesh::geometry::PairGeometry;
+use helical_gear_mesh::mesh::statics::EquilibriumSettings;
+use helical_gear_mesh::mesh::{
+    Fidelity, MeshError, MeshModel, MeshOptions, MeshOutputs, MeshState, MeshTorques,
+};
+use helical_gear_mesh::params::GearPair;
+
+/// The Table 1 pair at table fidelity (built once) and its drivetrain.
+fn table_mesh() -> (MeshModel, Drivetrain) {
+    static MESH: OnceLock<(MeshModel, Drivetrain)> = OnceLock::new();
+    let (m, d) = MESH.get_or_init(|| {
+        let pair = GearPair::paper_table1();
+        let options = MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() };
+        let mesh = MeshModel::new(&pair, options).unwrap();
+        (mesh, Drivetrain::from_pair(&pair).unwrap())
+    });
+    (m.clone(), *d)
+}
+
+fn rk4(n: u32) -> UnitStepping {
+    UnitStepping::Rk4 { steps_per_mesh_period: n }
+}
+
+fn started(kind: UnitKind, stepping: UnitStepping, omega: f64) -> DriveUnit<MeshModel> {
+    let (mesh, drive) = table_mesh();
+    let mut u = DriveUnit::new(kind, mesh, drive, stepping).unwrap();
+    u.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    u
+}
+
+#[test]
+fn drive_unit_with_rk4_reproduces_simulate_bit_for_bit() {
+    // Bit for bit: the Drive unit's right-hand side is GearDynamics' own, each advance of one
+    // simulate step is one RK4 step (the unit's grid, T_m/64, is coarser than the step), and
+    // the table mesh has no history, so the arithmetic is the same operation for operation.
+    let omega = 532.0;
+    let (mesh, drive) = table_mesh();
+    let dt = drive.mesh_period(omega) / 128.0;
+    let n = 30 * 128;
+    let mut model = GearDynamics::new(mesh.clone(), drive).unwrap();
+    let start = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    let tr = simulate(&mut model, &start.y, n as f64 * dt, &Stepping::Rk4 { dt }).unwrap();
+    let mut unit = DriveUnit::new(UnitKind::Drive, mesh, drive, rk4(64)).unwrap();
+    let s2 = unit.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    assert_eq!(s2.y, start.y);
+    for i in 1..=n {
+        unit.advance(dt).unwrap();
+        assert_eq!(unit.state(), &tr.states[i][..], "state differs at step {i}");
+    }
+    let o = unit.outputs().unwrap();
+    assert_eq!(o.mesh.te.to_bits(), tr.outputs[n].te.to_bits());
+    // Steady running under M: the shaft torques balance M and the load.
+    assert!((o.tau_1 + drive.torque).abs() < 0.05 * drive.torque, "tau_1 = {}", o.tau_1);
+}
+
+/// Co-simulation of the drive line cut at the shafts: J1 and J2 in the master, the Stage unit
+/// with the shafts, hubs and mesh. Zero-order hold at the communication points t_k = k·H:
+/// the master gives the far-end motion, the unit the shaft torques. Returns TE at the t_k.
+fn stage_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
+    let mut stage = started(UnitKind::Stage, rk4(128), omega);
+    let d = *stage.drive();
+    let y = stage_start(omega);
+    let (mut p1, mut w1, mut p2, mut w2) = (y[PHI_1], y[W_1], y[PHI_2], y[W_2]);
+    let load = d.torque * d.z_g as f64 / d.z_p as f64;
+    let mut te = Vec::with_capacity(n + 1);
+    for k in 0..=n {
+        stage
+            .set_inputs(UnitInputs { phi_1: p1, w_1: w1, phi_2: p2, w_2: w2, ..Default::default() })
+            .unwrap();
+        let o = stage.outputs().unwrap();
+        te.push(o.mesh.te);
+        if k == n {
+            break;
+        }
+        // The master: J1·φ1'' = M + tau_1, J2·φ2'' = M·z_g/z_p + tau_2, torques held: exact.
+        let a1 = (d.torque + o.tau_1) / d.j1;
+        let a2 = (load + o.tau_2) / d.j2;
+        stage.advance(h).unwrap();
+        p1 += w1 * h + 0.5 * a1 * h * h;
+        w1 += a1 * h;
+        p2 += w2 * h + 0.5 * a2 * h * h;
+        w2 += a2 * h;
+    }
+    te
+}
+
+/// The 8-state static start of the whole drive line at `omega`.
+fn stage_start(omega: f64) -> [f64; 8] {
+    let (mesh, drive) = table_mesh();
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap().y
+}
+
+/// Co-simulation cut at the hubs: J1, J2 and the shafts in the master, the Pair unit with the
+/// hubs and the mesh. At t_k the master computes the shaft torques on the hubs from its state
+/// and the unit's hub motion; over the step the unit holds them and the master integrates J1
+/// and J2 (RK4, 8 sub-steps) against the hub motion extrapolated with the rates of t_k.
+fn pair_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
+    pair_cut_with(omega, h, n, false)
+}
+
+/// [`pair_cut`] with the held shaft torques taken at mid-step (`mid`): from the master's state
+/// and the unit's hub motion at t_k, both extrapolated linearly to t_k + H/2.
+fn pair_cut_mid(omega: f64, h: f64, n: usize) -> Vec<f64> {
+    pair_cut_with(omega, h, n, true)
+}
+
+fn pair_cut_with(omega: f64, h: f64, n: usize, mid: bool) -> Vec<f64> {
+    let mut pair = started(UnitKind::Pair, rk4(128), omega);
+    let d = *pair.drive();
+    let y = stage_start(omega);
+    let mut m = [y[PHI_1], y[W_1], y[PHI_2], y[W_2]];
+    let load = d.torque * d.z_g as f64 / d.z_p as f64;
+    let mut te = Vec::with_capacity(n + 1);
+    for k in 0..=n {
+        let o = pair.outputs().unwrap();
+        te.push(o.mesh.te);
+        if k == n {
+            break;
+        }
+        let hub = [o.phi_p, o.w_p, o.phi_g, o.w_g];
+        let e = if mid { 0.5 * h } else { 0.0 };
+        let s1 = d.c1 * (m[0] + m[1] * e - hub[0] - hub[1] * e) + d.d1 * (m[1] - hub[1]);
+        let s2 = d.c2 * (hub[2] + hub[3] * e - m[2] - m[3] * e) + d.d2 * (hub[3] - m[3]);
+        pair.set_inputs(UnitInputs { tau_p: s1, tau_g: -s2, ..Default::default() }).unwrap();
+        pair.advance(h).unwrap();
+        // Master: J1 φ1'' = M − c1(φ1 − φp(t)) − d1(φ̇1 − φ̇p), J2 φ2'' = M·z_g/z_p +
+        // c2(φg(t) − φ2) + d2(φ̇g − φ̇2), hub motion φ(t) = φ(t_k) + φ̇(t_k)·s.
+        let f = |s: f64, x: [f64; 4]| -> [f64; 4] {
+            let pp = hub[0] + hub[1] * s;
+            let pg = hub[2] + hub[3] * s;
+            let t1 = d.c1 * (x[0] - pp) + d.d1 * (x[1] - hub[1]);
+            let t2 = d.c2 * (pg - x[2]) + d.d2 * (hub[3] - x[3]);
+            [x[1], (d.torque - t1) / d.j1, x[3], (load + t2) / d.j2]
+        };
+        let sub = 8;
+        let hs = h / sub as f64;
+        for i in 0..sub {
+            let s = i as f64 * hs;
+            let add = |x: [f64; 4], k: [f64; 4], c: f64| std::array::from_fn(|j| x[j] + c * k[j]);
+            let k1 = f(s, m);
+            let k2 = f(s + 0.5 * hs, add(m, k1, 0.5 * hs));
+            let k3 = f(s + 0.5 * hs, add(m, k2, 0.5 * hs));
+            let k4 = f(s + hs, add(m, k3, hs));
+            m = std::array::from_fn(|j| {
+                m[j] + hs / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
+            });
+        }
+    }
+    te
+}
+
+/// TE at t_k = k·H of the whole 4-DOF model by `simulate`, RK4 at a fine step (at most T_m/256,
+/// a whole fraction of H).
+fn reference(omega: f64, h: f64, n: usize) -> Vec<f64> {
+    let (mesh, drive) = table_mesh();
+    let m = (h / (drive.mesh_period(omega) / 256.0)).ceil() as usize;
+    let dt = h / m as f64;
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    let start = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    let tr = simulate(&mut model, &start.y, (n * m) as f64 * dt, &Stepping::Rk4 { dt }).unwrap();
+    (0..=n).map(|k| tr.outputs[k * m].te).collect()
+}
+
+/// Largest |TE − TE_ref| relative to the largest |TE_ref|.
+fn rel_err(te: &[f64], reference: &[f64]) -> f64 {
+    assert_eq!(te.len(), reference.len());
+    let scale = reference.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let err = te.iter().zip(reference).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    err / scale
+}
+
+/// Communication steps covering about 30 mesh periods at `omega`.
+fn steps_for(omega: f64, h: f64) -> usize {
+    let (_, drive) = table_mesh();
+    (30.0 * drive.mesh_period(omega) / h).ceil() as usize
+}
+
+/// TE error of `cut` against the reference at `omega` and `h` over about 30 mesh periods.
+fn cut_error(cut: fn(f64, f64, usize) -> Vec<f64>, name: &str, omega: f64, h: f64) -> f64 {
+    let n = steps_for(omega, h);
+    let e = rel_err(&cut(omega, h, n), &reference(omega, h, n));
+    eprintln!("{name} cut, ω_p = {omega} rad/s, H = {h:e} s: TE error {e:.2e}");
+    e
+}
+
+#[test]
+fn stage_cut_cosimulation_follows_the_whole_model() {
+    for omega in [300.0, 532.0] {
+        let e = cut_error(stage_cut, "stage", omega, 1e-4);
+        assert!(e < 1e-4, "stage cut at {omega} rad/s, H = 1e-4 s: TE error {e:e}");
+        let e = cut_error(stage_cut, "stage", omega, 1e-3);
+        assert!(e.is_finite() && e < 1e-3, "stage cut at {omega} rad/s, H = 1e-3 s: {e:e}");
+    }
+}
+
+/// The cut at the hubs does NOT reach 1e-4 at H = 1e-4 s: the hubs' rigid mode on the shafts
+/// (J_p and J_g turning together against c₁ and c₂, ≈ 710 rad/s for Table 1) takes its whole
+/// stiffness from the master, which the held shaft torques give with a delay, so the error is
+/// of first order in H (measured 1.6e-3 at 300 rad/s and 5.3e-3 at 532 rad/s, see the README).
+/// Asserted: bounded at both steps and first-order convergence.
+#[test]
+fn pair_cut_cosimulation_is_bounded_and_converges_at_first_order() {
+    let (_, d) = table_mesh();
+    let r = (d.z_p as f64 / d.z_g as f64).powi(2);
+    let w_hub = ((d.c1 + d.c2 * r) / (d.j_p + d.j_g * r)).sqrt();
+    eprintln!("hubs' rigid mode on the shafts: {w_hub:.0} rad/s");
+    for omega in [300.0, 532.0] {
+        let e = cut_error(pair_cut, "pair", omega, 1e-4);
+        assert!(e < 1e-2, "pair cut at {omega} rad/s, H = 1e-4 s: TE error {e:e}");
+        let e = cut_error(pair_cut, "pair", omega, 1e-3);
+        assert!(e.is_finite() && e < 5e-2, "pair cut at {omega} rad/s, H = 1e-3 s: {e:e}");
+    }
+    let e1 = cut_error(pair_cut, "pair", 300.0, 1e-4);
+    let e2 = cut_error(pair_cut, "pair", 300.0, 0.5e-4);
+    assert!(e2 < 0.7 * e1, "halving H: {e1:e} → {e2:e}");
+}
+
+/// The co-simulation error table of the README: TE error against the reference for H from
+/// T_m/16 to 1 ms, both cuts, both speeds. `cargo test --test dynamics_unit -- --ignored`.
+#[test]
+#[ignore]
+fn cosimulation_error_table() {
+    let (_, drive) = table_mesh();
+    println!("| ω_p, rad/s | H | stage cut | pair cut | pair cut, mid-step torque |");
+    println!("| --- | --- | --- | --- | --- |");
+    for omega in [300.0, 532.0] {
+        let t_m = drive.mesh_period(omega);
+        for (label, h) in [
+            ("T_m/16".to_string(), t_m / 16.0),
+            ("1e-4 s".into(), 1e-4),
+            ("2.8e-4 s".into(), 2.8e-4),
+            ("1e-3 s".into(), 1e-3),
+        ] {
+            let n = steps_for(omega, h);
+            let r = reference(omega, h, n);
+            let es = rel_err(&stage_cut(omega, h, n), &r);
+            let ep = rel_err(&pair_cut(omega, h, n), &r);
+            let em = rel_err(&pair_cut_mid(omega, h, n), &r);
+            println!("| {omega} | {label} ({h:.3e} s) | {es:.1e} | {ep:.1e} | {em:.1e} |");
+        }
+    }
+}
+
+/// Runs `unit` over a fixed pattern of variable communication steps with Stage inputs moving
+/// like the shaft ends of the static start `u0` (at their rates), and returns the TE after each step.
+fn run_pattern(unit: &mut DriveUnit<MeshModel>, steps: usize, u0: UnitInputs) -> Vec<f64> {
+    let pattern = [3.1e-5, 1e-4, 7.7e-5, 2.3e-4, 1.3e-5];
+    let mut te = Vec::new();
+    for i in 0..steps {
+        // The far ends of the static start, moving at the nominal speeds.
+        let t = unit.time();
+        let u = UnitInputs { phi_1: u0.phi_1 + u0.w_1 * t, phi_2: u0.phi_2 + u0.w_2 * t, ..u0 };
+        unit.set_inputs(u).unwrap();
+        unit.advance(pattern[i % pattern.len()]).unwrap();
+        te.push(unit.outputs().unwrap().mesh.te);
+    }
+    te
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// Snapshot in mid-run, then: the original continues; a clone continues; a fresh unit built
+/// from the same parameters restores the serialised snapshot and continues. All three agree
+/// bit for bit.
+fn check_snapshot(mesh: MeshModel, drive: Drivetrain, stepping: UnitStepping, steps: usize) {
+    let omega = 400.0;
+    let mut a = DriveUnit::new(UnitKind::Stage, mesh.clone(), drive, stepping).unwrap();
+    a.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    let u0 = *a.inputs();
+    run_pattern(&mut a, steps, u0);
+    let snap = a.snapshot();
+    let json = serde_json::to_string(&snap).unwrap();
+    let mut b = a.clone();
+    let cont_a = run_pattern(&mut a, steps, u0);
+    let cont_b = run_pattern(&mut b, steps, u0);
+    let mut c = DriveUnit::new(UnitKind::Stage, mesh, drive, stepping).unwrap();
+    let back: UnitSnapshot = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, snap);
+    c.restore(&back).unwrap();
+    let cont_c = run_pattern(&mut c, steps, u0);
+    // And the original itself, rewound.
+    a.restore(&snap).unwrap();
+    let cont_a2 = run_pattern(&mut a, steps, u0);
+    assert_eq!(bits(&cont_a), bits(&cont_b), "clone ({stepping:?})");
+    assert_eq!(bits(&cont_a), bits(&cont_c), "serialised snapshot ({stepping:?})");
+    assert_eq!(bits(&cont_a), bits(&cont_a2), "rewound ({stepping:?})");
+    assert_eq!(a.state(), c.state());
+    assert!(cont_a.iter().all(|te| te.is_finite() && *te > 0.0));
+}
+
+#[test]
+fn snapshot_restore_continues_bit_for_bit_table() {
+    let (mesh, drive) = table_mesh();
+    check_snapshot(mesh.clone(), drive, rk4(128), 40);
+    check_snapshot(mesh, drive, UnitStepping::Dopri5 { rtol: 1e-8, atol: 1e-12 }, 40);
+}
+
+#[test]
+fn snapshot_restore_continues_bit_for_bit_full_fidelity() {
+    // The full model warm-starts its load solver; the unit starts each advance cold, so the
+    // continuation is history-free. Coarse slices keep the test short.
+    let pair = GearPair::paper_table1();
+    let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
+    let mesh = MeshModel::new(&pair, options).unwrap();
+    let drive = Drivetrain::from_pair(&pair).unwrap();
+    check_snapshot(mesh, drive, rk4(64), 6);
+}
+
+/// A mesh that fails beyond a pinion angle, like a load solver that does not converge.
+#[derive(Clone)]
+struct FailingMesh {
+    inner: ConstantStiffnessMesh,
+    phi_fail: f64,
+}
+
+impl MeshTorques for FailingMesh {
+    fn mesh(&mut self, s: &MeshState) -> Result<MeshOutputs, MeshError> {
+        if s.phi_p > self.phi_fail {
+            return Err(MeshError::Equilibrium(format!("synthetic failure at φp = {}", s.phi_p)));
+        }
+        self.inner.mesh(s)
+    }
+
+    fn base_radii(&self) -> (f64, f64) {
+        self.inner.base_radii()
+    }
+}
+
+fn table1_radii() -> (Drivetrain, f64, f64) {
+    let pair = GearPair::paper_table1();
+    let g = PairGeometry::new(&pair).unwrap();
+    (Drivetrain::from_pair(&pair).unwrap(), g.pinion.rb, g.gear.rb)
+}
+
+#[test]
+fn failed_advance_rolls_back_and_names_time_and_cause() {
+    let (drive, gp, gg) = table1_radii();
+    let inner = ConstantStiffnessMesh::new(2e8, 100.0, gp, gg, Clearance::Separating).unwrap();
+    for stepping in [rk4(64), UnitStepping::Dopri5 { rtol: 1e-8, atol: 1e-12 }] {
+        let mesh = FailingMesh { inner, phi_fail: 0.05 };
+        let mut u = DriveUnit::new(UnitKind::Pair, mesh, drive, stepping).unwrap();
+        u.start_static(0.0, 100.0, &EquilibriumSettings::default()).unwrap();
+        u.advance(1e-4).unwrap();
+        let (t0, y0, snap) = (u.time(), u.state().to_vec(), u.snapshot());
+        // φp reaches 0.05 rad after 0.5 ms at 100 rad/s.
+        let err = u.advance(1e-3).unwrap_err();
+        match &err {
+            DynamicsError::Mesh { t: Some(t), source: MeshError::Equilibrium(_) } => {
+                assert!(*t > t0 && *t <= t0 + 1e-3, "failure time {t}")
+            }
+            other => panic!("unexpected error {other:?}"),
+        }
+        let msg = err.to_string();
+        assert!(msg.contains("t = ") && msg.contains("synthetic failure"), "{msg}");
+        assert_eq!(u.time(), t0);
+        assert_eq!(u.state(), &y0[..]);
+        assert_eq!(u.snapshot(), snap);
+        assert!(u.outputs().unwrap().a_p.is_finite());
+        // It recovers: a short step still works.
+        u.advance(1e-5).unwrap();
+    }
+}
+
+#[test]
+fn bad_arguments_are_rejected_with_their_names() {
+    let (drive, gp, gg) = table1_radii();
+    let mesh = ConstantStiffnessMesh::new(2e8, 100.0, gp, gg, Clearance::Separating).unwrap();
+    let mut u = DriveUnit::new(UnitKind::Stage, mesh, drive, rk4(64)).unwrap();
+    for h in [0.0, -1e-4, f64::NAN, f64::INFINITY] {
+        assert!(u.advance(h).unwrap_err().to_string().contains("`h`"));
+    }
+    let e = u.set_inputs(UnitInputs { w_1: f64::NAN, ..Default::default() }).unwrap_err();
+    assert!(e.to_string().contains("`w_1`"), "{e}");
+    assert!(u.set_state(&[0.0; 3]).is_err());
+    assert!(u.set_state(&[0.0, f64::INFINITY, 0.0, 0.0]).is_err());
+    let mut snap = u.snapshot();
+    snap.kind = UnitKind::Drive;
+    assert!(u.restore(&snap).is_err());
+    assert!(
+        DriveUnit::new(UnitKind::Pair, mesh, drive, rk4(2))
+            .unwrap_err()
+            .to_string()
+            .contains("steps_per_mesh_period")
+    );
+    let bad = Drivetrain { torque: 0.0, ..drive };
+    assert!(DriveUnit::new(UnitKind::Pair, mesh, bad, rk4(64)).is_err());
+    let stepping = UnitStepping::Dopri5 { rtol: -1.0, atol: 1e-9 };
+    assert!(DriveUnit::new(UnitKind::Pair, mesh, drive, stepping).is_err());
+}
+
+#[test]
+fn unit_at_rest_is_stable_and_nearly_conservative() {
+    // No damping anywhere, speed 0 (T_m = ∞): the sub-step comes from the mesh mode, and one
+    // long communication step integrates the free vibration without growth.
+    let (drive, gp, gg) = table1_radii();
+    let drive = Drivetrain { d1: 0.0, d2: 0.0, ..drive };
+    let k = 2e8;
+    let mesh = ConstantStiffnessMesh::new(k, 0.0, gp, gg, Clearance::Bilateral).unwrap();
+    for kind in [UnitKind::Pair, UnitKind::Stage] {
+        let mut u = DriveUnit::new(kind, mesh, drive, rk4(128)).unwrap();
+        u.set_state(&[1e-4, 0.0, 0.0, 0.0]).unwrap();
+        let energy = |y: &[f64]| {
+            let te = y[0] * gp + y[1] * gg;
+            let shafts = if kind == UnitKind::Stage {
+                0.5 * drive.c1 * y[0] * y[0] + 0.5 * drive.c2 * y[1] * y[1]
+            } else {
+                0.0
+            };
+            0.5 * k * te * te
+                + shafts
+                + 0.5 * drive.j_p * y[2] * y[2]
+                + 0.5 * drive.j_g * y[3] * y[3]
+        };
+        let e0 = energy(u.state());
+        u.advance(0.01).unwrap();
+        let e1 = energy(u.state());
+        // About 40 mesh-mode periods at 32 sub-steps each: RK4 loses ~(ωh)⁶/144 per step.
+        assert!(e1 <= e0 * (1.0 + 1e-9) && e1 > 0.99 * e0, "{kind:?}: E {e0:e} → {e1:e}");
+        assert!(u.fastest_mode() > 1e4, "ω_fast = {}", u.fastest_mode());
+    }
+}
+
+/// Central differences of `derivatives` and `outputs` against `linearize`.
+fn check_linearization<M: MeshTorques + Clone>(mut u: DriveUnit<M>, x: &[f64], inp: UnitInputs) {
+    let kind = u.kind();
+    u.set_time(0.0).unwrap();
+    u.set_state(x).unwrap();
+    u.set_inputs(inp).unwrap();
+    let lin = u.linearize().unwrap();
+    let n = u.n_states();
+    let in_names = UnitLinearization::inputs(kind);
+    let out_names = UnitLinearization::outputs(kind);
+    assert_eq!((lin.n_x, lin.n_u, lin.n_y), (n, in_names.len(), out_names.len()));
+    let eval = |u: &mut DriveUnit<M>, x: &[f64], inp: UnitInputs| -> (Vec<f64>, Vec<f64>) {
+        u.set_state(x).unwrap();
+        u.set_inputs(inp).unwrap();
+        let mut f = vec![0.0; n];
+        u.derivatives(0.0, x, &mut f).unwrap();
+        let o = u.outputs().unwrap();
+        let y = out_names.iter().map(|s| o.get(s).unwrap()).collect();
+        (f, y)
+    };
+    let check = |what: &str, lin_m: &[f64], cols: usize, col: usize, fd: &[f64]| {
+        for (r, v) in fd.iter().enumerate() {
+            let row = &lin_m[r * cols..(r + 1) * cols];
+            let scale = row.iter().fold(v.abs(), |m, a| m.max(a.abs()));
+            let l = row[col];
+            assert!(
+                (l - v).abs() <= 1e-6 * scale + 1e-300,
+                "{kind:?} {what}[{r}][{col}]: linearize {l:e}, central difference {v:e}"
+            );
+        }
+    };
+    for j in 0..n {
+        let dx = if j < n / 2 { 1e-8 } else { 1e-4 };
+        let mut xp = x.to_vec();
+        let mut xm = x.to_vec();
+        xp[j] += dx;
+        xm[j] -= dx;
+        let (fp, yp) = eval(&mut u, &xp, inp);
+        let (fm, ym) = eval(&mut u, &xm, inp);
+        let df: Vec<f64> = fp.iter().zip(&fm).map(|(a, b)| (a - b) / (2.0 * dx)).collect();
+        let dy: Vec<f64> = yp.iter().zip(&ym).map(|(a, b)| (a - b) / (2.0 * dx)).collect();
+        check("A", &lin.a, n, j, &df);
+        check("C", &lin.c, n, j, &dy);
+    }
+    for (j, name) in in_names.iter().enumerate() {
+        let du = match *name {
+            "phi_1" | "phi_2" => 1e-8,
+            "w_1" | "w_2" => 1e-4,
+            _ => 1e-3,
+        };
+        let set = |v: f64| {
+            let mut w = inp;
+            match *name {
+                "tau_p" => w.tau_p += v,
+                "tau_g" => w.tau_g += v,
+                "phi_1" => w.phi_1 += v,
+                "w_1" => w.w_1 += v,
+                "phi_2" => w.phi_2 += v,
+                "w_2" => w.w_2 += v,
+                "M" => w.torque += v,
+                _ => unreachable!(),
+            }
+            w
+        };
+        let (fp, yp) = eval(&mut u, x, set(du));
+        let (fm, ym) = eval(&mut u, x, set(-du));
+        let df: Vec<f64> = fp.iter().zip(&fm).map(|(a, b)| (a - b) / (2.0 * du)).collect();
+        let dy: Vec<f64> = yp.iter().zip(&ym).map(|(a, b)| (a - b) / (2.0 * du)).collect();
+        check("B", &lin.b, in_names.len(), j, &df);
+        check("D", &lin.d, in_names.len(), j, &dy);
+    }
+}
+
+#[test]
+fn linearize_matches_central_differences_with_analytic_meshes() {
+    let (drive, gp, gg) = table1_radii();
+    let cm = ConstantStiffnessMesh::new(2e8, 150.0, gp, gg, Clearance::Separating).unwrap();
+    let pm =
+        PeriodicStiffnessMesh::new(2e8, 0.3, 30, 150.0, gp, gg, Clearance::Backlash(1e-4)).unwrap();
+    // In contact: TE = φp·g_p + φg·g_g ≈ 4 µm.
+    let pp = 0.0123;
+    let pg = -(pp * gp - 4e-6) / gg;
+    let hub = [pp, pg, 310.0, -196.0];
+    let inputs = UnitInputs {
+        tau_p: 95.0,
+        tau_g: 140.0,
+        phi_1: pp + 0.1,
+        w_1: 305.0,
+        phi_2: pg + 0.2,
+        w_2: -199.0,
+        torque: 103.0,
+    };
+    let drive_x = [pp + 0.1, pp, pg, pg + 0.2, 305.0, 310.0, -196.0, -199.0];
+    for kind in [UnitKind::Pair, UnitKind::Stage, UnitKind::Drive] {
+        let x: &[f64] = if kind == UnitKind::Drive { &drive_x } else { &hub };
+        check_linearization(DriveUnit::new(kind, cm, drive, rk4(64)).unwrap(), x, inputs);
+        check_linearization(DriveUnit::new(kind, pm, drive, rk4(64)).unwrap(), x, inputs);
+    }
+}
+
+#[test]
+fn linearize_reports_unsupported_meshes() {
+    let (drive, gp, gg) = table1_radii();
+    let inner = ConstantStiffnessMesh::new(2e8, 100.0, gp, gg, Clearance::Separating).unwrap();
+    let mut u =
+        DriveUnit::new(UnitKind::Pair, FailingMesh { inner, phi_fail: 1.0 }, drive, rk4(64))
+            .unwrap();
+    match u.linearize() {
+        Err(DynamicsError::Mesh { source: MeshError::Unsupported(_), .. }) => {}
+        other => panic!("expected Unsupported, got {other:?}"),
+    }
+}
