@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{bc759b82-4d11-8810-9abb-74e16d7f000c}"
+#define HelicalGearMesh_GUID "{90a8278c-9003-853d-a788-47ed55af97a6}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

@@ -1401,6 +1401,7 @@ pub const UNITS: &[UnitDef] = &[
         display: &[("rpm", 30.0 / std::f64::consts::PI)],
     },
     UnitDef { name: "m", base: &[("m", 1)], display: &[("mm", 1e3), ("um", 1e6)] },
+    UnitDef { name: "rad/s2", base: &[("s", -2), ("rad", 1)], display: &[] },
     UnitDef { name: "N", base: &[("kg", 1), ("m", 1), ("s", -2)], display: &[] },
     UnitDef { name: "N.m", base: &[("kg", 1), ("m", 2), ("s", -2)], display: &[] },
     UnitDef {
@@ -1483,7 +1484,7 @@ mod tests {
 
     #[test]
     fn every_unit_and_display_unit_is_defined() {
-        for v in VARIABLES {
+        for v in super::super::models::MODELS.iter().flat_map(|m| m.variables) {
             if let Some(u) = v.unit {
                 let def = UNITS.iter().find(|d| d.name == u).unwrap_or_else(|| panic!("{u}"));
                 if let Some(d) = v.display_unit {

@@ -3,11 +3,12 @@
 //! serves them all, and `fmi2Instantiate` picks the model by the GUID it is given.
 
 pub mod mesh;
+pub mod unit;
 
 use super::model::ModelInfo;
 
 /// Every model of the family, in the order of the documentation.
-pub static MODELS: &[&ModelInfo] = &[&mesh::INFO];
+pub static MODELS: &[&ModelInfo] = &[&mesh::INFO, &unit::PAIR, &unit::STAGE, &unit::DRIVE];
 
 /// The model whose GUID is `guid`, if any.
 pub fn by_guid(guid: &str) -> Option<&'static ModelInfo> {
