@@ -34,8 +34,9 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c,
                                const fmi2String *categories);
 
 /**
- * Creates an instance. Returns NULL (after logging why, if a logger was given) when
- * `fmu_type` is not Co-Simulation, the GUID is not this FMU's, or the name is NULL.
+ * Creates an instance of the model whose GUID is `fmu_guid` (one binary serves every model of
+ * the family). Returns NULL (after logging why, if a logger was given) when `fmu_type` is not
+ * Co-Simulation, the GUID is none of the models', or the name is NULL.
  * A resource location that cannot be decoded is logged as a warning and otherwise ignored:
  * the model needs no file from `resources/`.
  *

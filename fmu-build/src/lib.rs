@@ -1,10 +1,12 @@
 //! `fmu-build`: generates the files derived from the library's FMI variable table and packs the
 //! FMU.
 //!
-//! * [`model_description`] — `modelDescription/modelDescription.xml`;
-//! * [`docs`] — the README's variable table and the FMU's `documentation/index.html`;
-//! * [`headers`] — the C headers in `include/` (cbindgen);
-//! * [`pack`] — `target/fmu/HelicalGearMesh.fmu`.
+//! * [`model_description`] — `modelDescription/<modelIdentifier>/modelDescription.xml`;
+//! * [`docs`] — the README's variable tables and each FMU's `documentation/index.html`;
+//! * [`headers`] — the C headers in `include/` (cbindgen) and the value-reference headers
+//!   `include/fmi2_models/<modelIdentifier>.h`;
+//! * [`pack`] — `target/fmu/<modelIdentifier>.fmu` for every model of the family, each with
+//!   the same shared library under its model identifier.
 //!
 //! The checked-in generated files are compared with what this crate generates by the tests in
 //! `fmu-build/tests/`; `cargo run -p fmu-build -- --write-generated` rewrites them.
@@ -16,8 +18,13 @@ pub mod pack;
 
 use std::path::PathBuf;
 
-/// Path of the checked-in model description, relative to the workspace root.
-pub const MODEL_DESCRIPTION_PATH: &str = "modelDescription/modelDescription.xml";
+use helical_gear_mesh::fmi2::model::ModelInfo;
+use helical_gear_mesh::fmi2::models::MODELS;
+
+/// Path of the checked-in model description of `model`, relative to the workspace root.
+pub fn model_description_path(model: &ModelInfo) -> String {
+    format!("modelDescription/{}/modelDescription.xml", model.identifier)
+}
 
 /// The workspace root (parent of this crate's directory).
 pub fn workspace_root() -> PathBuf {
@@ -29,16 +36,19 @@ pub fn workspace_root() -> PathBuf {
 
 /// Every generated, checked-in file: path relative to the workspace root and current text.
 /// The README entry is the whole README with the variable table replaced.
-pub fn generated_files() -> Result<Vec<(&'static str, String)>, String> {
+pub fn generated_files() -> Result<Vec<(String, String)>, String> {
     let root = workspace_root();
     let readme = std::fs::read_to_string(root.join("README.md"))
         .map_err(|e| format!("reading README.md: {e}"))?;
-    Ok(vec![
-        (MODEL_DESCRIPTION_PATH, model_description::model_description_xml()),
-        (headers::CAPI_HEADER, headers::capi_header(&root)?),
-        (headers::FMI2_HEADER, headers::fmi2_header(&root)?),
-        ("README.md", docs::readme_with_table(&readme)?),
-    ])
+    let mut files = Vec::new();
+    for m in MODELS {
+        files.push((model_description_path(m), model_description::model_description_xml(m)));
+        files.push((headers::vr_header_path(m), headers::vr_header(m)));
+    }
+    files.push((headers::CAPI_HEADER.into(), headers::capi_header(&root)?));
+    files.push((headers::FMI2_HEADER.into(), headers::fmi2_header(&root)?));
+    files.push(("README.md".into(), docs::readme_with_tables(&readme)?));
+    Ok(files)
 }
 
 /// Files of the repository's `resources/` that go into the FMU's `resources/`.

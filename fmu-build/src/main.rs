@@ -1,32 +1,40 @@
-//! `fmu-build`: builds the `helical_gear_mesh` cdylib in release mode and packs
-//! `target/fmu/HelicalGearMesh.fmu`; with `--write-generated` it rewrites the generated,
-//! checked-in files instead (model description, C headers, README variable table).
+//! `fmu-build`: builds the `helical_gear_mesh` cdylib in release mode and packs one FMU per
+//! model, `target/fmu/<modelIdentifier>.fmu`, each with the same library; with
+//! `--write-generated` it rewrites the generated, checked-in files instead (model
+//! descriptions, C headers, README variable tables).
 //!
 //! When the Rust target `x86_64-pc-windows-gnu` and the MinGW-w64 linker are installed, the
-//! cdylib is also cross-compiled for Windows and the FMU carries `binaries/win64/` beside the
+//! cdylib is also cross-compiled for Windows and every FMU carries `binaries/win64/` beside the
 //! build machine's platform; otherwise one line says why win64 is skipped (an error with
 //! `--require-win64` or `FMU_BUILD_REQUIRE_WIN64=1`).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
+use fmu_build::pack::Binary;
 use fmu_build::{generated_files, pack, resources, workspace_root};
+use helical_gear_mesh::fmi2::models::MODELS;
 
 const USAGE: &str = "usage: fmu-build [--require-win64 | --write-generated]\n\
-    \n  (no argument)       cargo build --release the cdylib, write target/fmu/HelicalGearMesh.fmu\
-    \n                      (with binaries/win64 when x86_64-pc-windows-gnu and its MinGW-w64\
-    \n                      linker are installed; else a line saying why win64 is skipped)\
+    \n  (no argument)       cargo build --release the cdylib, write target/fmu/<model>.fmu for\
+    \n                      every model (HelicalGearMesh, HelicalGearPair, HelicalGearStage,\
+    \n                      HelicalGearDrive), with binaries/win64 when x86_64-pc-windows-gnu\
+    \n                      and its MinGW-w64 linker are installed (else a line saying why\
+    \n                      win64 is skipped)\
     \n  --require-win64     the same, but a missing win64 build is an error (also when the\
     \n                      environment variable FMU_BUILD_REQUIRE_WIN64 is 1)\
-    \n  --write-generated   rewrite modelDescription/modelDescription.xml, include/*.h and the\
-    \n                      README's FMU variable table from the Rust sources";
+    \n  --write-generated   rewrite modelDescription/<model>/modelDescription.xml, include/*.h\
+    \n                      and the README's FMU variable tables from the Rust sources";
 
 fn write_generated() -> Result<(), String> {
     let root = workspace_root();
     for (path, text) in generated_files()? {
-        let p = root.join(path);
+        let p = root.join(&path);
         let old = std::fs::read_to_string(&p).unwrap_or_default();
         if old != text {
+            if let Some(dir) = p.parent() {
+                std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            }
             std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
             eprintln!("fmu-build: wrote {path}");
         } else {
@@ -116,14 +124,22 @@ fn build_binaries(
     Ok(binaries)
 }
 
-fn build_and_pack(require_win64: bool) -> Result<PathBuf, String> {
+fn build_and_pack(require_win64: bool) -> Result<Vec<PathBuf>, String> {
     let root = workspace_root();
     let target =
         std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
-    let binaries = build_binaries(&root, &target, require_win64)?;
-    let out = target.join("fmu").join("HelicalGearMesh.fmu");
-    pack::pack(&binaries, resources()?, &out)?;
-    Ok(out)
+    let binaries = build_binaries(&root, &target, require_win64)?
+        .into_iter()
+        .map(|(platform, file)| Binary { platform: platform.to_string(), file })
+        .collect::<Vec<_>>();
+    let resources = resources()?;
+    let mut written = Vec::new();
+    for m in MODELS {
+        let out = target.join("fmu").join(format!("{}.fmu", m.identifier));
+        pack::pack(m, &binaries, &resources, &out)?;
+        written.push(out);
+    }
+    Ok(written)
 }
 
 fn main() -> ExitCode {
@@ -132,7 +148,11 @@ fn main() -> ExitCode {
         [] | ["--require-win64"] => {
             let require = !args.is_empty()
                 || std::env::var("FMU_BUILD_REQUIRE_WIN64").is_ok_and(|v| v == "1");
-            build_and_pack(require).map(|p| eprintln!("fmu-build: wrote {}", p.display()))
+            build_and_pack(require).map(|ps| {
+                for p in ps {
+                    eprintln!("fmu-build: wrote {}", p.display());
+                }
+            })
         }
         ["--write-generated"] => write_generated(),
         ["-h" | "--help"] => {

@@ -6,16 +6,12 @@
 //! calculated parameters with the inputs and the parameters (by group) they depend on, without
 //! `dependenciesKind` (all "dependent").
 
+use helical_gear_mesh::fmi2::model::ModelInfo;
 use helical_gear_mesh::fmi2::variables::{
-    CS_CAPABILITIES, Causality, LOG_CATEGORIES, MODEL_IDENTIFIER, MODEL_VERSION, UNITS, VARIABLES,
-    VarType, Variable, by_name, format_real, guid,
+    CS_CAPABILITIES, Causality, LOG_CATEGORIES, MODEL_VERSION, UNITS, VarType, Variable,
+    format_real,
 };
 use serde::Serialize;
-
-/// One-line description of the model in `modelDescription.xml`.
-pub const MODEL_DESCRIPTION: &str = "Helical gear mesh after Andersson and Vedmar (J. Sound \
-    Vib. 260, 2003): mesh torques from hub angles and speeds, with contact outside the plane of \
-    action, FE tooth compliance and non-linear load distribution";
 
 #[derive(Serialize)]
 #[serde(rename = "fmiModelDescription")]
@@ -129,11 +125,11 @@ struct Category {
 #[derive(Serialize)]
 struct DefaultExperiment {
     #[serde(rename = "@startTime")]
-    start_time: &'static str,
+    start_time: String,
     #[serde(rename = "@stopTime")]
-    stop_time: &'static str,
+    stop_time: String,
     #[serde(rename = "@stepSize")]
-    step_size: &'static str,
+    step_size: String,
 }
 
 #[derive(Serialize)]
@@ -219,33 +215,38 @@ struct Unknown {
     dependencies_kind: Option<String>,
 }
 
-/// 1-based ScalarVariable index of `name`.
-fn index_of(name: &str) -> usize {
-    let v = by_name(name).unwrap_or_else(|| panic!("dependency `{name}` is not a variable"));
-    VARIABLES.iter().position(|w| std::ptr::eq(w, v)).expect("in table") + 1
+/// 1-based ScalarVariable index of `name` in `model`.
+fn index_of(model: &ModelInfo, name: &str) -> usize {
+    model
+        .variables
+        .iter()
+        .position(|w| w.name == name)
+        .unwrap_or_else(|| panic!("dependency `{name}` is not a variable of {}", model.identifier))
+        + 1
 }
 
 fn join<T: ToString>(items: impl IntoIterator<Item = T>) -> String {
     items.into_iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" ")
 }
 
-fn outputs_entry(i: usize, v: &Variable) -> Unknown {
+fn outputs_entry(model: &ModelInfo, i: usize, v: &Variable) -> Unknown {
     let d = v.depends.expect("outputs declare their dependencies");
-    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(n)).collect();
+    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(model, n)).collect();
     idx.sort_unstable();
     let kind = if d.linear_fixed { "fixed" } else { "dependent" };
     Unknown {
         index: i + 1,
-        dependencies_kind: Some(join(idx.iter().map(|_| kind))),
+        dependencies_kind: (!idx.is_empty()).then(|| join(idx.iter().map(|_| kind))),
         dependencies: join(&idx),
     }
 }
 
-fn initial_entry(i: usize, v: &Variable) -> Unknown {
+fn initial_entry(model: &ModelInfo, i: usize, v: &Variable) -> Unknown {
     let d = v.depends.expect("outputs and calculated parameters declare their dependencies");
-    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(n)).collect();
+    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(model, n)).collect();
     idx.extend(
-        VARIABLES
+        model
+            .variables
             .iter()
             .enumerate()
             .filter(|(_, p)| p.causality == Causality::Parameter && p.group & d.groups != 0)
@@ -260,8 +261,8 @@ fn initial_entry(i: usize, v: &Variable) -> Unknown {
     }
 }
 
-/// The complete `modelDescription.xml` text.
-pub fn model_description_xml() -> String {
+/// The complete `modelDescription.xml` text of `model`.
+pub fn model_description_xml(model: &ModelInfo) -> String {
     let c = CS_CAPABILITIES;
     let units = UNITS
         .iter()
@@ -287,7 +288,8 @@ pub fn model_description_xml() -> String {
             }
         })
         .collect();
-    let variables = VARIABLES
+    let variables = model
+        .variables
         .iter()
         .map(|v| ScalarVariable {
             name: v.name,
@@ -301,38 +303,42 @@ pub fn model_description_xml() -> String {
                     quantity: v.quantity,
                     unit: v.unit,
                     display_unit: v.display_unit,
-                    start: v.start(),
+                    start: model.start(v),
                 }),
-                VarType::Integer => {
-                    TypeElement::Integer(IntegerAttrs { min: v.min, max: v.max, start: v.start() })
-                }
-                VarType::Boolean => TypeElement::Boolean(BooleanAttrs { start: v.start() }),
+                VarType::Integer => TypeElement::Integer(IntegerAttrs {
+                    min: v.min,
+                    max: v.max,
+                    start: model.start(v),
+                }),
+                VarType::Boolean => TypeElement::Boolean(BooleanAttrs { start: model.start(v) }),
             },
         })
         .collect();
-    let outputs = VARIABLES
+    let outputs = model
+        .variables
         .iter()
         .enumerate()
         .filter(|(_, v)| v.causality == Causality::Output)
-        .map(|(i, v)| outputs_entry(i, v))
+        .map(|(i, v)| outputs_entry(model, i, v))
         .collect();
-    let initial_unknowns = VARIABLES
+    let initial_unknowns = model
+        .variables
         .iter()
         .enumerate()
         .filter(|(_, v)| matches!(v.causality, Causality::Output | Causality::CalculatedParameter))
-        .map(|(i, v)| initial_entry(i, v))
+        .map(|(i, v)| initial_entry(model, i, v))
         .collect();
     let fmd = Fmd {
         fmi_version: "2.0",
-        model_name: MODEL_IDENTIFIER,
-        guid: guid(),
-        description: MODEL_DESCRIPTION,
+        model_name: model.identifier,
+        guid: model.guid(),
+        description: model.description,
         version: MODEL_VERSION,
         generation_tool: format!("fmu-build {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         event_indicators: 0,
         co_simulation: CoSimulation {
-            model_identifier: MODEL_IDENTIFIER,
+            model_identifier: model.identifier,
             needs_execution_tool: c.needs_execution_tool,
             can_handle_variable_communication_step_size: c
                 .can_handle_variable_communication_step_size,
@@ -353,9 +359,9 @@ pub fn model_description_xml() -> String {
                 .collect(),
         },
         default_experiment: DefaultExperiment {
-            start_time: "0",
-            stop_time: "0.1",
-            step_size: "1e-5",
+            start_time: format_real(model.experiment.start),
+            stop_time: format_real(model.experiment.stop),
+            step_size: format_real(model.experiment.step),
         },
         model_variables: ModelVariables { variables },
         model_structure: ModelStructure {

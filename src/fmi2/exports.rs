@@ -19,9 +19,9 @@ use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use super::instance::{Func, Instance, Phase, Snapshot, cat, func, log_to, mask_names};
+use super::models::{MODELS, by_guid};
 use super::types::*;
 use super::uri::file_uri_to_path;
-use super::variables::{MODEL_IDENTIFIER, guid};
 
 fn panic_text(p: &(dyn Any + Send)) -> String {
     if let Some(s) = p.downcast_ref::<&str>() {
@@ -186,8 +186,9 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
 
 // ---------------------------------------------------------------- life cycle
 
-/// Creates an instance. Returns NULL (after logging why, if a logger was given) when
-/// `fmu_type` is not Co-Simulation, the GUID is not this FMU's, or the name is NULL.
+/// Creates an instance of the model whose GUID is `fmu_guid` (one binary serves every model of
+/// the family). Returns NULL (after logging why, if a logger was given) when `fmu_type` is not
+/// Co-Simulation, the GUID is none of the models', or the name is NULL.
 /// A resource location that cannot be decoded is logged as a warning and otherwise ignored:
 /// the model needs no file from `resources/`.
 ///
@@ -229,22 +230,27 @@ pub unsafe extern "C" fn fmi2Instantiate(
             Ok(n) => n,
             Err(e) => return fail(e),
         };
+        // SAFETY: caller contract.
+        let model = match unsafe { string(fmu_guid, "fmuGUID") } {
+            Ok(g) => match by_guid(&g) {
+                Some(m) => m,
+                None => {
+                    let known: Vec<String> =
+                        MODELS.iter().map(|m| format!("{} {}", m.identifier, m.guid())).collect();
+                    return fail(format!(
+                        "fmuGUID `{g}` is the GUID of no model in this binary (known: {}; \
+                         modelDescription.xml and binary from different builds?)",
+                        known.join(", ")
+                    ));
+                }
+            },
+            Err(e) => return fail(e),
+        };
         if fmu_type != FMI2_CO_SIMULATION {
             return fail(format!(
-                "fmuType = {fmu_type}: {MODEL_IDENTIFIER} supports Co-Simulation (1) only"
+                "fmuType = {fmu_type}: {} supports Co-Simulation (1) only",
+                model.identifier
             ));
-        }
-        // SAFETY: caller contract.
-        match unsafe { string(fmu_guid, "fmuGUID") } {
-            Ok(g) if g == guid() => {}
-            Ok(g) => {
-                return fail(format!(
-                    "fmuGUID `{g}` is not this FMU's GUID `{}` (modelDescription.xml and \
-                     binary from different builds?)",
-                    guid()
-                ));
-            }
-            Err(e) => return fail(e),
         }
         let mut warning = None;
         let resources = if fmu_resource_location.is_null() {
@@ -262,6 +268,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             }
         };
         let inst = Instance::new(
+            model,
             CString::new(name).unwrap_or_default(),
             logger,
             env,
@@ -918,7 +925,7 @@ mod tests {
 
     #[test]
     fn a_panic_becomes_fatal_and_the_instance_can_still_be_freed() {
-        let g = CString::new(guid()).unwrap();
+        let g = CString::new(crate::fmi2::variables::guid()).unwrap();
         let c = unsafe {
             fmi2Instantiate(
                 c"p".as_ptr(),

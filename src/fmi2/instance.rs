@@ -1,22 +1,25 @@
-//! One FMU instance: the state machine, the variable values and the mesh model behind them.
+//! One FMU instance of any model: the state machine, the variable values and the model's
+//! [`Engine`] behind them.
 //!
 //! This is plain Rust with no raw pointers except the logger; [`super::exports`] turns C calls
 //! into calls of these methods. Every operation returns `Ok(status)` or `Err(message)`; the
 //! caller logs the message, moves the instance to the error state and returns `fmi2Error`.
+//! Nothing here knows a model: the variable table, the defaults and the physics come from the
+//! instance's [`ModelInfo`].
 
 use std::ffi::CString;
 use std::path::PathBuf;
 
+use super::model::{Engine, ModelInfo, StepFailure};
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use super::variables::{
-    Access, Causality, Derived, LOG_CATEGORIES, Settings, VARIABLES, Variability, Variable, by_vr,
-    guid,
+    Access, Causality, Derived, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability, Variable,
 };
-use crate::mesh::{MeshError, MeshModel, MeshOutputs, MeshState};
 
-/// States of the co-simulation state machine (FMI 2.0, section 4.2.4), as bits so that each
-/// function can carry the set of states it is allowed in. `stepInProgress` never occurs (steps
-/// are synchronous); "start/end" is the absence of an instance.
+/// States of the FMI 2.0 state machines of co-simulation (section 4.2.4) and model exchange
+/// (section 3.2.3), as bits so that each function can carry the set of states it is allowed
+/// in. An instance runs one of the two machines (its `fmuType`); `stepInProgress` never occurs
+/// (steps are synchronous); "start/end" is the absence of an instance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u16)]
 pub(crate) enum Phase {
@@ -28,7 +31,25 @@ pub(crate) enum Phase {
     Terminated = 32,
     Error = 64,
     Fatal = 128,
+    /// Model exchange: event mode.
+    EventMode = 256,
+    /// Model exchange: continuous-time mode.
+    ContinuousTimeMode = 512,
 }
+
+/// Every state, in bit order.
+const ALL_PHASES: [Phase; 10] = [
+    Phase::Instantiated,
+    Phase::InitializationMode,
+    Phase::StepComplete,
+    Phase::StepFailed,
+    Phase::StepCanceled,
+    Phase::Terminated,
+    Phase::Error,
+    Phase::Fatal,
+    Phase::EventMode,
+    Phase::ContinuousTimeMode,
+];
 
 impl Phase {
     pub(crate) fn name(self) -> &'static str {
@@ -41,21 +62,19 @@ impl Phase {
             Phase::Terminated => "terminated",
             Phase::Error => "error",
             Phase::Fatal => "fatal",
+            Phase::EventMode => "eventMode",
+            Phase::ContinuousTimeMode => "continuousTimeMode",
         }
     }
 
-    fn from_u8(b: u8) -> Option<Phase> {
-        [
-            Phase::Instantiated,
-            Phase::InitializationMode,
-            Phase::StepComplete,
-            Phase::StepFailed,
-            Phase::StepCanceled,
-            Phase::Terminated,
-            Phase::Error,
-        ]
-        .into_iter()
-        .find(|m| *m as u16 == u16::from(b))
+    /// Position of the state's bit (its code in a serialised state).
+    fn code(self) -> u8 {
+        (self as u16).trailing_zeros() as u8
+    }
+
+    /// The state with code `b`; never the fatal state (a saved state is never fatal).
+    fn from_code(b: u8) -> Option<Phase> {
+        ALL_PHASES.into_iter().find(|m| m.code() == b && *m != Phase::Fatal)
     }
 }
 
@@ -73,16 +92,25 @@ const FAILED: u16 = Phase::StepFailed as u16;
 const CANCELED: u16 = Phase::StepCanceled as u16;
 const TERM: u16 = Phase::Terminated as u16;
 const ERR: u16 = Phase::Error as u16;
-const LIVE: u16 = INST | INIT | DONE | FAILED | CANCELED | TERM | ERR;
-const GETTABLE: u16 = INIT | DONE | FAILED | CANCELED | TERM | ERR;
-const SETTABLE: u16 = INST | INIT | DONE;
+const EVENT: u16 = Phase::EventMode as u16;
+const CONT: u16 = Phase::ContinuousTimeMode as u16;
+const LIVE: u16 = INST | INIT | DONE | FAILED | CANCELED | TERM | ERR | EVENT | CONT;
+const GETTABLE: u16 = INIT | DONE | FAILED | CANCELED | TERM | ERR | EVENT | CONT;
+const SETTABLE: u16 = INST | INIT | DONE | EVENT | CONT;
+/// Model exchange: where the state vector, derivatives and event indicators may be read.
+#[allow(dead_code)]
+const ME_GETTABLE: u16 = INIT | EVENT | CONT | TERM | ERR;
 
 macro_rules! funcs {
     ($($id:ident = $mask:expr;)*) => {
-        /// The FMI functions with the states they are allowed in (the table of section 4.2.4 of
-        /// the FMI 2.0 standard; `fmi2FreeInstance` is also accepted in the fatal state so that
-        /// an instance is never leaked).
-        #[allow(non_upper_case_globals)]
+        /// The FMI functions with the states they are allowed in (the tables of sections 3.2.3
+        /// and 4.2.4 of the FMI 2.0 standard, one mask over the states of both machines;
+        /// `fmi2FreeInstance` is also accepted in the fatal state so that an instance is never
+        /// leaked). Which inputs and parameters may be set in a state is checked per variable
+        /// ([`Instance::set_real`] and its siblings).
+        // The model-exchange entries are the design of the state machine for both interfaces;
+        // they are used once Model Exchange is exported.
+        #[allow(non_upper_case_globals, dead_code)]
         pub(crate) mod func {
             use super::*;
             $(pub(crate) const $id: Func = Func { name: stringify!($id), mask: $mask };)*
@@ -96,7 +124,7 @@ funcs! {
     fmi2SetupExperiment = INST;
     fmi2EnterInitializationMode = INST;
     fmi2ExitInitializationMode = INIT;
-    fmi2Terminate = DONE | FAILED;
+    fmi2Terminate = DONE | FAILED | EVENT | CONT;
     fmi2Reset = LIVE;
     fmi2GetReal = GETTABLE;
     fmi2GetInteger = GETTABLE;
@@ -122,22 +150,22 @@ funcs! {
     fmi2GetIntegerStatus = DONE | FAILED | CANCELED | TERM;
     fmi2GetBooleanStatus = DONE | FAILED | CANCELED | TERM;
     fmi2GetStringStatus = DONE | FAILED | CANCELED | TERM;
+    fmi2EnterEventMode = EVENT | CONT;
+    fmi2NewDiscreteStates = EVENT;
+    fmi2EnterContinuousTimeMode = EVENT;
+    fmi2CompletedIntegratorStep = CONT;
+    fmi2SetTime = EVENT | CONT;
+    fmi2SetContinuousStates = CONT;
+    fmi2GetDerivatives = ME_GETTABLE;
+    fmi2GetEventIndicators = ME_GETTABLE;
+    fmi2GetContinuousStates = ME_GETTABLE;
+    fmi2GetNominalsOfContinuousStates = INST | EVENT | CONT | TERM | ERR;
 }
 
 /// Names of the states in `mask`, for messages.
 pub(crate) fn mask_names(mask: u16) -> String {
-    const ALL: [Phase; 8] = [
-        Phase::Instantiated,
-        Phase::InitializationMode,
-        Phase::StepComplete,
-        Phase::StepFailed,
-        Phase::StepCanceled,
-        Phase::Terminated,
-        Phase::Error,
-        Phase::Fatal,
-    ];
     let names: Vec<&str> =
-        ALL.iter().filter(|m| mask & (**m as u16) != 0).map(|m| m.name()).collect();
+        ALL_PHASES.iter().filter(|m| mask & (**m as u16) != 0).map(|m| m.name()).collect();
     if names.is_empty() {
         "none (this FMU never runs a step asynchronously)".into()
     } else {
@@ -149,17 +177,20 @@ pub(crate) fn mask_names(mask: u16) -> String {
 pub(crate) mod cat {
     pub(crate) const ERROR: usize = 0;
     pub(crate) const WARNING: usize = 1;
-    pub(crate) const FATAL: usize = 2;
-    pub(crate) const MODEL: usize = 3;
-    pub(crate) const CALLS: usize = 4;
+    pub(crate) const DISCARD: usize = 2;
+    pub(crate) const FATAL: usize = 3;
+    pub(crate) const MODEL: usize = 4;
+    pub(crate) const CALLS: usize = 5;
 }
 
-/// A built mesh model with the settings it was built from and the derived quantities.
+/// A built engine with the settings it was built from and the derived quantities.
 #[derive(Clone)]
 pub(crate) struct Built {
-    model: MeshModel,
+    engine: Box<dyn Engine>,
     derived: Derived,
     settings: Settings,
+    /// True once [`Engine::start`] ran.
+    started: bool,
 }
 
 /// Everything an FMU state captures.
@@ -170,21 +201,22 @@ pub(crate) struct Data {
     pub(crate) start_time: f64,
     pub(crate) stop_time: Option<f64>,
     pub(crate) settings: Settings,
-    pub(crate) inputs: MeshState,
+    pub(crate) inputs: Inputs,
     built: Option<Built>,
-    /// Outputs for the current inputs; `None` when an input or parameter changed since.
-    outputs: Option<MeshOutputs>,
+    /// Outputs for the current inputs and state; `None` when an input, a parameter or the
+    /// state changed since.
+    outputs: Option<Outputs>,
 }
 
 impl Data {
-    fn start() -> Self {
+    fn start(model: &ModelInfo) -> Self {
         Self {
             mode: Phase::Instantiated,
             time: 0.0,
             start_time: 0.0,
             stop_time: None,
-            settings: Settings::default(),
-            inputs: MeshState::default(),
+            settings: (model.default_settings)(),
+            inputs: (model.default_inputs)(),
             built: None,
             outputs: None,
         }
@@ -198,6 +230,8 @@ pub(crate) struct Snapshot {
 
 /// One FMU instance.
 pub(crate) struct Instance {
+    /// The model this instance runs.
+    pub(crate) model: &'static ModelInfo,
     pub(crate) name: CString,
     logger: Option<fmi2CallbackLogger>,
     env: fmi2ComponentEnvironment,
@@ -206,8 +240,8 @@ pub(crate) struct Instance {
     enabled: u32,
     resources: Option<PathBuf>,
     pub(crate) data: Data,
-    /// The last model built from start (or any) settings, kept so that `fmi2Reset` and
-    /// deserialised states reuse it instead of building again; `evaluate` of a clone of it
+    /// The last engine built from start (or any) settings, before its start, kept so that
+    /// `fmi2Reset` and deserialised states reuse it instead of building again; a clone of it
     /// repeats a fresh instance's results bit for bit.
     pristine: Option<Built>,
     /// FMU states created by this instance and not yet freed.
@@ -220,18 +254,9 @@ fn settings_eq_but_damping(a: &Settings, b: &Settings) -> bool {
     *a == b2
 }
 
-/// Text of a model-building error; names the FMI parameter.
-fn mesh_error_text(e: &MeshError) -> String {
-    match e {
-        MeshError::Param(p) if p.name == "d_mesh_n_s_per_m" => {
-            format!("{p} (FMI parameter `d_mesh`)")
-        }
-        other => other.to_string(),
-    }
-}
-
 impl Instance {
     pub(crate) fn new(
+        model: &'static ModelInfo,
         name: CString,
         logger: Option<fmi2CallbackLogger>,
         env: fmi2ComponentEnvironment,
@@ -239,13 +264,14 @@ impl Instance {
         resources: Option<PathBuf>,
     ) -> Self {
         Self {
+            model,
             name,
             logger,
             env,
             logging_on,
             enabled: u32::MAX,
             resources,
-            data: Data::start(),
+            data: Data::start(model),
             pristine: None,
             states: Vec::new(),
         }
@@ -262,7 +288,7 @@ impl Instance {
     /// True when a message of `category` would reach the logger.
     pub(crate) fn logs(&self, category: usize) -> bool {
         self.logger.is_some()
-            && (matches!(category, cat::ERROR | cat::FATAL)
+            && (matches!(category, cat::ERROR | cat::DISCARD | cat::FATAL)
                 || (self.logging_on && self.enabled & (1 << category) != 0))
     }
 
@@ -334,7 +360,7 @@ impl Instance {
     }
 
     pub(crate) fn exit_initialization_mode(&mut self) -> Result<fmi2Status, String> {
-        self.ensure_built()?;
+        self.ensure_started()?;
         self.data.mode = Phase::StepComplete;
         Ok(fmi2Status::Ok)
     }
@@ -346,30 +372,32 @@ impl Instance {
 
     /// Back to the instantiated state with the start values of every variable.
     pub(crate) fn reset(&mut self) -> Result<fmi2Status, String> {
-        self.data = Data::start();
+        self.data = Data::start(self.model);
         Ok(fmi2Status::Ok)
     }
 
-    /// Builds the mesh model for the current settings unless it exists.
+    /// Builds the engine for the current settings unless it exists.
     fn ensure_built(&mut self) -> Result<&mut Built, String> {
         if self.data.built.is_none() {
             let s = &self.data.settings;
             let built = match &self.pristine {
                 Some(p) if settings_eq_but_damping(&p.settings, s) => {
                     let mut b = p.clone();
-                    b.model.set_d_mesh(s.pair.d_mesh_n_s_per_m).map_err(|e| mesh_error_text(&e))?;
+                    b.engine.set_d_mesh(s.pair.d_mesh_n_s_per_m)?;
                     b.settings = s.clone();
                     b
                 }
                 _ => {
                     let t0 = std::time::Instant::now();
-                    let b = build(s)?;
+                    let (engine, derived) = (self.model.build)(s)?;
+                    let b = Built { engine, derived, settings: s.clone(), started: false };
                     if self.logs(cat::MODEL) {
                         self.log(
                             fmi2Status::Ok,
                             cat::MODEL,
                             &format!(
-                                "mesh model built in {:.3} s (base radii {:.6} / {:.6} mm)",
+                                "{} built in {:.3} s (base radii {:.6} / {:.6} mm)",
+                                self.model.identifier,
                                 t0.elapsed().as_secs_f64(),
                                 b.derived.base_radius_p * 1e3,
                                 b.derived.base_radius_g * 1e3
@@ -385,30 +413,34 @@ impl Instance {
         Ok(self.data.built.as_mut().expect("built above"))
     }
 
-    /// The outputs for the current inputs, evaluating the model if an input changed.
-    fn ensure_outputs(&mut self) -> Result<MeshOutputs, String> {
+    /// Builds the engine and puts it at its start unless that is done.
+    fn ensure_started(&mut self) -> Result<&mut Built, String> {
+        self.ensure_built()?;
+        let d = &mut self.data;
+        let built = d.built.as_mut().expect("built above");
+        if !built.started {
+            built.engine.start(&d.settings, &mut d.inputs, d.time)?;
+            built.started = true;
+            d.outputs = None;
+        }
+        Ok(built)
+    }
+
+    /// The outputs for the current inputs and state, evaluating the model if anything
+    /// changed.
+    fn ensure_outputs(&mut self) -> Result<Outputs, String> {
         if let Some(o) = self.data.outputs {
             return Ok(o);
         }
-        let inputs = self.data.inputs;
-        let built = self.ensure_built()?;
-        let o = built.model.evaluate(&inputs).map_err(|e| {
-            format!(
-                "mesh evaluation at phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} \
-                 rad/s: {}",
-                inputs.phi_p,
-                inputs.phi_g,
-                inputs.w_p,
-                inputs.w_g,
-                mesh_error_text(&e)
-            )
-        })?;
+        self.ensure_started()?;
+        let d = &mut self.data;
+        let o = d.built.as_mut().expect("started above").engine.outputs(&d.inputs)?;
         self.data.outputs = Some(o);
         Ok(o)
     }
 
-    fn lookup(vr: u32, want: &str) -> Result<&'static Variable, String> {
-        let v = by_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
+    fn lookup(&self, vr: u32, want: &str) -> Result<&'static Variable, String> {
+        let v = self.model.by_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
         let ty = v.var_type().as_str();
         if ty != want {
             return Err(format!("value reference {vr} (`{}`) is of type {ty}, not {want}", v.name));
@@ -438,7 +470,7 @@ impl Instance {
     }
 
     pub(crate) fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<fmi2Status, String> {
-        let vars = vrs.iter().map(|&r| Self::lookup(r, "Real")).collect::<Result<Vec<_>, _>>()?;
+        let vars = vrs.iter().map(|&r| self.lookup(r, "Real")).collect::<Result<Vec<_>, _>>()?;
         self.prepare(&vars)?;
         for (o, v) in out.iter_mut().zip(&vars) {
             *o = self.read_real(v);
@@ -451,8 +483,7 @@ impl Instance {
         vrs: &[u32],
         out: &mut [i32],
     ) -> Result<fmi2Status, String> {
-        let vars =
-            vrs.iter().map(|&r| Self::lookup(r, "Integer")).collect::<Result<Vec<_>, _>>()?;
+        let vars = vrs.iter().map(|&r| self.lookup(r, "Integer")).collect::<Result<Vec<_>, _>>()?;
         self.prepare(&vars)?;
         for (o, v) in out.iter_mut().zip(&vars) {
             *o = match v.access {
@@ -469,8 +500,7 @@ impl Instance {
         vrs: &[u32],
         out: &mut [bool],
     ) -> Result<fmi2Status, String> {
-        let vars =
-            vrs.iter().map(|&r| Self::lookup(r, "Boolean")).collect::<Result<Vec<_>, _>>()?;
+        let vars = vrs.iter().map(|&r| self.lookup(r, "Boolean")).collect::<Result<Vec<_>, _>>()?;
         self.prepare(&vars)?;
         for (o, v) in out.iter_mut().zip(&vars) {
             *o = match v.access {
@@ -511,7 +541,7 @@ impl Instance {
 
     pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<fmi2Status, String> {
         for (&r, &x) in vrs.iter().zip(values) {
-            let v = Self::lookup(r, "Real")?;
+            let v = self.lookup(r, "Real")?;
             self.check_settable(v)?;
             match v.access {
                 Access::Input(get, set) => {
@@ -529,7 +559,7 @@ impl Instance {
                     }
                     if v.variability == Variability::Tunable {
                         if let Some(b) = self.data.built.as_mut() {
-                            b.model.set_d_mesh(x).map_err(|e| mesh_error_text(&e))?;
+                            b.engine.set_d_mesh(x)?;
                             set(&mut b.settings, x);
                         }
                         set(&mut self.data.settings, x);
@@ -551,7 +581,7 @@ impl Instance {
         values: &[i32],
     ) -> Result<fmi2Status, String> {
         for (&r, &x) in vrs.iter().zip(values) {
-            let v = Self::lookup(r, "Integer")?;
+            let v = self.lookup(r, "Integer")?;
             self.check_settable(v)?;
             if let Access::IntParam(get, set) = v.access
                 && get(&self.data.settings) != x
@@ -571,7 +601,7 @@ impl Instance {
         values: &[bool],
     ) -> Result<fmi2Status, String> {
         for (&r, &x) in vrs.iter().zip(values) {
-            let v = Self::lookup(r, "Boolean")?;
+            let v = self.lookup(r, "Boolean")?;
             self.check_settable(v)?;
             if let Access::BoolParam(get, set) = v.access
                 && get(&self.data.settings) != x
@@ -601,6 +631,20 @@ impl Instance {
             && t + h > stop + 1e-9 * stop.abs().max(h)
         {
             return Err(format!("step to t + h = {} s beyond stopTime = {stop} s", t + h));
+        }
+        if self.model.stateful {
+            self.ensure_started()?;
+            let d = &mut self.data;
+            let engine = &mut d.built.as_mut().expect("started above").engine;
+            match engine.step(&d.inputs, now, h) {
+                Ok(()) => d.outputs = None,
+                Err(StepFailure::Discard(msg)) => {
+                    self.data.mode = Phase::StepFailed;
+                    self.log(fmi2Status::Discard, cat::DISCARD, &format!("fmi2DoStep: {msg}"));
+                    return Ok(fmi2Status::Discard);
+                }
+                Err(StepFailure::Error(msg)) => return Err(msg),
+            }
         }
         self.data.time = t + h;
         Ok(fmi2Status::Ok)
@@ -661,15 +705,31 @@ impl Instance {
             return Err("FMUstate is not a live FMU state of this instance".into());
         }
         // SAFETY: owned snapshots are live boxes.
-        Ok(serialize(unsafe { &(*s).data }))
+        Ok(serialize(self.model, unsafe { &(*s).data }))
     }
 
     pub(crate) fn deserialize_state(&mut self, bytes: &[u8]) -> Result<*mut Snapshot, String> {
-        let mut data = deserialize(bytes)?;
-        if matches!(data.mode, Phase::StepComplete | Phase::StepFailed | Phase::StepCanceled) {
-            // Attach a model (a clone of the pristine one when the settings match).
+        let (mut data, engine_state) = deserialize(self.model, bytes)?;
+        if matches!(
+            data.mode,
+            Phase::StepComplete
+                | Phase::StepFailed
+                | Phase::StepCanceled
+                | Phase::EventMode
+                | Phase::ContinuousTimeMode
+        ) || engine_state.is_some()
+        {
+            // Attach an engine (a clone of the pristine one when the settings match) with the
+            // saved state.
             let saved = std::mem::replace(&mut self.data, data);
-            let r = self.ensure_built().map(|_| ());
+            let r = self.ensure_built().and_then(|b| match &engine_state {
+                Some(bytes) => {
+                    b.engine.load(bytes)?;
+                    b.started = true;
+                    Ok(())
+                }
+                None => Ok(()),
+            });
             data = std::mem::replace(&mut self.data, saved);
             r?;
         }
@@ -705,43 +765,33 @@ pub(crate) fn log_to(
     unsafe { logger(env, name.as_ptr(), status, category.as_ptr(), text.as_ptr()) };
 }
 
-/// Builds the model and the derived quantities for `s`.
-fn build(s: &Settings) -> Result<Built, String> {
-    let model = MeshModel::new(&s.pair, s.options).map_err(|e| mesh_error_text(&e))?;
-    let geometry = model.geometry();
-    let derived = Derived {
-        base_radius_p: geometry.pinion.rb,
-        base_radius_g: geometry.gear.rb,
-        j_p: geometry.j_p,
-        j_g: geometry.j_g,
-    };
-    Ok(Built { model, derived, settings: s.clone() })
-}
-
 // ---- serialised FMU state
 //
 // Layout (little endian): magic `HGMSTATE`, format version u32, GUID (u32 length + bytes),
-// mode u8, time f64, start time f64, stop time (u8 flag + f64), then every parameter and input
-// in table order (Real f64, Integer i32, Boolean u8), then the cached outputs (u8 flag, then
-// the twelve MeshOutputs fields). The mesh model itself is not serialised: it is rebuilt from
-// the parameters (or cloned from the instance's last build with the same parameters).
+// state-machine state u8 (its bit position), time f64, start time f64, stop time (u8 flag +
+// f64), then every parameter and input in table order (Real f64, Integer i32, Boolean u8);
+// stateful models then write the engine's state (u32 length, 0 before the start, + bytes);
+// last the cached outputs (u8 flag, then the twelve mesh-output fields; stateful models
+// always write 0: their outputs follow from the state). The engine itself (the mesh model) is
+// not serialised: it is rebuilt from the parameters (or cloned from the instance's last build
+// with the same parameters).
 
 const MAGIC: &[u8; 8] = b"HGMSTATE";
-const FORMAT_VERSION: u32 = 1;
+const FORMAT_VERSION: u32 = 2;
 
-fn serialize(d: &Data) -> Vec<u8> {
+fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     let mut b = Vec::with_capacity(512);
     b.extend_from_slice(MAGIC);
     b.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-    let g = guid().as_bytes();
+    let g = model.guid().as_bytes();
     b.extend_from_slice(&(g.len() as u32).to_le_bytes());
     b.extend_from_slice(g);
-    b.push(d.mode as u16 as u8);
+    b.push(d.mode.code());
     b.extend_from_slice(&d.time.to_le_bytes());
     b.extend_from_slice(&d.start_time.to_le_bytes());
     b.push(u8::from(d.stop_time.is_some()));
     b.extend_from_slice(&d.stop_time.unwrap_or(0.0).to_le_bytes());
-    for v in VARIABLES {
+    for v in model.variables {
         match v.access {
             Access::RealParam(get, _) => b.extend_from_slice(&get(&d.settings).to_le_bytes()),
             Access::IntParam(get, _) => b.extend_from_slice(&get(&d.settings).to_le_bytes()),
@@ -750,11 +800,18 @@ fn serialize(d: &Data) -> Vec<u8> {
             _ => {}
         }
     }
+    if model.stateful {
+        let state = match &d.built {
+            Some(built) if built.started => built.engine.save(),
+            _ => Vec::new(),
+        };
+        b.extend_from_slice(&(state.len() as u32).to_le_bytes());
+        b.extend_from_slice(&state);
+    }
     match &d.outputs {
-        None => b.push(0),
-        Some(o) => {
+        Some(o) if !model.stateful => {
             b.push(1);
-            let MeshOutputs {
+            let crate::mesh::MeshOutputs {
                 m_f_p,
                 m_f_g,
                 m_d_p,
@@ -767,7 +824,7 @@ fn serialize(d: &Data) -> Vec<u8> {
                 tip_contact,
                 separated,
                 back_contact,
-            } = *o;
+            } = o.mesh;
             for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
                 b.extend_from_slice(&x.to_le_bytes());
             }
@@ -778,6 +835,7 @@ fn serialize(d: &Data) -> Vec<u8> {
                 u8::from(back_contact),
             ]);
         }
+        _ => b.push(0),
     }
     b
 }
@@ -817,7 +875,9 @@ impl Reader<'_> {
     }
 }
 
-fn deserialize(bytes: &[u8]) -> Result<Data, String> {
+/// The data of a serialised state and, for a stateful model that had started, the engine's
+/// state.
+fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>), String> {
     let mut r = Reader { b: bytes, at: 0 };
     if &r.take::<8>()? != MAGIC {
         return Err("not a serialised state of this FMU (bad magic bytes)".into());
@@ -832,23 +892,24 @@ fn deserialize(bytes: &[u8]) -> Result<Data, String> {
     let n = r.u32()? as usize;
     let g = r.b.get(r.at..r.at + n).ok_or("serialised state truncated in the GUID")?;
     r.at += n;
-    if g != guid().as_bytes() {
+    if g != model.guid().as_bytes() {
         return Err(format!(
-            "serialised state belongs to FMU {}, not {}",
+            "serialised state belongs to FMU {}, not {} ({})",
             String::from_utf8_lossy(g),
-            guid()
+            model.guid(),
+            model.identifier
         ));
     }
     let m = r.u8()?;
-    let mode = Phase::from_u8(m).ok_or_else(|| format!("serialised state: bad mode {m}"))?;
-    let mut d = Data::start();
+    let mode = Phase::from_code(m).ok_or_else(|| format!("serialised state: bad mode {m}"))?;
+    let mut d = Data::start(model);
     d.mode = mode;
     d.time = r.f64()?;
     d.start_time = r.f64()?;
     let has_stop = r.bool()?;
     let stop = r.f64()?;
     d.stop_time = has_stop.then_some(stop);
-    for v in VARIABLES {
+    for v in model.variables {
         match v.access {
             Access::RealParam(_, set) => {
                 let x = r.f64()?;
@@ -885,12 +946,24 @@ fn deserialize(bytes: &[u8]) -> Result<Data, String> {
             return Err(format!("serialised state: {name} = {t} is not finite"));
         }
     }
+    let mut engine_state = None;
+    if model.stateful {
+        let n = r.u32()? as usize;
+        let s = r.b.get(r.at..r.at + n).ok_or("serialised state truncated in the model state")?;
+        r.at += n;
+        if n > 0 {
+            engine_state = Some(s.to_vec());
+        }
+    }
     if r.bool()? {
+        if model.stateful {
+            return Err("serialised state: cached outputs in a state of a stateful model".into());
+        }
         let mut x = [0.0; 8];
         for xi in &mut x {
             *xi = r.f64()?;
         }
-        d.outputs = Some(MeshOutputs {
+        let mesh = crate::mesh::MeshOutputs {
             m_f_p: x[0],
             m_f_g: x[1],
             m_d_p: x[2],
@@ -903,7 +976,8 @@ fn deserialize(bytes: &[u8]) -> Result<Data, String> {
             tip_contact: r.bool()?,
             separated: r.bool()?,
             back_contact: r.bool()?,
-        });
+        };
+        d.outputs = Some(Outputs { mesh, ..Outputs::default() });
     }
     if r.at != bytes.len() {
         return Err(format!(
@@ -912,5 +986,5 @@ fn deserialize(bytes: &[u8]) -> Result<Data, String> {
             r.at
         ));
     }
-    Ok(d)
+    Ok((d, engine_state))
 }

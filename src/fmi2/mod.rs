@@ -36,6 +36,8 @@
 mod instance;
 
 pub mod exports;
+pub mod model;
+pub mod models;
 pub mod types;
 pub mod uri;
 pub mod variables;

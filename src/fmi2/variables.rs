@@ -1,36 +1,160 @@
-//! The one variable table of the FMU.
+//! The variable tables of the FMU family: the descriptors shared by every model and the
+//! parameter tables they share.
 //!
-//! [`VARIABLES`] lists every FMI variable once: name, value reference, causality, variability,
-//! type, unit, description, and how an instance reads and writes it. Everything else is derived
-//! from it: the value-reference dispatch of `fmi2Get*`/`fmi2Set*`, the start values (read from
-//! [`Settings::default`] and [`MeshState::default`], so they cannot drift from the Rust defaults),
-//! the serialised FMU state, `modelDescription.xml`, the GUID ([`guid`]), the HTML documentation
-//! inside the FMU and the variable table of the README.
+//! A [`Variable`] names one FMI scalar variable: name, value reference, causality,
+//! variability, type, unit, description, and how an instance reads and writes it
+//! ([`Access`]). Each model ([`super::models`]) lists its variables in one static table; the
+//! value-reference dispatch of `fmi2Get*`/`fmi2Set*`, the start values (read from the model's
+//! default [`Settings`] and [`Inputs`], so they cannot drift from the Rust defaults), the
+//! serialised FMU state, `modelDescription.xml`, the GUID, the C header of value references,
+//! the HTML documentation inside the FMU and the README variable table are all derived from
+//! that table.
+//!
+//! The same physical quantity has the same name and value reference in every model: the
+//! gear-pair parameters ([`GEAR_PARAMS`], 100–129), the mesh options ([`MESH_OPTIONS`],
+//! 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
+//! ([`MESH_OUTPUTS`], 10–21) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
 //! joined by a dot (`material_p.youngs_modulus_pa`, `drive.torque_nm`), so that a parameter
 //! error from the library (which names the JSON key) names the FMI variable too. The one
 //! exception is the mesh damping: JSON key `d_mesh_n_s_per_m`, FMI variable `d_mesh` (tunable).
+//!
+//! For compatibility the items of the `HelicalGearMesh` model are re-exported here
+//! ([`VARIABLES`], [`by_name`], [`by_vr`], [`guid`], [`MODEL_IDENTIFIER`]).
 
-use std::sync::OnceLock;
+use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
 
-use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs, MeshState};
+pub use super::models::mesh::{MODEL_IDENTIFIER, VARIABLES, by_name, by_vr, guid};
 use crate::params::GearPair;
 
-/// Everything the parameters of an instance set: the gear pair and the model options.
+/// Everything the parameters of an instance set: the gear pair, the mesh options and the
+/// options of the stateful models (unused by `HelicalGearMesh`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
     /// Gear pair (geometry, materials, mesh damping, drive line).
     pub pair: GearPair,
     /// Options of the mesh model (fidelity, slices, compliance representation …).
     pub options: MeshOptions,
+    /// Start and integration options of the stateful models.
+    pub unit: UnitOptions,
 }
 
 impl Default for Settings {
-    /// The paper's Table 1 gear pair with the default [`MeshOptions`].
+    /// The paper's Table 1 gear pair with the default [`MeshOptions`] (full fidelity) and the
+    /// default [`UnitOptions`]: the start values of `HelicalGearMesh`.
     fn default() -> Self {
-        Self { pair: GearPair::paper_table1(), options: MeshOptions::default() }
+        Self {
+            pair: GearPair::paper_table1(),
+            options: MeshOptions::default(),
+            unit: UnitOptions::default(),
+        }
     }
+}
+
+/// Integrator of a stateful model inside a communication step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Integrator {
+    /// Classical RK4 on a grid tied to the mesh period (`rk4_steps_per_mesh_period`).
+    Rk4,
+    /// Adaptive Dormand–Prince 5(4) with `rtol`, `atol`.
+    Dopri5,
+}
+
+/// Start and integration options of the stateful models (`HelicalGearPair`,
+/// `HelicalGearStage`, `HelicalGearDrive`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnitOptions {
+    /// Nominal pinion speed of the static-equilibrium start, rad/s.
+    pub w_p_start: f64,
+    /// Integrator inside a communication step.
+    pub integrator: Integrator,
+    /// RK4: sub-steps per mesh period (at the current pinion speed).
+    pub rk4_steps_per_mesh_period: u32,
+    /// DOPRI5: relative tolerance.
+    pub rtol: f64,
+    /// DOPRI5: absolute tolerance (rad and rad/s).
+    pub atol: f64,
+    /// Start in static equilibrium at `w_p_start` (true) or from the explicit start state.
+    pub start_from_equilibrium: bool,
+    /// Explicit start state (φ1, φp, φg, φ2, φ̇1, φ̇p, φ̇g, φ̇2), rad and rad/s; the
+    /// two-inertia models use φp, φg, φ̇p, φ̇g.
+    pub start: [f64; 8],
+}
+
+impl Default for UnitOptions {
+    /// 300 rad/s, RK4 with 128 steps per mesh period, DOPRI5 tolerances 1e-8 / 1e-12 (those
+    /// of `helical-gear simulate`), equilibrium start; the explicit start state is at rest.
+    fn default() -> Self {
+        Self {
+            w_p_start: 300.0,
+            integrator: Integrator::Rk4,
+            rk4_steps_per_mesh_period: 128,
+            rtol: 1e-8,
+            atol: 1e-12,
+            start_from_equilibrium: true,
+            start: [0.0; 8],
+        }
+    }
+}
+
+/// The input values of an instance (every model reads only its own inputs).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Inputs {
+    /// `HelicalGearMesh`: pinion hub angle, rad.
+    pub phi_p: f64,
+    /// `HelicalGearMesh`: gear hub angle, rad.
+    pub phi_g: f64,
+    /// `HelicalGearMesh`: pinion speed, rad/s.
+    pub w_p: f64,
+    /// `HelicalGearMesh`: gear speed, rad/s.
+    pub w_g: f64,
+    /// `HelicalGearPair`: torque of the pinion shaft on the pinion hub, N·m.
+    pub tau_p: f64,
+    /// `HelicalGearPair`: torque of the gear shaft on the gear hub, N·m.
+    pub tau_g: f64,
+    /// `HelicalGearStage`: angle of the pinion shaft's far end (J1 side), rad.
+    pub phi_1: f64,
+    /// `HelicalGearStage`: rate of the pinion shaft's far end, rad/s.
+    pub w_1: f64,
+    /// `HelicalGearStage`: angle of the gear shaft's far end (J2 side), rad.
+    pub phi_2: f64,
+    /// `HelicalGearStage`: rate of the gear shaft's far end, rad/s.
+    pub w_2: f64,
+    /// `HelicalGearDrive`: driving torque M on J1, N·m.
+    pub m: f64,
+}
+
+/// The output values of an instance: the mesh outputs and, for the stateful models, the
+/// kinematics and shaft torques (0 where a model does not hold them).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Outputs {
+    /// Mesh torques, TE, force, contact length, pressure and flags.
+    pub mesh: MeshOutputs,
+    /// Angles φ1, φp, φg, φ2, rad.
+    pub phi_1: f64,
+    /// See `phi_1`.
+    pub phi_p: f64,
+    /// See `phi_1`.
+    pub phi_g: f64,
+    /// See `phi_1`.
+    pub phi_2: f64,
+    /// Rates φ̇1, φ̇p, φ̇g, φ̇2, rad/s.
+    pub w_1: f64,
+    /// See `w_1`.
+    pub w_p: f64,
+    /// See `w_1`.
+    pub w_g: f64,
+    /// See `w_1`.
+    pub w_2: f64,
+    /// Angular accelerations of the pinion and gear bodies, rad/s².
+    pub a_p: f64,
+    /// See `a_p`.
+    pub a_g: f64,
+    /// Torques the shafts exert on J1 and J2, N·m.
+    pub tau_1: f64,
+    /// See `tau_1`.
+    pub tau_2: f64,
 }
 
 /// Quantities derived from the parameters when the model is built (calculated parameters).
@@ -131,14 +255,14 @@ pub enum Access {
     IntParam(fn(&Settings) -> i32, fn(&mut Settings, i32) -> Result<(), &'static str>),
     /// Boolean parameter stored in [`Settings`].
     BoolParam(fn(&Settings) -> bool, fn(&mut Settings, bool)),
-    /// Real input stored in [`MeshState`].
-    Input(fn(&MeshState) -> f64, fn(&mut MeshState, f64)),
-    /// Real output of [`MeshOutputs`].
-    RealOutput(fn(&MeshOutputs) -> f64),
-    /// Integer output of [`MeshOutputs`].
-    IntOutput(fn(&MeshOutputs) -> i32),
-    /// Boolean output of [`MeshOutputs`].
-    BoolOutput(fn(&MeshOutputs) -> bool),
+    /// Real input stored in [`Inputs`].
+    Input(fn(&Inputs) -> f64, fn(&mut Inputs, f64)),
+    /// Real output of [`Outputs`].
+    RealOutput(fn(&Outputs) -> f64),
+    /// Integer output of [`Outputs`].
+    IntOutput(fn(&Outputs) -> i32),
+    /// Boolean output of [`Outputs`].
+    BoolOutput(fn(&Outputs) -> bool),
     /// Calculated parameter of [`Derived`].
     Calculated(fn(&Derived) -> f64),
 }
@@ -162,6 +286,10 @@ pub mod group {
     pub const OPTIONS: u32 = 32;
     /// The `compute_pressure` switch.
     pub const PRESSURE: u32 = 64;
+    /// Start and integration options of the stateful models.
+    pub const UNIT: u32 = 128;
+    /// Every group.
+    pub const ALL: u32 = 255;
 }
 
 /// Dependencies of an output or calculated parameter.
@@ -220,16 +348,20 @@ impl Variable {
         }
     }
 
-    /// The start value as it appears in `modelDescription.xml` (parameters and inputs), from
-    /// [`Settings::default`] and [`MeshState::default`].
+    /// The start value of `HelicalGearMesh` (parameters and inputs), from
+    /// [`Settings::default`] and [`Inputs::default`].
     pub fn start(&self) -> Option<String> {
-        let s = Settings::default();
-        let i = MeshState::default();
+        self.start_in(&Settings::default(), &Inputs::default())
+    }
+
+    /// The start value as it appears in `modelDescription.xml` (parameters and inputs) of a
+    /// model whose defaults are `s` and `i`.
+    pub fn start_in(&self, s: &Settings, i: &Inputs) -> Option<String> {
         match self.access {
-            Access::RealParam(get, _) => Some(format_real(get(&s))),
-            Access::IntParam(get, _) => Some(get(&s).to_string()),
-            Access::BoolParam(get, _) => Some(get(&s).to_string()),
-            Access::Input(get, _) => Some(format_real(get(&i))),
+            Access::RealParam(get, _) => Some(format_real(get(s))),
+            Access::IntParam(get, _) => Some(get(s).to_string()),
+            Access::BoolParam(get, _) => Some(get(s).to_string()),
+            Access::Input(get, _) => Some(format_real(get(i))),
             _ => None,
         }
     }
@@ -257,7 +389,8 @@ pub fn format_real(v: f64) -> String {
     s.strip_suffix(".0").map(str::to_string).unwrap_or(s)
 }
 
-const NONE: Variable = Variable {
+/// A blank variable for struct-update syntax in the tables.
+pub(crate) const NONE: Variable = Variable {
     name: "",
     vr: 0,
     causality: Causality::Parameter,
@@ -273,6 +406,7 @@ const NONE: Variable = Variable {
     access: Access::RealOutput(|_| 0.0),
 };
 
+/// A Real `fixed` parameter stored in [`Settings::pair`].
 macro_rules! real_param {
     ($name:literal, $vr:expr, $group:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal,
      $($field:ident).+) => {
@@ -292,6 +426,7 @@ macro_rules! real_param {
     };
 }
 
+/// An output entry.
 macro_rules! output {
     ($name:literal, $vr:expr, $var:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal,
      $dep:expr, $access:expr) => {
@@ -319,7 +454,7 @@ const ELASTIC_DEPS: Depends = Depends {
     groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS,
 };
 
-fn u32_to_i32(v: u32) -> i32 {
+pub(crate) fn u32_to_i32(v: u32) -> i32 {
     i32::try_from(v).unwrap_or(i32::MAX)
 }
 
@@ -329,71 +464,20 @@ fn usize_to_i32(v: usize) -> i32 {
 
 use Variability::{Continuous, Discrete};
 
-const RAD: Option<&str> = Some("rad");
-const DEG: Option<&str> = Some("deg");
-const M: Option<&str> = Some("m");
-const MM: Option<&str> = Some("mm");
-const NM: Option<&str> = Some("N.m");
-const PA: Option<&str> = Some("Pa");
-const ANGLE: Option<&str> = Some("Angle");
-const LENGTH: Option<&str> = Some("Length");
-const TORQUE: Option<&str> = Some("Torque");
+pub(crate) const RAD: Option<&str> = Some("rad");
+pub(crate) const DEG: Option<&str> = Some("deg");
+pub(crate) const M: Option<&str> = Some("m");
+pub(crate) const MM: Option<&str> = Some("mm");
+pub(crate) const NM: Option<&str> = Some("N.m");
+pub(crate) const PA: Option<&str> = Some("Pa");
+pub(crate) const ANGLE: Option<&str> = Some("Angle");
+pub(crate) const LENGTH: Option<&str> = Some("Length");
+pub(crate) const TORQUE: Option<&str> = Some("Torque");
 
 /// Every variable of the FMU, in `modelDescription.xml` order (the ScalarVariable index is the
 /// position in this table plus one).
-pub static VARIABLES: &[Variable] = &[
-    // ---- inputs
-    Variable {
-        name: "phi_p",
-        vr: 0,
-        causality: Causality::Input,
-        variability: Continuous,
-        description: "Pinion hub angle, rad; positive counter-clockwise seen from the zeta = 0 \
-                      face (the pinion drives in the positive sense)",
-        unit: RAD,
-        display_unit: DEG,
-        quantity: ANGLE,
-        access: Access::Input(|s| s.phi_p, |s, v| s.phi_p = v),
-        ..NONE
-    },
-    Variable {
-        name: "phi_g",
-        vr: 1,
-        causality: Causality::Input,
-        variability: Continuous,
-        description: "Gear hub angle, rad, same sense as phi_p (negative and decreasing in \
-                      normal running); TE = phi_p*g_p + phi_g*g_g",
-        unit: RAD,
-        display_unit: DEG,
-        quantity: ANGLE,
-        access: Access::Input(|s| s.phi_g, |s, v| s.phi_g = v),
-        ..NONE
-    },
-    Variable {
-        name: "w_p",
-        vr: 2,
-        causality: Causality::Input,
-        variability: Continuous,
-        description: "Pinion speed d(phi_p)/dt, rad/s",
-        unit: Some("rad/s"),
-        display_unit: Some("rpm"),
-        quantity: Some("AngularVelocity"),
-        access: Access::Input(|s| s.w_p, |s, v| s.w_p = v),
-        ..NONE
-    },
-    Variable {
-        name: "w_g",
-        vr: 3,
-        causality: Causality::Input,
-        variability: Continuous,
-        description: "Gear speed d(phi_g)/dt, rad/s (negative in normal running)",
-        unit: Some("rad/s"),
-        display_unit: Some("rpm"),
-        quantity: Some("AngularVelocity"),
-        access: Access::Input(|s| s.w_g, |s, v| s.w_g = v),
-        ..NONE
-    },
-    // ---- outputs
+/// The mesh outputs (value references 10–21) with their dependencies in `HelicalGearMesh`.
+pub const MESH_OUTPUTS: [Variable; 12] = [
     output!(
         "M_F_p",
         10,
@@ -405,7 +489,7 @@ pub static VARIABLES: &[Variable] = &[
          minus sign: J_p*phi_p'' = c1*(phi_1 - phi_p) + ... - M_F_p - M_D_p; positive in \
          normal drive",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.m_f_p)
+        Access::RealOutput(|o| o.mesh.m_f_p)
     ),
     output!(
         "M_F_g",
@@ -417,7 +501,7 @@ pub static VARIABLES: &[Variable] = &[
         "Elastic mesh torque on the gear (Eq. 13), N.m; enters the gear equation with a minus \
          sign; M_F_g/M_F_p = g_g/g_p in the plane of action",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.m_f_g)
+        Access::RealOutput(|o| o.mesh.m_f_g)
     ),
     output!(
         "M_D_p",
@@ -433,7 +517,7 @@ pub static VARIABLES: &[Variable] = &[
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::DAMPING,
         },
-        Access::RealOutput(|o| o.m_d_p)
+        Access::RealOutput(|o| o.mesh.m_d_p)
     ),
     output!(
         "M_D_g",
@@ -449,7 +533,7 @@ pub static VARIABLES: &[Variable] = &[
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::DAMPING,
         },
-        Access::RealOutput(|o| o.m_d_g)
+        Access::RealOutput(|o| o.mesh.m_d_g)
     ),
     output!(
         "TE",
@@ -461,7 +545,7 @@ pub static VARIABLES: &[Variable] = &[
         "Transmission error TE = phi_p*g_p + phi_g*g_g (Eq. 16), m; 0 when ideal unloaded \
          driving flanks just touch, > 0 when the teeth must deform",
         Depends { inputs: ANGLES, linear_fixed: true, groups: group::GEOMETRY },
-        Access::RealOutput(|o| o.te)
+        Access::RealOutput(|o| o.mesh.te)
     ),
     output!(
         "F_n",
@@ -472,7 +556,7 @@ pub static VARIABLES: &[Variable] = &[
         Some("Force"),
         "Total normal contact force of all loaded flanks, N (elastic part, >= 0)",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.f_n)
+        Access::RealOutput(|o| o.mesh.f_n)
     ),
     output!(
         "contact_length",
@@ -483,7 +567,7 @@ pub static VARIABLES: &[Variable] = &[
         LENGTH,
         "Total length of the loaded contact lines, m",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.contact_length)
+        Access::RealOutput(|o| o.mesh.contact_length)
     ),
     output!(
         "p_max",
@@ -499,7 +583,7 @@ pub static VARIABLES: &[Variable] = &[
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::PRESSURE,
         },
-        Access::RealOutput(|o| o.p_max)
+        Access::RealOutput(|o| o.mesh.p_max)
     ),
     output!(
         "n_pairs",
@@ -510,7 +594,7 @@ pub static VARIABLES: &[Variable] = &[
         None,
         "Number of tooth pairs carrying load",
         ELASTIC_DEPS,
-        Access::IntOutput(|o| u32_to_i32(o.n_pairs))
+        Access::IntOutput(|o| u32_to_i32(o.mesh.n_pairs))
     ),
     output!(
         "tip_contact",
@@ -521,7 +605,7 @@ pub static VARIABLES: &[Variable] = &[
         None,
         "True when a loaded contact lies on the tip rounding (or tip edge) of either gear",
         ELASTIC_DEPS,
-        Access::BoolOutput(|o| o.tip_contact)
+        Access::BoolOutput(|o| o.mesh.tip_contact)
     ),
     output!(
         "separated",
@@ -532,7 +616,7 @@ pub static VARIABLES: &[Variable] = &[
         None,
         "True when no flank carries load (loss of contact)",
         ELASTIC_DEPS,
-        Access::BoolOutput(|o| o.separated)
+        Access::BoolOutput(|o| o.mesh.separated)
     ),
     output!(
         "back_contact",
@@ -544,9 +628,12 @@ pub static VARIABLES: &[Variable] = &[
         "True when the back flanks carry load (TE below minus the backlash); the mesh torques \
          are then negative",
         ELASTIC_DEPS,
-        Access::BoolOutput(|o| o.back_contact)
+        Access::BoolOutput(|o| o.mesh.back_contact)
     ),
-    // ---- calculated parameters
+];
+
+/// Parameters calculated when the model is built (value references 30–33).
+pub const CALCULATED: [Variable; 4] = [
     Variable {
         name: "base_radius_p",
         vr: 30,
@@ -608,7 +695,10 @@ pub static VARIABLES: &[Variable] = &[
         access: Access::Calculated(|d| d.j_g),
         ..NONE
     },
-    // ---- gear-pair parameters
+];
+
+/// The gear-pair parameters (value references 100–129; JSON keys of `GearPair`).
+pub const GEAR_PARAMS: [Variable; 30] = [
     Variable {
         name: "z_p",
         vr: 100,
@@ -921,7 +1011,10 @@ pub static VARIABLES: &[Variable] = &[
         "Viscous damping d_2 of the gear shaft, N.m.s/rad (for the master)",
         drive.d2_nms_per_rad
     ),
-    // ---- model options
+];
+
+/// Options of the mesh model (value references 200–206).
+pub const MESH_OPTIONS: [Variable; 7] = [
     Variable {
         name: "fidelity",
         vr: 200,
@@ -1039,25 +1132,206 @@ pub static VARIABLES: &[Variable] = &[
     },
 ];
 
-/// The variable with value reference `vr`, if any.
-pub fn by_vr(vr: u32) -> Option<&'static Variable> {
-    // A linear scan over ~60 entries costs less than a hash; the table is small and fixed.
-    VARIABLES.iter().find(|v| v.vr == vr)
+/// The start state parameter of state `i` (φ1, φp, φg, φ2, φ̇1, φ̇p, φ̇g, φ̇2).
+macro_rules! start_param {
+    ($name:literal, $vr:expr, $i:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal) => {
+        Variable {
+            name: $name,
+            vr: $vr,
+            description: $desc,
+            unit: $unit,
+            display_unit: $disp,
+            quantity: $q,
+            group: group::UNIT,
+            access: Access::RealParam(|s| s.unit.start[$i], |s, v| s.unit.start[$i] = v),
+            ..NONE
+        }
+    };
 }
 
-/// The variable named `name`, if any.
-pub fn by_name(name: &str) -> Option<&'static Variable> {
-    VARIABLES.iter().find(|v| v.name == name)
+/// Options of the stateful models: start and integrator.
+pub const UNIT_OPTIONS: [Variable; 6] = [
+    Variable {
+        name: "w_p_start",
+        vr: 300,
+        description: "Nominal pinion speed of the static-equilibrium start, rad/s (the state \
+                      starts in static equilibrium under drive.torque_nm, rolling at this speed)",
+        unit: Some("rad/s"),
+        display_unit: Some("rpm"),
+        quantity: Some("AngularVelocity"),
+        group: group::UNIT,
+        access: Access::RealParam(|s| s.unit.w_p_start, |s, v| s.unit.w_p_start = v),
+        ..NONE
+    },
+    Variable {
+        name: "integrator",
+        vr: 301,
+        description: "Integrator inside a communication step: 0 = classical RK4 on a grid of \
+                      rk4_steps_per_mesh_period sub-steps per mesh period, 1 = adaptive \
+                      Dormand-Prince 5(4) with rtol and atol",
+        min: Some(0),
+        max: Some(1),
+        group: group::UNIT,
+        access: Access::IntParam(
+            |s| match s.unit.integrator {
+                Integrator::Rk4 => 0,
+                Integrator::Dopri5 => 1,
+            },
+            |s, v| {
+                s.unit.integrator = match v {
+                    0 => Integrator::Rk4,
+                    1 => Integrator::Dopri5,
+                    _ => return Err("0 (RK4) or 1 (DOPRI5)"),
+                };
+                Ok(())
+            },
+        ),
+        ..NONE
+    },
+    Variable {
+        name: "rk4_steps_per_mesh_period",
+        vr: 302,
+        description: "RK4: sub-steps per mesh period at the current pinion speed (each \
+                      communication step is cut into equal sub-steps no longer than that)",
+        min: Some(1),
+        group: group::UNIT,
+        access: Access::IntParam(
+            |s| u32_to_i32(s.unit.rk4_steps_per_mesh_period),
+            |s, v| {
+                s.unit.rk4_steps_per_mesh_period = u32::try_from(v).map_err(|_| ">= 1")?;
+                Ok(())
+            },
+        ),
+        ..NONE
+    },
+    Variable {
+        name: "rtol",
+        vr: 303,
+        description: "DOPRI5: relative tolerance",
+        group: group::UNIT,
+        access: Access::RealParam(|s| s.unit.rtol, |s, v| s.unit.rtol = v),
+        ..NONE
+    },
+    Variable {
+        name: "atol",
+        vr: 304,
+        description: "DOPRI5: absolute tolerance (rad and rad/s)",
+        group: group::UNIT,
+        access: Access::RealParam(|s| s.unit.atol, |s, v| s.unit.atol = v),
+        ..NONE
+    },
+    Variable {
+        name: "start_from_equilibrium",
+        vr: 305,
+        description: "Start in static equilibrium at w_p_start under drive.torque_nm (the \
+                      inputs are then set to the equilibrium's at fmi2ExitInitializationMode); \
+                      false: start from the explicit start state *_0",
+        group: group::UNIT,
+        access: Access::BoolParam(
+            |s| s.unit.start_from_equilibrium,
+            |s, v| s.unit.start_from_equilibrium = v,
+        ),
+        ..NONE
+    },
+];
+
+/// Explicit start state of the pinion and gear bodies (used when `start_from_equilibrium` is
+/// false).
+pub const START_PAIR: [Variable; 4] = [
+    start_param!("phi_p_0", 311, 1, RAD, DEG, ANGLE, "Explicit start: pinion angle, rad"),
+    start_param!("phi_g_0", 312, 2, RAD, DEG, ANGLE, "Explicit start: gear angle, rad"),
+    start_param!(
+        "w_p_0",
+        315,
+        5,
+        Some("rad/s"),
+        Some("rpm"),
+        Some("AngularVelocity"),
+        "Explicit start: pinion speed, rad/s"
+    ),
+    start_param!(
+        "w_g_0",
+        316,
+        6,
+        Some("rad/s"),
+        Some("rpm"),
+        Some("AngularVelocity"),
+        "Explicit start: gear speed, rad/s"
+    ),
+];
+
+/// Explicit start state of J1 and J2 (`HelicalGearDrive`).
+pub const START_OUTER: [Variable; 4] = [
+    start_param!("phi_1_0", 310, 0, RAD, DEG, ANGLE, "Explicit start: angle of J1, rad"),
+    start_param!("phi_2_0", 313, 3, RAD, DEG, ANGLE, "Explicit start: angle of J2, rad"),
+    start_param!(
+        "w_1_0",
+        314,
+        4,
+        Some("rad/s"),
+        Some("rpm"),
+        Some("AngularVelocity"),
+        "Explicit start: speed of J1, rad/s"
+    ),
+    start_param!(
+        "w_2_0",
+        317,
+        7,
+        Some("rad/s"),
+        Some("rpm"),
+        Some("AngularVelocity"),
+        "Explicit start: speed of J2, rad/s"
+    ),
+];
+
+/// Concatenates variable tables (at compile time) into one of length `N` (which must be the
+/// sum of their lengths).
+pub const fn concat<const N: usize>(parts: &[&[Variable]]) -> [Variable; N] {
+    let mut out = [NONE; N];
+    let mut k = 0;
+    let mut i = 0;
+    while i < parts.len() {
+        let mut j = 0;
+        while j < parts[i].len() {
+            out[k] = parts[i][j];
+            k += 1;
+            j += 1;
+        }
+        i += 1;
+    }
+    assert!(k == N, "concat: N is not the sum of the lengths");
+    out
 }
 
-/// Model identifier of the FMU (name of the shared library and of the model).
-pub const MODEL_IDENTIFIER: &str = "HelicalGearMesh";
+/// Sum of the lengths of tables (for [`concat`]).
+pub const fn total_len(parts: &[&[Variable]]) -> usize {
+    let mut n = 0;
+    let mut i = 0;
+    while i < parts.len() {
+        n += parts[i].len();
+        i += 1;
+    }
+    n
+}
+
+/// `vars` with every `depends` replaced by `d` (outputs of the mesh seen from a stateful
+/// model, where they depend on the state rather than on inputs).
+pub const fn with_depends<const N: usize>(vars: [Variable; N], d: Depends) -> [Variable; N] {
+    let mut out = vars;
+    let mut i = 0;
+    while i < N {
+        out[i].depends = Some(d);
+        i += 1;
+    }
+    out
+}
 
 /// Log categories: name and description. Messages with status error or fatal are always
 /// passed to the logger; the others only when debug logging is on for their category.
 pub const LOG_CATEGORIES: &[(&str, &str)] = &[
     ("logStatusError", "Errors: invalid parameters or inputs, illegal call sequences"),
     ("logStatusWarning", "Warnings"),
+    ("logStatusDiscard", "Communication steps that could not be completed (fmi2Discard)"),
     ("logStatusFatal", "Fatal errors (an internal failure; the instance is unusable)"),
     ("logModel", "Model building: geometry, compliance data, fidelity"),
     ("logCalls", "Every FMI call (function name)"),
@@ -1127,6 +1401,7 @@ pub const UNITS: &[UnitDef] = &[
         display: &[("rpm", 30.0 / std::f64::consts::PI)],
     },
     UnitDef { name: "m", base: &[("m", 1)], display: &[("mm", 1e3), ("um", 1e6)] },
+    UnitDef { name: "rad/s2", base: &[("s", -2), ("rad", 1)], display: &[] },
     UnitDef { name: "N", base: &[("kg", 1), ("m", 1), ("s", -2)], display: &[] },
     UnitDef { name: "N.m", base: &[("kg", 1), ("m", 2), ("s", -2)], display: &[] },
     UnitDef {
@@ -1144,57 +1419,6 @@ pub const UNITS: &[UnitDef] = &[
         display: &[],
     },
 ];
-
-/// Canonical text of everything a master relies on (model identifier, version, capabilities,
-/// log categories, and every variable with type, causality, variability, unit, start value and
-/// range); the GUID is its hash.
-pub fn canonical_description() -> String {
-    let mut s = format!("{MODEL_IDENTIFIER} {MODEL_VERSION} fmi2 cs\n{CS_CAPABILITIES:?}\n");
-    for u in UNITS {
-        s.push_str(&format!("{u:?}\n"));
-    }
-    for (k, _) in LOG_CATEGORIES {
-        s.push_str(&format!("log {k}\n"));
-    }
-    for v in VARIABLES {
-        s.push_str(&format!(
-            "{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}\n",
-            v.name,
-            v.vr,
-            v.var_type().as_str(),
-            v.causality.as_str(),
-            v.variability.as_str(),
-            v.unit,
-            v.start(),
-            v.min,
-            v.max,
-            v.depends.map(|d| (d.inputs, d.linear_fixed, d.groups)),
-            v.group
-        ));
-    }
-    s
-}
-
-/// 128-bit FNV-1a hash.
-fn fnv1a_128(bytes: &[u8]) -> u128 {
-    const OFFSET: u128 = 0x6c62272e07bb014262b821756295c58d;
-    const PRIME: u128 = 0x0000000001000000000000000000013B;
-    bytes.iter().fold(OFFSET, |h, &b| (h ^ u128::from(b)).wrapping_mul(PRIME))
-}
-
-/// The GUID of the FMU: `{…}` formed from the 128-bit FNV-1a hash of
-/// [`canonical_description`] (with the RFC 9562 version-8 and variant bits set). It changes
-/// whenever a variable, a start value, a capability or the crate version changes.
-pub fn guid() -> &'static str {
-    static GUID: OnceLock<String> = OnceLock::new();
-    GUID.get_or_init(|| {
-        let mut h = fnv1a_128(canonical_description().as_bytes());
-        h = (h & !(0xF_u128 << 76)) | (0x8_u128 << 76); // version 8 (custom)
-        h = (h & !(0x3_u128 << 62)) | (0x2_u128 << 62); // RFC variant
-        let x = format!("{h:032x}");
-        format!("{{{}-{}-{}-{}-{}}}", &x[0..8], &x[8..12], &x[12..16], &x[16..20], &x[20..32])
-    })
-}
 
 #[cfg(test)]
 mod tests {
@@ -1260,7 +1484,7 @@ mod tests {
 
     #[test]
     fn every_unit_and_display_unit_is_defined() {
-        for v in VARIABLES {
+        for v in super::super::models::MODELS.iter().flat_map(|m| m.variables) {
             if let Some(u) = v.unit {
                 let def = UNITS.iter().find(|d| d.name == u).unwrap_or_else(|| panic!("{u}"));
                 if let Some(d) = v.display_unit {

@@ -27,7 +27,7 @@ def test_packed_model_description_is_the_checked_in_one(fmu_path):
     with zipfile.ZipFile(fmu_path) as z:
         packed = z.read("modelDescription.xml").decode()
         names = z.namelist()
-    assert packed == (ROOT / "modelDescription" / "modelDescription.xml").read_text()
+    assert packed == (ROOT / "modelDescription" / "HelicalGearMesh" / "modelDescription.xml").read_text()
     assert "binaries/linux64/HelicalGearMesh.so" in names
     assert "documentation/index.html" in names
     assert "resources/compliance_table1.json" in names

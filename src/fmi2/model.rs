@@ -1,0 +1,164 @@
+//! What a model contributes to the one FMI layer: its description ([`ModelInfo`]: identifier,
+//! variable table, defaults, default experiment, documentation) and its physics ([`Engine`]).
+//!
+//! The FMI layer ([`super::instance`], [`super::exports`]) knows nothing of gears: it runs the
+//! state machine, dispatches value references through the model's variable table, logs, saves
+//! and restores FMU states, and calls the model's [`Engine`] to build, start, evaluate and step.
+
+use std::sync::OnceLock;
+
+use super::variables::{
+    CS_CAPABILITIES, Derived, Inputs, LOG_CATEGORIES, MODEL_VERSION, Outputs, Settings, UNITS,
+    Variable,
+};
+
+/// The default experiment of a model (`<DefaultExperiment>`), s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Experiment {
+    /// Start time, s.
+    pub start: f64,
+    /// Stop time, s.
+    pub stop: f64,
+    /// Communication step, s.
+    pub step: f64,
+}
+
+/// Why a communication step could not be completed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StepFailure {
+    /// The step cannot be completed, the instance is intact (the state is that at the start of
+    /// the step): `fmi2Discard`.
+    Discard(String),
+    /// The instance cannot go on: `fmi2Error`.
+    Error(String),
+}
+
+/// The physics of a model behind the FMI layer: built from the parameters at
+/// `fmi2ExitInitializationMode`, cloned into FMU states.
+pub trait Engine: Send {
+    /// A boxed copy (FMU states hold one).
+    fn clone_box(&self) -> Box<dyn Engine>;
+    /// Sets the tunable mesh damping `d_mesh`, N·s/m.
+    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String>;
+    /// Puts the engine at its start (time `t0`, s) from the parameters; may overwrite the
+    /// inputs with values consistent with the start (the static equilibrium of the stateful
+    /// models).
+    fn start(&mut self, settings: &Settings, inputs: &mut Inputs, t0: f64) -> Result<(), String>;
+    /// The outputs at the current time and state for `inputs`.
+    fn outputs(&mut self, inputs: &Inputs) -> Result<Outputs, String>;
+    /// Advances from `t` by `h` (s) with `inputs` held over the step.
+    fn step(&mut self, inputs: &Inputs, t: f64, h: f64) -> Result<(), StepFailure>;
+    /// The engine's own state (beyond parameters and inputs) as bytes, empty for a stateless
+    /// model.
+    fn save(&self) -> Vec<u8>;
+    /// Restores the state written by [`Engine::save`].
+    fn load(&mut self, bytes: &[u8]) -> Result<(), String>;
+}
+
+impl Clone for Box<dyn Engine> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
+/// Builds the engine of a model and the calculated parameters from the parameters.
+pub type BuildFn = fn(&Settings) -> Result<(Box<dyn Engine>, Derived), String>;
+
+/// Everything a model contributes besides its physics.
+pub struct ModelInfo {
+    /// Model identifier (name of the model and of the FMU's shared library).
+    pub identifier: &'static str,
+    /// One-line description (`description` attribute of the model description).
+    pub description: &'static str,
+    /// Documentation paragraphs (HTML) for the FMU's `documentation/index.html`.
+    pub doc_html: &'static str,
+    /// Every variable, in `modelDescription.xml` order.
+    pub variables: &'static [Variable],
+    /// Default parameter values (the start values of the parameters).
+    pub default_settings: fn() -> Settings,
+    /// Default input values (the start values of the inputs).
+    pub default_inputs: fn() -> Inputs,
+    /// The default experiment.
+    pub experiment: Experiment,
+    /// True when the engine has a state of its own (stateful models): a serialised FMU state
+    /// then carries it, and the cached outputs are not serialised (they follow from it).
+    pub stateful: bool,
+    /// Builds the engine.
+    pub build: BuildFn,
+    /// The GUID, computed on first use.
+    pub guid_cell: &'static OnceLock<String>,
+}
+
+impl ModelInfo {
+    /// The variable with value reference `vr`, if any.
+    pub fn by_vr(&self, vr: u32) -> Option<&'static Variable> {
+        // A linear scan over ~60 entries costs less than a hash; the table is small and fixed.
+        self.variables.iter().find(|v| v.vr == vr)
+    }
+
+    /// The variable named `name`, if any.
+    pub fn by_name(&self, name: &str) -> Option<&'static Variable> {
+        self.variables.iter().find(|v| v.name == name)
+    }
+
+    /// The start value of `v` in this model.
+    pub fn start(&self, v: &Variable) -> Option<String> {
+        v.start_in(&(self.default_settings)(), &(self.default_inputs)())
+    }
+
+    /// Canonical text of everything a master relies on (model identifier, version,
+    /// capabilities, units, log categories, default experiment, and every variable with type,
+    /// causality, variability, unit, start value, range and dependencies); the GUID is its
+    /// hash.
+    pub fn canonical_description(&self) -> String {
+        let mut s = format!("{} {MODEL_VERSION} fmi2 cs\n{CS_CAPABILITIES:?}\n", self.identifier);
+        s.push_str(&format!("{:?}\n", self.experiment));
+        for u in UNITS {
+            s.push_str(&format!("{u:?}\n"));
+        }
+        for (k, _) in LOG_CATEGORIES {
+            s.push_str(&format!("log {k}\n"));
+        }
+        for v in self.variables {
+            s.push_str(&format!(
+                "{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}\n",
+                v.name,
+                v.vr,
+                v.var_type().as_str(),
+                v.causality.as_str(),
+                v.variability.as_str(),
+                v.unit,
+                self.start(v),
+                v.min,
+                v.max,
+                v.depends.map(|d| (d.inputs, d.linear_fixed, d.groups)),
+                v.group
+            ));
+        }
+        s
+    }
+
+    /// The GUID of the model: `{…}` formed from the 128-bit FNV-1a hash of
+    /// [`ModelInfo::canonical_description`] (with the RFC 9562 version-8 and variant bits
+    /// set). It changes whenever a variable, a start value, a capability or the crate version
+    /// changes, and differs between models.
+    pub fn guid(&self) -> &'static str {
+        self.guid_cell.get_or_init(|| guid_of(&self.canonical_description()))
+    }
+}
+
+/// 128-bit FNV-1a hash.
+fn fnv1a_128(bytes: &[u8]) -> u128 {
+    const OFFSET: u128 = 0x6c62272e07bb014262b821756295c58d;
+    const PRIME: u128 = 0x0000000001000000000000000000013B;
+    bytes.iter().fold(OFFSET, |h, &b| (h ^ u128::from(b)).wrapping_mul(PRIME))
+}
+
+/// A GUID `{xxxxxxxx-xxxx-8xxx-xxxx-xxxxxxxxxxxx}` from the hash of `text`.
+fn guid_of(text: &str) -> String {
+    let mut h = fnv1a_128(text.as_bytes());
+    h = (h & !(0xF_u128 << 76)) | (0x8_u128 << 76); // version 8 (custom)
+    h = (h & !(0x3_u128 << 62)) | (0x2_u128 << 62); // RFC variant
+    let x = format!("{h:032x}");
+    format!("{{{}-{}-{}-{}-{}}}", &x[0..8], &x[8..12], &x[12..16], &x[16..20], &x[20..32])
+}

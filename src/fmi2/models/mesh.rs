@@ -1,0 +1,208 @@
+//! `HelicalGearMesh`: the mesh element without state. Inputs are the hub angles and speeds
+//! (φp, φg, φ̇p, φ̇g), outputs the mesh torques of Eqs. 13–14 with diagnostics, every output
+//! a direct function of the inputs (direct feedthrough); `fmi2DoStep` only advances the time.
+
+use std::sync::OnceLock;
+
+use crate::fmi2::model::{Engine, Experiment, ModelInfo, StepFailure};
+use crate::fmi2::variables::{ANGLE, DEG, RAD};
+use crate::fmi2::variables::{
+    Access, CALCULATED, Causality, Derived, GEAR_PARAMS, Inputs, MESH_OPTIONS, MESH_OUTPUTS, NONE,
+    Outputs, Settings, Variability, Variable, concat, total_len,
+};
+use crate::mesh::{MeshError, MeshModel, MeshState};
+
+use Variable as V;
+
+/// The inputs of the mesh element (value references 0–3).
+const INPUTS: [Variable; 4] = [
+    Variable {
+        name: "phi_p",
+        vr: 0,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        description: "Pinion hub angle, rad; positive counter-clockwise seen from the zeta = 0 \
+                      face (the pinion drives in the positive sense)",
+        unit: RAD,
+        display_unit: DEG,
+        quantity: ANGLE,
+        access: Access::Input(|s| s.phi_p, |s, v| s.phi_p = v),
+        ..NONE
+    },
+    Variable {
+        name: "phi_g",
+        vr: 1,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        description: "Gear hub angle, rad, same sense as phi_p (negative and decreasing in \
+                      normal running); TE = phi_p*g_p + phi_g*g_g",
+        unit: RAD,
+        display_unit: DEG,
+        quantity: ANGLE,
+        access: Access::Input(|s| s.phi_g, |s, v| s.phi_g = v),
+        ..NONE
+    },
+    Variable {
+        name: "w_p",
+        vr: 2,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        description: "Pinion speed d(phi_p)/dt, rad/s",
+        unit: Some("rad/s"),
+        display_unit: Some("rpm"),
+        quantity: Some("AngularVelocity"),
+        access: Access::Input(|s| s.w_p, |s, v| s.w_p = v),
+        ..NONE
+    },
+    Variable {
+        name: "w_g",
+        vr: 3,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        description: "Gear speed d(phi_g)/dt, rad/s (negative in normal running)",
+        unit: Some("rad/s"),
+        display_unit: Some("rpm"),
+        quantity: Some("AngularVelocity"),
+        access: Access::Input(|s| s.w_g, |s, v| s.w_g = v),
+        ..NONE
+    },
+];
+
+const PARTS: &[&[Variable]] = &[&INPUTS, &MESH_OUTPUTS, &CALCULATED, &GEAR_PARAMS, &MESH_OPTIONS];
+
+/// Every variable of `HelicalGearMesh`, in `modelDescription.xml` order (the ScalarVariable
+/// index is the position in this table plus one).
+pub static VARIABLES: &[Variable] = &TABLE;
+
+static TABLE: [V; total_len(PARTS)] = concat(PARTS);
+
+/// Model identifier of the mesh element.
+pub const MODEL_IDENTIFIER: &str = "HelicalGearMesh";
+
+static GUID: OnceLock<String> = OnceLock::new();
+
+/// The description of `HelicalGearMesh`.
+pub static INFO: ModelInfo = ModelInfo {
+    identifier: MODEL_IDENTIFIER,
+    description: "Helical gear mesh after Andersson and Vedmar (J. Sound Vib. 260, 2003): mesh \
+                  torques from hub angles and speeds, with contact outside the plane of action, \
+                  FE tooth compliance and non-linear load distribution",
+    doc_html: DOC,
+    variables: VARIABLES,
+    default_settings: Settings::default,
+    default_inputs: Inputs::default,
+    experiment: Experiment { start: 0.0, stop: 0.1, step: 1e-5 },
+    stateful: false,
+    build,
+    guid_cell: &GUID,
+};
+
+const DOC: &str = "<p>Inputs are the hub angles and speeds of pinion and gear; outputs are the \
+mesh torques of Eqs. 13&ndash;14 and diagnostics. The element has no state: every output is a \
+direct function of the inputs, so a master may set inputs and read outputs at every stage of \
+its own integrator (the outputs are recomputed on the first read after an input changed). \
+<code>fmi2DoStep</code> only advances the time. Causality: kinematics in, torque out; the \
+inertias J_p, J_g belong to the master.</p>";
+
+/// The variable with value reference `vr`, if any.
+pub fn by_vr(vr: u32) -> Option<&'static Variable> {
+    INFO.by_vr(vr)
+}
+
+/// The variable named `name`, if any.
+pub fn by_name(name: &str) -> Option<&'static Variable> {
+    INFO.by_name(name)
+}
+
+/// The GUID of `HelicalGearMesh` (see [`ModelInfo::guid`]).
+pub fn guid() -> &'static str {
+    INFO.guid()
+}
+
+/// Text of a model-building error; names the FMI parameter.
+pub(crate) fn mesh_error_text(e: &MeshError) -> String {
+    match e {
+        MeshError::Param(p) if p.name == "d_mesh_n_s_per_m" => {
+            format!("{p} (FMI parameter `d_mesh`)")
+        }
+        other => other.to_string(),
+    }
+}
+
+/// Builds the mesh model for `s` and the calculated parameters.
+pub(crate) fn build_mesh(s: &Settings) -> Result<(MeshModel, Derived), String> {
+    let model = MeshModel::new(&s.pair, s.options).map_err(|e| mesh_error_text(&e))?;
+    let geometry = model.geometry();
+    let derived = Derived {
+        base_radius_p: geometry.pinion.rb,
+        base_radius_g: geometry.gear.rb,
+        j_p: geometry.j_p,
+        j_g: geometry.j_g,
+    };
+    Ok((model, derived))
+}
+
+fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
+    let (model, derived) = build_mesh(s)?;
+    Ok((Box::new(MeshEngine(model)), derived))
+}
+
+/// The mesh model as an [`Engine`] without state.
+#[derive(Clone)]
+struct MeshEngine(MeshModel);
+
+impl Engine for MeshEngine {
+    fn clone_box(&self) -> Box<dyn Engine> {
+        Box::new(self.clone())
+    }
+
+    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String> {
+        self.0.set_d_mesh(d_mesh).map_err(|e| mesh_error_text(&e))
+    }
+
+    fn start(&mut self, _: &Settings, _: &mut Inputs, _: f64) -> Result<(), String> {
+        Ok(())
+    }
+
+    fn outputs(&mut self, i: &Inputs) -> Result<Outputs, String> {
+        let s = MeshState { phi_p: i.phi_p, phi_g: i.phi_g, w_p: i.w_p, w_g: i.w_g };
+        let mesh = self.0.evaluate(&s).map_err(|e| {
+            format!(
+                "mesh evaluation at phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} \
+                 rad/s: {}",
+                s.phi_p,
+                s.phi_g,
+                s.w_p,
+                s.w_g,
+                mesh_error_text(&e)
+            )
+        })?;
+        Ok(Outputs { mesh, ..Outputs::default() })
+    }
+
+    fn step(&mut self, _: &Inputs, _: f64, _: f64) -> Result<(), StepFailure> {
+        Ok(())
+    }
+
+    fn save(&self) -> Vec<u8> {
+        Vec::new()
+    }
+
+    fn load(&mut self, _: &[u8]) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_table_is_inputs_outputs_calculated_parameters_options() {
+        assert_eq!(VARIABLES.len(), 4 + 12 + 4 + 30 + 7);
+        assert_eq!(VARIABLES[0].name, "phi_p");
+        assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
+        assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));
+        let _ = NONE;
+    }
+}
