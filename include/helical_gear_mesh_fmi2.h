@@ -276,7 +276,11 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c,
                                    fmi2FMUstate *state);
 
 /**
- * Not provided (`providesDirectionalDerivative="false"`): logs and returns `fmi2Error`.
+ * Σ_j ∂unknown_i/∂known_j·dvKnown_j for outputs and state derivatives (unknowns) with
+ * respect to inputs and continuous states (knowns), from the model's exact derivatives (the
+ * mesh Jacobian: the table's interpolant or the load solution's sensitivity), not finite
+ * differences. An unknown the model does not differentiate (F_n, contact_length, p_max) or
+ * a parameter as known is an error that names it.
  *
  * # Safety
  * Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with
@@ -315,6 +319,92 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c,
                                         size_t nvr,
                                         const fmi2Integer *order,
                                         fmi2Real *value);
+
+/**
+ * Enters event mode. The models have no events (no event indicators, no time events): the
+ * event iteration ends at once.
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`.
+ */
+fmi2Status fmi2EnterEventMode(fmi2Component c);
+
+/**
+ * One event iteration: nothing changes (no discrete states, no time events).
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`; `event_info` valid for writing.
+ */
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *event_info);
+
+/**
+ * Enters continuous-time mode.
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`.
+ */
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c);
+
+/**
+ * Nothing to do after an integrator step (`completedIntegratorStepNotNeeded="true"`):
+ * reports no step event and no termination.
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`; the two flags valid for writing.
+ */
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c,
+                                       fmi2Boolean no_set_fmu_state_prior_to_current_point,
+                                       fmi2Boolean *enter_event_mode,
+                                       fmi2Boolean *terminate_simulation);
+
+/**
+ * Sets the time (s) of the next evaluations.
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`.
+ */
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time);
+
+/**
+ * Sets the continuous states (the model's relative coordinates, in the order of its
+ * derivative variables).
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`; `x` with `nx` elements.
+ */
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real *x, size_t nx);
+
+/**
+ * The state derivatives at the current time, states and inputs.
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`; `derivatives` with `nx` writable elements.
+ */
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real *derivatives, size_t nx);
+
+/**
+ * No event indicators: accepts `ni` = 0 only.
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`.
+ */
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real *event_indicators, size_t ni);
+
+/**
+ * The continuous states.
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`; `x` with `nx` writable elements.
+ */
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real *x, size_t nx);
+
+/**
+ * Nominal magnitudes of the continuous states (for the importer's absolute tolerances).
+ *
+ * # Safety
+ * `c` from `fmi2Instantiate`; `x_nominal` with `nx` writable elements.
+ */
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real *x_nominal, size_t nx);
 
 /**
  * Advances the communication time from `current_communication_point` (which must equal the

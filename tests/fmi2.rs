@@ -96,7 +96,7 @@ fn inquiry_functions_and_null_instance() {
         assert_eq!(fmi2Reset(null_mut()), fmi2Status::Error);
         assert_eq!(fmi2DoStep(null_mut(), 0.0, 1.0, FMI2_TRUE), fmi2Status::Error);
     }
-    assert_eq!(EXPORTED_FUNCTIONS.len(), 34);
+    assert_eq!(EXPORTED_FUNCTIONS.len(), 44);
 }
 
 #[test]
@@ -109,7 +109,10 @@ fn instantiate_rejects_wrong_guid_type_and_name() {
             fmi2Instantiate(n, t, g, null(), null(), FMI2_FALSE, FMI2_FALSE)
         };
         assert!(f(name.as_ptr(), FMI2_CO_SIMULATION, bad.as_ptr()).is_null());
-        assert!(f(name.as_ptr(), 0, good.as_ptr()).is_null(), "Model Exchange is not offered");
+        assert!(f(name.as_ptr(), 2, good.as_ptr()).is_null(), "fmuType 2 is neither ME nor CS");
+        let me = f(name.as_ptr(), FMI2_MODEL_EXCHANGE, good.as_ptr());
+        assert!(!me.is_null(), "Model Exchange is offered");
+        fmi2FreeInstance(me);
         assert!(f(null(), FMI2_CO_SIMULATION, good.as_ptr()).is_null());
         assert!(f(name.as_ptr(), FMI2_CO_SIMULATION, null()).is_null());
         let c = f(name.as_ptr(), FMI2_CO_SIMULATION, good.as_ptr());

@@ -1,10 +1,15 @@
 //! `modelDescription.xml` from the variable table (quick-xml + serde).
 //!
-//! ModelStructure: `Outputs` lists every output with the inputs it depends on
-//! (`dependenciesKind="fixed"` for TE, which is linear in the angles with coefficients set by
-//! fixed parameters, `"dependent"` otherwise); `InitialUnknowns` lists the outputs and the
-//! calculated parameters with the inputs and the parameters (by group) they depend on, without
-//! `dependenciesKind` (all "dependent").
+//! One description for both interfaces (`<ModelExchange>` and `<CoSimulation>`, one binary).
+//!
+//! ModelStructure: `Outputs` lists every output with the knowns it depends on — inputs and,
+//! for the stateful models, the continuous states of Model Exchange (`dependenciesKind="fixed"`
+//! where the output is linear in them with coefficients set by fixed parameters, as TE,
+//! `"dependent"` otherwise); `Derivatives` lists the state derivatives the same way (a
+//! position's derivative is its rate state, "fixed"); `InitialUnknowns` lists the outputs, the
+//! calculated parameters and the states and derivatives computed at initialisation with the
+//! inputs and the parameters (by group) they depend on, without `dependenciesKind` (all
+//! "dependent").
 
 use helical_gear_mesh::fmi2::model::ModelInfo;
 use helical_gear_mesh::fmi2::variables::{
@@ -32,6 +37,8 @@ struct Fmd {
     naming: &'static str,
     #[serde(rename = "@numberOfEventIndicators")]
     event_indicators: u32,
+    #[serde(rename = "ModelExchange")]
+    model_exchange: ModelExchange,
     #[serde(rename = "CoSimulation")]
     co_simulation: CoSimulation,
     #[serde(rename = "UnitDefinitions")]
@@ -44,6 +51,26 @@ struct Fmd {
     model_variables: ModelVariables,
     #[serde(rename = "ModelStructure")]
     model_structure: ModelStructure,
+}
+
+#[derive(Serialize)]
+struct ModelExchange {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: &'static str,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@completedIntegratorStepNotNeeded")]
+    completed_integrator_step_not_needed: bool,
+    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
+    can_be_instantiated_only_once_per_process: bool,
+    #[serde(rename = "@canNotUseMemoryManagementFunctions")]
+    can_not_use_memory_management_functions: bool,
+    #[serde(rename = "@canGetAndSetFMUstate")]
+    can_get_and_set_fmu_state: bool,
+    #[serde(rename = "@canSerializeFMUstate")]
+    can_serialize_fmu_state: bool,
+    #[serde(rename = "@providesDirectionalDerivative")]
+    provides_directional_derivative: bool,
 }
 
 #[derive(Serialize)]
@@ -173,6 +200,8 @@ struct RealAttrs {
     display_unit: Option<&'static str>,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
     start: Option<String>,
+    #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
+    derivative: Option<usize>,
 }
 
 #[derive(Serialize)]
@@ -195,6 +224,8 @@ struct BooleanAttrs {
 struct ModelStructure {
     #[serde(rename = "Outputs")]
     outputs: Unknowns,
+    #[serde(rename = "Derivatives", skip_serializing_if = "Option::is_none")]
+    derivatives: Option<Unknowns>,
     #[serde(rename = "InitialUnknowns")]
     initial_unknowns: Unknowns,
 }
@@ -229,10 +260,22 @@ fn join<T: ToString>(items: impl IntoIterator<Item = T>) -> String {
     items.into_iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" ")
 }
 
+/// True when `name` is a known of Model Exchange or Co-Simulation in `model`: an input or a
+/// continuous state.
+fn is_known(model: &ModelInfo, name: &str) -> bool {
+    model.by_name(name).is_some_and(|v| v.causality == Causality::Input)
+        || model.state_names().contains(&name)
+}
+
+/// `Outputs` and `Derivatives` entry: the inputs and continuous states the unknown depends
+/// on (`dependenciesKind="fixed"` when it is linear in them with coefficients set by fixed
+/// parameters, `"dependent"` otherwise).
 fn outputs_entry(model: &ModelInfo, i: usize, v: &Variable) -> Unknown {
-    let d = v.depends.expect("outputs declare their dependencies");
-    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(model, n)).collect();
+    let d = v.depends.expect("outputs and derivatives declare their dependencies");
+    let mut idx: Vec<usize> =
+        d.inputs.iter().filter(|n| is_known(model, n)).map(|n| index_of(model, n)).collect();
     idx.sort_unstable();
+    idx.dedup();
     let kind = if d.linear_fixed { "fixed" } else { "dependent" };
     Unknown {
         index: i + 1,
@@ -241,9 +284,16 @@ fn outputs_entry(model: &ModelInfo, i: usize, v: &Variable) -> Unknown {
     }
 }
 
+/// `InitialUnknowns` entry: the inputs and the parameters (by group) it depends on at
+/// initialisation (the states are unknowns there, not knowns).
 fn initial_entry(model: &ModelInfo, i: usize, v: &Variable) -> Unknown {
-    let d = v.depends.expect("outputs and calculated parameters declare their dependencies");
-    let mut idx: Vec<usize> = d.inputs.iter().map(|n| index_of(model, n)).collect();
+    let d = v.depends.expect("initial unknowns declare their dependencies");
+    let mut idx: Vec<usize> = d
+        .inputs
+        .iter()
+        .filter(|n| model.by_name(n).is_some_and(|w| w.causality == Causality::Input))
+        .map(|n| index_of(model, n))
+        .collect();
     idx.extend(
         model
             .variables
@@ -253,6 +303,7 @@ fn initial_entry(model: &ModelInfo, i: usize, v: &Variable) -> Unknown {
             .map(|(j, _)| j + 1),
     );
     idx.sort_unstable();
+    idx.dedup();
     Unknown {
         index: i + 1,
         // All "dependent": the attribute is left out, which means exactly that.
@@ -304,6 +355,7 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
                     unit: v.unit,
                     display_unit: v.display_unit,
                     start: model.start(v),
+                    derivative: v.derivative_of.map(|n| index_of(model, n)),
                 }),
                 VarType::Integer => TypeElement::Integer(IntegerAttrs {
                     min: v.min,
@@ -321,11 +373,25 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
         .filter(|(_, v)| v.causality == Causality::Output)
         .map(|(i, v)| outputs_entry(model, i, v))
         .collect();
+    let states = model.state_names();
+    let derivatives: Vec<Unknown> = model
+        .variables
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.derivative_of.is_some())
+        .map(|(i, v)| outputs_entry(model, i, v))
+        .collect();
+    // Outputs and calculated parameters, and the states and derivatives computed at
+    // initialisation (the locals among them; the state outputs are outputs already).
     let initial_unknowns = model
         .variables
         .iter()
         .enumerate()
-        .filter(|(_, v)| matches!(v.causality, Causality::Output | Causality::CalculatedParameter))
+        .filter(|(_, v)| {
+            matches!(v.causality, Causality::Output | Causality::CalculatedParameter)
+                || v.derivative_of.is_some()
+                || states.contains(&v.name)
+        })
         .map(|(i, v)| initial_entry(model, i, v))
         .collect();
     let fmd = Fmd {
@@ -337,6 +403,16 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
         generation_tool: format!("fmu-build {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         event_indicators: 0,
+        model_exchange: ModelExchange {
+            model_identifier: model.identifier,
+            needs_execution_tool: c.needs_execution_tool,
+            completed_integrator_step_not_needed: c.completed_integrator_step_not_needed,
+            can_be_instantiated_only_once_per_process: c.can_be_instantiated_only_once_per_process,
+            can_not_use_memory_management_functions: c.can_not_use_memory_management_functions,
+            can_get_and_set_fmu_state: c.can_get_and_set_fmu_state,
+            can_serialize_fmu_state: c.can_serialize_fmu_state,
+            provides_directional_derivative: c.provides_directional_derivative,
+        },
         co_simulation: CoSimulation {
             model_identifier: model.identifier,
             needs_execution_tool: c.needs_execution_tool,
@@ -366,6 +442,7 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
         model_variables: ModelVariables { variables },
         model_structure: ModelStructure {
             outputs: Unknowns { unknowns: outputs },
+            derivatives: (!derivatives.is_empty()).then_some(Unknowns { unknowns: derivatives }),
             initial_unknowns: Unknowns { unknowns: initial_unknowns },
         },
     };

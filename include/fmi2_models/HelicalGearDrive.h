@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{724af93f-e90d-839f-8610-affc2115cdee}"
+#define HelicalGearDrive_GUID "{e8fa88c8-d061-8a9c-86ba-eddf24c6d831}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -84,6 +84,19 @@ typedef enum {
     HelicalGearDrive_vr_phi_2_0 = 313, /* parameter Real rad */
     HelicalGearDrive_vr_w_1_0 = 314, /* parameter Real rad/s */
     HelicalGearDrive_vr_w_2_0 = 317, /* parameter Real rad/s */
+    HelicalGearDrive_vr_theta_1 = 71, /* local Real rad */
+    HelicalGearDrive_vr_theta_2 = 72, /* local Real rad */
+    HelicalGearDrive_vr_w_theta_1 = 73, /* local Real rad/s */
+    HelicalGearDrive_vr_v_TE = 70, /* local Real m/s */
+    HelicalGearDrive_vr_w_theta_2 = 74, /* local Real rad/s */
+    HelicalGearDrive_vr_der(phi_p) = 80, /* local Real rad/s */
+    HelicalGearDrive_vr_der(theta_1) = 84, /* local Real rad/s */
+    HelicalGearDrive_vr_der(TE) = 81, /* local Real m/s */
+    HelicalGearDrive_vr_der(theta_2) = 85, /* local Real rad/s */
+    HelicalGearDrive_vr_der(w_p) = 82, /* local Real rad/s2 */
+    HelicalGearDrive_vr_der(w_theta_1) = 86, /* local Real rad/s2 */
+    HelicalGearDrive_vr_der(v_TE) = 83, /* local Real m/s2 */
+    HelicalGearDrive_vr_der(w_theta_2) = 87, /* local Real rad/s2 */
 } HelicalGearDrive_ValueReference;
 
 #endif /* HELICALGEARDRIVE_H */

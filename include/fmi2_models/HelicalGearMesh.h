@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{90a8278c-9003-853d-a788-47ed55af97a6}"
+#define HelicalGearMesh_GUID "{46638441-da49-87ac-bcb7-cc2a41e65114}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

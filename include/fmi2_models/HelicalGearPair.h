@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{2275bd62-a93c-89a7-b42d-206936213688}"
+#define HelicalGearPair_GUID "{85416e21-4f6a-835a-9252-4c19365b8315}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -77,6 +77,11 @@ typedef enum {
     HelicalGearPair_vr_phi_g_0 = 312, /* parameter Real rad */
     HelicalGearPair_vr_w_p_0 = 315, /* parameter Real rad/s */
     HelicalGearPair_vr_w_g_0 = 316, /* parameter Real rad/s */
+    HelicalGearPair_vr_v_TE = 70, /* local Real m/s */
+    HelicalGearPair_vr_der(phi_p) = 80, /* local Real rad/s */
+    HelicalGearPair_vr_der(TE) = 81, /* local Real m/s */
+    HelicalGearPair_vr_der(w_p) = 82, /* local Real rad/s2 */
+    HelicalGearPair_vr_der(v_TE) = 83, /* local Real m/s2 */
 } HelicalGearPair_ValueReference;
 
 #endif /* HELICALGEARPAIR_H */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{f514a535-00af-81ae-8700-34419fa083ca}"
+#define HelicalGearStage_GUID "{b16fb723-150e-84c3-9bd6-3a3ac9222684}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -81,6 +81,11 @@ typedef enum {
     HelicalGearStage_vr_phi_g_0 = 312, /* parameter Real rad */
     HelicalGearStage_vr_w_p_0 = 315, /* parameter Real rad/s */
     HelicalGearStage_vr_w_g_0 = 316, /* parameter Real rad/s */
+    HelicalGearStage_vr_v_TE = 70, /* local Real m/s */
+    HelicalGearStage_vr_der(phi_p) = 80, /* local Real rad/s */
+    HelicalGearStage_vr_der(TE) = 81, /* local Real m/s */
+    HelicalGearStage_vr_der(w_p) = 82, /* local Real rad/s2 */
+    HelicalGearStage_vr_der(v_TE) = 83, /* local Real m/s2 */
 } HelicalGearStage_ValueReference;
 
 #endif /* HELICALGEARSTAGE_H */

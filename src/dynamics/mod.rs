@@ -12,11 +12,14 @@
 //! * [`sweep`](mod@sweep): speed sweeps in parallel, the static TE curve and the location of resonances.
 //! * [`unit`]: stateful drive-line units (pair, stage, whole drive) with their own state and
 //!   integrator, for co-simulation and Model Exchange.
+//! * [`relative`]: the relative coordinates (TE, shaft twists) in which a Model Exchange master
+//!   integrates a unit.
 //! * [`analytic_mesh`]: linear-spring mesh models with closed-form behaviour, for verification.
 
 pub mod analytic_mesh;
 pub mod integrators;
 pub mod model;
+pub mod relative;
 pub mod simulate;
 pub mod steady;
 pub mod sweep;

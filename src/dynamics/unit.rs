@@ -206,6 +206,10 @@ pub struct UnitOutputs {
     pub w_g: f64,
     /// Gear hub acceleration φ̈g, rad/s².
     pub a_g: f64,
+    /// State derivative at the current time, state and inputs, in the kind's state order
+    /// ([`UnitKind::state_names`]; entries beyond [`UnitKind::n_states`] are 0), rad/s and
+    /// rad/s².
+    pub dydt: [f64; N_STATES],
     /// Angle of J1 (Drive) or of the pinion shaft's far end (Stage), rad; 0 for Pair.
     pub phi_1: f64,
     /// Rate of J1 (Drive) or of the pinion shaft's far end (Stage), rad/s; 0 for Pair.
@@ -431,6 +435,8 @@ pub struct DriveUnit<M> {
     h_fast: f64,
     /// Angular frequency of the fastest linearised mode, rad/s.
     omega_fast: f64,
+    /// Mesh stiffness at the static equilibrium under the nominal torque, N/m.
+    k_mesh: f64,
     dydt: [f64; N_STATES],
 }
 
@@ -519,6 +525,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             step_hint: None,
             h_fast,
             omega_fast,
+            k_mesh: k,
             dydt: [0.0; N_STATES],
         })
     }
@@ -552,6 +559,12 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
     /// load, rad/s; it bounds the RK4 sub-step at low speed (see the module doc).
     pub fn fastest_mode(&self) -> f64 {
         self.omega_fast
+    }
+
+    /// Mesh stiffness at the static equilibrium under the nominal torque (measured at
+    /// construction), N/m.
+    pub fn nominal_mesh_stiffness(&self) -> f64 {
+        self.k_mesh
     }
 
     /// Current time, s.
@@ -750,6 +763,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             phi_g: hub[1],
             w_g: hub[3],
             a_g: dydt[iwg],
+            dydt,
             mesh: o,
             ..UnitOutputs::default()
         };

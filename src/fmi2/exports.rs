@@ -246,10 +246,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
             },
             Err(e) => return fail(e),
         };
-        if fmu_type != FMI2_CO_SIMULATION {
+        if fmu_type != FMI2_CO_SIMULATION && fmu_type != FMI2_MODEL_EXCHANGE {
             return fail(format!(
-                "fmuType = {fmu_type}: {} supports Co-Simulation (1) only",
-                model.identifier
+                "fmuType = {fmu_type}: allowed 0 (Model Exchange) or 1 (Co-Simulation)"
             ));
         }
         let mut warning = None;
@@ -269,6 +268,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         };
         let inst = Instance::new(
             model,
+            fmu_type == FMI2_MODEL_EXCHANGE,
             CString::new(name).unwrap_or_default(),
             logger,
             env,
@@ -676,7 +676,11 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 
 // ---------------------------------------------------------------- not provided
 
-/// Not provided (`providesDirectionalDerivative="false"`): logs and returns `fmi2Error`.
+/// Σ_j ∂unknown_i/∂known_j·dvKnown_j for outputs and state derivatives (unknowns) with
+/// respect to inputs and continuous states (knowns), from the model's exact derivatives (the
+/// mesh Jacobian: the table's interpolant or the load solution's sensitivity), not finite
+/// differences. An unknown the model does not differentiate (F_n, contact_length, p_max) or
+/// a parameter as known is an error that names it.
 ///
 /// # Safety
 /// Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with
@@ -691,10 +695,17 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     dv_known: *const fmi2Real,
     dv_unknown: *mut fmi2Real,
 ) -> fmi2Status {
-    // Part of the standard signature, not used by this FMU.
-    let _ = (v_unknown_ref, n_unknown, v_known_ref, n_known, dv_known, dv_unknown);
-    call(c, func::fmi2GetDirectionalDerivative, |_| {
-        Err("not provided by this FMU (providesDirectionalDerivative=\"false\")".into())
+    call(c, func::fmi2GetDirectionalDerivative, |inst| {
+        // SAFETY: caller contract.
+        let (unknowns, knowns, seed, out) = unsafe {
+            (
+                slice(v_unknown_ref, n_unknown, "vUnknown_ref")?,
+                slice(v_known_ref, n_known, "vKnown_ref")?,
+                slice(dv_known, n_known, "dvKnown")?,
+                slice_mut(dv_unknown, n_unknown, "dvUnknown")?,
+            )
+        };
+        inst.directional_derivative(unknowns, knowns, seed, out)
     })
 }
 
@@ -735,6 +746,180 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     let _ = (vr, nvr, order, value);
     call(c, func::fmi2GetRealOutputDerivatives, |_| {
         Err("not provided by this FMU (maxOutputDerivativeOrder=\"0\")".into())
+    })
+}
+
+// ---------------------------------------------------------------- model exchange
+
+/// Enters event mode. The models have no events (no event indicators, no time events): the
+/// event iteration ends at once.
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterEventMode(c: fmi2Component) -> fmi2Status {
+    call(c, func::fmi2EnterEventMode, |inst| {
+        inst.set_mode(Phase::EventMode);
+        Ok(fmi2Status::Ok)
+    })
+}
+
+/// One event iteration: nothing changes (no discrete states, no time events).
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`; `event_info` valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2NewDiscreteStates(
+    c: fmi2Component,
+    event_info: *mut fmi2EventInfo,
+) -> fmi2Status {
+    call(c, func::fmi2NewDiscreteStates, |_| {
+        let info = fmi2EventInfo {
+            newDiscreteStatesNeeded: FMI2_FALSE,
+            terminateSimulation: FMI2_FALSE,
+            nominalsOfContinuousStatesChanged: FMI2_FALSE,
+            valuesOfContinuousStatesChanged: FMI2_FALSE,
+            nextEventTimeDefined: FMI2_FALSE,
+            nextEventTime: 0.0,
+        };
+        // SAFETY: caller contract.
+        unsafe { write(event_info, info, "fmi2eventInfo")? };
+        Ok(fmi2Status::Ok)
+    })
+}
+
+/// Enters continuous-time mode.
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
+    call(c, func::fmi2EnterContinuousTimeMode, |inst| {
+        inst.set_mode(Phase::ContinuousTimeMode);
+        Ok(fmi2Status::Ok)
+    })
+}
+
+/// Nothing to do after an integrator step (`completedIntegratorStepNotNeeded="true"`):
+/// reports no step event and no termination.
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`; the two flags valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
+    c: fmi2Component,
+    no_set_fmu_state_prior_to_current_point: fmi2Boolean,
+    enter_event_mode: *mut fmi2Boolean,
+    terminate_simulation: *mut fmi2Boolean,
+) -> fmi2Status {
+    let _ = no_set_fmu_state_prior_to_current_point;
+    call(c, func::fmi2CompletedIntegratorStep, |_| {
+        // SAFETY: caller contract.
+        unsafe {
+            write(enter_event_mode, FMI2_FALSE, "enterEventMode")?;
+            write(terminate_simulation, FMI2_FALSE, "terminateSimulation")?;
+        }
+        Ok(fmi2Status::Ok)
+    })
+}
+
+/// Sets the time (s) of the next evaluations.
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, time: fmi2Real) -> fmi2Status {
+    call(c, func::fmi2SetTime, |inst| inst.me_set_time(time))
+}
+
+/// Sets the continuous states (the model's relative coordinates, in the order of its
+/// derivative variables).
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`; `x` with `nx` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetContinuousStates(
+    c: fmi2Component,
+    x: *const fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    call(c, func::fmi2SetContinuousStates, |inst| {
+        // SAFETY: caller contract.
+        let x = unsafe { slice(x, nx, "x")? };
+        inst.me_set_states(x)
+    })
+}
+
+/// The state derivatives at the current time, states and inputs.
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`; `derivatives` with `nx` writable elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetDerivatives(
+    c: fmi2Component,
+    derivatives: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    call(c, func::fmi2GetDerivatives, |inst| {
+        // SAFETY: caller contract.
+        let dx = unsafe { slice_mut(derivatives, nx, "derivatives")? };
+        inst.me_get_derivatives(dx)
+    })
+}
+
+/// No event indicators: accepts `ni` = 0 only.
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetEventIndicators(
+    c: fmi2Component,
+    event_indicators: *mut fmi2Real,
+    ni: usize,
+) -> fmi2Status {
+    let _ = event_indicators;
+    call(c, func::fmi2GetEventIndicators, |_| {
+        if ni == 0 {
+            Ok(fmi2Status::Ok)
+        } else {
+            Err(format!(
+                "ni = {ni}: the model has no event indicators (numberOfEventIndicators = 0)"
+            ))
+        }
+    })
+}
+
+/// The continuous states.
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`; `x` with `nx` writable elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetContinuousStates(
+    c: fmi2Component,
+    x: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    call(c, func::fmi2GetContinuousStates, |inst| {
+        // SAFETY: caller contract.
+        let x = unsafe { slice_mut(x, nx, "x")? };
+        inst.me_get_states(x)
+    })
+}
+
+/// Nominal magnitudes of the continuous states (for the importer's absolute tolerances).
+///
+/// # Safety
+/// `c` from `fmi2Instantiate`; `x_nominal` with `nx` writable elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
+    c: fmi2Component,
+    x_nominal: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    call(c, func::fmi2GetNominalsOfContinuousStates, |inst| {
+        // SAFETY: caller contract.
+        let x = unsafe { slice_mut(x_nominal, nx, "x_nominal")? };
+        inst.me_nominals(x)
     })
 }
 
@@ -880,9 +1065,9 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     call(c, func::fmi2GetStringStatus, |inst| no_status(inst, kind, "fmi2GetStringStatus"))
 }
 
-/// Names of all exported `fmi2*` functions (the 25 common and the 9 co-simulation functions of
-/// FMI 2.0).
-pub const EXPORTED_FUNCTIONS: [&str; 34] = [
+/// Names of all exported `fmi2*` functions (the 25 common, the 9 co-simulation and the 10
+/// model-exchange functions of FMI 2.0).
+pub const EXPORTED_FUNCTIONS: [&str; 44] = [
     "fmi2GetTypesPlatform",
     "fmi2GetVersion",
     "fmi2SetDebugLogging",
@@ -917,6 +1102,16 @@ pub const EXPORTED_FUNCTIONS: [&str; 34] = [
     "fmi2GetIntegerStatus",
     "fmi2GetBooleanStatus",
     "fmi2GetStringStatus",
+    "fmi2EnterEventMode",
+    "fmi2NewDiscreteStates",
+    "fmi2EnterContinuousTimeMode",
+    "fmi2CompletedIntegratorStep",
+    "fmi2SetTime",
+    "fmi2SetContinuousStates",
+    "fmi2GetDerivatives",
+    "fmi2GetEventIndicators",
+    "fmi2GetContinuousStates",
+    "fmi2GetNominalsOfContinuousStates",
 ];
 
 #[cfg(test)]

@@ -10,7 +10,7 @@
 use std::ffi::CString;
 use std::path::PathBuf;
 
-use super::model::{Engine, ModelInfo, StepFailure};
+use super::model::{Engine, Jacobian, ModelInfo, StepFailure};
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use super::variables::{
     Access, Causality, Derived, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability, Variable,
@@ -98,7 +98,6 @@ const LIVE: u16 = INST | INIT | DONE | FAILED | CANCELED | TERM | ERR | EVENT | 
 const GETTABLE: u16 = INIT | DONE | FAILED | CANCELED | TERM | ERR | EVENT | CONT;
 const SETTABLE: u16 = INST | INIT | DONE | EVENT | CONT;
 /// Model exchange: where the state vector, derivatives and event indicators may be read.
-#[allow(dead_code)]
 const ME_GETTABLE: u16 = INIT | EVENT | CONT | TERM | ERR;
 
 macro_rules! funcs {
@@ -108,8 +107,6 @@ macro_rules! funcs {
         /// `fmi2FreeInstance` is also accepted in the fatal state so that an instance is never
         /// leaked). Which inputs and parameters may be set in a state is checked per variable
         /// ([`Instance::set_real`] and its siblings).
-        // The model-exchange entries are the design of the state machine for both interfaces;
-        // they are used once Model Exchange is exported.
         #[allow(non_upper_case_globals, dead_code)]
         pub(crate) mod func {
             use super::*;
@@ -232,6 +229,9 @@ pub(crate) struct Snapshot {
 pub(crate) struct Instance {
     /// The model this instance runs.
     pub(crate) model: &'static ModelInfo,
+    /// True for a Model Exchange instance (`fmuType` = fmi2ModelExchange), false for
+    /// Co-Simulation.
+    pub(crate) me: bool,
     pub(crate) name: CString,
     logger: Option<fmi2CallbackLogger>,
     env: fmi2ComponentEnvironment,
@@ -257,6 +257,7 @@ fn settings_eq_but_damping(a: &Settings, b: &Settings) -> bool {
 impl Instance {
     pub(crate) fn new(
         model: &'static ModelInfo,
+        me: bool,
         name: CString,
         logger: Option<fmi2CallbackLogger>,
         env: fmi2ComponentEnvironment,
@@ -265,6 +266,7 @@ impl Instance {
     ) -> Self {
         Self {
             model,
+            me,
             name,
             logger,
             env,
@@ -361,7 +363,7 @@ impl Instance {
 
     pub(crate) fn exit_initialization_mode(&mut self) -> Result<fmi2Status, String> {
         self.ensure_started()?;
-        self.data.mode = Phase::StepComplete;
+        self.data.mode = if self.me { Phase::EventMode } else { Phase::StepComplete };
         Ok(fmi2Status::Ok)
     }
 
@@ -450,7 +452,10 @@ impl Instance {
 
     /// Prepares the values that reading `vars` needs (model outputs or derived quantities).
     fn prepare(&mut self, vars: &[&Variable]) -> Result<(), String> {
-        if vars.iter().any(|v| v.causality == Causality::Output) {
+        let computed = |v: &&Variable| {
+            matches!(v.access, Access::RealOutput(_) | Access::IntOutput(_) | Access::BoolOutput(_))
+        };
+        if vars.iter().any(computed) {
             self.ensure_outputs()?;
         } else if vars.iter().any(|v| v.causality == Causality::CalculatedParameter) {
             self.ensure_built()?;
@@ -653,6 +658,151 @@ impl Instance {
     /// Current communication time, s.
     pub(crate) fn time(&self) -> f64 {
         self.data.time
+    }
+
+    // ---- Model Exchange
+
+    /// Number of continuous states of the model (its derivative variables).
+    pub(crate) fn n_states(&self) -> usize {
+        self.model.derivatives().count()
+    }
+
+    fn check_nx(&self, n: usize, what: &str) -> Result<(), String> {
+        let nx = self.n_states();
+        if n != nx {
+            return Err(format!(
+                "{what}: nx = {n}, but {} has {nx} continuous states",
+                self.model.identifier
+            ));
+        }
+        Ok(())
+    }
+
+    fn engine(&mut self) -> Result<&mut Box<dyn Engine>, String> {
+        Ok(&mut self.ensure_started()?.engine)
+    }
+
+    /// `fmi2SetTime`: the time of the next evaluations, s (finite).
+    pub(crate) fn me_set_time(&mut self, t: f64) -> Result<fmi2Status, String> {
+        if !t.is_finite() {
+            return Err(format!("time = {t} s is not finite"));
+        }
+        self.engine()?.set_time(t)?;
+        self.data.time = t;
+        self.data.outputs = None;
+        Ok(fmi2Status::Ok)
+    }
+
+    /// `fmi2SetContinuousStates` (relative coordinates, every value finite).
+    pub(crate) fn me_set_states(&mut self, x: &[f64]) -> Result<fmi2Status, String> {
+        self.check_nx(x.len(), "fmi2SetContinuousStates")?;
+        if let Some((i, v)) = x.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            let names = self.model.state_names();
+            return Err(format!("state {} (`{}`) = {v} is not finite", i + 1, names[i]));
+        }
+        self.engine()?.set_states(x)?;
+        self.data.outputs = None;
+        Ok(fmi2Status::Ok)
+    }
+
+    /// `fmi2GetContinuousStates`.
+    pub(crate) fn me_get_states(&mut self, x: &mut [f64]) -> Result<fmi2Status, String> {
+        self.check_nx(x.len(), "fmi2GetContinuousStates")?;
+        self.engine()?.get_states(x);
+        Ok(fmi2Status::Ok)
+    }
+
+    /// `fmi2GetDerivatives`: the state derivatives at the current time, states and inputs (the
+    /// values of the `der(…)` variables).
+    pub(crate) fn me_get_derivatives(&mut self, dx: &mut [f64]) -> Result<fmi2Status, String> {
+        self.check_nx(dx.len(), "fmi2GetDerivatives")?;
+        let o = self.ensure_outputs()?;
+        dx.copy_from_slice(&o.dx[..dx.len()]);
+        Ok(fmi2Status::Ok)
+    }
+
+    /// `fmi2GetNominalsOfContinuousStates`.
+    pub(crate) fn me_nominals(&mut self, x: &mut [f64]) -> Result<fmi2Status, String> {
+        self.check_nx(x.len(), "fmi2GetNominalsOfContinuousStates")?;
+        if !x.is_empty() {
+            self.ensure_built()?.engine.nominals(x);
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    /// `fmi2GetDirectionalDerivative`: Σ_j ∂unknown_i/∂known_j·seed_j from the model's exact
+    /// Jacobian ([`Engine::jacobian`]). Unknowns: outputs and state derivatives; knowns:
+    /// inputs and continuous states.
+    pub(crate) fn directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Result<fmi2Status, String> {
+        let states = self.model.state_names();
+        let name_of = |vr: u32, what: &str| -> Result<&'static Variable, String> {
+            let v = self
+                .model
+                .by_vr(vr)
+                .ok_or_else(|| format!("unknown value reference {vr} ({what})"))?;
+            if v.var_type().as_str() != "Real" {
+                return Err(format!("`{}` ({what}) is not a Real variable", v.name));
+            }
+            Ok(v)
+        };
+        let mut rows = Vec::with_capacity(unknowns.len());
+        for &vr in unknowns {
+            let v = name_of(vr, "unknown")?;
+            if !(v.causality == Causality::Output || v.derivative_of.is_some()) {
+                return Err(format!(
+                    "`{}` is a {} variable: directional derivatives are provided for outputs and state derivatives",
+                    v.name,
+                    v.causality.as_str()
+                ));
+            }
+            rows.push(v.name);
+        }
+        let mut cols = Vec::with_capacity(knowns.len());
+        for &vr in knowns {
+            let v = name_of(vr, "known")?;
+            if !(v.causality == Causality::Input || states.contains(&v.name)) {
+                return Err(format!(
+                    "`{}` is neither an input nor a continuous state: directional derivatives are \
+                     provided with respect to inputs and states only",
+                    v.name
+                ));
+            }
+            cols.push(v.name);
+        }
+        if let Some(s) = seed.iter().find(|s| !s.is_finite()) {
+            return Err(format!("seed value {s} is not finite"));
+        }
+        let inputs = self.data.inputs;
+        let j: Jacobian = self.engine()?.jacobian(&inputs)?;
+        let w = j.cols.len();
+        let ci: Vec<usize> = cols
+            .iter()
+            .map(|c| {
+                j.cols
+                    .iter()
+                    .position(|k| k == c)
+                    .ok_or_else(|| format!("no derivatives with respect to `{c}`"))
+            })
+            .collect::<Result<_, _>>()?;
+        for (o, r) in out.iter_mut().zip(&rows) {
+            let ri = j.rows.iter().position(|k| k == r).ok_or_else(|| {
+                format!(
+                    "the directional derivative of `{r}` is not provided (provided: {})",
+                    j.rows.join(", ")
+                )
+            })?;
+            *o = ci.iter().zip(seed).map(|(&c, s)| j.values[ri * w + c] * s).sum();
+        }
+        if let Some(v) = out.iter().find(|v| !v.is_finite()) {
+            return Err(format!("directional derivative {v} is not finite"));
+        }
+        Ok(fmi2Status::Ok)
     }
 
     // ---- FMU states

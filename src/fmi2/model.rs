@@ -53,6 +53,51 @@ pub trait Engine: Send {
     fn save(&self) -> Vec<u8>;
     /// Restores the state written by [`Engine::save`].
     fn load(&mut self, bytes: &[u8]) -> Result<(), String>;
+
+    /// Model Exchange: number of continuous states (0 for a model without states).
+    fn n_states(&self) -> usize {
+        0
+    }
+
+    /// Model Exchange: sets the time (s) at which the next evaluations apply.
+    fn set_time(&mut self, t: f64) -> Result<(), String> {
+        let _ = t;
+        Ok(())
+    }
+
+    /// Model Exchange: the continuous states (length [`Engine::n_states`], in the order of the
+    /// model's derivative variables).
+    fn get_states(&self, x: &mut [f64]) {
+        let _ = x;
+    }
+
+    /// Model Exchange: sets the continuous states.
+    fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
+        if x.is_empty() { Ok(()) } else { Err("this model has no continuous states".into()) }
+    }
+
+    /// Model Exchange: nominal magnitudes of the continuous states (> 0).
+    fn nominals(&self, x: &mut [f64]) {
+        x.fill(1.0);
+    }
+
+    /// The exact partial derivatives of the model's outputs and state derivatives with respect
+    /// to its continuous states and inputs at the current time, state and `inputs`
+    /// (`fmi2GetDirectionalDerivative`).
+    fn jacobian(&mut self, inputs: &Inputs) -> Result<Jacobian, String>;
+}
+
+/// Partial derivatives ∂row/∂col of some of a model's unknowns (outputs, state derivatives)
+/// with respect to its knowns (continuous states, inputs), dense, row-major, in SI units;
+/// rows and columns named by FMI variable name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Jacobian {
+    /// Unknowns (variable names).
+    pub rows: Vec<&'static str>,
+    /// Knowns (variable names).
+    pub cols: Vec<&'static str>,
+    /// `values[r * cols.len() + c]` = ∂rows[r]/∂cols[c].
+    pub values: Vec<f64>,
 }
 
 impl Clone for Box<dyn Engine> {
@@ -101,6 +146,16 @@ impl ModelInfo {
         self.variables.iter().find(|v| v.name == name)
     }
 
+    /// Model Exchange: the derivative variables in state order (their order in the table).
+    pub fn derivatives(&self) -> impl Iterator<Item = &'static Variable> + '_ {
+        self.variables.iter().filter(|v| v.derivative_of.is_some())
+    }
+
+    /// Model Exchange: the continuous-state variable names, in state order.
+    pub fn state_names(&self) -> Vec<&'static str> {
+        self.derivatives().filter_map(|v| v.derivative_of).collect()
+    }
+
     /// The start value of `v` in this model.
     pub fn start(&self, v: &Variable) -> Option<String> {
         v.start_in(&(self.default_settings)(), &(self.default_inputs)())
@@ -111,7 +166,8 @@ impl ModelInfo {
     /// causality, variability, unit, start value, range and dependencies); the GUID is its
     /// hash.
     pub fn canonical_description(&self) -> String {
-        let mut s = format!("{} {MODEL_VERSION} fmi2 cs\n{CS_CAPABILITIES:?}\n", self.identifier);
+        let mut s =
+            format!("{} {MODEL_VERSION} fmi2 cs me\n{CS_CAPABILITIES:?}\n", self.identifier);
         s.push_str(&format!("{:?}\n", self.experiment));
         for u in UNITS {
             s.push_str(&format!("{u:?}\n"));
@@ -121,7 +177,7 @@ impl ModelInfo {
         }
         for v in self.variables {
             s.push_str(&format!(
-                "{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}\n",
+                "{}|{}|{}|{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}\n",
                 v.name,
                 v.vr,
                 v.var_type().as_str(),
@@ -132,7 +188,8 @@ impl ModelInfo {
                 v.min,
                 v.max,
                 v.depends.map(|d| (d.inputs, d.linear_fixed, d.groups)),
-                v.group
+                v.group,
+                v.derivative_of
             ));
         }
         s

@@ -41,6 +41,27 @@ pub const FMI2_TRUE: fmi2Boolean = 1;
 pub const FMI2_FALSE: fmi2Boolean = 0;
 /// `fmi2CoSimulation` value of [`fmi2Type`].
 pub const FMI2_CO_SIMULATION: fmi2Type = 1;
+/// `fmi2ModelExchange` value of [`fmi2Type`].
+pub const FMI2_MODEL_EXCHANGE: fmi2Type = 0;
+
+/// What `fmi2NewDiscreteStates` reports (`fmi2EventInfo`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(non_snake_case)]
+pub struct fmi2EventInfo {
+    /// Another event iteration is needed.
+    pub newDiscreteStatesNeeded: fmi2Boolean,
+    /// The model asks to end the simulation.
+    pub terminateSimulation: fmi2Boolean,
+    /// The nominal values of the continuous states changed.
+    pub nominalsOfContinuousStatesChanged: fmi2Boolean,
+    /// The values of the continuous states changed.
+    pub valuesOfContinuousStatesChanged: fmi2Boolean,
+    /// `nextEventTime` holds the time of the next time event.
+    pub nextEventTimeDefined: fmi2Boolean,
+    /// Time of the next time event, s.
+    pub nextEventTime: fmi2Real,
+}
 
 /// Return status of every FMI function (`fmi2Status`).
 #[repr(C)]

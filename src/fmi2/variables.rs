@@ -155,6 +155,11 @@ pub struct Outputs {
     pub tau_1: f64,
     /// See `tau_1`.
     pub tau_2: f64,
+    /// Model Exchange: the continuous states in the model's relative coordinates
+    /// ([`crate::dynamics::relative`]; unused entries 0).
+    pub x: [f64; 8],
+    /// Model Exchange: their time derivatives.
+    pub dx: [f64; 8],
 }
 
 /// Quantities derived from the parameters when the model is built (calculated parameters).
@@ -181,6 +186,9 @@ pub enum Causality {
     Input,
     /// Computed from the inputs (direct feedthrough).
     Output,
+    /// Internal: the Model Exchange states in relative coordinates and the state derivatives
+    /// (readable, not connectable).
+    Local,
 }
 
 impl Causality {
@@ -191,6 +199,7 @@ impl Causality {
             Causality::CalculatedParameter => "calculatedParameter",
             Causality::Input => "input",
             Causality::Output => "output",
+            Causality::Local => "local",
         }
     }
 }
@@ -333,6 +342,9 @@ pub struct Variable {
     pub depends: Option<Depends>,
     /// How an instance reads and writes the value.
     pub access: Access,
+    /// Model Exchange: the name of the continuous state this variable is the time derivative
+    /// of (`derivative` attribute), `None` otherwise.
+    pub derivative_of: Option<&'static str>,
 }
 
 impl Variable {
@@ -371,7 +383,9 @@ impl Variable {
     pub fn initial(&self) -> Option<&'static str> {
         match self.causality {
             Causality::Parameter => Some("exact"),
-            Causality::CalculatedParameter | Causality::Output => Some("calculated"),
+            Causality::CalculatedParameter | Causality::Output | Causality::Local => {
+                Some("calculated")
+            }
             Causality::Input => None,
         }
     }
@@ -404,6 +418,7 @@ pub(crate) const NONE: Variable = Variable {
     group: 0,
     depends: None,
     access: Access::RealOutput(|_| 0.0),
+    derivative_of: None,
 };
 
 /// A Real `fixed` parameter stored in [`Settings::pair`].
@@ -1362,11 +1377,14 @@ pub struct CsCapabilities {
     pub can_get_and_set_fmu_state: bool,
     /// FMU states can be serialised to bytes.
     pub can_serialize_fmu_state: bool,
-    /// `fmi2GetDirectionalDerivative` is not provided.
+    /// `fmi2GetDirectionalDerivative` is provided (from the model's exact derivatives).
     pub provides_directional_derivative: bool,
+    /// Model Exchange: `fmi2CompletedIntegratorStep` need not be called (nothing happens
+    /// there).
+    pub completed_integrator_step_not_needed: bool,
 }
 
-/// The capabilities this FMU implements.
+/// The capabilities this FMU implements (Co-Simulation and Model Exchange).
 pub const CS_CAPABILITIES: CsCapabilities = CsCapabilities {
     needs_execution_tool: false,
     can_handle_variable_communication_step_size: true,
@@ -1377,7 +1395,8 @@ pub const CS_CAPABILITIES: CsCapabilities = CsCapabilities {
     can_not_use_memory_management_functions: true,
     can_get_and_set_fmu_state: true,
     can_serialize_fmu_state: true,
-    provides_directional_derivative: false,
+    provides_directional_derivative: true,
+    completed_integrator_step_not_needed: true,
 };
 
 /// A unit of `UnitDefinitions`: name, SI base-unit exponents and display units.
@@ -1401,6 +1420,8 @@ pub const UNITS: &[UnitDef] = &[
         display: &[("rpm", 30.0 / std::f64::consts::PI)],
     },
     UnitDef { name: "m", base: &[("m", 1)], display: &[("mm", 1e3), ("um", 1e6)] },
+    UnitDef { name: "m/s", base: &[("m", 1), ("s", -1)], display: &[] },
+    UnitDef { name: "m/s2", base: &[("m", 1), ("s", -2)], display: &[] },
     UnitDef { name: "rad/s2", base: &[("s", -2), ("rad", 1)], display: &[] },
     UnitDef { name: "N", base: &[("kg", 1), ("m", 1), ("s", -2)], display: &[] },
     UnitDef { name: "N.m", base: &[("kg", 1), ("m", 2), ("s", -2)], display: &[] },

@@ -4,13 +4,13 @@
 
 use std::sync::OnceLock;
 
-use crate::fmi2::model::{Engine, Experiment, ModelInfo, StepFailure};
+use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::variables::{ANGLE, DEG, RAD};
 use crate::fmi2::variables::{
     Access, CALCULATED, Causality, Derived, GEAR_PARAMS, Inputs, MESH_OPTIONS, MESH_OUTPUTS, NONE,
     Outputs, Settings, Variability, Variable, concat, total_len,
 };
-use crate::mesh::{MeshError, MeshModel, MeshState};
+use crate::mesh::{MeshError, MeshModel, MeshState, MeshTorques};
 
 use Variable as V;
 
@@ -190,6 +190,35 @@ impl Engine for MeshEngine {
 
     fn load(&mut self, _: &[u8]) -> Result<(), String> {
         Ok(())
+    }
+
+    /// ∂(M_F_p, M_F_g, M_D_p, M_D_g, TE)/∂(phi_p, phi_g, w_p, w_g): the mesh stiffness and
+    /// damping from [`MeshTorques::mesh_jacobian`] (table interpolant or load-solution
+    /// sensitivity), TE = g_p·phi_p + g_g·phi_g exactly.
+    fn jacobian(&mut self, i: &Inputs) -> Result<Jacobian, String> {
+        let s = MeshState { phi_p: i.phi_p, phi_g: i.phi_g, w_p: i.w_p, w_g: i.w_g };
+        let (_, j) = self.0.mesh_jacobian(&s).map_err(|e| {
+            format!(
+                "mesh Jacobian at phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} \
+                 rad/s: {}",
+                s.phi_p,
+                s.phi_g,
+                s.w_p,
+                s.w_g,
+                mesh_error_text(&e)
+            )
+        })?;
+        let (gp, gg) = self.0.base_radii();
+        let mut values = Vec::with_capacity(20);
+        for row in &j.d {
+            values.extend_from_slice(row);
+        }
+        values.extend_from_slice(&[gp, gg, 0.0, 0.0]);
+        Ok(Jacobian {
+            rows: vec!["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"],
+            cols: vec!["phi_p", "phi_g", "w_p", "w_g"],
+            values,
+        })
     }
 }
 

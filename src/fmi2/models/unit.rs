@@ -21,8 +21,11 @@
 use std::sync::OnceLock;
 
 use crate::dynamics::Drivetrain;
-use crate::dynamics::unit::{DriveUnit, UnitInputs, UnitKind, UnitSnapshot, UnitStepping};
-use crate::fmi2::model::{Engine, Experiment, ModelInfo, StepFailure};
+use crate::dynamics::relative::RelativeCoordinates;
+use crate::dynamics::unit::{
+    DriveUnit, UnitInputs, UnitKind, UnitLinearization, UnitSnapshot, UnitStepping,
+};
+use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
 use crate::fmi2::variables::{
     ANGLE, CALCULATED, Causality, DEG, Depends, Derived, GEAR_PARAMS, Inputs, Integrator,
@@ -33,7 +36,19 @@ use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, MeshModel};
 
 /// Mesh outputs of a stateful model: functions of the state only.
-const STATE_ONLY: Depends = Depends { inputs: &[], linear_fixed: false, groups: group::ALL };
+const STATE_ONLY: Depends =
+    Depends { inputs: &HUB_STATES, linear_fixed: false, groups: group::ALL };
+
+/// The Model Exchange states every stateful model has (relative coordinates of the hubs,
+/// [`crate::dynamics::relative`]); the dependency lists below name states and inputs (the
+/// knowns of Model Exchange).
+const HUB_STATES: [&str; 4] = ["phi_p", "TE", "w_p", "v_TE"];
+const PAIR_KNOWN: [&str; 6] = ["phi_p", "TE", "w_p", "v_TE", "tau_p", "tau_g"];
+const STAGE_KNOWN: [&str; 8] = ["phi_p", "TE", "w_p", "v_TE", "phi_1", "w_1", "phi_2", "w_2"];
+const DRIVE_STATES: [&str; 8] =
+    ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2"];
+const DRIVE_KNOWN: [&str; 9] =
+    ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2", "M"];
 const UNIT_MESH_OUTPUTS: [Variable; 12] = with_depends(MESH_OUTPUTS, STATE_ONLY);
 
 macro_rules! input {
@@ -80,8 +95,8 @@ const ACC: Option<&str> = Some("AngularAcceleration");
 
 /// φp, φ̇p, φ̇g, φg (functions of the state).
 const HUBS: [Variable; 4] = [
-    kin!("phi_p", 40, RAD, DEG, ANGLE, "Pinion hub angle, rad (state)", &[], phi_p),
-    kin!("w_p", 41, RAD_S, RPM, W, "Pinion speed, rad/s (state)", &[], w_p),
+    kin!("phi_p", 40, RAD, DEG, ANGLE, "Pinion hub angle, rad (state)", &["phi_p"], phi_p),
+    kin!("w_p", 41, RAD_S, RPM, W, "Pinion speed, rad/s (state)", &["w_p"], w_p),
     kin!(
         "phi_g",
         43,
@@ -89,7 +104,7 @@ const HUBS: [Variable; 4] = [
         DEG,
         ANGLE,
         "Gear hub angle, rad (state; negative in normal running)",
-        &[],
+        &["phi_p", "TE"],
         phi_g
     ),
     kin!(
@@ -99,7 +114,7 @@ const HUBS: [Variable; 4] = [
         RPM,
         W,
         "Gear speed, rad/s (state; negative in normal running)",
-        &[],
+        &["w_p", "v_TE"],
         w_g
     ),
 ];
@@ -132,7 +147,7 @@ const PAIR_IO: [Variable; 4] = [
         None,
         ACC,
         "Pinion angular acceleration phi_p'', rad/s2",
-        &["tau_p"],
+        &["phi_p", "TE", "w_p", "v_TE", "tau_p"],
         a_p
     ),
     kin!(
@@ -142,7 +157,7 @@ const PAIR_IO: [Variable; 4] = [
         None,
         ACC,
         "Gear angular acceleration phi_g'', rad/s2",
-        &["tau_g"],
+        &["phi_p", "TE", "w_p", "v_TE", "tau_g"],
         a_g
     ),
 ];
@@ -176,7 +191,7 @@ const STAGE_IO: [Variable; 8] = [
         TORQUE,
         "Torque the pinion shaft exerts on J1, N.m: J1*phi_1'' = M + tau_1 (steady running: \
          tau_1 = -M)",
-        &["phi_1", "w_1"],
+        &["phi_p", "w_p", "phi_1", "w_1"],
         tau_1
     ),
     kin!(
@@ -186,7 +201,7 @@ const STAGE_IO: [Variable; 8] = [
         None,
         TORQUE,
         "Torque the gear shaft exerts on J2, N.m: J2*phi_2'' = M*z_g/z_p + tau_2",
-        &["phi_2", "w_2"],
+        &["phi_p", "TE", "w_p", "v_TE", "phi_2", "w_2"],
         tau_2
     ),
     kin!(
@@ -196,7 +211,7 @@ const STAGE_IO: [Variable; 8] = [
         None,
         ACC,
         "Pinion angular acceleration phi_p'', rad/s2",
-        &["phi_1", "w_1"],
+        &["phi_p", "TE", "w_p", "v_TE", "phi_1", "w_1"],
         a_p
     ),
     kin!(
@@ -206,7 +221,7 @@ const STAGE_IO: [Variable; 8] = [
         None,
         ACC,
         "Gear angular acceleration phi_g'', rad/s2",
-        &["phi_2", "w_2"],
+        &["phi_p", "TE", "w_p", "v_TE", "phi_2", "w_2"],
         a_g
     ),
 ];
@@ -221,12 +236,286 @@ const DRIVE_IO: [Variable; 7] = [
         "Driving torque M on J1, N.m (the load on J2 is M*z_g/z_p, Eq. 4)",
         m
     ),
-    kin!("phi_1", 48, RAD, DEG, ANGLE, "Angle of J1, rad (state)", &[], phi_1),
-    kin!("phi_2", 50, RAD, DEG, ANGLE, "Angle of J2, rad (state)", &[], phi_2),
-    kin!("w_1", 49, RAD_S, RPM, W, "Speed of J1, rad/s (state)", &[], w_1),
-    kin!("w_2", 51, RAD_S, RPM, W, "Speed of J2, rad/s (state)", &[], w_2),
-    kin!("a_p", 42, RAD_S2, None, ACC, "Pinion angular acceleration phi_p'', rad/s2", &[], a_p),
-    kin!("a_g", 45, RAD_S2, None, ACC, "Gear angular acceleration phi_g'', rad/s2", &[], a_g),
+    kin!("phi_1", 48, RAD, DEG, ANGLE, "Angle of J1, rad (state)", &["phi_p", "theta_1"], phi_1),
+    kin!(
+        "phi_2",
+        50,
+        RAD,
+        DEG,
+        ANGLE,
+        "Angle of J2, rad (state)",
+        &["phi_p", "TE", "theta_2"],
+        phi_2
+    ),
+    kin!("w_1", 49, RAD_S, RPM, W, "Speed of J1, rad/s (state)", &["w_p", "w_theta_1"], w_1),
+    kin!(
+        "w_2",
+        51,
+        RAD_S,
+        RPM,
+        W,
+        "Speed of J2, rad/s (state)",
+        &["w_p", "v_TE", "w_theta_2"],
+        w_2
+    ),
+    kin!(
+        "a_p",
+        42,
+        RAD_S2,
+        None,
+        ACC,
+        "Pinion angular acceleration phi_p'', rad/s2",
+        &DRIVE_STATES,
+        a_p
+    ),
+    kin!(
+        "a_g",
+        45,
+        RAD_S2,
+        None,
+        ACC,
+        "Gear angular acceleration phi_g'', rad/s2",
+        &DRIVE_STATES,
+        a_g
+    ),
+];
+
+/// A Model Exchange local: a relative-coordinate state or a state derivative, read from
+/// [`Outputs::x`] / [`Outputs::dx`].
+macro_rules! me_local {
+    ($name:literal, $vr:expr, $unit:expr, $q:expr, $desc:literal, $deps:expr, $linear:expr,
+     $der_of:expr, $get:expr) => {
+        Variable {
+            name: $name,
+            vr: $vr,
+            causality: Causality::Local,
+            variability: Variability::Continuous,
+            description: $desc,
+            unit: $unit,
+            quantity: $q,
+            depends: Some(Depends { inputs: $deps, linear_fixed: $linear, groups: group::ALL }),
+            access: crate::fmi2::variables::Access::RealOutput($get),
+            derivative_of: $der_of,
+            ..NONE
+        }
+    };
+}
+
+const M_S: Option<&str> = Some("m/s");
+const M_S2: Option<&str> = Some("m/s2");
+const VEL: Option<&str> = Some("Velocity");
+const ACCEL: Option<&str> = Some("Acceleration");
+
+/// Model Exchange states and derivatives of the Pair and the Stage: x = (φp, TE, φ̇p, v_TE).
+const fn me_pair(known: &'static [&'static str]) -> [Variable; 5] {
+    [
+        me_local!(
+            "v_TE",
+            70,
+            M_S,
+            VEL,
+            "Rate of the transmission error g_p*w_p + g_g*w_g, m/s (Model Exchange state)",
+            &[],
+            false,
+            None,
+            |o| o.x[3]
+        ),
+        me_local!(
+            "der(phi_p)",
+            80,
+            RAD_S,
+            W,
+            "Time derivative of phi_p, rad/s",
+            &["w_p"],
+            true,
+            Some("phi_p"),
+            |o| o.dx[0]
+        ),
+        me_local!(
+            "der(TE)",
+            81,
+            M_S,
+            VEL,
+            "Time derivative of TE, m/s",
+            &["v_TE"],
+            true,
+            Some("TE"),
+            |o| o.dx[1]
+        ),
+        me_local!(
+            "der(w_p)",
+            82,
+            RAD_S2,
+            ACC,
+            "Time derivative of w_p, rad/s2",
+            known,
+            false,
+            Some("w_p"),
+            |o| o.dx[2]
+        ),
+        me_local!(
+            "der(v_TE)",
+            83,
+            M_S2,
+            ACCEL,
+            "Time derivative of v_TE, m/s2",
+            known,
+            false,
+            Some("v_TE"),
+            |o| o.dx[3]
+        ),
+    ]
+}
+
+const ME_PAIR: [Variable; 5] = me_pair(&PAIR_KNOWN);
+const ME_STAGE: [Variable; 5] = me_pair(&STAGE_KNOWN);
+
+/// Model Exchange states and derivatives of the Drive: x = (φp, θ1, TE, θ2, φ̇p, θ̇1, v_TE,
+/// θ̇2).
+const ME_DRIVE: [Variable; 13] = [
+    me_local!(
+        "theta_1",
+        71,
+        RAD,
+        ANGLE,
+        "Twist of the pinion shaft phi_1 - phi_p, rad (Model Exchange state)",
+        &[],
+        false,
+        None,
+        |o| o.x[1]
+    ),
+    me_local!(
+        "theta_2",
+        72,
+        RAD,
+        ANGLE,
+        "Twist of the gear shaft phi_g - phi_2, rad (Model Exchange state)",
+        &[],
+        false,
+        None,
+        |o| o.x[3]
+    ),
+    me_local!(
+        "w_theta_1",
+        73,
+        RAD_S,
+        W,
+        "Rate of the pinion shaft's twist w_1 - w_p, rad/s (Model Exchange state)",
+        &[],
+        false,
+        None,
+        |o| o.x[5]
+    ),
+    me_local!(
+        "v_TE",
+        70,
+        M_S,
+        VEL,
+        "Rate of the transmission error g_p*w_p + g_g*w_g, m/s (Model Exchange state)",
+        &[],
+        false,
+        None,
+        |o| o.x[6]
+    ),
+    me_local!(
+        "w_theta_2",
+        74,
+        RAD_S,
+        W,
+        "Rate of the gear shaft's twist w_g - w_2, rad/s (Model Exchange state)",
+        &[],
+        false,
+        None,
+        |o| o.x[7]
+    ),
+    me_local!(
+        "der(phi_p)",
+        80,
+        RAD_S,
+        W,
+        "Time derivative of phi_p, rad/s",
+        &["w_p"],
+        true,
+        Some("phi_p"),
+        |o| o.dx[0]
+    ),
+    me_local!(
+        "der(theta_1)",
+        84,
+        RAD_S,
+        W,
+        "Time derivative of theta_1, rad/s",
+        &["w_theta_1"],
+        true,
+        Some("theta_1"),
+        |o| o.dx[1]
+    ),
+    me_local!(
+        "der(TE)",
+        81,
+        M_S,
+        VEL,
+        "Time derivative of TE, m/s",
+        &["v_TE"],
+        true,
+        Some("TE"),
+        |o| o.dx[2]
+    ),
+    me_local!(
+        "der(theta_2)",
+        85,
+        RAD_S,
+        W,
+        "Time derivative of theta_2, rad/s",
+        &["w_theta_2"],
+        true,
+        Some("theta_2"),
+        |o| o.dx[3]
+    ),
+    me_local!(
+        "der(w_p)",
+        82,
+        RAD_S2,
+        ACC,
+        "Time derivative of w_p, rad/s2",
+        &DRIVE_STATES,
+        false,
+        Some("w_p"),
+        |o| o.dx[4]
+    ),
+    me_local!(
+        "der(w_theta_1)",
+        86,
+        RAD_S2,
+        ACC,
+        "Time derivative of w_theta_1, rad/s2",
+        &DRIVE_KNOWN,
+        false,
+        Some("w_theta_1"),
+        |o| o.dx[5]
+    ),
+    me_local!(
+        "der(v_TE)",
+        83,
+        M_S2,
+        ACCEL,
+        "Time derivative of v_TE, m/s2",
+        &DRIVE_STATES,
+        false,
+        Some("v_TE"),
+        |o| o.dx[6]
+    ),
+    me_local!(
+        "der(w_theta_2)",
+        87,
+        RAD_S2,
+        ACC,
+        "Time derivative of w_theta_2, rad/s2",
+        &DRIVE_KNOWN,
+        false,
+        Some("w_theta_2"),
+        |o| o.dx[7]
+    ),
 ];
 
 const PAIR_PARTS: &[&[Variable]] = &[
@@ -238,6 +527,7 @@ const PAIR_PARTS: &[&[Variable]] = &[
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &START_PAIR,
+    &ME_PAIR,
 ];
 const STAGE_PARTS: &[&[Variable]] = &[
     &STAGE_IO,
@@ -248,6 +538,7 @@ const STAGE_PARTS: &[&[Variable]] = &[
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &START_PAIR,
+    &ME_STAGE,
 ];
 const DRIVE_PARTS: &[&[Variable]] = &[
     &DRIVE_IO,
@@ -259,6 +550,7 @@ const DRIVE_PARTS: &[&[Variable]] = &[
     &UNIT_OPTIONS,
     &START_PAIR,
     &START_OUTER,
+    &ME_DRIVE,
 ];
 
 static PAIR_TABLE: [Variable; total_len(PAIR_PARTS)] = concat(PAIR_PARTS);
@@ -383,7 +675,19 @@ fn build_unit(kind: UnitKind, s: &Settings) -> Result<(Box<dyn Engine>, Derived)
     let drive = Drivetrain::from_pair(&s.pair).map_err(|e| e.to_string())?;
     let unit = DriveUnit::new(kind, mesh, drive, stepping)
         .map_err(|e| format!("{} unit: {e}", kind_name(kind)))?;
-    Ok((Box::new(UnitEngine { unit }), derived))
+    let rel = RelativeCoordinates::new(kind, derived.base_radius_p, derived.base_radius_g);
+    let mut nominals = [1.0; 8];
+    rel.nominals(
+        drive.torque,
+        drive.z_g as f64 / drive.z_p as f64,
+        unit.nominal_mesh_stiffness(),
+        drive.c1,
+        drive.c2,
+        unit.fastest_mode(),
+        u.w_p_start,
+        &mut nominals[..rel.n()],
+    );
+    Ok((Box::new(UnitEngine { unit, rel, nominals }), derived))
 }
 
 fn kind_name(kind: UnitKind) -> &'static str {
@@ -406,10 +710,29 @@ fn unit_inputs(i: &Inputs) -> UnitInputs {
     }
 }
 
-/// A [`DriveUnit`] over the mesh model as an [`Engine`].
+/// Names of the state-derivative variables in state order (Pair and Stage).
+const PAIR_DERS: [&str; 4] = ["der(phi_p)", "der(TE)", "der(w_p)", "der(v_TE)"];
+/// Names of the state-derivative variables in state order (Drive).
+const DRIVE_DERS: [&str; 8] = [
+    "der(phi_p)",
+    "der(theta_1)",
+    "der(TE)",
+    "der(theta_2)",
+    "der(w_p)",
+    "der(w_theta_1)",
+    "der(v_TE)",
+    "der(w_theta_2)",
+];
+
+/// A [`DriveUnit`] over the mesh model as an [`Engine`]. Model Exchange sees the unit's state
+/// in relative coordinates ([`RelativeCoordinates`]: TE and the shaft twists are states, so
+/// that an importer's tolerances act on them).
 #[derive(Clone)]
 struct UnitEngine {
     unit: DriveUnit<MeshModel>,
+    rel: RelativeCoordinates,
+    /// Nominal magnitudes of the relative coordinates.
+    nominals: [f64; 8],
 }
 
 impl UnitEngine {
@@ -464,7 +787,13 @@ impl Engine for UnitEngine {
     fn outputs(&mut self, inputs: &Inputs) -> Result<Outputs, String> {
         self.sync(inputs)?;
         let o = self.unit.outputs().map_err(|e| format!("outputs: {e}"))?;
+        let n = self.rel.n();
+        let (mut x, mut dx) = ([0.0; 8], [0.0; 8]);
+        self.rel.to_relative(self.unit.state(), &mut x[..n]);
+        self.rel.to_relative(&o.dydt[..n], &mut dx[..n]);
         Ok(Outputs {
+            x,
+            dx,
             mesh: o.mesh,
             phi_1: o.phi_1,
             phi_p: o.phi_p,
@@ -499,6 +828,65 @@ impl Engine for UnitEngine {
         let s: UnitSnapshot = serde_json::from_slice(bytes)
             .map_err(|e| format!("serialised state: unit snapshot: {e}"))?;
         self.unit.restore(&s).map_err(|e| format!("serialised state: unit snapshot: {e}"))
+    }
+
+    fn n_states(&self) -> usize {
+        self.rel.n()
+    }
+
+    /// Sets the unit's time and takes the inputs as valid from it (Model Exchange sets the
+    /// inputs for the current time, so the Stage's far ends are not extrapolated).
+    fn set_time(&mut self, t: f64) -> Result<(), String> {
+        self.unit.set_time(t).map_err(|e| e.to_string())?;
+        let u = *self.unit.inputs();
+        self.unit.set_inputs(u).map_err(|e| e.to_string())
+    }
+
+    fn get_states(&self, x: &mut [f64]) {
+        self.rel.to_relative(self.unit.state(), x);
+    }
+
+    fn set_states(&mut self, x: &[f64]) -> Result<(), String> {
+        let n = self.rel.n();
+        if x.len() != n {
+            return Err(format!("{} continuous states given: the model has {n}", x.len()));
+        }
+        let mut y = [0.0; 8];
+        self.rel.to_absolute(x, &mut y[..n]);
+        self.unit.set_state(&y[..n]).map_err(|e| e.to_string())
+    }
+
+    fn nominals(&self, x: &mut [f64]) {
+        x.copy_from_slice(&self.nominals[..x.len()]);
+    }
+
+    /// Rows: the outputs of [`UnitLinearization::outputs`] and the state derivatives; columns:
+    /// the states (relative coordinates) and the inputs. From [`DriveUnit::linearize`] (the
+    /// mesh Jacobian: table interpolant or load-solution sensitivity), transformed exactly.
+    fn jacobian(&mut self, inputs: &Inputs) -> Result<Jacobian, String> {
+        self.unit.set_inputs(unit_inputs(inputs)).map_err(|e| e.to_string())?;
+        let kind = self.unit.kind();
+        let lin = self.unit.linearize().map_err(|e| format!("linearisation: {e}"))?;
+        let l = self.rel.linearization(&lin);
+        let (n, nu) = (l.n_x, l.n_u);
+        let ders: &[&'static str] = if kind == UnitKind::Drive { &DRIVE_DERS } else { &PAIR_DERS };
+        let outs = UnitLinearization::outputs(kind);
+        let mut rows: Vec<&'static str> = outs.to_vec();
+        rows.extend_from_slice(ders);
+        let mut cols: Vec<&'static str> = self.rel.names().to_vec();
+        cols.extend_from_slice(UnitLinearization::inputs(kind));
+        let w = n + nu;
+        let mut values = vec![0.0; rows.len() * w];
+        for r in 0..outs.len() {
+            values[r * w..r * w + n].copy_from_slice(&l.c[r * n..(r + 1) * n]);
+            values[r * w + n..(r + 1) * w].copy_from_slice(&l.d[r * nu..(r + 1) * nu]);
+        }
+        for i in 0..n {
+            let r = outs.len() + i;
+            values[r * w..r * w + n].copy_from_slice(&l.a[i * n..(i + 1) * n]);
+            values[r * w + n..(r + 1) * w].copy_from_slice(&l.b[i * nu..(i + 1) * nu]);
+        }
+        Ok(Jacobian { rows, cols, values })
     }
 }
 
