@@ -58,6 +58,14 @@ pub fn vr_header_path(model: &ModelInfo) -> String {
     format!("include/fmi2_models/{}.h", model.identifier)
 }
 
+/// A C identifier for a variable name: `.` becomes `_`, `der(x)` becomes `der_x`.
+fn c_name(name: &str) -> String {
+    match name.strip_prefix("der(").and_then(|r| r.strip_suffix(')')) {
+        Some(state) => format!("der_{}", c_name(state)),
+        None => name.replace('.', "_"),
+    }
+}
+
 /// Text of the value-reference header of `model`.
 pub fn vr_header(model: &ModelInfo) -> String {
     let id = model.identifier;
@@ -71,7 +79,7 @@ pub fn vr_header(model: &ModelInfo) -> String {
     for v in model.variables {
         s.push_str(&format!(
             "    {id}_vr_{} = {}, /* {} {} {} */\n",
-            v.name.replace('.', "_"),
+            c_name(v.name),
             v.vr,
             v.causality.as_str(),
             v.var_type().as_str(),

@@ -89,14 +89,14 @@ typedef enum {
     HelicalGearDrive_vr_w_theta_1 = 73, /* local Real rad/s */
     HelicalGearDrive_vr_v_TE = 70, /* local Real m/s */
     HelicalGearDrive_vr_w_theta_2 = 74, /* local Real rad/s */
-    HelicalGearDrive_vr_der(phi_p) = 80, /* local Real rad/s */
-    HelicalGearDrive_vr_der(theta_1) = 84, /* local Real rad/s */
-    HelicalGearDrive_vr_der(TE) = 81, /* local Real m/s */
-    HelicalGearDrive_vr_der(theta_2) = 85, /* local Real rad/s */
-    HelicalGearDrive_vr_der(w_p) = 82, /* local Real rad/s2 */
-    HelicalGearDrive_vr_der(w_theta_1) = 86, /* local Real rad/s2 */
-    HelicalGearDrive_vr_der(v_TE) = 83, /* local Real m/s2 */
-    HelicalGearDrive_vr_der(w_theta_2) = 87, /* local Real rad/s2 */
+    HelicalGearDrive_vr_der_phi_p = 80, /* local Real rad/s */
+    HelicalGearDrive_vr_der_theta_1 = 84, /* local Real rad/s */
+    HelicalGearDrive_vr_der_TE = 81, /* local Real m/s */
+    HelicalGearDrive_vr_der_theta_2 = 85, /* local Real rad/s */
+    HelicalGearDrive_vr_der_w_p = 82, /* local Real rad/s2 */
+    HelicalGearDrive_vr_der_w_theta_1 = 86, /* local Real rad/s2 */
+    HelicalGearDrive_vr_der_v_TE = 83, /* local Real m/s2 */
+    HelicalGearDrive_vr_der_w_theta_2 = 87, /* local Real rad/s2 */
 } HelicalGearDrive_ValueReference;
 
 #endif /* HELICALGEARDRIVE_H */

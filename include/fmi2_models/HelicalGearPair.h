@@ -78,10 +78,10 @@ typedef enum {
     HelicalGearPair_vr_w_p_0 = 315, /* parameter Real rad/s */
     HelicalGearPair_vr_w_g_0 = 316, /* parameter Real rad/s */
     HelicalGearPair_vr_v_TE = 70, /* local Real m/s */
-    HelicalGearPair_vr_der(phi_p) = 80, /* local Real rad/s */
-    HelicalGearPair_vr_der(TE) = 81, /* local Real m/s */
-    HelicalGearPair_vr_der(w_p) = 82, /* local Real rad/s2 */
-    HelicalGearPair_vr_der(v_TE) = 83, /* local Real m/s2 */
+    HelicalGearPair_vr_der_phi_p = 80, /* local Real rad/s */
+    HelicalGearPair_vr_der_TE = 81, /* local Real m/s */
+    HelicalGearPair_vr_der_w_p = 82, /* local Real rad/s2 */
+    HelicalGearPair_vr_der_v_TE = 83, /* local Real m/s2 */
 } HelicalGearPair_ValueReference;
 
 #endif /* HELICALGEARPAIR_H */

@@ -82,10 +82,10 @@ typedef enum {
     HelicalGearStage_vr_w_p_0 = 315, /* parameter Real rad/s */
     HelicalGearStage_vr_w_g_0 = 316, /* parameter Real rad/s */
     HelicalGearStage_vr_v_TE = 70, /* local Real m/s */
-    HelicalGearStage_vr_der(phi_p) = 80, /* local Real rad/s */
-    HelicalGearStage_vr_der(TE) = 81, /* local Real m/s */
-    HelicalGearStage_vr_der(w_p) = 82, /* local Real rad/s2 */
-    HelicalGearStage_vr_der(v_TE) = 83, /* local Real m/s2 */
+    HelicalGearStage_vr_der_phi_p = 80, /* local Real rad/s */
+    HelicalGearStage_vr_der_TE = 81, /* local Real m/s */
+    HelicalGearStage_vr_der_w_p = 82, /* local Real rad/s2 */
+    HelicalGearStage_vr_der_v_TE = 83, /* local Real m/s2 */
 } HelicalGearStage_ValueReference;
 
 #endif /* HELICALGEARSTAGE_H */

@@ -19,6 +19,8 @@
 
 #include "helical_gear_mesh.h"
 #include "helical_gear_mesh_fmi2.h"
+#include "fmi2_models/HelicalGearDrive.h"
+#include "fmi2_models/HelicalGearMesh.h"
 
 static int failures = 0;
 
@@ -209,8 +211,8 @@ static void test_fmi2(const char *guid) {
                                       fmi2False);
     CHECK(c == NULL, "wrong GUID");
     CHECK(strstr(last_message, "fmuGUID `{wrong}`") != NULL, "message: %s", last_message);
-    c = fmi2Instantiate("c", fmi2ModelExchange, guid, NULL, &cb, fmi2False, fmi2False);
-    CHECK(c == NULL, "Model Exchange is not offered");
+    c = fmi2Instantiate("c", (fmi2Type)7, guid, NULL, &cb, fmi2False, fmi2False);
+    CHECK(c == NULL, "fmuType 7");
 
     /* A resource URI with a bad escape: a warning whose text contains '%' (escaped for the
      * printf-style logger, so it arrives intact). */
@@ -230,6 +232,125 @@ static void test_fmi2(const char *guid) {
     CHECK(fmi2SetReal(c, &vr, 1, &nan) == fmi2Error, "NaN input");
     CHECK(strstr(last_message, "input `phi_p` = NaN is not finite") != NULL, "message: %s",
           last_message);
+    fmi2FreeInstance(c);
+}
+
+/* ------------------------------------------------------------------ Model Exchange */
+
+/* Event iteration and continuous-time mode after initialisation. */
+static void to_continuous_time(fmi2Component c) {
+    fmi2EventInfo info;
+    memset(&info, 0xff, sizeof info);
+    CHECK(fmi2NewDiscreteStates(c, &info) == fmi2OK, "new discrete states");
+    CHECK(info.newDiscreteStatesNeeded == fmi2False && info.terminateSimulation == fmi2False &&
+              info.nextEventTimeDefined == fmi2False,
+          "event info");
+    CHECK(fmi2EnterContinuousTimeMode(c) == fmi2OK, "continuous-time mode");
+}
+
+/* The mesh element in Model Exchange (no states, direct feedthrough) and its directional
+ * derivative dM_F_p/dphi_p against a central difference of the output. */
+static void test_me_mesh(const char *guid) {
+    fmi2CallbackFunctions cb = {logger, NULL, NULL, NULL, NULL};
+    fmi2Component c = fmi2Instantiate("me", fmi2ModelExchange, guid, NULL, &cb, fmi2False,
+                                      fmi2False);
+    CHECK(c != NULL, "ME instance of the mesh");
+    if (c == NULL) return;
+    fmi2ValueReference slices = HelicalGearMesh_vr_slices;
+    fmi2Integer n_slices = 30;
+    CHECK(fmi2SetInteger(c, &slices, 1, &n_slices) == fmi2OK, "slices");
+    CHECK(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) == fmi2OK, "setup");
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK, "init");
+    CHECK(fmi2ExitInitializationMode(c) == fmi2OK, "exit init");
+    to_continuous_time(c);
+    CHECK(fmi2SetTime(c, 0.25) == fmi2OK, "set time");
+    CHECK(fmi2GetDerivatives(c, NULL, 0) == fmi2OK, "no states: nx = 0");
+    CHECK(fmi2GetEventIndicators(c, NULL, 0) == fmi2OK, "no event indicators");
+    const fmi2ValueReference in[4] = {HelicalGearMesh_vr_phi_p, HelicalGearMesh_vr_phi_g,
+                                      HelicalGearMesh_vr_w_p, HelicalGearMesh_vr_w_g};
+    double phi_p = 0.013, te = 15e-6;
+    double x[4] = {phi_p, phi_g_for(phi_p, te), 300.0, -300.0 * G_P / G_G};
+    CHECK(fmi2SetReal(c, in, 4, x) == fmi2OK, "inputs");
+    fmi2ValueReference mf = HelicalGearMesh_vr_M_F_p;
+    double seed = 1.0, exact = 0.0;
+    CHECK(fmi2GetDirectionalDerivative(c, &mf, 1, &in[0], 1, &seed, &exact) == fmi2OK,
+          "directional derivative: %s", last_message);
+    double d = 2e-9, mp = 0.0, mm = 0.0;
+    x[0] = phi_p + d;
+    CHECK(fmi2SetReal(c, in, 4, x) == fmi2OK && fmi2GetReal(c, &mf, 1, &mp) == fmi2OK, "+");
+    x[0] = phi_p - d;
+    CHECK(fmi2SetReal(c, in, 4, x) == fmi2OK && fmi2GetReal(c, &mf, 1, &mm) == fmi2OK, "-");
+    double central = (mp - mm) / (2 * d);
+    CHECK(exact > 0.0 && fabs(exact - central) < 1e-5 * fabs(exact),
+          "dM_F_p/dphi_p exact %.10g, central %.10g", exact, central);
+    CHECK(fmi2DoStep(c, 0.0, 1e-3, fmi2True) == fmi2Error, "no doStep in Model Exchange");
+    fmi2FreeInstance(c);
+}
+
+/* The whole drive in Model Exchange: states, nominals, derivatives, a few steps of the
+ * master's own explicit midpoint rule near the static equilibrium, and a directional
+ * derivative of the state derivative against a central difference. */
+static void test_me_drive(void) {
+    fmi2CallbackFunctions cb = {logger, NULL, NULL, NULL, NULL};
+    fmi2Component c = fmi2Instantiate("me_drive", fmi2ModelExchange, HelicalGearDrive_GUID,
+                                      NULL, &cb, fmi2False, fmi2False);
+    CHECK(c != NULL, "ME instance of the drive");
+    if (c == NULL) return;
+    CHECK(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) == fmi2OK, "setup");
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK, "init");
+    CHECK(fmi2ExitInitializationMode(c) == fmi2OK, "exit init: %s", last_message);
+    to_continuous_time(c);
+    enum { NX = 8, TE_I = 2, WP_I = 4 };
+    double x[NX], dx[NX], nom[NX], xm[NX], dxm[NX];
+    CHECK(fmi2GetContinuousStates(c, x, NX) == fmi2OK, "states");
+    CHECK(fmi2GetContinuousStates(c, x, NX - 1) == fmi2Error, "wrong nx");
+    CHECK(strstr(last_message, "8 continuous states") != NULL, "message: %s", last_message);
+    CHECK(fmi2Reset(c) == fmi2OK, "reset");
+    CHECK(fmi2EnterInitializationMode(c) == fmi2OK && fmi2ExitInitializationMode(c) == fmi2OK,
+          "init again");
+    to_continuous_time(c);
+    CHECK(fmi2GetNominalsOfContinuousStates(c, nom, NX) == fmi2OK, "nominals");
+    CHECK(fmi2GetContinuousStates(c, x, NX) == fmi2OK, "states");
+    double te0 = x[TE_I];
+    CHECK(te0 > 0.0 && te0 < 1e-4 && fabs(x[WP_I] - 300.0) < 1e-9 && nom[TE_I] < 1e-4,
+          "start: TE %g, w_p %g, TE nominal %g", te0, x[WP_I], nom[TE_I]);
+    double t = 0.0, h = 1e-6;
+    for (int k = 0; k < 50; k++) {
+        CHECK(fmi2SetTime(c, t) == fmi2OK && fmi2SetContinuousStates(c, x, NX) == fmi2OK &&
+                  fmi2GetDerivatives(c, dx, NX) == fmi2OK,
+              "derivatives at t = %g: %s", t, last_message);
+        for (int i = 0; i < NX; i++) xm[i] = x[i] + 0.5 * h * dx[i];
+        CHECK(fmi2SetTime(c, t + 0.5 * h) == fmi2OK && fmi2SetContinuousStates(c, xm, NX) == fmi2OK &&
+                  fmi2GetDerivatives(c, dxm, NX) == fmi2OK,
+              "midpoint");
+        for (int i = 0; i < NX; i++) x[i] += h * dxm[i];
+        t += h;
+        fmi2Boolean enter = fmi2True, stop = fmi2True;
+        CHECK(fmi2CompletedIntegratorStep(c, fmi2True, &enter, &stop) == fmi2OK && !enter && !stop,
+              "completed integrator step");
+    }
+    CHECK(fmi2SetContinuousStates(c, x, NX) == fmi2OK, "set");
+    fmi2ValueReference te_vr = HelicalGearDrive_vr_TE;
+    double te = 0.0;
+    CHECK(fmi2GetReal(c, &te_vr, 1, &te) == fmi2OK && fabs(te - te0) < 0.5 * te0,
+          "TE after 50 us: %g (start %g)", te, te0);
+    /* d der(v_TE) / d TE: the mesh stiffness seen by the TE coordinate. */
+    fmi2ValueReference unk = HelicalGearDrive_vr_der_v_TE, known = HelicalGearDrive_vr_TE;
+    double seed = 1.0, exact = 0.0, plus[NX], minus[NX];
+    CHECK(fmi2GetDirectionalDerivative(c, &unk, 1, &known, 1, &seed, &exact) == fmi2OK,
+          "directional derivative: %s", last_message);
+    double d = 1e-5 * nom[TE_I];
+    x[TE_I] += d;
+    CHECK(fmi2SetContinuousStates(c, x, NX) == fmi2OK && fmi2GetDerivatives(c, plus, NX) == fmi2OK, "+");
+    x[TE_I] -= 2 * d;
+    CHECK(fmi2SetContinuousStates(c, x, NX) == fmi2OK && fmi2GetDerivatives(c, minus, NX) == fmi2OK, "-");
+    double central = (plus[6] - minus[6]) / (2 * d);
+    CHECK(exact < 0.0 && fabs(exact - central) < 1e-5 * fabs(exact),
+          "d der(v_TE)/dTE exact %.10g, central %.10g", exact, central);
+    double nan = NAN;
+    x[0] = nan;
+    CHECK(fmi2SetContinuousStates(c, x, NX) == fmi2Error, "NaN state");
+    CHECK(strstr(last_message, "(`phi_p`) = NaN") != NULL, "message: %s", last_message);
     fmi2FreeInstance(c);
 }
 
@@ -342,12 +463,14 @@ int main(int argc, char **argv) {
     }
     int repeat = argc == 3 ? atoi(argv[2]) : 1000;
     test_fmi2(argv[1]);
+    test_me_mesh(argv[1]);
     test_capi();
     /* The units build a mesh table (about 2 s natively, minutes under valgrind): the valgrind
      * run of tests/python/test_c_api.py sets HGM_TEST_SKIP_UNITS=1. */
     const char *skip_units = getenv("HGM_TEST_SKIP_UNITS");
     if (!(skip_units && strcmp(skip_units, "1") == 0)) {
         test_units();
+        test_me_drive();
     }
     test_extremes(argv[1], repeat);
     if (failures) {
