@@ -105,7 +105,7 @@ pub fn index_html(model: &ModelInfo) -> String {
 </head>
 <body>
 <h1>{id} {ver}</h1>
-<p>GUID <code>{guid}</code>. FMI 2.0 Co-Simulation.</p>
+<p>GUID <code>{guid}</code>. FMI 2.0 Co-Simulation and Model Exchange (one binary).</p>
 <p>A helical gear mesh after A. Andersson and L. Vedmar, "A dynamic model to determine
 vibrations in involute helical gears", J. Sound Vib. 260 (2003) 195&ndash;212.</p>
 {doc}
@@ -138,8 +138,12 @@ value and the allowed range.</li>
 <li>A NaN or infinite input gives <code>fmi2Error</code> naming the input. After any
 <code>fmi2Error</code> the instance is in the error state; <code>fmi2Reset</code> (start values) or
 <code>fmi2SetFMUstate</code> recover it.</li>
-<li>The FMI 2.0 co-simulation state machine is enforced; FMU states can be saved, restored and
-serialised. Error messages are always logged; debug categories when debug logging is on:</li>
+<li>The FMI 2.0 state machines of Co-Simulation and Model Exchange are enforced; FMU states can
+be saved, restored and serialised. In Model Exchange the continuous states are relative
+coordinates (<code>phi_p</code>, <code>TE</code>, shaft twists and their rates; see the variables
+with a <code>der(&hellip;)</code>), and <code>fmi2GetDirectionalDerivative</code> gives the exact
+derivatives of the state derivatives and outputs from the mesh Jacobian. Error messages are
+always logged; debug categories when debug logging is on:</li>
 </ul>
 <ul>
 {cats}</ul>
