@@ -864,7 +864,9 @@ impl Engine for UnitEngine {
     /// the states (relative coordinates) and the inputs. From [`DriveUnit::linearize`] (the
     /// mesh Jacobian: table interpolant or load-solution sensitivity), transformed exactly.
     fn jacobian(&mut self, inputs: &Inputs) -> Result<Jacobian, String> {
-        self.unit.set_inputs(unit_inputs(inputs)).map_err(|e| e.to_string())?;
+        // Only when they changed: a Co-Simulation master asking between steps must not move
+        // the origin of the Stage's held far-end motion.
+        self.sync(inputs)?;
         let kind = self.unit.kind();
         let lin = self.unit.linearize().map_err(|e| format!("linearisation: {e}"))?;
         let l = self.rel.linearization(&lin);
