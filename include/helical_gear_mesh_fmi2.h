@@ -295,7 +295,10 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c,
                                         fmi2Real *dv_unknown);
 
 /**
- * Not provided (`canInterpolateInputs="false"`): logs and returns `fmi2Error`.
+ * First derivatives (order 1) of Real inputs for the stateful models' first-order hold over
+ * the following communication steps (`canInterpolateInputs="true"`); setting an input's
+ * value resets its derivative to 0. Other orders, non-inputs and non-finite values are errors
+ * that name them.
  *
  * # Safety
  * Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with

@@ -528,6 +528,7 @@ pub unsafe extern "C" fn hgm_unit_set_inputs(
             phi_2: i.phi_2,
             w_2: i.w_2,
             torque: i.torque,
+            ..UnitInputs::default()
         };
         h.unit.set_inputs(v).map_err(|e| invalid_arg(e.to_string()))
     })

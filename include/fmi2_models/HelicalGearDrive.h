@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{e8fa88c8-d061-8a9c-86ba-eddf24c6d831}"
+#define HelicalGearDrive_GUID "{0d4aa381-f262-83d7-9c1d-892115503540}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{46638441-da49-87ac-bcb7-cc2a41e65114}"
+#define HelicalGearMesh_GUID "{2dd715e2-64e3-87be-97d9-6eb68fa8b8a9}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{85416e21-4f6a-835a-9252-4c19365b8315}"
+#define HelicalGearPair_GUID "{d71109a7-dfdc-8869-b393-8106aff73578}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */

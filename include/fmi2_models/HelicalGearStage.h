@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{b16fb723-150e-84c3-9bd6-3a3ac9222684}"
+#define HelicalGearStage_GUID "{e555379f-f693-8273-a1ae-f61535e7ec63}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */

@@ -29,9 +29,12 @@
 //! # Inputs over a communication step
 //!
 //! Inputs are held from the time they were set ([`DriveUnit::set_inputs`] records the unit's
-//! time t_u): torques are constant (zero-order hold); the Stage's far-end angles move with the
-//! given rates, φ₁(t) = φ₁ + φ̇₁·(t − t_u), φ₂(t) = φ₂ + φ̇₂·(t − t_u) (first-order hold of
-//! the angle, consistent with the held rate). [`DriveUnit::derivatives`] and
+//! time t_u): torques are constant (zero-order hold) unless their rates are given
+//! (`tau_p_rate`, `tau_g_rate`, `torque_rate`: first-order hold, tau_p(t) = tau_p +
+//! tau_p_rate·(t − t_u), FMI's `fmi2SetRealInputDerivatives`); the Stage's far-end angles move
+//! with the given rates and accelerations, φ₁(t) = φ₁ + φ̇₁·s + ½·a₁·s², φ̇₁(t) = φ̇₁ + a₁·s
+//! with s = t − t_u and a₁ = `w_1_rate` (0 by default: the angle's first-order hold consistent
+//! with the held rate). [`DriveUnit::derivatives`] and
 //! [`DriveUnit::linearize`] (Model Exchange, where the inputs are set at every time) use the
 //! inputs as set, without this extrapolation.
 //!
@@ -169,6 +172,22 @@ pub struct UnitInputs {
     pub w_2: f64,
     /// Drive: driving torque M on J1, N·m (the load on J2 is M·z_g/z_p as in Eq. 4).
     pub torque: f64,
+    /// Pair: time derivative of `tau_p` over the step (first-order hold), N·m/s.
+    #[serde(default)]
+    pub tau_p_rate: f64,
+    /// Pair: time derivative of `tau_g`, N·m/s.
+    #[serde(default)]
+    pub tau_g_rate: f64,
+    /// Stage: angular acceleration of the pinion shaft's far end over the step, rad/s²
+    /// (φ₁ moves as φ₁ + φ̇₁·s + ½·rate·s², its rate as φ̇₁ + rate·s).
+    #[serde(default)]
+    pub w_1_rate: f64,
+    /// Stage: angular acceleration of the gear shaft's far end, rad/s².
+    #[serde(default)]
+    pub w_2_rate: f64,
+    /// Drive: time derivative of the driving torque M, N·m/s.
+    #[serde(default)]
+    pub torque_rate: f64,
 }
 
 impl UnitInputs {
@@ -181,6 +200,11 @@ impl UnitInputs {
             ("phi_2", self.phi_2),
             ("w_2", self.w_2),
             ("torque", self.torque),
+            ("tau_p_rate", self.tau_p_rate),
+            ("tau_g_rate", self.tau_g_rate),
+            ("w_1_rate", self.w_1_rate),
+            ("w_2_rate", self.w_2_rate),
+            ("torque_rate", self.torque_rate),
         ] {
             if !v.is_finite() {
                 return Err(invalid(name, v, "finite"));
@@ -358,14 +382,29 @@ impl<M: MeshTorques> UnitSystem<M> {
     /// Far-end motion (φ₁, φ̇₁, φ₂, φ̇₂) the Stage sees at time `t`.
     fn far_ends(&self, t: f64) -> [f64; 4] {
         let u = &self.inputs;
-        let dt = if self.extrapolate { t - self.input_time } else { 0.0 };
-        [u.phi_1 + u.w_1 * dt, u.w_1, u.phi_2 + u.w_2 * dt, u.w_2]
+        let dt = self.held_for(t);
+        let (a1, a2) = (u.w_1_rate, u.w_2_rate);
+        [
+            u.phi_1 + (u.w_1 + 0.5 * a1 * dt) * dt,
+            u.w_1 + a1 * dt,
+            u.phi_2 + (u.w_2 + 0.5 * a2 * dt) * dt,
+            u.w_2 + a2 * dt,
+        ]
+    }
+
+    /// Time since the inputs were set (co-simulation), 0 without extrapolation (Model
+    /// Exchange), s.
+    fn held_for(&self, t: f64) -> f64 {
+        if self.extrapolate { t - self.input_time } else { 0.0 }
     }
 
     /// Hub torques (tau_p, tau_g) of a 4-state kind at time `t` and hub state `hub`.
     fn hub_torques(&self, t: f64, hub: [f64; 4]) -> (f64, f64) {
         match self.kind {
-            UnitKind::Pair => (self.inputs.tau_p, self.inputs.tau_g),
+            UnitKind::Pair => {
+                let (u, dt) = (&self.inputs, self.held_for(t));
+                (u.tau_p + u.tau_p_rate * dt, u.tau_g + u.tau_g_rate * dt)
+            }
             _ => {
                 let (s1, s2) = shaft_torques(self.model.drive(), self.far_ends(t), hub);
                 (s1, -s2)
@@ -397,6 +436,10 @@ impl<M: MeshTorques> OdeSystem for UnitSystem<M> {
 
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), OdeError> {
         if self.kind == UnitKind::Drive {
+            if self.inputs.torque_rate != 0.0 {
+                let m = self.inputs.torque + self.inputs.torque_rate * self.held_for(t);
+                self.model.set_torque(m);
+            }
             return self.model.rhs(t, y, dydt);
         }
         let n = self.dim();

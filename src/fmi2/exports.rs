@@ -709,7 +709,10 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     })
 }
 
-/// Not provided (`canInterpolateInputs="false"`): logs and returns `fmi2Error`.
+/// First derivatives (order 1) of Real inputs for the stateful models' first-order hold over
+/// the following communication steps (`canInterpolateInputs="true"`); setting an input's
+/// value resets its derivative to 0. Other orders, non-inputs and non-finite values are errors
+/// that name them.
 ///
 /// # Safety
 /// Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with
@@ -722,10 +725,12 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     order: *const fmi2Integer,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    // Part of the standard signature, not used by this FMU.
-    let _ = (vr, nvr, order, value);
-    call(c, func::fmi2SetRealInputDerivatives, |_| {
-        Err("not provided by this FMU (canInterpolateInputs=\"false\")".into())
+    call(c, func::fmi2SetRealInputDerivatives, |inst| {
+        // SAFETY: caller contract.
+        let (vrs, orders, values) = unsafe {
+            (slice(vr, nvr, "vr")?, slice(order, nvr, "order")?, slice(value, nvr, "value")?)
+        };
+        inst.set_input_derivatives(vrs, orders, values)
     })
 }
 

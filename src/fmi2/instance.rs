@@ -13,7 +13,8 @@ use std::path::PathBuf;
 use super::model::{Engine, Jacobian, ModelInfo, StepFailure};
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use super::variables::{
-    Access, Causality, Derived, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability, Variable,
+    Access, Causality, Derived, InputRates, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability,
+    Variable,
 };
 
 /// States of the FMI 2.0 state machines of co-simulation (section 4.2.4) and model exchange
@@ -553,6 +554,10 @@ impl Instance {
                     if !x.is_finite() {
                         return Err(format!("input `{}` = {x} is not finite", v.name));
                     }
+                    self.data.inputs.fresh = true;
+                    if let Some(r) = self.data.inputs.rates.slot(v.name) {
+                        *r = 0.0;
+                    }
                     if get(&self.data.inputs).to_bits() != x.to_bits() {
                         set(&mut self.data.inputs, x);
                         self.data.outputs = None;
@@ -642,7 +647,10 @@ impl Instance {
             let d = &mut self.data;
             let engine = &mut d.built.as_mut().expect("started above").engine;
             match engine.step(&d.inputs, now, h) {
-                Ok(()) => d.outputs = None,
+                Ok(()) => {
+                    d.outputs = None;
+                    d.inputs.fresh = false;
+                }
                 Err(StepFailure::Discard(msg)) => {
                     self.data.mode = Phase::StepFailed;
                     self.log(fmi2Status::Discard, cat::DISCARD, &format!("fmi2DoStep: {msg}"));
@@ -652,6 +660,36 @@ impl Instance {
             }
         }
         self.data.time = t + h;
+        Ok(fmi2Status::Ok)
+    }
+
+    /// `fmi2SetRealInputDerivatives`: first derivatives (`order` 1) of Real inputs, used as a
+    /// first-order hold over the following communication steps until the input is set again.
+    pub(crate) fn set_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<fmi2Status, String> {
+        for ((&r, &order), &x) in vrs.iter().zip(orders).zip(values) {
+            let v = self.lookup(r, "Real")?;
+            if v.causality != Causality::Input {
+                return Err(format!("`{}` is not an input: derivatives are set on inputs", v.name));
+            }
+            if order != 1 {
+                return Err(format!(
+                    "derivative of order {order} of input `{}`: allowed 1 (first-order hold)",
+                    v.name
+                ));
+            }
+            if !x.is_finite() {
+                return Err(format!("derivative of input `{}` = {x} is not finite", v.name));
+            }
+            self.data.inputs.fresh = true;
+            if let Some(slot) = self.data.inputs.rates.slot(v.name) {
+                *slot = x;
+            }
+        }
         Ok(fmi2Status::Ok)
     }
 
@@ -927,7 +965,7 @@ pub(crate) fn log_to(
 // with the same parameters).
 
 const MAGIC: &[u8; 8] = b"HGMSTATE";
-const FORMAT_VERSION: u32 = 2;
+const FORMAT_VERSION: u32 = 3;
 
 fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     let mut b = Vec::with_capacity(512);
@@ -950,6 +988,12 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
             _ => {}
         }
     }
+    let mut rates = d.inputs.rates;
+    for name in InputRates::NAMES {
+        let x = *rates.slot(name).expect("a named rate");
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    b.push(u8::from(d.inputs.fresh));
     if model.stateful {
         let state = match &d.built {
             Some(built) if built.started => built.engine.save(),
@@ -1091,6 +1135,16 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
             _ => {}
         }
     }
+    for name in InputRates::NAMES {
+        let x = r.f64()?;
+        if !x.is_finite() {
+            return Err(format!(
+                "serialised state: derivative of input `{name}` = {x} is not finite"
+            ));
+        }
+        *d.inputs.rates.slot(name).expect("a named rate") = x;
+    }
+    d.inputs.fresh = r.bool()?;
     for (name, t) in [("time", d.time), ("start time", d.start_time), ("stop time", stop)] {
         if !t.is_finite() {
             return Err(format!("serialised state: {name} = {t} is not finite"));

@@ -123,6 +123,49 @@ pub struct Inputs {
     pub w_2: f64,
     /// `HelicalGearDrive`: driving torque M on J1, N·m.
     pub m: f64,
+    /// First time derivatives of the inputs over the next communication step
+    /// (`fmi2SetRealInputDerivatives`, first-order hold); 0 unless set, reset to 0 when the
+    /// input's value is set.
+    pub rates: InputRates,
+    /// True when an input value or derivative was set since the last communication step: the
+    /// next step holds the inputs from its start (otherwise the stateful models keep holding
+    /// them from the time they were last set, so the Stage's far ends keep turning).
+    pub fresh: bool,
+}
+
+/// Time derivatives of the inputs that the stateful models extrapolate (SI per second). The
+/// derivatives of the Stage's angles `phi_1`, `phi_2` are their rate inputs `w_1`, `w_2`, and
+/// the mesh element has no state between communication points: derivatives of those inputs
+/// are accepted and not used.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct InputRates {
+    /// d tau_p/dt, N·m/s.
+    pub tau_p: f64,
+    /// d tau_g/dt, N·m/s.
+    pub tau_g: f64,
+    /// d w_1/dt (far-end acceleration), rad/s².
+    pub w_1: f64,
+    /// d w_2/dt, rad/s².
+    pub w_2: f64,
+    /// d M/dt, N·m/s.
+    pub m: f64,
+}
+
+impl InputRates {
+    /// Names of the inputs whose derivatives are used, in serialisation order.
+    pub const NAMES: [&'static str; 5] = ["tau_p", "tau_g", "w_1", "w_2", "M"];
+
+    /// The derivative of the input named `name`, if it is used.
+    pub fn slot(&mut self, name: &str) -> Option<&mut f64> {
+        match name {
+            "tau_p" => Some(&mut self.tau_p),
+            "tau_g" => Some(&mut self.tau_g),
+            "w_1" => Some(&mut self.w_1),
+            "w_2" => Some(&mut self.w_2),
+            "M" => Some(&mut self.m),
+            _ => None,
+        }
+    }
 }
 
 /// The output values of an instance: the mesh outputs and, for the stateful models, the
@@ -1363,7 +1406,8 @@ pub struct CsCapabilities {
     pub needs_execution_tool: bool,
     /// `fmi2DoStep` accepts any step size.
     pub can_handle_variable_communication_step_size: bool,
-    /// Input derivatives are not used.
+    /// First derivatives of the inputs are used over a step (`fmi2SetRealInputDerivatives`,
+    /// order 1).
     pub can_interpolate_inputs: bool,
     /// Output derivatives provided up to this order.
     pub max_output_derivative_order: u32,
@@ -1388,7 +1432,7 @@ pub struct CsCapabilities {
 pub const CS_CAPABILITIES: CsCapabilities = CsCapabilities {
     needs_execution_tool: false,
     can_handle_variable_communication_step_size: true,
-    can_interpolate_inputs: false,
+    can_interpolate_inputs: true,
     max_output_derivative_order: 0,
     can_run_asynchronuously: false,
     can_be_instantiated_only_once_per_process: false,

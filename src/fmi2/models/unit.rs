@@ -707,6 +707,11 @@ fn unit_inputs(i: &Inputs) -> UnitInputs {
         phi_2: i.phi_2,
         w_2: i.w_2,
         torque: i.m,
+        tau_p_rate: i.rates.tau_p,
+        tau_g_rate: i.rates.tau_g,
+        w_1_rate: i.rates.w_1,
+        w_2_rate: i.rates.w_2,
+        torque_rate: i.rates.m,
     }
 }
 
@@ -736,11 +741,12 @@ struct UnitEngine {
 }
 
 impl UnitEngine {
-    /// Passes the inputs to the unit when they differ from the ones it holds (so the unit's
-    /// input time, from which the Stage's far ends advance, is that of the last change).
+    /// Passes the inputs to the unit when they differ from the ones it holds or were set since
+    /// the last step (so the unit's input time, the origin of the held inputs' extrapolation,
+    /// is that of the last setting).
     fn sync(&mut self, i: &Inputs) -> Result<(), String> {
         let u = unit_inputs(i);
-        if *self.unit.inputs() != u {
+        if i.fresh || *self.unit.inputs() != u {
             self.unit.set_inputs(u).map_err(|e| e.to_string())?;
         }
         Ok(())
