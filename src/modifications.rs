@@ -63,9 +63,11 @@
 //! pitch; pitch deviations and runout repeat only after the hunting period of
 //! z_p·z_g/gcd(z_p, z_g) meshes ([`Modifications::hunting_meshes`], 1410 for Table 1). The
 //! contact search keeps the absolute tooth-pair number, which picks the deviations of the
-//! engaged teeth. The per-pitch table of the `table` fidelity is exact only for modifications
-//! that repeat on every tooth and remove material; otherwise the mesh model evaluates at full
-//! fidelity ([`crate::mesh::MeshModel::with_compliance`]).
+//! engaged teeth. The per-pitch table of the `table` fidelity holds the modifications that
+//! repeat on every tooth (they must remove material; otherwise the mesh model evaluates at
+//! full fidelity, [`crate::mesh::MeshModel::with_compliance`]); pitch deviations and runout
+//! are added on it per tooth pair ([`Separation::tooth_offset`], `crate::mesh::table`, "Tooth
+//! deviations").
 
 use serde::{Deserialize, Serialize};
 
@@ -549,5 +551,28 @@ impl Separation {
     /// True when pitch deviations or runout are given (no periodicity in one pitch).
     pub fn has_tooth_deviations(&self) -> bool {
         self.tooth_deviations
+    }
+
+    /// The tooth-by-tooth part of the separation of tooth pair `pair` (absolute number): the
+    /// pinion's and the gear's pitch deviation plus runout of the two teeth, m. It is the same
+    /// at every point of the pair's flanks.
+    #[inline]
+    pub fn tooth_offset(&self, pair: i64) -> f64 {
+        let tp = pair.rem_euclid(self.z_p) as usize;
+        let tg = (-pair).rem_euclid(self.z_g) as usize;
+        self.pinion.tooth.get(tp).copied().unwrap_or(0.0)
+            + self.gear.tooth.get(tg).copied().unwrap_or(0.0)
+    }
+
+    /// The separation without its tooth-by-tooth part (pitch deviations and runout): the part
+    /// that repeats on every tooth, periodic in one pitch. `at` of the result plus
+    /// [`Separation::tooth_offset`] is `at` of `self`.
+    pub fn periodic_part(&self) -> Self {
+        let mut s = self.clone();
+        s.pinion.tooth.clear();
+        s.gear.tooth.clear();
+        s.tooth_deviations = false;
+        s.min_bound = s.pinion.min_bound() + s.gear.min_bound() + self.misalignment.min(0.0);
+        s
     }
 }

@@ -337,19 +337,106 @@ fn separation_signs_and_values() {
     assert_eq!(Modifications::hunting_meshes(30, 47), 1410);
 }
 
-/// With tooth deviations the mesh is not periodic in one pitch: a `table` model is not built
-/// on the per-pitch table and evaluates at full fidelity (the same outputs as a full model).
+/// The pitch deviations and runouts of `docs/modifications/table1_pitch_errors.json`
+/// (ISO 1328 class 5–6 sizes for Table 1: |e| ≤ 1.9 µm, runouts 5 and 8 µm).
+fn pitch_errors() -> Modifications {
+    let text = include_str!("../docs/modifications/table1_pitch_errors.json");
+    GearPair::from_json(text).unwrap().modifications
+}
+
+/// Table fidelity with tooth deviations: the per-pitch table keeps every tooth pair's outputs
+/// apart and shifts each pair by its own deviation. Oracle: the full model with the same
+/// deviations, at states spread over the hunting period of 1410 meshes and over TE from light
+/// to twice the nominal load (the error is the table's own interpolation error, the neglected
+/// coupling between pairs and the off-plane contacts of the next test; measured: at most 1.22·10⁻² of the nominal torque at
+/// light load, TE = 12 µm, and 3.7·10⁻³–7.2·10⁻³ at 30–60 µm, against 0.4·10⁻³–1.0·10⁻³ for
+/// the table without deviations).
 #[test]
-fn tooth_deviations_fall_back_to_full_fidelity() {
+fn tooth_deviations_on_the_table_match_full_fidelity() {
     use helical_gear_mesh::mesh::Fidelity;
     let mut p = GearPair::paper_table1();
-    p.modifications.gear.runout_m = 4e-6;
-    let table_opts = MeshOptions { fidelity: Fidelity::Table, ..winkler_options(40) };
+    p.modifications = pitch_errors();
+    let full_opts = MeshOptions { slices: 60, ..MeshOptions::default() };
+    let table_opts = MeshOptions {
+        fidelity: Fidelity::Table,
+        table_phase_points: 32,
+        table_te_points: 24,
+        ..full_opts
+    };
     let mut t = MeshModel::new(&p, table_opts).unwrap();
-    assert!(t.table().is_none());
-    let mut f = MeshModel::new(&p, winkler_options(40)).unwrap();
-    let s = state(&f, 3.7, 20e-6);
-    assert_eq!(t.evaluate(&s).unwrap(), f.evaluate(&s).unwrap());
+    assert!(t.table().is_some_and(|t| t.has_tooth_deviations()));
+    let mut f = MeshModel::new(&p, full_opts).unwrap();
+    let mut ideal_t = MeshModel::new(&GearPair::paper_table1(), table_opts).unwrap();
+    let mut ideal_f = MeshModel::new(&GearPair::paper_table1(), full_opts).unwrap();
+    let pitch = t.geometry().pinion.angular_pitch();
+    let nominal = p.drive.torque_nm;
+    // Largest |ΔM_F,p| / nominal torque, with and without the deviations, per TE level.
+    let tes = [12e-6, 20e-6, 30e-6, 45e-6, 60e-6];
+    let (mut worst, mut worst_ideal) = ([0.0f64; 5], [0.0f64; 5]);
+    for k in 0..97 {
+        // Meshes spread over the hunting period, at irrational fractions of the pitch.
+        let mesh = (k * 467) % 1410;
+        let phi = pitch * (mesh as f64 + (k as f64 * 0.618_034).fract() - 0.5);
+        for (i, &te) in tes.iter().enumerate() {
+            let s = MeshState { w_p: 150.0, w_g: -95.7, ..state(&t, phi, te) };
+            let (a, b) = (t.evaluate(&s).unwrap(), f.evaluate(&s).unwrap());
+            let (ai, bi) = (ideal_t.evaluate(&s).unwrap(), ideal_f.evaluate(&s).unwrap());
+            worst[i] = worst[i].max((a.m_f_p - b.m_f_p).abs() / nominal);
+            worst_ideal[i] = worst_ideal[i].max((ai.m_f_p - bi.m_f_p).abs() / nominal);
+        }
+    }
+    for i in 0..tes.len() {
+        println!(
+            "TE {:.0} µm: max |ΔM_F,p|/M_nom with deviations {:.2e}, without {:.2e}",
+            tes[i] * 1e6,
+            worst[i],
+            worst_ideal[i]
+        );
+    }
+    let all = worst.iter().copied().fold(0.0, f64::max);
+    assert!(all < 1.5e-2, "with deviations {worst:?} (without {worst_ideal:?})");
+}
+
+/// With the Winkler compliance the pairs are uncoupled, so a deviation e of one pair shifts
+/// only that pair's load curve. The per-pair table evaluates the pair at TE − e (the tooth
+/// moved rigidly along the line of action), the full model subtracts e from the overlaps of the
+/// contacts found at TE: the two agree for contacts in the plane of action (overlap = TE −
+/// separation) and differ at first order in e for the contacts off it (tip, relief corner),
+/// so the difference does not vanish with the table size. Asserted: it stays below the
+/// measured floor of 0.5 % of the nominal torque at both table sizes (measured 2.3·10⁻³ and
+/// 3.3·10⁻³).
+#[test]
+fn one_pair_deviation_is_exact_on_uncoupled_pairs() {
+    use helical_gear_mesh::mesh::Fidelity;
+    let mut p = GearPair::paper_table1();
+    p.modifications.pinion.pitch_deviations_m = vec![0.0; 30];
+    p.modifications.pinion.pitch_deviations_m[0] = 4e-6;
+    let w = MeshOptions { detail: false, ..winkler_options(60) };
+    let mut f = MeshModel::new(&p, w).unwrap();
+    let pitch = f.geometry().pinion.angular_pitch();
+    let mut error = |np: usize, nt: usize| {
+        let topts = MeshOptions {
+            fidelity: Fidelity::Table,
+            table_phase_points: np,
+            table_te_points: nt,
+            ..w
+        };
+        let mut t = MeshModel::new(&p, topts).unwrap();
+        let mut worst = 0.0f64;
+        for k in 0..40 {
+            let phi = pitch * (-3.0 + 6.0 * k as f64 / 40.0 + 0.0123) + 30.0 * pitch * 7.0;
+            for te in [10e-6, 20e-6, 30e-6] {
+                let s = state(&t, phi, te);
+                let (a, b) = (t.evaluate(&s).unwrap(), f.evaluate(&s).unwrap());
+                worst = worst.max((a.m_f_p - b.m_f_p).abs() / 100.0);
+            }
+        }
+        worst
+    };
+    let coarse = error(32, 24);
+    let fine = error(128, 96);
+    println!("Winkler, one deviated pair: {coarse:.2e} (32 × 24), {fine:.2e} (128 × 96) of M_nom");
+    assert!(coarse < 5e-3 && fine < 5e-3, "{coarse:.3e}, {fine:.3e}");
 }
 
 fn cli(args: &[&str]) -> serde_json::Value {
