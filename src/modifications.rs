@@ -214,6 +214,37 @@ impl Modifications {
         *self == Self::default()
     }
 
+    /// Parses a `modifications` JSON object (DESIGN §11; every key optional, missing = zero).
+    /// Errors name the unknown or ill-typed key as serde reports it. Values are validated
+    /// against the geometry later, by [`Modifications::validate`].
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        serde_json::from_str(text).map_err(|e| format!("modifications JSON: {e}"))
+    }
+
+    /// `self` with `patch` (a JSON object of the same schema) merged in key by key: a key of
+    /// `patch` replaces the same key of `self`, nested objects (`pinion`, `gear`,
+    /// `end_relief`, `tip_relief`, `deviation_map`) are merged the same way, lists replace
+    /// whole; keys not in `patch` keep their values. Errors: `patch` is not an object, or the
+    /// result does not fit the schema (the message names the key).
+    pub fn merged(&self, patch: &serde_json::Value) -> Result<Self, String> {
+        fn merge(base: &mut serde_json::Value, patch: &serde_json::Value) {
+            match (base, patch) {
+                (serde_json::Value::Object(b), serde_json::Value::Object(p)) => {
+                    for (k, v) in p {
+                        merge(b.entry(k.clone()).or_insert(serde_json::Value::Null), v);
+                    }
+                }
+                (b, p) => *b = p.clone(),
+            }
+        }
+        if !patch.is_object() {
+            return Err(format!("modifications: expected a JSON object, got {patch}"));
+        }
+        let mut base = serde_json::to_value(self).map_err(|e| format!("modifications: {e}"))?;
+        merge(&mut base, patch);
+        serde_json::from_value(base).map_err(|e| format!("modifications JSON: {e}"))
+    }
+
     /// True when any tooth-by-tooth deviation (pitch deviations or runout) is given: the mesh
     /// then repeats only after the hunting period.
     pub fn has_tooth_deviations(&self) -> bool {

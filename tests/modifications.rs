@@ -492,3 +492,29 @@ fn cli_static_and_harris_keys() {
     assert_eq!(h["variants"][0]["ste_peak_to_peak_um"].as_array().unwrap().len(), 2);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A Harris variant's modifications are merged into the base key by key (DESIGN §11,
+/// "merged"): keys of the variant replace the base's, nested objects merge, the rest stays;
+/// an unknown key is an error naming it.
+#[test]
+fn variant_modifications_merge_key_by_key() {
+    let mut base = Modifications::default();
+    base.pinion.lead_crowning_m = 5e-6;
+    base.pinion.tip_relief =
+        TipRelief { amount_m: 3e-6, start_diameter_m: 0.09, shape: ReliefShape::Linear };
+    base.mesh_misalignment_m = 10e-6;
+    let patch = serde_json::json!({
+        "pinion": { "tip_relief": { "amount_m": 8e-6 } },
+        "gear": { "runout_m": 2e-6 },
+    });
+    let m = base.merged(&patch).unwrap();
+    assert_eq!(m.pinion.lead_crowning_m, 5e-6);
+    assert_eq!(m.pinion.tip_relief.amount_m, 8e-6);
+    assert_eq!(m.pinion.tip_relief.start_diameter_m, 0.09);
+    assert_eq!(m.gear.runout_m, 2e-6);
+    assert_eq!(m.mesh_misalignment_m, 10e-6);
+    let e = base.merged(&serde_json::json!({ "pinion": { "lead_crowning": 1e-6 } })).unwrap_err();
+    assert!(e.contains("lead_crowning"), "{e}");
+    let e = Modifications::from_json(r#"{"gear": {"runout": 1e-6}}"#).unwrap_err();
+    assert!(e.contains("runout"), "{e}");
+}

@@ -149,8 +149,8 @@ pub struct HarrisArgs {
     /// Number of torques (uniform).
     #[arg(long, default_value_t = 10)]
     points: usize,
-    /// JSON list of `{"name": …, "modifications": {…}}`; each variant's modifications
-    /// replace those of the base parameters (missing keys are zero).
+    /// JSON list of `{"name": …, "modifications": {…}}`; each variant's modifications are
+    /// merged into those of the base parameters key by key (missing keys keep the base's).
     #[arg(long, value_name = "FILE")]
     variants: std::path::PathBuf,
     /// Pinion angles per pitch of each static curve.
@@ -168,8 +168,12 @@ pub struct HarrisArgs {
 #[serde(deny_unknown_fields)]
 struct Variant {
     name: String,
-    #[serde(default)]
-    modifications: Modifications,
+    #[serde(default = "empty_object")]
+    modifications: serde_json::Value,
+}
+
+fn empty_object() -> serde_json::Value {
+    serde_json::Value::Object(Default::default())
 }
 
 fn plot_err(e: PlotError) -> String {
@@ -203,7 +207,9 @@ pub fn harris_cmd(a: &HarrisArgs) -> Result<(), String> {
     let mut rows = Vec::new();
     for v in &variants {
         eprintln!("harris: variant {}", v.name);
-        let pair = GearPair { modifications: v.modifications.clone(), ..base.clone() };
+        let modifications =
+            base.modifications.merged(&v.modifications).map_err(|e| format!("{}: {e}", v.name))?;
+        let pair = GearPair { modifications, ..base.clone() };
         let mut options = a.model.options(a.slices);
         options.detail = false;
         let mut m = MeshModel::new(&pair, options).map_err(|e| format!("{}: {e}", v.name))?;
