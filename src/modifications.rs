@@ -263,6 +263,21 @@ impl Modifications {
         z_p as u64 * z_g as u64 / a.max(1)
     }
 
+    /// Number of meshes after which the pair repeats: 1 without tooth-by-tooth deviations,
+    /// z_p with deviations of the pinion only, z_g with deviations of the gear only, else the
+    /// hunting period [`Modifications::hunting_meshes`].
+    pub fn period_meshes(&self, z_p: u32, z_g: u32) -> u64 {
+        let has = |g: &FlankModification| {
+            g.runout_m != 0.0 || g.pitch_deviations_m.iter().any(|&e| e != 0.0)
+        };
+        match (has(&self.pinion), has(&self.gear)) {
+            (false, false) => 1,
+            (true, false) => z_p as u64,
+            (false, true) => z_g as u64,
+            (true, true) => Self::hunting_meshes(z_p, z_g),
+        }
+    }
+
     /// Validates every value against `geo` (the pair's derived geometry). Errors name the key
     /// (e.g. `modifications.pinion.lead_crowning_m`), the value and the limit.
     pub fn validate(&self, geo: &PairGeometry) -> Result<(), ParamError> {

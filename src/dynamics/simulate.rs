@@ -8,7 +8,13 @@
 //!   period T_m = 2π/(z_p·ω_p), or with k·T_m for a subharmonic response ([`SteadyState`]),
 //!   or until a cap on the number of mesh periods; the result says which
 //!   ([`SteadyResponse::warning`]) and gives max/min/mean TE and the contact flags over the
-//!   steady window (the last k mesh periods).
+//!   steady window (the last k mesh periods). When tooth deviations break the periodicity
+//!   in one pitch ([`crate::modifications`]), [`SteadyRunOptions::period_meshes`] sets the
+//!   period P (in mesh periods) the TE must repeat with: z_p for deviations of the pinion
+//!   only, z_g for the gear only, the hunting period otherwise
+//!   ([`crate::modifications::Modifications::period_meshes`]); the detector then compares
+//!   TE(t) with TE(t − P·T_m), checks once per mesh period and the window is the last P mesh
+//!   periods (no subharmonics of P are sought).
 //!
 //! # Step size of RK4
 //!
@@ -227,6 +233,11 @@ pub struct SteadyRunOptions {
     pub keep_window: bool,
     /// Settings of the static equilibrium of the start.
     pub equilibrium: EquilibriumSettings,
+    /// Period P of the excitation in mesh periods (≥ 1; see the module docs): 1 for a mesh
+    /// periodic in one pitch, else [`crate::modifications::Modifications::period_meshes`].
+    /// With P > 1 the multiple is 1 (`max_multiple` is not used) and `max_periods` must be at
+    /// least 2·P. Default 1.
+    pub period_meshes: usize,
 }
 
 impl Default for SteadyRunOptions {
@@ -243,7 +254,31 @@ impl Default for SteadyRunOptions {
             consecutive: 3,
             keep_window: true,
             equilibrium: EquilibriumSettings::default(),
+            period_meshes: 1,
         }
+    }
+}
+
+impl SteadyResponse {
+    /// TE of the steady window of an RK4 run at `per_mesh` uniform samples per mesh period
+    /// (`per_mesh` must divide the steps per mesh period), oldest first: period_multiple ·
+    /// per_mesh values covering exactly the last `period_multiple` mesh periods (one period of
+    /// the response, ready for [`crate::numeric::amplitude_spectrum`]), m. Errors: the window
+    /// was not kept, is not an RK4 window, or `per_mesh` does not divide the steps.
+    pub fn window_te(&self, per_mesh: usize) -> Result<Vec<f64>, DynamicsError> {
+        let n = self.samples_per_period;
+        if per_mesh == 0 || n % per_mesh != 0 {
+            return Err(invalid("per_mesh", per_mesh as f64, "a divisor of the steps per period"));
+        }
+        let len = self.period_multiple * n;
+        if self.window.len() != len + 1 {
+            return Err(invalid(
+                "window",
+                self.window.len() as f64,
+                "an RK4 window kept with keep_window (period_multiple·steps + 1 points)",
+            ));
+        }
+        Ok(self.window[..len].iter().step_by(n / per_mesh).map(|w| w.outputs.te).collect())
     }
 }
 
@@ -297,7 +332,8 @@ pub struct SteadyResponse {
     pub steady: bool,
     /// Set when the result is not a detected steady state.
     pub warning: Option<SteadyWarning>,
-    /// Period of the steady TE in mesh periods (1, or k for a subharmonic response).
+    /// Period of the steady TE in mesh periods (1, or k for a subharmonic response; P =
+    /// [`SteadyRunOptions::period_meshes`] when that is > 1).
     pub period_multiple: usize,
     /// Mesh periods integrated (fractional for DOPRI5).
     pub periods: f64,
@@ -338,11 +374,17 @@ pub fn run_to_steady<M: MeshTorques>(
     if !(omega_p.is_finite() && omega_p > 0.0) {
         return Err(invalid("omega_p", omega_p, "finite and > 0 (rad/s)"));
     }
-    if opts.max_periods < 2 * opts.max_multiple.max(1) || opts.max_periods > 100_000_000 {
+    let period = opts.period_meshes;
+    if !(1..=10_000_000).contains(&period) {
+        return Err(invalid("period_meshes", period as f64, "1 ..= 1e7"));
+    }
+    // Period multiples sought: up to max_multiple of one mesh period, or 1 of P.
+    let multiple = if period > 1 { 1 } else { opts.max_multiple };
+    if opts.max_periods < 2 * multiple.max(1) * period || opts.max_periods > 100_000_000 {
         return Err(invalid(
             "max_periods",
             opts.max_periods as f64,
-            ">= 2·max_multiple and <= 1e8",
+            ">= 2·max_multiple (2·period_meshes when > 1) and <= 1e8",
         ));
     }
     if let Some(h) = opts.max_step
@@ -378,12 +420,12 @@ pub fn run_to_steady<M: MeshTorques>(
         }
     };
     let mut det = SteadyState::new(SteadyOptions {
-        samples_per_period: n,
-        max_multiple: opts.max_multiple,
+        samples_per_period: n * period,
+        max_multiple: multiple,
         rel_tol: opts.rel_tol,
         abs_tol: opts.abs_tol,
         consecutive: opts.consecutive,
-        check_interval: None,
+        check_interval: (period > 1).then_some(n),
     })?;
     let evals0 = model.mesh_evaluations();
     let start = model.static_start(opts.phi_p0, omega_p, &opts.equilibrium)?;
@@ -392,7 +434,7 @@ pub fn run_to_steady<M: MeshTorques>(
     let te_of = |y: &[f64]| crate::numeric::dot2(y[1], gp, y[2], gg);
     det.push(te_of(&y))?;
     let min_samples = (opts.min_periods * n) as u64;
-    let window_span = opts.max_multiple as f64 * t_m;
+    let window_span = (multiple * period) as f64 * t_m;
 
     // Recorded points of the last K periods (outputs filled in for RK4, later for DOPRI5).
     let mut ring: VecDeque<(f64, [f64; N_STATES], Option<MeshOutputs>)> = VecDeque::new();
@@ -404,7 +446,7 @@ pub fn run_to_steady<M: MeshTorques>(
             let mut rk4 = Rk4::new(N_STATES);
             let o = model.outputs(&y)?;
             ring.push_back((0.0, y, Some(o)));
-            let cap = opts.max_multiple * n + 1;
+            let cap = multiple * period * n + 1;
             let total = opts.max_periods * n;
             let mut i = 0usize;
             while i < total {
@@ -484,6 +526,7 @@ pub fn run_to_steady<M: MeshTorques>(
         }
     };
     let PeriodCheck { period_multiple: k, residual, tolerance, max, min, mean, .. } = check;
+    let k = k * period;
     let periods = t_end / t_m;
     let warning = (!steady).then_some(SteadyWarning::NotSteady {
         periods: periods.round() as usize,
