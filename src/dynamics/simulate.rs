@@ -13,8 +13,13 @@
 //!   period P (in mesh periods) the TE must repeat with: z_p for deviations of the pinion
 //!   only, z_g for the gear only, the hunting period otherwise
 //!   ([`crate::modifications::Modifications::period_meshes`]); the detector then compares
-//!   TE(t) with TE(t − P·T_m), checks once per mesh period and the window is the last P mesh
-//!   periods (no subharmonics of P are sought).
+//!   TE with its value one period P earlier, checks once per mesh period and the window is the
+//!   last P mesh periods (no subharmonics of P are sought). With P > 1 the detector is fed
+//!   TE at uniform **pinion angles** (N per pitch, cubic Hermite in φp between the RK4 steps
+//!   with the slopes from the rates), not at uniform times: the drivetrain has a rigid-body
+//!   mode (constant driving and braking torques), so the mean speed settles a little off the
+//!   nominal one and, over hundreds of meshes, TE sampled in time drifts in phase against the
+//!   mesh; sampled in angle it repeats (order tracking). RK4 only.
 //!
 //! # Step size of RK4
 //!
@@ -271,6 +276,16 @@ impl SteadyResponse {
             return Err(invalid("per_mesh", per_mesh as f64, "a divisor of the steps per period"));
         }
         let len = self.period_multiple * n;
+        if !self.te_by_angle.is_empty() {
+            if self.te_by_angle.len() != len {
+                return Err(invalid(
+                    "te_by_angle",
+                    self.te_by_angle.len() as f64,
+                    "period_multiple·steps samples (a run that reached one whole period)",
+                ));
+            }
+            return Ok(self.te_by_angle.iter().step_by(n / per_mesh).copied().collect());
+        }
         if self.window.len() != len + 1 {
             return Err(invalid(
                 "window",
@@ -362,6 +377,10 @@ pub struct SteadyResponse {
     pub mesh_evaluations: usize,
     /// State at the end of the run.
     pub y_end: [f64; N_STATES],
+    /// With [`SteadyRunOptions::period_meshes`] P > 1: TE at uniform pinion angles, N per
+    /// pinion pitch (N the steps per mesh period), over the last P pitches, oldest first, m
+    /// (empty for P = 1).
+    pub te_by_angle: Vec<f64>,
 }
 
 /// Runs Eqs. 1–4 at nominal pinion speed `omega_p` (rad/s, > 0) from the static-equilibrium
@@ -438,6 +457,10 @@ pub fn run_to_steady<M: MeshTorques>(
 
     // Recorded points of the last K periods (outputs filled in for RK4, later for DOPRI5).
     let mut ring: VecDeque<(f64, [f64; N_STATES], Option<MeshOutputs>)> = VecDeque::new();
+    let mut by_angle: VecDeque<f64> = VecDeque::new();
+    if period > 1 && !matches!(opts.method, SteadyMethod::Rk4 { .. }) {
+        return Err(invalid("period_meshes", period as f64, "1 unless the method is RK4"));
+    }
     let steps;
     let t_end;
     match &opts.method {
@@ -448,8 +471,13 @@ pub fn run_to_steady<M: MeshTorques>(
             ring.push_back((0.0, y, Some(o)));
             let cap = multiple * period * n + 1;
             let total = opts.max_periods * n;
+            // P > 1: TE sampled at uniform pinion angles (order tracking, see the module docs).
+            let dphi = t_m * omega_p / n as f64;
+            let phi0 = y[1];
+            let mut n_angle = 1u64;
+            let mut prev = y;
             let mut i = 0usize;
-            while i < total {
+            'steps: while i < total {
                 let t = i as f64 * h;
                 rk4.step(model, t, h, &mut y).map_err(DynamicsError::from)?;
                 i += 1;
@@ -459,10 +487,28 @@ pub fn run_to_steady<M: MeshTorques>(
                 if ring.len() > cap {
                     ring.pop_front();
                 }
-                let status = det.push(te_of(&y))?;
-                if status.is_steady() && det.samples_seen() > min_samples {
-                    break;
+                if period == 1 {
+                    let status = det.push(te_of(&y))?;
+                    if status.is_steady() && det.samples_seen() > min_samples {
+                        break;
+                    }
+                    continue;
                 }
+                let (pa, pb) = (prev[1], y[1]);
+                while pb > pa && phi0 + n_angle as f64 * dphi <= pb {
+                    let phi = phi0 + n_angle as f64 * dphi;
+                    let te = te_at_angle(&prev, &y, phi, gp, gg);
+                    n_angle += 1;
+                    by_angle.push_back(te);
+                    if by_angle.len() > period * n {
+                        by_angle.pop_front();
+                    }
+                    let status = det.push(te)?;
+                    if status.is_steady() && det.samples_seen() > min_samples {
+                        break 'steps;
+                    }
+                }
+                prev = y;
             }
             steps = i;
             t_end = i as f64 * h;
@@ -568,5 +614,25 @@ pub fn run_to_steady<M: MeshTorques>(
         samples_per_period: n,
         mesh_evaluations: model.mesh_evaluations() - evals0,
         y_end: y,
+        te_by_angle: by_angle.into(),
     })
+}
+
+/// TE at pinion angle `phi` between the states `a` and `b` of one step (φp(a) < phi ≤
+/// φp(b)): cubic Hermite in φp with the slopes dTE/dφp = (φ̇p·g_p + φ̇g·g_g)/φ̇p of the two
+/// states (the secant where φ̇p ≤ 0), m.
+fn te_at_angle(a: &[f64; N_STATES], b: &[f64; N_STATES], phi: f64, gp: f64, gg: f64) -> f64 {
+    let te = |y: &[f64; N_STATES]| crate::numeric::dot2(y[1], gp, y[2], gg);
+    let (ta, tb) = (te(a), te(b));
+    let h = b[1] - a[1];
+    let secant = (tb - ta) / h;
+    let slope = |y: &[f64; N_STATES]| {
+        if y[5] > 0.0 { (y[5] * gp + y[6] * gg) / y[5] } else { secant }
+    };
+    let u = (phi - a[1]) / h;
+    let (u2, u3) = (u * u, u * u * u);
+    (2.0 * u3 - 3.0 * u2 + 1.0) * ta
+        + (u3 - 2.0 * u2 + u) * h * slope(a)
+        + (-2.0 * u3 + 3.0 * u2) * tb
+        + (u3 - u2) * h * slope(b)
 }
