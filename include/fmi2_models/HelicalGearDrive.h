@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{724af93f-e90d-839f-8610-affc2115cdee}"
+#define HelicalGearDrive_GUID "{f60c7ba0-cd10-82a8-83d8-10feb9718333}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -63,6 +63,7 @@ typedef enum {
     HelicalGearDrive_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearDrive_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearDrive_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
+    HelicalGearDrive_vr_modifications = 130, /* parameter String  */
     HelicalGearDrive_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearDrive_vr_slices = 201, /* parameter Integer  */
     HelicalGearDrive_vr_compliance_model = 202, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{90a8278c-9003-853d-a788-47ed55af97a6}"
+#define HelicalGearMesh_GUID "{7fe2bf60-8b85-88c9-96ef-2b800fc3d40d}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -56,6 +56,7 @@ typedef enum {
     HelicalGearMesh_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearMesh_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearMesh_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
+    HelicalGearMesh_vr_modifications = 130, /* parameter String  */
     HelicalGearMesh_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearMesh_vr_slices = 201, /* parameter Integer  */
     HelicalGearMesh_vr_compliance_model = 202, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{2275bd62-a93c-89a7-b42d-206936213688}"
+#define HelicalGearPair_GUID "{f6509bca-0b13-8e55-8c3f-f8a480d77fd5}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -60,6 +60,7 @@ typedef enum {
     HelicalGearPair_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearPair_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearPair_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
+    HelicalGearPair_vr_modifications = 130, /* parameter String  */
     HelicalGearPair_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearPair_vr_slices = 201, /* parameter Integer  */
     HelicalGearPair_vr_compliance_model = 202, /* parameter Integer  */
