@@ -515,8 +515,8 @@ impl Instance {
         Ok(fmi2Status::Ok)
     }
 
-    /// The values of String variables `vrs` (the text of each, owned by the caller until the
-    /// next call of this instance).
+    /// The texts of String variables `vrs` (`fmi2GetString` keeps them in
+    /// [`Instance::strings`] until its next call).
     pub(crate) fn get_string(&mut self, vrs: &[u32]) -> Result<Vec<String>, String> {
         let vars = vrs.iter().map(|&r| self.lookup(r, "String")).collect::<Result<Vec<_>, _>>()?;
         Ok(vars
