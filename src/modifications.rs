@@ -151,6 +151,22 @@ impl DeviationMap {
     }
 }
 
+impl DeviationMap {
+    /// ∂(value)/∂(roll length) of the bilinear interpolant (0 where the roll length is clamped).
+    fn d_roll(&self, roll: f64, z: f64) -> f64 {
+        let xs = &self.roll_length_m;
+        if roll <= xs[0] || roll >= xs[xs.len() - 1] {
+            return 0.0;
+        }
+        let (i, _) = bracket(xs, roll);
+        let (j, v) = bracket(&self.face_m, z);
+        let a = &self.values_m[i];
+        let b = &self.values_m[i + 1];
+        let (va, vb) = ((1.0 - v) * a[j] + v * a[j + 1], (1.0 - v) * b[j] + v * b[j + 1]);
+        (vb - va) / (xs[i + 1] - xs[i])
+    }
+}
+
 /// Interval index i and fraction t ∈ [0, 1] of `x` in the increasing nodes `xs` (clamped).
 fn bracket(xs: &[f64], x: f64) -> (usize, f64) {
     let n = xs.len();
@@ -498,6 +514,43 @@ impl GearSeparation {
         s
     }
 
+    /// ∂s/∂r of [`GearSeparation::at`] at axial position z (m) and radius r (m): the profile
+    /// terms (crowning, slope, tip relief, map) through the roll length L = √(r² − r_b²).
+    fn d_dr(&self, z: f64, r: f64) -> f64 {
+        let m = &self.m;
+        let needs_roll = m.profile_crowning_m != 0.0
+            || m.profile_slope_m != 0.0
+            || m.tip_relief.amount_m != 0.0
+            || m.deviation_map.is_some();
+        let roll = (r * r - self.rb * self.rb).max(0.0).sqrt();
+        if !needs_roll || roll <= 0.0 {
+            return 0.0;
+        }
+        let v = (roll - self.roll_lo) / self.roll_len;
+        let mut ds = 0.0; // per unit roll length
+        if m.profile_crowning_m != 0.0 {
+            ds += 4.0 * m.profile_crowning_m * (2.0 * v - 1.0) / self.roll_len;
+        }
+        if m.profile_slope_m != 0.0 {
+            ds += m.profile_slope_m / self.roll_len;
+        }
+        let tr = &m.tip_relief;
+        if tr.amount_m != 0.0 && roll > self.tip_roll_start {
+            let w = (roll - self.tip_roll_start) / self.tip_roll_len;
+            if w < 1.0 {
+                let dw = match tr.shape {
+                    ReliefShape::Linear => 1.0,
+                    ReliefShape::Parabolic => 2.0 * w,
+                };
+                ds += tr.amount_m * dw / self.tip_roll_len;
+            }
+        }
+        if let Some(map) = &m.deviation_map {
+            ds += map.d_roll(roll, z);
+        }
+        ds * r / roll
+    }
+
     /// A lower bound of the separation over the flank (≤ 0 where material is added), m.
     fn min_bound(&self) -> f64 {
         let m = &self.m;
@@ -577,6 +630,14 @@ impl Separation {
         self.pinion.at(t, z, self.b, r_p, tp)
             + self.gear.at(t, z, self.b, r_g, tg)
             + self.misalignment * t
+    }
+
+    /// Partial derivatives (∂s/∂r_p, ∂s/∂r_g) of [`Separation::at`] with respect to the
+    /// contact radii on pinion and gear (m/m): nonzero for the profile modifications only.
+    #[inline]
+    pub fn radial_rates(&self, zeta: f64, r_p: f64, r_g: f64) -> (f64, f64) {
+        let z = zeta / self.b0 * self.b;
+        (self.pinion.d_dr(z, r_p), self.gear.d_dr(z, r_g))
     }
 
     /// Separation at a driving-flank contact point, m (0 for back flanks).
