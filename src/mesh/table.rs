@@ -49,9 +49,9 @@
 //! TE (the full model). Measured against the full model for Table 1 with the pitch errors of
 //! `docs/modifications/table1_pitch_errors.json` (`tests/modifications.rs`): at most 1.2 % of
 //! the nominal torque at light load (TE = 12 µm) and 0.4–0.7 % at 30–60 µm. The cost is one
-//! interpolation per pair that can be in mesh (about 4 for Table 1). The Jacobian is not
-//! differentiated per pair: with tooth deviations `evaluate_jacobian` returns `None` and the
-//! model falls back to the full Jacobian.
+//! interpolation per pair that can be in mesh (about 4 for Table 1). `evaluate_jacobian`
+//! differentiates the same sum pair by pair (each term as on the periodic table, at the pair's
+//! TE − e_k).
 //!
 //! After the build the table measures its own error: it evaluates the full model at cell
 //! centres (where the interpolation error is largest) and records the largest relative error
@@ -419,18 +419,22 @@ impl MeshTable {
     /// caller then uses the full model).
     pub fn evaluate(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
         if let Some(pt) = &self.pairs {
-            return self.evaluate_pairs(pt, model, state);
+            return self.evaluate_pairs(pt, model, state, None);
         }
         self.evaluate_periodic(model, state)
     }
 
     /// [`MeshTable::evaluate`] with tooth deviations: every tooth pair's driving-flank values
     /// interpolated at its own TE − e_k (module docs, "Tooth deviations").
+    /// With `deriv`, also the derivatives of M_F,p, M_F,g and the loaded extent with respect
+    /// to the mesh phase and TE (`[∂/∂phase, ∂/∂TE]` per quantity), as
+    /// [`MeshTable::evaluate_jacobian`] derives them for one axis, summed over the pairs.
     fn evaluate_pairs(
         &self,
         pt: &PairTable,
         model: &MeshModel,
         state: &MeshState,
+        mut deriv: Option<&mut [[f64; 2]; 3]>,
     ) -> Option<MeshOutputs> {
         let (phi_p_red, k) = self.pitch_p.reduce(state.phi_p);
         let k = k as i64;
@@ -439,6 +443,7 @@ impl MeshTable {
         let xp = (phi_p_red - self.phase_lo) / self.phase_h;
         let ipf = xp.floor();
         let wp = weights_central(xp - ipf);
+        let dwp = weights_central_of(hermite_dt(xp - ipf));
         let ip0 = ipf as i64 - 1;
         let ipn = xp.round() as i64;
         let np = self.np as i64;
@@ -463,8 +468,8 @@ impl MeshTable {
             if dist > axis.range {
                 return None;
             }
-            let xt =
-                ((dist / axis.range).sqrt() * (axis.n - 1) as f64).clamp(0.0, (axis.n - 1) as f64);
+            let xt_raw = (dist / axis.range).sqrt() * (axis.n - 1) as f64;
+            let xt = xt_raw.clamp(0.0, (axis.n - 1) as f64);
             let (it0, wt, nt) = axis_weights(xt, axis.n);
             let mut u = [0.0; NV];
             for (a, &wa) in wp.iter().enumerate() {
@@ -475,6 +480,32 @@ impl MeshTable {
                     for (kk, uk) in u.iter_mut().enumerate() {
                         *uk += w * pt.values[base + kk];
                     }
+                }
+            }
+            if let Some(d) = deriv.as_deref_mut() {
+                // ∂u/∂x_p and ∂u/∂x_t of M_F,p, M_F,g and the extent (values 0, 1, 3).
+                let it = axis_cell(xt, axis.n);
+                let (_, dwt, _) = axis_weights_of(it, axis.n, hermite_dt(xt - it as f64));
+                let half_xt = if xt_raw == xt { 0.5 * xt } else { 0.0 };
+                let (mut up, mut ut) = ([0.0; 3], [0.0; 3]);
+                for a in 0..4 {
+                    let Some((ip, rr)) = slot(ip0 + a as i64) else { continue };
+                    for b in 0..nt {
+                        let base = ((ip * axis.n + it0 + b) * pt.nr + rr) * NV;
+                        for (q, kk) in [0usize, 1, 3].into_iter().enumerate() {
+                            let x = pt.values[base + kk];
+                            up[q] += dwp[a] * wt[b] * x;
+                            ut[q] += wp[a] * dwt[b] * x;
+                        }
+                    }
+                }
+                for q in 0..2 {
+                    d[q][0] += dist * up[q] / self.phase_h;
+                    d[q][1] += u[if q == 0 { 0 } else { 1 }] + ut[q] * half_xt;
+                }
+                if u[3] > 0.0 {
+                    d[2][0] += up[2] / self.phase_h;
+                    d[2][1] += ut[2] * half_xt / dist;
                 }
             }
             v[0] += u[0] * dist;
@@ -589,9 +620,24 @@ impl MeshTable {
         model: &MeshModel,
         state: &MeshState,
     ) -> Option<(MeshOutputs, MeshJacobian)> {
-        if self.pairs.is_some() {
-            // Not differentiated per pair: the caller falls back to the full model.
-            return None;
+        if let Some(pt) = &self.pairs {
+            let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
+            if te >= -self.backlash_te {
+                let mut d = [[0.0; 2]; 3];
+                let out = self.evaluate_pairs(pt, model, state, Some(&mut d))?;
+                let mut jac = MeshJacobian::default();
+                let (rb_p, rb_g) = (self.rb_p, self.rb_g);
+                for (row, q) in [(MeshJacobian::M_F_P, 0), (MeshJacobian::M_F_G, 1)] {
+                    jac.d[row][MeshJacobian::PHI_P] = d[q][0] + rb_p * d[q][1];
+                    jac.d[row][MeshJacobian::PHI_G] = rb_g * d[q][1];
+                }
+                let extent = out.contact_length / model.length_per_extent();
+                if extent > 0.0 {
+                    let de = [d[2][0] + rb_p * d[2][1], rb_g * d[2][1]];
+                    damping_rows(model, state, extent, de, &mut jac);
+                }
+                return Some((out, jac));
+            }
         }
         let out = self.evaluate(model, state)?;
         let te = out.te;
