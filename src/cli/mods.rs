@@ -1,7 +1,8 @@
 //! Modifications on the command line: the compliance flags of `static` and its face-load
 //! outputs (line load, K_Hβ beside ISO 6336-1), `harris` (peak-to-peak static TE against torque
-//! for a set of modification variants) and `spectrum` (static TE spectrum over a hunting
-//! period).
+//! for a set of modification variants, each merged into the base key by key) and `spectrum`
+//! (static TE spectrum over a hunting period, or with `--dynamic` the steady dynamic TE over
+//! the deviations' period, sampled at uniform pinion angles).
 
 use clap::{Args, ValueEnum};
 use helical_gear_mesh::GearPair;
