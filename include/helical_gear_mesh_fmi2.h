@@ -148,7 +148,8 @@ fmi2Status fmi2GetBoolean(fmi2Component c,
                           fmi2Boolean *value);
 
 /**
- * The FMU has no String variables: any value reference is an error.
+ * Gets String parameters (`modifications`). The returned pointers stay valid until the next
+ * `fmi2GetString` of the same instance.
  *
  * # Safety
  * Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with
@@ -198,7 +199,10 @@ fmi2Status fmi2SetBoolean(fmi2Component c,
                           const fmi2Boolean *value);
 
 /**
- * The FMU has no String variables: any value reference is an error.
+ * Sets String parameters (`modifications`: the JSON object of DESIGN §11). Malformed JSON or
+ * an unknown key is an error naming it; the values are checked against the geometry at
+ * `fmi2ExitInitializationMode` (errors name the key, e.g.
+ * `modifications.pinion.lead_crowning_m`).
  *
  * # Safety
  * Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with

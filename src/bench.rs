@@ -19,6 +19,13 @@
 //!   (sampled every T_m/16, the same instants in every run) and the largest TE difference
 //!   against a 2048-steps-per-period RK4 reference: RK4 at 16…256 steps per mesh period and
 //!   DOPRI5 at tolerances 10⁻⁶…10⁻¹².
+//! * **Tooth deviations** ([`HuntingCase`]): the pair with the pitch errors and runouts of
+//!   `docs/modifications/table1_pitch_errors.json` on the table fidelity (per-pair table,
+//!   [`crate::mesh::table`]): an RK4 run at 500 rad/s over a whole hunting period
+//!   (z_p·z_g/gcd meshes, 1410 for Table 1; 30 in `--quick`) at 32 steps per mesh period, its
+//!   wall time and mesh evaluations, the time per table evaluation at the run's states, and the
+//!   torque error against full fidelity (same slices) at 200 states sampled evenly from the
+//!   run (40 in `--quick`).
 //! * **Paper run**: the wall time of the whole `paper` run, per stage.
 //!
 //! Timing is wall time on the calling thread; run it on an idle machine.
@@ -108,6 +115,32 @@ pub struct DynamicsCase {
     pub te_rel_err: f64,
 }
 
+/// The dynamic run over a hunting period with tooth deviations (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HuntingCase {
+    /// Meshes in the run (the hunting period unless `--quick`).
+    pub meshes: u64,
+    /// RK4 steps per mesh period.
+    pub steps_per_mesh: usize,
+    /// Slices of both the table and the full reference.
+    pub slices: usize,
+    /// Wall time of the table build, s.
+    pub build_s: f64,
+    /// Wall time of the run, s.
+    pub run_s: f64,
+    /// Mesh evaluations of the run.
+    pub mesh_evaluations: usize,
+    /// Table evaluation at the sampled states of the run, ns per evaluation (the fastest of
+    /// several passes).
+    pub table_eval_ns: f64,
+    /// Number of states sampled for the error.
+    pub sampled_states: usize,
+    /// max |M_F,p(table) − M_F,p(full)| / nominal torque at the sampled states.
+    pub max_torque_err: f64,
+    /// The same as an RMS over the sampled states.
+    pub rms_torque_err: f64,
+}
+
 /// Everything [`run_bench`] measured.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BenchReport {
@@ -133,6 +166,8 @@ pub struct BenchReport {
     pub options: Vec<OptionCase>,
     /// Dynamics cases.
     pub dynamics: Vec<DynamicsCase>,
+    /// The dynamic run over a hunting period with tooth deviations.
+    pub hunting: HuntingCase,
     /// Logical cores of the machine.
     pub cores: usize,
     /// CPU model (from /proc/cpuinfo where available).
@@ -294,6 +329,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
     // Dynamics.
     let table = default_table.ok_or("no table model")?;
     let dynamics = dynamics_cases(pair, table, q, &say)?;
+    let hunting = hunting_case(pair, q, min_pass_s, &say)?;
 
     // Paper run.
     let (paper_runtime_s, paper_stages) = if opts.paper {
@@ -321,6 +357,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
         mesh,
         options,
         dynamics,
+        hunting,
         cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
         cpu: cpu_model(),
         version: env!("CARGO_PKG_VERSION").into(),
@@ -479,6 +516,107 @@ fn dynamics_cases(
         ));
     }
     Ok(cases)
+}
+
+/// The pitch errors and runouts of the benchmark with tooth deviations (the file
+/// `docs/modifications/table1_pitch_errors.json`, scaled to the pair's tooth numbers: the
+/// 30 pinion values repeated, the runouts kept).
+fn bench_deviations(pair: &GearPair) -> crate::modifications::Modifications {
+    let sample =
+        GearPair::from_json(include_str!("../docs/modifications/table1_pitch_errors.json"))
+            .map(|p| p.modifications)
+            .unwrap_or_default();
+    let mut m = pair.modifications.clone();
+    let e = &sample.pinion.pitch_deviations_m;
+    if !e.is_empty() {
+        m.pinion.pitch_deviations_m = (0..pair.z_p as usize).map(|i| e[i % e.len()]).collect();
+    }
+    m.pinion.runout_m = sample.pinion.runout_m;
+    m.pinion.runout_phase_rad = sample.pinion.runout_phase_rad;
+    m.gear.runout_m = sample.gear.runout_m;
+    m.gear.runout_phase_rad = sample.gear.runout_phase_rad;
+    m
+}
+
+/// The hunting-period case (see the module docs).
+fn hunting_case(
+    pair: &GearPair,
+    quick: bool,
+    min_pass_s: f64,
+    say: &dyn Fn(&str),
+) -> Result<HuntingCase, String> {
+    let err = |e: crate::mesh::MeshError| e.to_string();
+    let p = GearPair { modifications: bench_deviations(pair), ..pair.clone() };
+    let slices = if quick { 50 } else { 200 };
+    let o = MeshOptions { fidelity: Fidelity::Table, slices, ..MeshOptions::default() };
+    let t0 = Instant::now();
+    let table = MeshModel::new(&p, o).map_err(err)?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let mut full =
+        MeshModel::new(&p, MeshOptions { slices, ..MeshOptions::default() }).map_err(err)?;
+    let meshes =
+        if quick { 30 } else { crate::modifications::Modifications::hunting_meshes(p.z_p, p.z_g) };
+    let drive = Drivetrain::from_pair(&p).map_err(|e| e.to_string())?;
+    let mut dynm = GearDynamics::new(table, drive).map_err(|e| e.to_string())?;
+    let omega = 500.0;
+    let start = dynm
+        .static_start(0.0, omega, &EquilibriumSettings::default())
+        .map_err(|e| e.to_string())?;
+    let tm = dynm.drive().mesh_period(omega);
+    let steps_per_mesh = 32;
+    let e0 = dynm.mesh_evaluations();
+    let t = Instant::now();
+    let tr = simulate(
+        &mut dynm,
+        &start.y,
+        meshes as f64 * tm,
+        &Stepping::Rk4 { dt: tm / steps_per_mesh as f64 },
+    )
+    .map_err(|e| e.to_string())?;
+    let run_s = t.elapsed().as_secs_f64();
+    let mesh_evaluations = dynm.mesh_evaluations() - e0;
+    let n_samples = if quick { 40 } else { 200 };
+    let stride = (tr.states.len() / n_samples).max(1);
+    let states: Vec<MeshState> = tr
+        .states
+        .iter()
+        .step_by(stride)
+        .take(n_samples)
+        .map(|y| MeshState { phi_p: y[1], phi_g: y[2], w_p: y[5], w_g: y[6] })
+        .collect();
+    let mut table = dynm.into_mesh();
+    let (us, out) = time_eval(&mut table, &states, min_pass_s)?;
+    let nominal = p.drive.torque_nm.abs().max(1.0);
+    let (mut max_err, mut sq) = (0.0f64, 0.0);
+    for (s, o) in states.iter().zip(&out) {
+        let f = full.evaluate_full(s).map_err(err)?;
+        let e = (o.m_f_p - f.m_f_p).abs() / nominal;
+        max_err = max_err.max(e);
+        sq += e * e;
+    }
+    let case = HuntingCase {
+        meshes,
+        steps_per_mesh,
+        slices,
+        build_s,
+        run_s,
+        mesh_evaluations,
+        table_eval_ns: us * 1e3,
+        sampled_states: states.len(),
+        max_torque_err: max_err,
+        rms_torque_err: (sq / states.len().max(1) as f64).sqrt(),
+    };
+    say(&format!(
+        "hunting period with pitch errors: {} meshes in {:.2} s ({} evaluations), table {:.0} \
+         ns/eval, torque error max {:.2e}, rms {:.2e} of nominal",
+        case.meshes,
+        case.run_s,
+        case.mesh_evaluations,
+        case.table_eval_ns,
+        case.max_torque_err,
+        case.rms_torque_err
+    ));
+    Ok(case)
 }
 
 fn cpu_model() -> String {

@@ -63,9 +63,11 @@
 //! pitch; pitch deviations and runout repeat only after the hunting period of
 //! z_p·z_g/gcd(z_p, z_g) meshes ([`Modifications::hunting_meshes`], 1410 for Table 1). The
 //! contact search keeps the absolute tooth-pair number, which picks the deviations of the
-//! engaged teeth. The per-pitch table of the `table` fidelity is exact only for modifications
-//! that repeat on every tooth and remove material; otherwise the mesh model evaluates at full
-//! fidelity ([`crate::mesh::MeshModel::with_compliance`]).
+//! engaged teeth. The per-pitch table of the `table` fidelity holds the modifications that
+//! repeat on every tooth (they must remove material; otherwise the mesh model evaluates at
+//! full fidelity, [`crate::mesh::MeshModel::with_compliance`]); pitch deviations and runout
+//! are added on it per tooth pair ([`Separation::tooth_offset`], `crate::mesh::table`, "Tooth
+//! deviations").
 
 use serde::{Deserialize, Serialize};
 
@@ -149,6 +151,22 @@ impl DeviationMap {
     }
 }
 
+impl DeviationMap {
+    /// ∂(value)/∂(roll length) of the bilinear interpolant (0 where the roll length is clamped).
+    fn d_roll(&self, roll: f64, z: f64) -> f64 {
+        let xs = &self.roll_length_m;
+        if roll <= xs[0] || roll >= xs[xs.len() - 1] {
+            return 0.0;
+        }
+        let (i, _) = bracket(xs, roll);
+        let (j, v) = bracket(&self.face_m, z);
+        let a = &self.values_m[i];
+        let b = &self.values_m[i + 1];
+        let (va, vb) = ((1.0 - v) * a[j] + v * a[j + 1], (1.0 - v) * b[j] + v * b[j + 1]);
+        (vb - va) / (xs[i + 1] - xs[i])
+    }
+}
+
 /// Interval index i and fraction t ∈ [0, 1] of `x` in the increasing nodes `xs` (clamped).
 fn bracket(xs: &[f64], x: f64) -> (usize, f64) {
     let n = xs.len();
@@ -212,6 +230,37 @@ impl Modifications {
         *self == Self::default()
     }
 
+    /// Parses a `modifications` JSON object (DESIGN §11; every key optional, missing = zero).
+    /// Errors name the unknown or ill-typed key as serde reports it. Values are validated
+    /// against the geometry later, by [`Modifications::validate`].
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        serde_json::from_str(text).map_err(|e| format!("modifications JSON: {e}"))
+    }
+
+    /// `self` with `patch` (a JSON object of the same schema) merged in key by key: a key of
+    /// `patch` replaces the same key of `self`, nested objects (`pinion`, `gear`,
+    /// `end_relief`, `tip_relief`, `deviation_map`) are merged the same way, lists replace
+    /// whole; keys not in `patch` keep their values. Errors: `patch` is not an object, or the
+    /// result does not fit the schema (the message names the key).
+    pub fn merged(&self, patch: &serde_json::Value) -> Result<Self, String> {
+        fn merge(base: &mut serde_json::Value, patch: &serde_json::Value) {
+            match (base, patch) {
+                (serde_json::Value::Object(b), serde_json::Value::Object(p)) => {
+                    for (k, v) in p {
+                        merge(b.entry(k.clone()).or_insert(serde_json::Value::Null), v);
+                    }
+                }
+                (b, p) => *b = p.clone(),
+            }
+        }
+        if !patch.is_object() {
+            return Err(format!("modifications: expected a JSON object, got {patch}"));
+        }
+        let mut base = serde_json::to_value(self).map_err(|e| format!("modifications: {e}"))?;
+        merge(&mut base, patch);
+        serde_json::from_value(base).map_err(|e| format!("modifications JSON: {e}"))
+    }
+
     /// True when any tooth-by-tooth deviation (pitch deviations or runout) is given: the mesh
     /// then repeats only after the hunting period.
     pub fn has_tooth_deviations(&self) -> bool {
@@ -228,6 +277,21 @@ impl Modifications {
             (a, b) = (b, a % b);
         }
         z_p as u64 * z_g as u64 / a.max(1)
+    }
+
+    /// Number of meshes after which the pair repeats: 1 without tooth-by-tooth deviations,
+    /// z_p with deviations of the pinion only, z_g with deviations of the gear only, else the
+    /// hunting period [`Modifications::hunting_meshes`].
+    pub fn period_meshes(&self, z_p: u32, z_g: u32) -> u64 {
+        let has = |g: &FlankModification| {
+            g.runout_m != 0.0 || g.pitch_deviations_m.iter().any(|&e| e != 0.0)
+        };
+        match (has(&self.pinion), has(&self.gear)) {
+            (false, false) => 1,
+            (true, false) => z_p as u64,
+            (false, true) => z_g as u64,
+            (true, true) => Self::hunting_meshes(z_p, z_g),
+        }
     }
 
     /// Validates every value against `geo` (the pair's derived geometry). Errors name the key
@@ -450,6 +514,43 @@ impl GearSeparation {
         s
     }
 
+    /// ∂s/∂r of [`GearSeparation::at`] at axial position z (m) and radius r (m): the profile
+    /// terms (crowning, slope, tip relief, map) through the roll length L = √(r² − r_b²).
+    fn d_dr(&self, z: f64, r: f64) -> f64 {
+        let m = &self.m;
+        let needs_roll = m.profile_crowning_m != 0.0
+            || m.profile_slope_m != 0.0
+            || m.tip_relief.amount_m != 0.0
+            || m.deviation_map.is_some();
+        let roll = (r * r - self.rb * self.rb).max(0.0).sqrt();
+        if !needs_roll || roll <= 0.0 {
+            return 0.0;
+        }
+        let v = (roll - self.roll_lo) / self.roll_len;
+        let mut ds = 0.0; // per unit roll length
+        if m.profile_crowning_m != 0.0 {
+            ds += 4.0 * m.profile_crowning_m * (2.0 * v - 1.0) / self.roll_len;
+        }
+        if m.profile_slope_m != 0.0 {
+            ds += m.profile_slope_m / self.roll_len;
+        }
+        let tr = &m.tip_relief;
+        if tr.amount_m != 0.0 && roll > self.tip_roll_start {
+            let w = (roll - self.tip_roll_start) / self.tip_roll_len;
+            if w < 1.0 {
+                let dw = match tr.shape {
+                    ReliefShape::Linear => 1.0,
+                    ReliefShape::Parabolic => 2.0 * w,
+                };
+                ds += tr.amount_m * dw / self.tip_roll_len;
+            }
+        }
+        if let Some(map) = &m.deviation_map {
+            ds += map.d_roll(roll, z);
+        }
+        ds * r / roll
+    }
+
     /// A lower bound of the separation over the flank (≤ 0 where material is added), m.
     fn min_bound(&self) -> f64 {
         let m = &self.m;
@@ -531,6 +632,14 @@ impl Separation {
             + self.misalignment * t
     }
 
+    /// Partial derivatives (∂s/∂r_p, ∂s/∂r_g) of [`Separation::at`] with respect to the
+    /// contact radii on pinion and gear (m/m): nonzero for the profile modifications only.
+    #[inline]
+    pub fn radial_rates(&self, zeta: f64, r_p: f64, r_g: f64) -> (f64, f64) {
+        let z = zeta / self.b0 * self.b;
+        (self.pinion.d_dr(z, r_p), self.gear.d_dr(z, r_g))
+    }
+
     /// Separation at a driving-flank contact point, m (0 for back flanks).
     #[inline]
     pub fn of_contact(&self, c: &ContactPoint) -> f64 {
@@ -549,5 +658,28 @@ impl Separation {
     /// True when pitch deviations or runout are given (no periodicity in one pitch).
     pub fn has_tooth_deviations(&self) -> bool {
         self.tooth_deviations
+    }
+
+    /// The tooth-by-tooth part of the separation of tooth pair `pair` (absolute number): the
+    /// pinion's and the gear's pitch deviation plus runout of the two teeth, m. It is the same
+    /// at every point of the pair's flanks.
+    #[inline]
+    pub fn tooth_offset(&self, pair: i64) -> f64 {
+        let tp = pair.rem_euclid(self.z_p) as usize;
+        let tg = (-pair).rem_euclid(self.z_g) as usize;
+        self.pinion.tooth.get(tp).copied().unwrap_or(0.0)
+            + self.gear.tooth.get(tg).copied().unwrap_or(0.0)
+    }
+
+    /// The separation without its tooth-by-tooth part (pitch deviations and runout): the part
+    /// that repeats on every tooth, periodic in one pitch. `at` of the result plus
+    /// [`Separation::tooth_offset`] is `at` of `self`.
+    pub fn periodic_part(&self) -> Self {
+        let mut s = self.clone();
+        s.pinion.tooth.clear();
+        s.gear.tooth.clear();
+        s.tooth_deviations = false;
+        s.min_bound = s.pinion.min_bound() + s.gear.min_bound() + self.misalignment.min(0.0);
+        s
     }
 }

@@ -427,7 +427,10 @@ struct Ctx<'a> {
 impl Ctx<'_> {
     fn sweep_opts(&self, refine_runs: usize) -> SweepOptions {
         SweepOptions {
-            run: SteadyRunOptions { keep_window: false, ..SteadyRunOptions::default() },
+            run: SteadyRunOptions {
+                keep_window: false,
+                ..SteadyRunOptions::for_pair(self.table.pair())
+            },
             threads: self.opts.threads,
             refine_runs,
             ..SweepOptions::default()
@@ -467,7 +470,11 @@ fn steady_samples(
     per_period: usize,
 ) -> Result<Vec<(f64, [f64; 8])>, String> {
     let mut model = GearDynamics::new(mesh.clone(), *drive).map_err(mesh_err)?;
-    let run = SteadyRunOptions { keep_window: false, max_step, ..SteadyRunOptions::default() };
+    let run = SteadyRunOptions {
+        keep_window: false,
+        max_step,
+        ..SteadyRunOptions::for_pair(mesh.pair())
+    };
     let r = run_to_steady(&mut model, omega_p, &run).map_err(mesh_err)?;
     let t_m = drive.mesh_period(omega_p);
     let base = match &run.method {

@@ -419,6 +419,15 @@ fn every_parameter_round_trips_through_set_and_get() {
                     assert_eq!(fmi2GetBoolean(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Ok);
                     assert_eq!(x != 0, start == "true", "{}", v.name);
                 }
+                helical_gear_mesh::fmi2::variables::VarType::String => {
+                    let mut x: fmi2String = null();
+                    assert_eq!(fmi2GetString(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Ok);
+                    let text = std::ffi::CStr::from_ptr(x).to_str().unwrap().to_string();
+                    assert_eq!(text, start, "{}", v.name);
+                    let c = CString::new(text).unwrap();
+                    let p = [c.as_ptr()];
+                    assert_eq!(fmi2SetString(f.0, r.as_ptr(), 1, p.as_ptr()), fmi2Status::Ok);
+                }
             }
         }
         assert_eq!(fmi2ExitInitializationMode(f.0), fmi2Status::Ok);
@@ -463,6 +472,90 @@ fn unsupported_functions_are_errors() {
         f.reset();
         f.init();
         assert_eq!(fmi2GetString(f.0, r.as_ptr(), 0, null_mut()), fmi2Status::Ok, "nothing asked");
-        assert_eq!(fmi2GetString(f.0, r.as_ptr(), 1, null_mut()), fmi2Status::Error);
+        let mut x: fmi2String = null();
+        assert_eq!(fmi2GetString(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Error, "a Real");
     }
+}
+
+/// The String parameter `modifications` (the JSON object of DESIGN §11): a pinion pitch
+/// deviation set through `fmi2SetString` gives exactly the outputs of the library model of the
+/// same pair (so the same static TE), differs from the perfect pair on the deviated tooth,
+/// survives an FMU state round trip; malformed JSON or an unknown key is refused by
+/// `fmi2SetString`, a value beyond its limit by `fmi2ExitInitializationMode`, and the messages
+/// name the key (checked on the library side: the FMU logs the same text).
+#[test]
+fn modifications_string_parameter() {
+    use helical_gear_mesh::GearPair;
+    use helical_gear_mesh::mesh::{MeshModel, MeshOptions, MeshState};
+    let mut p = GearPair::paper_table1();
+    p.modifications.pinion.pitch_deviations_m = vec![0.0; 30];
+    p.modifications.pinion.pitch_deviations_m[0] = 3e-6;
+    let json = serde_json::to_string(&p.modifications).unwrap();
+    let set = |f: &Fmu, text: &str| {
+        let c = CString::new(text).unwrap();
+        let ptr = [c.as_ptr()];
+        let r = [vr("modifications")];
+        unsafe { fmi2SetString(f.0, r.as_ptr(), 1, ptr.as_ptr()) }
+    };
+    let f = Fmu::new();
+    assert_eq!(set(&f, &json), fmi2Status::Ok);
+    f.init();
+    let mut lib = MeshModel::new(&p, MeshOptions::default()).unwrap();
+    let mut perfect = MeshModel::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
+    let mut differs = false;
+    for k in 0..5 {
+        let phi_p = -0.04 + 0.02 * k as f64;
+        let phi_g = lib.geometry().phi_g_for_te(phi_p, 25e-6);
+        assert_eq!(
+            f.set(&["phi_p", "phi_g", "w_p", "w_g"], &[phi_p, phi_g, 0.0, 0.0]),
+            fmi2Status::Ok
+        );
+        let got = f.get(&["M_F_p", "TE"]).unwrap();
+        let s = MeshState { phi_p, phi_g, w_p: 0.0, w_g: 0.0 };
+        let o = lib.evaluate(&s).unwrap();
+        assert_eq!(got[0].to_bits(), o.m_f_p.to_bits(), "φp = {phi_p}");
+        assert_eq!(got[1].to_bits(), o.te.to_bits());
+        differs |= (perfect.evaluate(&s).unwrap().m_f_p - o.m_f_p).abs() > 1e-3;
+    }
+    assert!(differs);
+    // The text reads back and survives a serialised FMU state.
+    unsafe {
+        let r = [vr("modifications")];
+        let mut x: fmi2String = null();
+        assert_eq!(fmi2GetString(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Ok);
+        let back = std::ffi::CStr::from_ptr(x).to_str().unwrap();
+        assert_eq!(helical_gear_mesh::Modifications::from_json(back).unwrap(), p.modifications);
+        let mut st: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(f.0, &mut st), fmi2Status::Ok);
+        let mut n = 0usize;
+        assert_eq!(fmi2SerializedFMUstateSize(f.0, st, &mut n), fmi2Status::Ok);
+        let mut bytes = vec![0 as c_char; n];
+        assert_eq!(fmi2SerializeFMUstate(f.0, st, bytes.as_mut_ptr(), n), fmi2Status::Ok);
+        let g = Fmu::new();
+        let mut st2: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2DeSerializeFMUstate(g.0, bytes.as_ptr(), n, &mut st2), fmi2Status::Ok);
+        assert_eq!(fmi2SetFMUstate(g.0, st2), fmi2Status::Ok);
+        let mut y: fmi2String = null();
+        assert_eq!(fmi2GetString(g.0, r.as_ptr(), 1, &mut y), fmi2Status::Ok);
+        assert_eq!(std::ffi::CStr::from_ptr(y).to_str().unwrap(), back);
+        fmi2FreeFMUstate(f.0, &mut st);
+        fmi2FreeFMUstate(g.0, &mut st2);
+    }
+    // Errors.
+    let bad = Fmu::new();
+    assert_eq!(set(&bad, "{\"pinion\": {\"runout\": 1e-6}}"), fmi2Status::Error);
+    bad.reset();
+    assert_eq!(set(&bad, "{not json"), fmi2Status::Error);
+    bad.reset();
+    assert_eq!(set(&bad, "{\"gear\": {\"lead_crowning_m\": 0.01}}"), fmi2Status::Ok);
+    unsafe {
+        assert_eq!(
+            fmi2SetupExperiment(bad.0, FMI2_FALSE, 0.0, 0.0, FMI2_FALSE, 0.0),
+            fmi2Status::Ok
+        );
+        assert_eq!(fmi2EnterInitializationMode(bad.0), fmi2Status::Ok);
+        assert_eq!(fmi2ExitInitializationMode(bad.0), fmi2Status::Error);
+    }
+    let e = helical_gear_mesh::Modifications::from_json("{\"pinion\": {\"runout\": 1e-6}}");
+    assert!(e.unwrap_err().contains("runout"));
 }

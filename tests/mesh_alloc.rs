@@ -57,4 +57,28 @@ fn steady_evaluations_do_not_allocate() {
     let count = ALLOCATIONS.load(Ordering::Relaxed) - before;
     assert!(sum.is_finite());
     assert_eq!(count, 0, "{count} allocations in 400 steady evaluations");
+
+    // The table with tooth deviations (per-pair values) and its Jacobian: no allocation at all.
+    use helical_gear_mesh::mesh::{Fidelity, MeshTorques};
+    let mut dev = pair.clone();
+    dev.modifications.pinion.pitch_deviations_m = vec![1e-6; dev.z_p as usize];
+    dev.modifications.pinion.pitch_deviations_m[3] = -1e-6;
+    dev.modifications.gear.runout_m = 4e-6;
+    let opts = MeshOptions {
+        slices: 40,
+        fidelity: Fidelity::Table,
+        table_phase_points: 16,
+        table_te_points: 12,
+        ..MeshOptions::default()
+    };
+    let mut t = MeshModel::new(&dev, opts).expect("table with deviations");
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let mut sum = 0.0;
+    for k in 0..400 {
+        sum += t.evaluate(&state(k * 37)).expect("evaluate").m_f_p;
+        sum += t.mesh_jacobian(&state(k * 37)).expect("jacobian").1.d[0][0];
+    }
+    let count = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    assert!(sum.is_finite());
+    assert_eq!(count, 0, "{count} allocations in 400 table evaluations with deviations");
 }

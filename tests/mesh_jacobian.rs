@@ -288,3 +288,80 @@ fn jacobian_rejects_what_it_cannot_do() {
     let (o, j) = m.mesh_jacobian(&state(&m, 0.0, -1e-6)).unwrap();
     assert!(o.separated && j.d.iter().flatten().all(|&v| v == 0.0));
 }
+
+/// A pair with profile modifications on both gears (profile crowning, profile slope, tip
+/// relief given on the gear, lead crowning and misalignment): the separation depends on the
+/// roll position of each contact, which moves with the angles, so the overlap's derivative
+/// carries ∂s/∂r·∂r/∂Θ besides the moment arm. The exact Jacobian against central differences
+/// at light, nominal and overload TE and several phases.
+#[test]
+fn profile_modified_pair_matches_central_differences() {
+    use helical_gear_mesh::modifications::{ReliefShape, TipRelief};
+    let mut p = GearPair::paper_table1();
+    let geo = helical_gear_mesh::geometry::PairGeometry::new(&p).unwrap();
+    p.modifications.pinion.profile_crowning_m = 4e-6;
+    p.modifications.pinion.profile_slope_m = 3e-6;
+    p.modifications.pinion.lead_crowning_m = 2e-6;
+    p.modifications.gear.profile_slope_m = 5e-6;
+    p.modifications.gear.tip_relief = TipRelief {
+        amount_m: 8e-6,
+        start_diameter_m: 2.0 * (geo.gear.r + 0.5 * (geo.gear.ra - geo.gear.r)),
+        shape: ReliefShape::Parabolic,
+    };
+    p.modifications.mesh_misalignment_m = 4e-6;
+    let mut m =
+        MeshModel::new(&p, MeshOptions { slices: 50, detail: true, ..MeshOptions::default() })
+            .unwrap();
+    let te_nom = nominal_te(&mut m, 0.1 * pitch());
+    let (mut checked, mut worst) = (0, 0.0f64);
+    for (load, te) in [0.3, 1.0, 3.0].iter().map(|l| l * te_nom).enumerate() {
+        for k in 0..6 {
+            let phi_p = pitch() * (k as f64 + 0.3) / 6.0;
+            let s = state(&m, phi_p, te);
+            let (out, jac) = m.mesh_jacobian(&s).expect("jacobian");
+            let Some(fd) = central(&mut m, &s, true) else { continue };
+            let e = disagreement(&jac, &fd, &out);
+            assert!(e <= 1.0, "TE #{load}, phase {k}: error {e:.3}·1e-5\n{jac:?}\n{fd:?}");
+            worst = worst.max(e);
+            checked += 1;
+        }
+    }
+    eprintln!("profile-modified pair: {checked} states, worst disagreement {worst:.3}·1e-5");
+    assert!(checked >= 10, "only {checked} states kept their loaded set");
+}
+
+/// The table with tooth deviations (per-pair values, each pair at its own TE − e_k): its exact
+/// Jacobian against central differences of its `evaluate`, at phases across the hunting
+/// period, light to overload, and on the back flanks.
+#[test]
+fn table_with_tooth_deviations_matches_central_differences() {
+    let mut p = GearPair::paper_table1();
+    p.modifications.pinion.pitch_deviations_m =
+        (0..p.z_p).map(|i| 1.5e-6 * (i as f64 * 1.3).sin()).collect();
+    p.modifications.gear.runout_m = 6e-6;
+    let opts = MeshOptions {
+        slices: 40,
+        fidelity: Fidelity::Table,
+        table_phase_points: 16,
+        table_te_points: 12,
+        ..MeshOptions::default()
+    };
+    let mut m = MeshModel::new(&p, opts).unwrap();
+    assert!(m.table().is_some_and(|t| t.has_tooth_deviations()));
+    let te_nom = nominal_te(&mut m, 0.1 * pitch());
+    let jt = m.geometry().backlash_te;
+    let mut worst = 0.0f64;
+    for (n, &te) in [0.3 * te_nom, te_nom, 2.5 * te_nom, -jt - te_nom].iter().enumerate() {
+        for k in 0..6 {
+            let phi_p = pitch() * (k as f64 * 233.0 + 0.37);
+            let s = state(&m, phi_p, te);
+            let (out, jac) = m.mesh_jacobian(&s).expect("jacobian");
+            assert_eq!(torques(&out), torques(&m.evaluate(&s).unwrap()), "outputs as evaluate");
+            let fd = central(&mut m, &s, false).expect("differences");
+            let e = disagreement(&jac, &fd, &out);
+            assert!(e <= 1.0, "TE #{n}, mesh {k}: error {e:.3}·1e-5\n{jac:?}\n{fd:?}");
+            worst = worst.max(e);
+        }
+    }
+    eprintln!("table with deviations: worst disagreement {worst:.3}·1e-5 of the row");
+}

@@ -188,6 +188,7 @@ enum TypeElement {
     Real(RealAttrs),
     Integer(IntegerAttrs),
     Boolean(BooleanAttrs),
+    String(BooleanAttrs),
 }
 
 #[derive(Serialize)]
@@ -363,6 +364,7 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
                     start: model.start(v),
                 }),
                 VarType::Boolean => TypeElement::Boolean(BooleanAttrs { start: model.start(v) }),
+                VarType::String => TypeElement::String(BooleanAttrs { start: model.start(v) }),
             },
         })
         .collect();

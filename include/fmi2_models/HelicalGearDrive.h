@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{0d4aa381-f262-83d7-9c1d-892115503540}"
+#define HelicalGearDrive_GUID "{9f6ad320-2890-821c-88d1-1c44e9a35aa7}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -63,6 +63,7 @@ typedef enum {
     HelicalGearDrive_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearDrive_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearDrive_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
+    HelicalGearDrive_vr_modifications = 130, /* parameter String  */
     HelicalGearDrive_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearDrive_vr_slices = 201, /* parameter Integer  */
     HelicalGearDrive_vr_compliance_model = 202, /* parameter Integer  */

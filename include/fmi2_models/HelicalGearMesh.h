@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{2dd715e2-64e3-87be-97d9-6eb68fa8b8a9}"
+#define HelicalGearMesh_GUID "{c17ed3c3-1f2d-8d6b-9d1b-2a3920322d0c}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -56,6 +56,7 @@ typedef enum {
     HelicalGearMesh_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearMesh_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearMesh_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
+    HelicalGearMesh_vr_modifications = 130, /* parameter String  */
     HelicalGearMesh_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearMesh_vr_slices = 201, /* parameter Integer  */
     HelicalGearMesh_vr_compliance_model = 202, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{d71109a7-dfdc-8869-b393-8106aff73578}"
+#define HelicalGearPair_GUID "{37f164ea-7fd0-8860-8cc8-ae85bb3ebecd}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -60,6 +60,7 @@ typedef enum {
     HelicalGearPair_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearPair_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearPair_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
+    HelicalGearPair_vr_modifications = 130, /* parameter String  */
     HelicalGearPair_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearPair_vr_slices = 201, /* parameter Integer  */
     HelicalGearPair_vr_compliance_model = 202, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{e555379f-f693-8273-a1ae-f61535e7ec63}"
+#define HelicalGearStage_GUID "{e30da99c-9d28-8807-b861-786b54af7e54}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -64,6 +64,7 @@ typedef enum {
     HelicalGearStage_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearStage_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearStage_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
+    HelicalGearStage_vr_modifications = 130, /* parameter String  */
     HelicalGearStage_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearStage_vr_slices = 201, /* parameter Integer  */
     HelicalGearStage_vr_compliance_model = 202, /* parameter Integer  */

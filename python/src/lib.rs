@@ -633,10 +633,12 @@ impl MeshModel {
             let drive = Drivetrain::from_pair(&pair)?;
             let mut mesh = lock(&self.model)?.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
+            let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
             let opts = SweepOptions {
                 run: SteadyRunOptions {
                     method: SteadyMethod::Rk4 { steps_per_period },
-                    max_periods,
+                    max_periods: if period > 1 { max_periods.max(3 * period) } else { max_periods },
+                    period_meshes: period,
                     keep_window: false,
                     ..SteadyRunOptions::default()
                 },

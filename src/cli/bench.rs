@@ -81,5 +81,20 @@ pub fn bench_cmd(a: &BenchArgs) -> Result<(), String> {
             c.max_te_rel_err
         );
     }
+    let h = &r.hunting;
+    println!(
+        "\n  tooth deviations, table fidelity ({} slices): {} meshes, RK4 {} steps per mesh \
+         period: {:.2} s, {} evaluations; {:.0} ns per evaluation; M_F,p error against full \
+         fidelity at {} states: max {:.2e}, rms {:.2e} of the nominal torque",
+        h.slices,
+        h.meshes,
+        h.steps_per_mesh,
+        h.run_s,
+        h.mesh_evaluations,
+        h.table_eval_ns,
+        h.sampled_states,
+        h.max_torque_err,
+        h.rms_torque_err
+    );
     Ok(())
 }

@@ -337,10 +337,13 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     } else {
         (0..a.points).map(|i| a.from + (a.to - a.from) * i as f64 / (a.points - 1) as f64).collect()
     };
+    // Tooth deviations: steady over their period (at least three periods integrated).
+    let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
     let opts = SweepOptions {
         run: SteadyRunOptions {
             method: SteadyMethod::Rk4 { steps_per_period: a.steps_per_period },
-            max_periods: a.max_periods,
+            max_periods: if period > 1 { a.max_periods.max(3 * period) } else { a.max_periods },
+            period_meshes: period,
             keep_window: false,
             ..SteadyRunOptions::default()
         },

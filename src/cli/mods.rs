@@ -1,7 +1,8 @@
 //! Modifications on the command line: the compliance flags of `static` and its face-load
 //! outputs (line load, K_Hβ beside ISO 6336-1), `harris` (peak-to-peak static TE against torque
-//! for a set of modification variants) and `spectrum` (static TE spectrum over a hunting
-//! period).
+//! for a set of modification variants, each merged into the base key by key) and `spectrum`
+//! (static TE spectrum over a hunting period, or with `--dynamic` the steady dynamic TE over
+//! the deviations' period, sampled at uniform pinion angles).
 
 use clap::{Args, ValueEnum};
 use helical_gear_mesh::GearPair;
@@ -149,8 +150,8 @@ pub struct HarrisArgs {
     /// Number of torques (uniform).
     #[arg(long, default_value_t = 10)]
     points: usize,
-    /// JSON list of `{"name": …, "modifications": {…}}`; each variant's modifications
-    /// replace those of the base parameters (missing keys are zero).
+    /// JSON list of `{"name": …, "modifications": {…}}`; each variant's modifications are
+    /// merged into those of the base parameters key by key (missing keys keep the base's).
     #[arg(long, value_name = "FILE")]
     variants: std::path::PathBuf,
     /// Pinion angles per pitch of each static curve.
@@ -168,8 +169,12 @@ pub struct HarrisArgs {
 #[serde(deny_unknown_fields)]
 struct Variant {
     name: String,
-    #[serde(default)]
-    modifications: Modifications,
+    #[serde(default = "empty_object")]
+    modifications: serde_json::Value,
+}
+
+fn empty_object() -> serde_json::Value {
+    serde_json::Value::Object(Default::default())
 }
 
 fn plot_err(e: PlotError) -> String {
@@ -203,7 +208,9 @@ pub fn harris_cmd(a: &HarrisArgs) -> Result<(), String> {
     let mut rows = Vec::new();
     for v in &variants {
         eprintln!("harris: variant {}", v.name);
-        let pair = GearPair { modifications: v.modifications.clone(), ..base.clone() };
+        let modifications =
+            base.modifications.merged(&v.modifications).map_err(|e| format!("{}: {e}", v.name))?;
+        let pair = GearPair { modifications, ..base.clone() };
         let mut options = a.model.options(a.slices);
         options.detail = false;
         let mut m = MeshModel::new(&pair, options).map_err(|e| format!("{}: {e}", v.name))?;
@@ -288,9 +295,74 @@ pub struct SpectrumArgs {
     /// Largest pinion order printed and plotted (default: all up to the Nyquist order).
     #[arg(long)]
     max_order: Option<f64>,
-    /// Write spectrum.csv, ste_hunting.csv and spectrum.png into DIR.
+    /// Write spectrum.csv, ste_hunting.csv and spectrum.png (with `--dynamic`:
+    /// spectrum_dynamic.csv, te_dynamic.csv, spectrum_dynamic.png) into DIR.
     #[arg(long, value_name = "DIR")]
     out: Option<std::path::PathBuf>,
+    /// The dynamic TE instead of the static one: Eqs. 1–4 on the table fidelity from the
+    /// static start at `--speed` until TE repeats with the period of the deviations, then the
+    /// spectrum of that last period.
+    #[arg(long, requires = "speed")]
+    dynamic: bool,
+    /// Nominal pinion speed of `--dynamic`, rad/s.
+    #[arg(long)]
+    speed: Option<f64>,
+    /// RK4 steps per mesh period of `--dynamic` (a multiple of --points-per-pitch).
+    #[arg(long, default_value_t = 64)]
+    steps_per_period: usize,
+    /// Cap on the mesh periods integrated by `--dynamic`.
+    #[arg(long, default_value_t = 20_000)]
+    max_periods: usize,
+}
+
+/// The dynamic TE of `--dynamic` over one period of the response: (TE samples at
+/// `points_per_pitch` per mesh period, meshes in the period, JSON of the run).
+fn dynamic_te(
+    a: &SpectrumArgs,
+    pair: &GearPair,
+    speed: f64,
+) -> Result<(Vec<f64>, usize, serde_json::Value), String> {
+    use helical_gear_mesh::dynamics::{
+        Drivetrain, GearDynamics, SteadyMethod, SteadyRunOptions, run_to_steady,
+    };
+    if !(speed.is_finite() && speed > 0.0) {
+        return Err(format!("--speed = {speed} rad/s: allowed > 0 and finite"));
+    }
+    if a.steps_per_period < 4 || a.steps_per_period % a.points_per_pitch != 0 {
+        return Err(format!(
+            "--steps-per-period = {}: allowed >= 4 and a multiple of --points-per-pitch = {}",
+            a.steps_per_period, a.points_per_pitch
+        ));
+    }
+    let mut options = a.model.options(a.slices);
+    options.detail = false;
+    options.fidelity = helical_gear_mesh::mesh::Fidelity::Table;
+    eprintln!("spectrum: building the table");
+    let mesh = MeshModel::new(pair, options).map_err(|e| e.to_string())?;
+    let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
+    let mut dynm = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
+    let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
+    eprintln!("spectrum: dynamics at {speed} rad/s until TE repeats every {period} meshes");
+    let opts = SteadyRunOptions {
+        method: SteadyMethod::Rk4 { steps_per_period: a.steps_per_period },
+        max_periods: a.max_periods.max(2 * period),
+        period_meshes: period,
+        ..SteadyRunOptions::default()
+    };
+    let r = run_to_steady(&mut dynm, speed, &opts).map_err(|e| e.to_string())?;
+    if let Some(w) = &r.warning {
+        eprintln!("spectrum: warning: {w}");
+    }
+    let te = r.window_te(a.points_per_pitch).map_err(|e| e.to_string())?;
+    let info = json!({
+        "speed_rad_s": speed,
+        "steady": r.steady,
+        "mesh_periods_integrated": r.periods,
+        "te_max_um": r.te_max * 1e6,
+        "te_min_um": r.te_min * 1e6,
+        "separated": r.separated,
+    });
+    Ok((te, r.period_multiple, info))
 }
 
 /// `helical-gear spectrum`: the static TE over a whole hunting period and its spectrum in
@@ -304,6 +376,10 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     if !(2..=256).contains(&a.points_per_pitch) {
         return Err(format!("--points-per-pitch = {}: allowed 2..=256", a.points_per_pitch));
     }
+    let t0 = std::time::Instant::now();
+    if a.dynamic {
+        return dynamic_spectrum(a, &pair, t0);
+    }
     let mut options = a.model.options(a.slices);
     options.detail = false;
     let mut m = MeshModel::new(&pair, options).map_err(|e| e.to_string())?;
@@ -311,7 +387,6 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     let meshes = Modifications::hunting_meshes(pair.z_p, pair.z_g) as usize;
     let revs = meshes as f64 / pair.z_p as f64;
     eprintln!("spectrum: static TE over {meshes} meshes ({revs} pinion revolutions)");
-    let t0 = std::time::Instant::now();
     let curve = static_curve(&mut m, torque, 0.0, pitch, a.points_per_pitch, meshes)
         .map_err(|e| e.to_string())?;
     let ste: Vec<f64> = curve.points.iter().map(|e| e.te).collect();
@@ -375,6 +450,88 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
              revolutions): mean {:.3} µm, peak to peak {:.3} µm",
             curve.mean() * 1e6,
             (curve.max() - curve.min()) * 1e6
+        );
+        let mut idx: Vec<usize> = keep.iter().copied().filter(|&j| j > 0).collect();
+        idx.sort_by(|&x, &y| amp[y].total_cmp(&amp[x]));
+        println!("  largest lines: {:>12} {:>12}", "order", "amplitude_um");
+        for &j in idx.iter().take(20) {
+            println!("                 {:12.4} {:12.5}", orders[j], amp[j] * 1e6);
+        }
+    }
+    Ok(())
+}
+
+/// `spectrum --dynamic`: the dynamic TE over one period of the steady response and its
+/// spectrum in orders of the pinion rotation.
+fn dynamic_spectrum(
+    a: &SpectrumArgs,
+    pair: &GearPair,
+    t0: std::time::Instant,
+) -> Result<(), String> {
+    let speed = a.speed.unwrap_or(f64::NAN);
+    let (te, meshes, info) = dynamic_te(a, pair, speed)?;
+    let revs = meshes as f64 / pair.z_p as f64;
+    let amp = amplitude_spectrum(&te);
+    let orders: Vec<f64> = (0..amp.len()).map(|j| j as f64 / revs).collect();
+    let max_order = a.max_order.unwrap_or(f64::INFINITY);
+    let keep: Vec<usize> = (0..amp.len()).filter(|&j| orders[j] <= max_order).collect();
+    let mean = te.iter().sum::<f64>() / te.len().max(1) as f64;
+    let ptp = te.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+        - te.iter().copied().fold(f64::INFINITY, f64::min);
+    let out = json!({
+        "dynamic": info,
+        "period_meshes": meshes,
+        "pinion_revolutions": revs,
+        "te_mean_um": mean * 1e6,
+        "te_peak_to_peak_um": ptp * 1e6,
+        "orders": keep.iter().map(|&j| orders[j]).collect::<Vec<_>>(),
+        "amplitudes_um": keep.iter().map(|&j| amp[j] * 1e6).collect::<Vec<_>>(),
+        "seconds": t0.elapsed().as_secs_f64(),
+    });
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        write_csv(
+            &dir.join("spectrum_dynamic.csv"),
+            &["pinion_order", "amplitude_um"],
+            keep.iter().map(|&j| vec![orders[j], amp[j] * 1e6]),
+        )
+        .map_err(plot_err)?;
+        let dphi = std::f64::consts::TAU / pair.z_p as f64 / a.points_per_pitch as f64;
+        write_csv(
+            &dir.join("te_dynamic.csv"),
+            &["mesh_phase_rad", "te_um"],
+            te.iter().enumerate().map(|(i, t)| vec![i as f64 * dphi, t * 1e6]),
+        )
+        .map_err(plot_err)?;
+        let amp_max = keep.iter().skip(1).map(|&j| amp[j]).fold(0.0, f64::max);
+        let chart = LineChart {
+            title: format!("Dynamic TE spectrum at {speed} rad/s ({meshes} meshes)"),
+            x_label: "order of the pinion rotation".into(),
+            y_label: "amplitude (µm)".into(),
+            series: vec![Series {
+                name: String::new(),
+                points: keep
+                    .iter()
+                    .skip(1)
+                    .filter(|&&j| amp[j] > 2e-3 * amp_max)
+                    .map(|&j| (orders[j], amp[j] * 1e6))
+                    .collect(),
+                style: SeriesStyle::Points,
+            }],
+            y_range: Some((0.0, 1.05 * (amp_max * 1e6).max(1e-9))),
+            ..LineChart::default()
+        };
+        line_chart(&dir.join("spectrum_dynamic.png"), &chart, (1000, 600)).map_err(plot_err)?;
+    }
+    if a.common.json {
+        println!("{out}");
+    } else {
+        println!(
+            "Dynamic TE spectrum at {speed} rad/s over {meshes} meshes ({revs} pinion \
+             revolutions): mean {:.3} µm, peak to peak {:.3} µm",
+            mean * 1e6,
+            ptp * 1e6
         );
         let mut idx: Vec<usize> = keep.iter().copied().filter(|&j| j > 0).collect();
         idx.sort_by(|&x, &y| amp[y].total_cmp(&amp[x]));

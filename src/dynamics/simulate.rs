@@ -8,7 +8,18 @@
 //!   period T_m = 2π/(z_p·ω_p), or with k·T_m for a subharmonic response ([`SteadyState`]),
 //!   or until a cap on the number of mesh periods; the result says which
 //!   ([`SteadyResponse::warning`]) and gives max/min/mean TE and the contact flags over the
-//!   steady window (the last k mesh periods).
+//!   steady window (the last k mesh periods). When tooth deviations break the periodicity
+//!   in one pitch ([`crate::modifications`]), [`SteadyRunOptions::period_meshes`] sets the
+//!   period P (in mesh periods) the TE must repeat with: z_p for deviations of the pinion
+//!   only, z_g for the gear only, the hunting period otherwise
+//!   ([`crate::modifications::Modifications::period_meshes`]); the detector then compares
+//!   TE with its value one period P earlier, checks once per mesh period and the window is the
+//!   last P mesh periods (no subharmonics of P are sought). With P > 1 the detector is fed
+//!   TE at uniform **pinion angles** (N per pitch, cubic Hermite in φp between the RK4 steps
+//!   with the slopes from the rates), not at uniform times: the drivetrain has a rigid-body
+//!   mode (constant driving and braking torques), so the mean speed settles a little off the
+//!   nominal one and, over hundreds of meshes, TE sampled in time drifts in phase against the
+//!   mesh; sampled in angle it repeats (order tracking). RK4 only.
 //!
 //! # Step size of RK4
 //!
@@ -227,6 +238,11 @@ pub struct SteadyRunOptions {
     pub keep_window: bool,
     /// Settings of the static equilibrium of the start.
     pub equilibrium: EquilibriumSettings,
+    /// Period P of the excitation in mesh periods (≥ 1; see the module docs): 1 for a mesh
+    /// periodic in one pitch, else [`crate::modifications::Modifications::period_meshes`].
+    /// With P > 1 the multiple is 1 (`max_multiple` is not used) and `max_periods` must be at
+    /// least 2·P. Default 1.
+    pub period_meshes: usize,
 }
 
 impl Default for SteadyRunOptions {
@@ -243,7 +259,52 @@ impl Default for SteadyRunOptions {
             consecutive: 3,
             keep_window: true,
             equilibrium: EquilibriumSettings::default(),
+            period_meshes: 1,
         }
+    }
+}
+
+impl SteadyResponse {
+    /// TE of the steady window of an RK4 run at `per_mesh` uniform samples per mesh period
+    /// (`per_mesh` must divide the steps per mesh period), oldest first: period_multiple ·
+    /// per_mesh values covering exactly the last `period_multiple` mesh periods (one period of
+    /// the response, ready for [`crate::numeric::amplitude_spectrum`]), m. Errors: the window
+    /// was not kept, is not an RK4 window, or `per_mesh` does not divide the steps.
+    pub fn window_te(&self, per_mesh: usize) -> Result<Vec<f64>, DynamicsError> {
+        let n = self.samples_per_period;
+        if per_mesh == 0 || n % per_mesh != 0 {
+            return Err(invalid("per_mesh", per_mesh as f64, "a divisor of the steps per period"));
+        }
+        let len = self.period_multiple * n;
+        if !self.te_by_angle.is_empty() {
+            if self.te_by_angle.len() != len {
+                return Err(invalid(
+                    "te_by_angle",
+                    self.te_by_angle.len() as f64,
+                    "period_multiple·steps samples (a run that reached one whole period)",
+                ));
+            }
+            return Ok(self.te_by_angle.iter().step_by(n / per_mesh).copied().collect());
+        }
+        if self.window.len() != len + 1 {
+            return Err(invalid(
+                "window",
+                self.window.len() as f64,
+                "an RK4 window kept with keep_window (period_multiple·steps + 1 points)",
+            ));
+        }
+        Ok(self.window[..len].iter().step_by(n / per_mesh).map(|w| w.outputs.te).collect())
+    }
+}
+
+impl SteadyRunOptions {
+    /// The defaults for `pair`: with tooth deviations ([`crate::modifications`]) the period
+    /// P = [`crate::modifications::Modifications::period_meshes`] and at least 3·P mesh
+    /// periods allowed; otherwise [`SteadyRunOptions::default`].
+    pub fn for_pair(pair: &crate::params::GearPair) -> Self {
+        let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
+        let d = Self::default();
+        Self { period_meshes: period, max_periods: d.max_periods.max(3 * period), ..d }
     }
 }
 
@@ -297,7 +358,8 @@ pub struct SteadyResponse {
     pub steady: bool,
     /// Set when the result is not a detected steady state.
     pub warning: Option<SteadyWarning>,
-    /// Period of the steady TE in mesh periods (1, or k for a subharmonic response).
+    /// Period of the steady TE in mesh periods (1, or k for a subharmonic response; P =
+    /// [`SteadyRunOptions::period_meshes`] when that is > 1).
     pub period_multiple: usize,
     /// Mesh periods integrated (fractional for DOPRI5).
     pub periods: f64,
@@ -326,6 +388,10 @@ pub struct SteadyResponse {
     pub mesh_evaluations: usize,
     /// State at the end of the run.
     pub y_end: [f64; N_STATES],
+    /// With [`SteadyRunOptions::period_meshes`] P > 1: TE at uniform pinion angles, N per
+    /// pinion pitch (N the steps per mesh period), over the last P pitches, oldest first, m
+    /// (empty for P = 1).
+    pub te_by_angle: Vec<f64>,
 }
 
 /// Runs Eqs. 1–4 at nominal pinion speed `omega_p` (rad/s, > 0) from the static-equilibrium
@@ -338,11 +404,17 @@ pub fn run_to_steady<M: MeshTorques>(
     if !(omega_p.is_finite() && omega_p > 0.0) {
         return Err(invalid("omega_p", omega_p, "finite and > 0 (rad/s)"));
     }
-    if opts.max_periods < 2 * opts.max_multiple.max(1) || opts.max_periods > 100_000_000 {
+    let period = opts.period_meshes;
+    if !(1..=10_000_000).contains(&period) {
+        return Err(invalid("period_meshes", period as f64, "1 ..= 1e7"));
+    }
+    // Period multiples sought: up to max_multiple of one mesh period, or 1 of P.
+    let multiple = if period > 1 { 1 } else { opts.max_multiple };
+    if opts.max_periods < 2 * multiple.max(1) * period || opts.max_periods > 100_000_000 {
         return Err(invalid(
             "max_periods",
             opts.max_periods as f64,
-            ">= 2·max_multiple and <= 1e8",
+            ">= 2·max_multiple (2·period_meshes when > 1) and <= 1e8",
         ));
     }
     if let Some(h) = opts.max_step
@@ -378,12 +450,12 @@ pub fn run_to_steady<M: MeshTorques>(
         }
     };
     let mut det = SteadyState::new(SteadyOptions {
-        samples_per_period: n,
-        max_multiple: opts.max_multiple,
+        samples_per_period: n * period,
+        max_multiple: multiple,
         rel_tol: opts.rel_tol,
         abs_tol: opts.abs_tol,
         consecutive: opts.consecutive,
-        check_interval: None,
+        check_interval: (period > 1).then_some(n),
     })?;
     let evals0 = model.mesh_evaluations();
     let start = model.static_start(opts.phi_p0, omega_p, &opts.equilibrium)?;
@@ -392,10 +464,14 @@ pub fn run_to_steady<M: MeshTorques>(
     let te_of = |y: &[f64]| crate::numeric::dot2(y[1], gp, y[2], gg);
     det.push(te_of(&y))?;
     let min_samples = (opts.min_periods * n) as u64;
-    let window_span = opts.max_multiple as f64 * t_m;
+    let window_span = (multiple * period) as f64 * t_m;
 
     // Recorded points of the last K periods (outputs filled in for RK4, later for DOPRI5).
     let mut ring: VecDeque<(f64, [f64; N_STATES], Option<MeshOutputs>)> = VecDeque::new();
+    let mut by_angle: VecDeque<f64> = VecDeque::new();
+    if period > 1 && !matches!(opts.method, SteadyMethod::Rk4 { .. }) {
+        return Err(invalid("period_meshes", period as f64, "1 unless the method is RK4"));
+    }
     let steps;
     let t_end;
     match &opts.method {
@@ -404,10 +480,15 @@ pub fn run_to_steady<M: MeshTorques>(
             let mut rk4 = Rk4::new(N_STATES);
             let o = model.outputs(&y)?;
             ring.push_back((0.0, y, Some(o)));
-            let cap = opts.max_multiple * n + 1;
+            let cap = multiple * period * n + 1;
             let total = opts.max_periods * n;
+            // P > 1: TE sampled at uniform pinion angles (order tracking, see the module docs).
+            let dphi = t_m * omega_p / n as f64;
+            let phi0 = y[1];
+            let mut n_angle = 1u64;
+            let mut prev = y;
             let mut i = 0usize;
-            while i < total {
+            'steps: while i < total {
                 let t = i as f64 * h;
                 rk4.step(model, t, h, &mut y).map_err(DynamicsError::from)?;
                 i += 1;
@@ -417,10 +498,28 @@ pub fn run_to_steady<M: MeshTorques>(
                 if ring.len() > cap {
                     ring.pop_front();
                 }
-                let status = det.push(te_of(&y))?;
-                if status.is_steady() && det.samples_seen() > min_samples {
-                    break;
+                if period == 1 {
+                    let status = det.push(te_of(&y))?;
+                    if status.is_steady() && det.samples_seen() > min_samples {
+                        break;
+                    }
+                    continue;
                 }
+                let (pa, pb) = (prev[1], y[1]);
+                while pb > pa && phi0 + n_angle as f64 * dphi <= pb {
+                    let phi = phi0 + n_angle as f64 * dphi;
+                    let te = te_at_angle(&prev, &y, phi, gp, gg);
+                    n_angle += 1;
+                    by_angle.push_back(te);
+                    if by_angle.len() > period * n {
+                        by_angle.pop_front();
+                    }
+                    let status = det.push(te)?;
+                    if status.is_steady() && det.samples_seen() > min_samples {
+                        break 'steps;
+                    }
+                }
+                prev = y;
             }
             steps = i;
             t_end = i as f64 * h;
@@ -484,6 +583,7 @@ pub fn run_to_steady<M: MeshTorques>(
         }
     };
     let PeriodCheck { period_multiple: k, residual, tolerance, max, min, mean, .. } = check;
+    let k = k * period;
     let periods = t_end / t_m;
     let warning = (!steady).then_some(SteadyWarning::NotSteady {
         periods: periods.round() as usize,
@@ -525,5 +625,25 @@ pub fn run_to_steady<M: MeshTorques>(
         samples_per_period: n,
         mesh_evaluations: model.mesh_evaluations() - evals0,
         y_end: y,
+        te_by_angle: by_angle.into(),
     })
+}
+
+/// TE at pinion angle `phi` between the states `a` and `b` of one step (φp(a) < phi ≤
+/// φp(b)): cubic Hermite in φp with the slopes dTE/dφp = (φ̇p·g_p + φ̇g·g_g)/φ̇p of the two
+/// states (the secant where φ̇p ≤ 0), m.
+fn te_at_angle(a: &[f64; N_STATES], b: &[f64; N_STATES], phi: f64, gp: f64, gg: f64) -> f64 {
+    let te = |y: &[f64; N_STATES]| crate::numeric::dot2(y[1], gp, y[2], gg);
+    let (ta, tb) = (te(a), te(b));
+    let h = b[1] - a[1];
+    let secant = (tb - ta) / h;
+    let slope = |y: &[f64; N_STATES]| {
+        if y[5] > 0.0 { (y[5] * gp + y[6] * gg) / y[5] } else { secant }
+    };
+    let u = (phi - a[1]) / h;
+    let (u2, u3) = (u * u, u * u * u);
+    (2.0 * u3 - 3.0 * u2 + 1.0) * ta
+        + (u3 - 2.0 * u2 + u) * h * slope(a)
+        + (-2.0 * u3 + 3.0 * u2) * tb
+        + (u3 - u2) * h * slope(b)
 }

@@ -433,7 +433,8 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     })
 }
 
-/// The FMU has no String variables: any value reference is an error.
+/// Gets String parameters (`modifications`). The returned pointers stay valid until the next
+/// `fmi2GetString` of the same instance.
 ///
 /// # Safety
 /// Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with
@@ -445,15 +446,20 @@ pub unsafe extern "C" fn fmi2GetString(
     nvr: usize,
     value: *mut fmi2String,
 ) -> fmi2Status {
-    // Part of the standard signature, not used by this FMU.
-    let _ = (value,);
-    call(c, func::fmi2GetString, |_| {
+    call(c, func::fmi2GetString, |inst| {
         // SAFETY: caller contract.
         let vr = unsafe { slice(vr, nvr, "vr") }?;
-        match vr.first() {
-            None => Ok(fmi2Status::Ok),
-            Some(r) => Err(format!("value reference {r} is not a String (the FMU has none)")),
+        // SAFETY: caller contract.
+        let out = unsafe { slice_mut(value, nvr, "value") }?;
+        let texts = inst.get_string(vr)?;
+        inst.strings = texts
+            .into_iter()
+            .map(|t| CString::new(t).map_err(|_| "a String value contains a NUL byte".to_string()))
+            .collect::<Result<_, _>>()?;
+        for (o, s) in out.iter_mut().zip(&inst.strings) {
+            *o = s.as_ptr();
         }
+        Ok(fmi2Status::Ok)
     })
 }
 
@@ -517,7 +523,10 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     })
 }
 
-/// The FMU has no String variables: any value reference is an error.
+/// Sets String parameters (`modifications`: the JSON object of DESIGN §11). Malformed JSON or
+/// an unknown key is an error naming it; the values are checked against the geometry at
+/// `fmi2ExitInitializationMode` (errors name the key, e.g.
+/// `modifications.pinion.lead_crowning_m`).
 ///
 /// # Safety
 /// Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with
@@ -529,15 +538,18 @@ pub unsafe extern "C" fn fmi2SetString(
     nvr: usize,
     value: *const fmi2String,
 ) -> fmi2Status {
-    // Part of the standard signature, not used by this FMU.
-    let _ = (value,);
-    call(c, func::fmi2SetString, |_| {
+    call(c, func::fmi2SetString, |inst| {
         // SAFETY: caller contract.
         let vr = unsafe { slice(vr, nvr, "vr") }?;
-        match vr.first() {
-            None => Ok(fmi2Status::Ok),
-            Some(r) => Err(format!("value reference {r} is not a String (the FMU has none)")),
-        }
+        // SAFETY: caller contract.
+        let ptrs = unsafe { slice(value, nvr, "value") }?;
+        let texts = ptrs
+            .iter()
+            .enumerate()
+            // SAFETY: caller contract (zero-terminated strings).
+            .map(|(i, &p)| unsafe { string(p, &format!("value[{i}]")) })
+            .collect::<Result<Vec<_>, _>>()?;
+        inst.set_string(vr, &texts)
     })
 }
 

@@ -247,6 +247,8 @@ pub(crate) struct Instance {
     pristine: Option<Built>,
     /// FMU states created by this instance and not yet freed.
     pub(crate) states: Vec<*mut Snapshot>,
+    /// The texts returned by the last `fmi2GetString` (valid until the next call).
+    pub(crate) strings: Vec<CString>,
 }
 
 fn settings_eq_but_damping(a: &Settings, b: &Settings) -> bool {
@@ -277,6 +279,7 @@ impl Instance {
             data: Data::start(model),
             pristine: None,
             states: Vec::new(),
+            strings: Vec::new(),
         }
     }
 
@@ -514,6 +517,39 @@ impl Instance {
                 Access::BoolOutput(get) => self.data.outputs.as_ref().is_some_and(get),
                 _ => false,
             };
+        }
+        Ok(fmi2Status::Ok)
+    }
+
+    /// The texts of String variables `vrs` (`fmi2GetString` keeps them in
+    /// [`Instance::strings`] until its next call).
+    pub(crate) fn get_string(&mut self, vrs: &[u32]) -> Result<Vec<String>, String> {
+        let vars = vrs.iter().map(|&r| self.lookup(r, "String")).collect::<Result<Vec<_>, _>>()?;
+        Ok(vars
+            .iter()
+            .map(|v| match v.access {
+                Access::StringParam(get, _) => get(&self.data.settings),
+                _ => String::new(),
+            })
+            .collect())
+    }
+
+    pub(crate) fn set_string(
+        &mut self,
+        vrs: &[u32],
+        values: &[String],
+    ) -> Result<fmi2Status, String> {
+        for (&r, x) in vrs.iter().zip(values) {
+            let v = self.lookup(r, "String")?;
+            self.check_settable(v)?;
+            if let Access::StringParam(_, set) = v.access {
+                let mut settings = self.data.settings.clone();
+                set(&mut settings, x)?;
+                if settings != self.data.settings {
+                    self.data.settings = settings;
+                    self.fixed_parameter_changed();
+                }
+            }
         }
         Ok(fmi2Status::Ok)
     }
@@ -985,6 +1021,11 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
             Access::IntParam(get, _) => b.extend_from_slice(&get(&d.settings).to_le_bytes()),
             Access::BoolParam(get, _) => b.push(u8::from(get(&d.settings))),
             Access::Input(get, _) => b.extend_from_slice(&get(&d.inputs).to_le_bytes()),
+            Access::StringParam(get, _) => {
+                let text = get(&d.settings);
+                b.extend_from_slice(&(text.len() as u32).to_le_bytes());
+                b.extend_from_slice(text.as_bytes());
+            }
             _ => {}
         }
     }
@@ -1131,6 +1172,16 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
                     ));
                 }
                 set(&mut d.inputs, x)
+            }
+            Access::StringParam(_, set) => {
+                let n = r.u32()? as usize;
+                let t = r.b.get(r.at..r.at + n).ok_or_else(|| {
+                    format!("serialised state truncated in parameter `{}`", v.name)
+                })?;
+                r.at += n;
+                let text = std::str::from_utf8(t)
+                    .map_err(|e| format!("serialised state: parameter `{}`: {e}", v.name))?;
+                set(&mut d.settings, text).map_err(|e| format!("serialised state: {e}"))?;
             }
             _ => {}
         }

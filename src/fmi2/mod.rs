@@ -24,7 +24,9 @@
 //! `fmi2Error`. Any `fmi2Error` leaves the instance in the error state, from which `fmi2Reset`
 //! (start values) or `fmi2SetFMUstate` (a saved state) recover. Fixed parameters may be set
 //! until `fmi2ExitInitializationMode`, which validates them and builds the model; `d_mesh` is
-//! tunable. Errors are always passed to the logger, with `%` escaped; debug categories
+//! tunable. The one String parameter, `modifications` (the JSON object of the gear pair's
+//! `modifications` key), is parsed by `fmi2SetString` (bad JSON or an unknown key: an error
+//! naming it) and validated with the other parameters. Errors are always passed to the logger, with `%` escaped; debug categories
 //! (`logModel`, `logCalls`, …) only when debug logging is on.
 //!
 //! Resources: the model needs no file at run time. The compliance data of the default gear

@@ -11,7 +11,7 @@
 //! that table.
 //!
 //! The same physical quantity has the same name and value reference in every model: the
-//! gear-pair parameters ([`GEAR_PARAMS`], 100–129), the mesh options ([`MESH_OPTIONS`],
+//! gear-pair parameters ([`GEAR_PARAMS`], 100–130; 130 is the String `modifications`), the mesh options ([`MESH_OPTIONS`],
 //! 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
 //! ([`MESH_OUTPUTS`], 10–21) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
@@ -281,6 +281,8 @@ pub enum VarType {
     Integer,
     /// `fmi2Boolean` (0 or 1).
     Boolean,
+    /// `fmi2String` (UTF-8, zero-terminated).
+    String,
 }
 
 impl VarType {
@@ -290,6 +292,7 @@ impl VarType {
             VarType::Real => "Real",
             VarType::Integer => "Integer",
             VarType::Boolean => "Boolean",
+            VarType::String => "String",
         }
     }
 }
@@ -317,6 +320,9 @@ pub enum Access {
     BoolOutput(fn(&Outputs) -> bool),
     /// Calculated parameter of [`Derived`].
     Calculated(fn(&Derived) -> f64),
+    /// String parameter stored in [`Settings`]: the getter gives the text, the setter parses
+    /// it (an error names the offending key).
+    StringParam(fn(&Settings) -> String, fn(&mut Settings, &str) -> Result<(), String>),
 }
 
 /// Groups of parameters, used to state which parameters an output depends on at
@@ -400,6 +406,7 @@ impl Variable {
             | Access::Calculated(_) => VarType::Real,
             Access::IntParam(..) | Access::IntOutput(_) => VarType::Integer,
             Access::BoolParam(..) | Access::BoolOutput(_) => VarType::Boolean,
+            Access::StringParam(..) => VarType::String,
         }
     }
 
@@ -417,6 +424,7 @@ impl Variable {
             Access::IntParam(get, _) => Some(get(s).to_string()),
             Access::BoolParam(get, _) => Some(get(s).to_string()),
             Access::Input(get, _) => Some(format_real(get(i))),
+            Access::StringParam(get, _) => Some(get(s)),
             _ => None,
         }
     }
@@ -755,8 +763,8 @@ pub const CALCULATED: [Variable; 4] = [
     },
 ];
 
-/// The gear-pair parameters (value references 100–129; JSON keys of `GearPair`).
-pub const GEAR_PARAMS: [Variable; 30] = [
+/// The gear-pair parameters (value references 100–130; JSON keys of `GearPair`).
+pub const GEAR_PARAMS: [Variable; 31] = [
     Variable {
         name: "z_p",
         vr: 100,
@@ -1069,7 +1077,38 @@ pub const GEAR_PARAMS: [Variable; 30] = [
         "Viscous damping d_2 of the gear shaft, N.m.s/rad (for the master)",
         drive.d2_nms_per_rad
     ),
+    Variable {
+        name: "modifications",
+        vr: 130,
+        description: "Flank modifications, misalignment and tooth deviations: the JSON object \
+                      of the GearPair key `modifications` (lengths in m along the line of \
+                      action, positive removes material; empty or {} for none)",
+        group: group::GEOMETRY,
+        access: Access::StringParam(modifications_json, set_modifications_json),
+        ..NONE
+    },
 ];
+
+/// The `modifications` parameter's text: the JSON of the pair's modifications (`{}` for none;
+/// otherwise every key written out).
+fn modifications_json(s: &Settings) -> String {
+    if s.pair.modifications.is_default() {
+        return "{}".into();
+    }
+    serde_json::to_string(&s.pair.modifications).unwrap_or_else(|_| "{}".into())
+}
+
+/// Parses the `modifications` parameter into the pair (empty text: none); the values are
+/// validated against the geometry when the model is built.
+fn set_modifications_json(s: &mut Settings, text: &str) -> Result<(), String> {
+    s.pair.modifications = if text.trim().is_empty() {
+        crate::modifications::Modifications::default()
+    } else {
+        crate::modifications::Modifications::from_json(text)
+            .map_err(|e| format!("parameter `modifications`: {e}"))?
+    };
+    Ok(())
+}
 
 /// Options of the mesh model (value references 200–206).
 pub const MESH_OPTIONS: [Variable; 7] = [

@@ -202,6 +202,22 @@ pub struct MeshModel {
     stats: SolveStats,
     /// Flank modifications and deviations ([`crate::modifications`]); `None` without any.
     separation: Option<Arc<Separation>>,
+    /// Record the driving-flank outputs per tooth pair in `pair_sums` (table build).
+    record_pairs: bool,
+    /// Per loaded driving-flank tooth pair of the last full evaluation (when `record_pairs`).
+    pair_sums: Vec<PairSum>,
+}
+
+/// The driving-flank outputs of one tooth pair of a full evaluation (for the per-pair table
+/// of [`super::table`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PairSum {
+    /// Absolute tooth-pair number.
+    pub pair: i64,
+    /// M_F,p, M_F,g (N·m), F_n (N), loaded axial extent (units of m_n), p_max² (Pa²).
+    pub values: [f64; 5],
+    /// True when a loaded contact of the pair lies on a tip.
+    pub tip: bool,
 }
 
 /// Work counters of the full evaluations of a [`MeshModel`] (since construction or the last
@@ -265,6 +281,8 @@ impl Clone for MeshModel {
             table: self.table.clone(),
             stats: SolveStats::default(),
             separation: self.separation.clone(),
+            record_pairs: self.record_pairs,
+            pair_sums: Vec::new(),
         }
     }
 }
@@ -294,10 +312,10 @@ fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
 impl MeshModel {
     /// Builds the model of `pair` with `options` and the given global compliances of pinion and
     /// gear (both must use the same depth h). Validates the pair (geometry) and the options;
-    /// with [`Fidelity::Table`] the table is built here (see [`super::table`]) unless the
-    /// pair's modifications include tooth deviations or add material
-    /// ([`crate::modifications`]): the table is per pitch and starts at TE = 0, so such a model
-    /// evaluates at full fidelity ([`MeshModel::table`] is then `None`).
+    /// with [`Fidelity::Table`] the table is built here (see [`super::table`]; tooth
+    /// deviations are added on it per tooth pair) unless the modifications that repeat on
+    /// every tooth add material ([`crate::modifications`]): the table starts at TE = 0, so such
+    /// a model evaluates at full fidelity ([`MeshModel::table`] is then `None`).
     pub fn with_compliance(
         pair: &GearPair,
         options: MeshOptions,
@@ -350,18 +368,28 @@ impl MeshModel {
             table: None,
             stats: SolveStats::default(),
             separation: None,
+            record_pairs: false,
+            pair_sums: Vec::with_capacity(8),
         };
         model.separation = Separation::new(&model.geo).map(Arc::new);
-        // The table is exact for modifications that repeat on every tooth and remove material
-        // only (it assumes periodicity in one pitch and no contact below TE = 0); otherwise
-        // the model stays at full fidelity (see `crate::modifications`).
-        let table_ok = model
-            .separation
-            .as_ref()
-            .is_none_or(|s| !s.has_tooth_deviations() && s.min_bound() >= 0.0);
+        // The table needs the part of the modifications that repeats on every tooth to remove
+        // material only (no contact below TE = 0); otherwise the model stays at full fidelity.
+        // Tooth-by-tooth deviations are added per tooth pair on a per-pair table
+        // ([`super::table`], "Tooth deviations").
+        let full_sep = model.separation.clone();
+        let deviations = full_sep.clone().filter(|s| s.has_tooth_deviations());
+        let periodic = match &deviations {
+            Some(s) => Some(Arc::new(s.periodic_part())),
+            None => full_sep.clone(),
+        };
+        let table_ok = periodic.as_ref().is_none_or(|s| s.min_bound() >= 0.0);
         if options.fidelity == Fidelity::Table && table_ok {
-            let table = super::table::MeshTable::build(&mut model)?;
-            model.table = Some(Arc::new(table));
+            model.separation = periodic;
+            model.record_pairs = deviations.is_some();
+            let table = super::table::MeshTable::build(&mut model, deviations);
+            model.separation = full_sep;
+            model.record_pairs = false;
+            model.table = Some(Arc::new(table?));
         }
         Ok(model)
     }
@@ -443,6 +471,12 @@ impl MeshModel {
         &self.detail
     }
 
+    /// The per-tooth-pair driving-flank outputs of the last full evaluation (recorded only
+    /// while a per-pair table is built).
+    pub(crate) fn pair_sums(&self) -> &[PairSum] {
+        &self.pair_sums
+    }
+
     /// Drops the warm start (the loads of the previous call): the next full evaluation starts
     /// cold and gives bit for bit what a fresh clone of the model would give.
     pub fn forget_warm_start(&mut self) {
@@ -497,6 +531,7 @@ impl MeshModel {
         if self.options.detail {
             self.detail.clear();
         }
+        self.pair_sums.clear();
         if n == 0 {
             self.prev_keys.clear();
             self.prev_q.clear();
@@ -654,6 +689,22 @@ impl MeshModel {
                 }
                 self.prev_keys.push((c.side == FlankSide::Back, c.pair, s.k));
                 self.prev_q.push(q[i]);
+                if self.record_pairs && c.side == FlankSide::Drive {
+                    // Slices come in ascending (side, pair, slice) order: pairs are contiguous.
+                    if self.pair_sums.last().is_none_or(|p| p.pair != c.pair) {
+                        self.pair_sums.push(PairSum { pair: c.pair, values: [0.0; 5], tip: false });
+                    }
+                    let ps = self.pair_sums.last_mut().expect("pushed above");
+                    ps.values[0] += c.arm_p_m * q[i] * axial;
+                    ps.values[1] += c.arm_g_m * q[i] * axial;
+                    ps.values[2] += q[i] * self.line_length[i];
+                    ps.values[3] += self.dzeta;
+                    if self.options.pressure {
+                        let p = self.local.max_pressure(q[i], self.rho[i]).unwrap_or(0.0);
+                        ps.values[4] = ps.values[4].max(p * p);
+                    }
+                    ps.tip |= on_tip(c);
+                }
             }
             if self.options.detail {
                 let pressure = if self.options.pressure && q[i] > 0.0 {

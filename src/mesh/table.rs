@@ -32,13 +32,37 @@
 //! values per output. The discrete outputs (number of pairs, tip and back contact) are taken
 //! from the nearest node.
 //!
+//! # Tooth deviations
+//! Pitch deviations and runout (`crate::modifications`) make the mesh repeat only after the
+//! hunting period, but they are constant over each tooth's flank: tooth pair k is moved as a
+//! whole by its deviation e_k along the line of action. The table is therefore built from the
+//! periodic part of the modifications (the same on every tooth) and keeps the driving-flank
+//! node values **per tooth pair** (M_F,p, M_F,g, F_n, p_max² of each pair's slices and its
+//! loaded extent, pairs numbered in the table's phase frame). An evaluation interpolates every
+//! pair that can be in mesh at its own TE − e_k and sums (p_max: the largest). This is exact
+//! where the pairs are uncoupled and their contacts lie in the plane of action, whatever the
+//! deviations (loss of contact of a single pair included), and exact for equal deviations
+//! (a TE shift). It neglects (a) the coupling between pairs through the gear bodies beyond
+//! first order (to first order the symmetric compliance makes the per-pair split exact), and
+//! (b) for contacts off the plane of action (tips, relief corners), the difference between
+//! moving the tooth (the table: contacts at TE − e_k) and subtracting e_k from the overlap at
+//! TE (the full model). Measured against the full model for Table 1 with the pitch errors of
+//! `docs/modifications/table1_pitch_errors.json` (`tests/modifications.rs`): at most 1.2 % of
+//! the nominal torque at light load (TE = 12 µm) and 0.4–0.7 % at 30–60 µm. The cost is one
+//! interpolation per pair that can be in mesh (about 4 for Table 1). `evaluate_jacobian`
+//! differentiates the same sum pair by pair (each term as on the periodic table, at the pair's
+//! TE − e_k).
+//!
 //! After the build the table measures its own error: it evaluates the full model at cell
 //! centres (where the interpolation error is largest) and records the largest relative error
 //! of M_F,p where |M_F,p| exceeds 1 % of the nominal torque ([`MeshTable::max_rel_err`]).
 
-use super::model::MeshModel;
+use std::sync::Arc;
+
+use super::model::{MeshModel, PairSum};
 use super::statics::{EquilibriumSettings, equilibrium};
 use super::{MeshError, MeshJacobian, MeshOutputs, MeshState};
+use crate::modifications::Separation;
 
 /// Number of interpolated real-valued outputs per node.
 const NV: usize = 5;
@@ -104,6 +128,54 @@ pub struct MeshTable {
     build_s: f64,
     max_rel_err: f64,
     checked_points: usize,
+    /// Per-tooth-pair driving-flank values, with the tooth deviations they are shifted by.
+    pairs: Option<PairTable>,
+}
+
+/// The driving-flank node values split by tooth pair (see the module docs, "Tooth
+/// deviations"): the pair with number `r_lo + r` relative to the table's phase frame at node
+/// (ip, it) has its secant values at `values[((ip * n + it) * nr + r) * NV ..]`.
+#[derive(Debug, Clone)]
+struct PairTable {
+    /// The tooth-by-tooth deviations ([`Separation::tooth_offset`]).
+    sep: Arc<Separation>,
+    r_lo: i64,
+    nr: usize,
+    values: Vec<f64>,
+    /// Bit 0: the pair carries load; bit 1: on a tip (nearest node).
+    flags: Vec<u8>,
+}
+
+impl PairTable {
+    /// Packs the per-pair samples `(phase row, TE node, pair outputs)` of the driving axis
+    /// (pair numbers in the table's phase frame, where the sampled angles need no reduction).
+    fn new(
+        sep: Arc<Separation>,
+        drive: &TeAxis,
+        np: usize,
+        samples: &[(usize, usize, PairSum)],
+    ) -> Self {
+        let r_lo = samples.iter().map(|s| s.2.pair).min().unwrap_or(0);
+        let r_hi = samples.iter().map(|s| s.2.pair).max().unwrap_or(0);
+        let nr = (r_hi - r_lo + 1) as usize;
+        let n = drive.n;
+        let mut values = vec![0.0; np * n * nr * NV];
+        let mut flags = vec![0u8; np * n * nr];
+        for &(ip, it, ps) in samples {
+            let dist = drive.node_distance(it);
+            let slot = (ip * n + it) * nr + (ps.pair - r_lo) as usize;
+            let v = &ps.values;
+            values[slot * NV..(slot + 1) * NV].copy_from_slice(&[
+                v[0] / dist,
+                v[1] / dist,
+                v[2] / dist,
+                v[3],
+                v[4] / dist,
+            ]);
+            flags[slot] = 1 | if ps.tip { 2 } else { 0 };
+        }
+        Self { sep, r_lo, nr, values, flags }
+    }
 }
 
 /// The cubic Hermite basis (h00, h10, h01, h11) at t ∈ [0, 1].
@@ -186,9 +258,15 @@ fn axis_weights_of(i: usize, n: usize, [h00, h10, h01, h11]: [f64; 4]) -> (usize
 }
 
 impl MeshTable {
-    /// Builds the table from the full model of `model` (see the module docs). Errors: a full
+    /// Builds the table from the full model of `model` (see the module docs). With
+    /// `deviations` (the pair's separation with tooth-by-tooth deviations; `model` then holds
+    /// its periodic part and records per-pair outputs) the driving-flank values are also kept
+    /// per tooth pair and evaluation shifts each pair by its deviation. Errors: a full
     /// evaluation fails, or the nominal static TE cannot be found.
-    pub fn build(model: &mut MeshModel) -> Result<Self, MeshError> {
+    pub fn build(
+        model: &mut MeshModel,
+        deviations: Option<Arc<Separation>>,
+    ) -> Result<Self, MeshError> {
         let t0 = std::time::Instant::now();
         let opts = *model.options();
         let geo = model.geometry().clone();
@@ -230,9 +308,9 @@ impl MeshTable {
                         let mut out = Vec::with_capacity(rs.len());
                         for &ip in rs {
                             let phi_p = phase_lo + phase_h * ip as f64;
-                            let (dv, df) = sample_row(&mut m, phi_p, d)?;
-                            let (bv, bf) = sample_row(&mut m, phi_p, b)?;
-                            out.push((ip, dv, df, bv, bf));
+                            let (dv, df, dp) = sample_row(&mut m, phi_p, d)?;
+                            let (bv, bf, _) = sample_row(&mut m, phi_p, b)?;
+                            out.push((ip, dv, df, bv, bf, dp));
                         }
                         Ok(out)
                     })
@@ -247,12 +325,14 @@ impl MeshTable {
                 })
                 .collect()
         });
+        let mut pair_samples: Vec<(usize, usize, PairSum)> = Vec::new();
         for r in results {
-            for (ip, dv, df, bv, bf) in r? {
+            for (ip, dv, df, bv, bf, dp) in r? {
                 drive.values[ip * nd * NV..(ip + 1) * nd * NV].copy_from_slice(&dv);
                 drive.flags[ip * nd..(ip + 1) * nd].copy_from_slice(&df);
                 back.values[ip * nb * NV..(ip + 1) * nb * NV].copy_from_slice(&bv);
                 back.flags[ip * nb..(ip + 1) * nb].copy_from_slice(&bf);
+                pair_samples.extend(dp.into_iter().map(|(it, ps)| (ip, it, ps)));
             }
         }
         let mut table = Self {
@@ -269,6 +349,7 @@ impl MeshTable {
             build_s: 0.0,
             max_rel_err: 0.0,
             checked_points: 0,
+            pairs: None,
         };
 
         // Error check at cell centres (a deterministic subset of cells on the drive axis).
@@ -291,8 +372,16 @@ impl MeshTable {
         }
         table.max_rel_err = worst;
         table.checked_points = checked;
+        if let Some(sep) = deviations {
+            table.pairs = Some(PairTable::new(sep, &table.drive, np, &pair_samples));
+        }
         table.build_s = t0.elapsed().as_secs_f64();
         Ok(table)
+    }
+
+    /// True when the table carries tooth-by-tooth deviations (per-pair values).
+    pub fn has_tooth_deviations(&self) -> bool {
+        self.pairs.is_some()
     }
 
     /// Wall time of the build including the error check, s.
@@ -329,6 +418,132 @@ impl MeshTable {
     /// Table evaluation at `state`, or `None` when TE is outside the covered range (the
     /// caller then uses the full model).
     pub fn evaluate(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
+        if let Some(pt) = &self.pairs {
+            return self.evaluate_pairs(pt, model, state, None);
+        }
+        self.evaluate_periodic(model, state)
+    }
+
+    /// [`MeshTable::evaluate`] with tooth deviations: every tooth pair's driving-flank values
+    /// interpolated at its own TE − e_k (module docs, "Tooth deviations").
+    /// With `deriv`, also the derivatives of M_F,p, M_F,g and the loaded extent with respect
+    /// to the mesh phase and TE (`[∂/∂phase, ∂/∂TE]` per quantity), as
+    /// [`MeshTable::evaluate_jacobian`] derives them for one axis, summed over the pairs.
+    fn evaluate_pairs(
+        &self,
+        pt: &PairTable,
+        model: &MeshModel,
+        state: &MeshState,
+        mut deriv: Option<&mut [[f64; 2]; 3]>,
+    ) -> Option<MeshOutputs> {
+        let (phi_p_red, k) = self.pitch_p.reduce(state.phi_p);
+        let k = k as i64;
+        let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
+        let axis = &self.drive;
+        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
+        let ipf = xp.floor();
+        let wp = weights_central(xp - ipf);
+        let dwp = weights_central_of(hermite_dt(xp - ipf));
+        let ip0 = ipf as i64 - 1;
+        let ipn = xp.round() as i64;
+        let np = self.np as i64;
+        let nr = pt.nr as i64;
+        let mut v = [0.0; NV];
+        let mut n_pairs = 0u32;
+        let mut tip = false;
+        // Pair r (table frame) at phase row ip0 + a lies in the stored row (ip0 + a) mod np
+        // as pair r + ⌊(ip0 + a)/np⌋: one pitch on is the next pair at the same phase.
+        for rel in pt.r_lo - 1..=pt.r_lo + nr {
+            let slot = |raw: i64| {
+                let rr = rel - pt.r_lo + raw.div_euclid(np);
+                (0..nr).contains(&rr).then(|| (raw.rem_euclid(np) as usize, rr as usize))
+            };
+            if (0..4).all(|a| slot(ip0 + a).is_none()) {
+                continue;
+            }
+            let dist = te - pt.sep.tooth_offset(rel - k);
+            if dist <= 0.0 {
+                continue;
+            }
+            if dist > axis.range {
+                return None;
+            }
+            let xt_raw = (dist / axis.range).sqrt() * (axis.n - 1) as f64;
+            let xt = xt_raw.clamp(0.0, (axis.n - 1) as f64);
+            let (it0, wt, nt) = axis_weights(xt, axis.n);
+            let mut u = [0.0; NV];
+            for (a, &wa) in wp.iter().enumerate() {
+                let Some((ip, rr)) = slot(ip0 + a as i64) else { continue };
+                for (b, &wb) in wt.iter().enumerate().take(nt) {
+                    let w = wa * wb;
+                    let base = ((ip * axis.n + it0 + b) * pt.nr + rr) * NV;
+                    for (kk, uk) in u.iter_mut().enumerate() {
+                        *uk += w * pt.values[base + kk];
+                    }
+                }
+            }
+            if let Some(d) = deriv.as_deref_mut() {
+                // ∂u/∂x_p and ∂u/∂x_t of M_F,p, M_F,g and the extent (values 0, 1, 3).
+                let it = axis_cell(xt, axis.n);
+                let (_, dwt, _) = axis_weights_of(it, axis.n, hermite_dt(xt - it as f64));
+                let half_xt = if xt_raw == xt { 0.5 * xt } else { 0.0 };
+                let (mut up, mut ut) = ([0.0; 3], [0.0; 3]);
+                for a in 0..4 {
+                    let Some((ip, rr)) = slot(ip0 + a as i64) else { continue };
+                    for b in 0..nt {
+                        let base = ((ip * axis.n + it0 + b) * pt.nr + rr) * NV;
+                        for (q, kk) in [0usize, 1, 3].into_iter().enumerate() {
+                            let x = pt.values[base + kk];
+                            up[q] += dwp[a] * wt[b] * x;
+                            ut[q] += wp[a] * dwt[b] * x;
+                        }
+                    }
+                }
+                for q in 0..2 {
+                    d[q][0] += dist * up[q] / self.phase_h;
+                    d[q][1] += u[if q == 0 { 0 } else { 1 }] + ut[q] * half_xt;
+                }
+                if u[3] > 0.0 {
+                    d[2][0] += up[2] / self.phase_h;
+                    d[2][1] += ut[2] * half_xt / dist;
+                }
+            }
+            v[0] += u[0] * dist;
+            v[1] += u[1] * dist;
+            v[2] += u[2] * dist;
+            v[3] += u[3].max(0.0);
+            v[4] = v[4].max(u[4] * dist);
+            if let Some((ip, rr)) = slot(ipn) {
+                let itn = (xt.round() as usize).min(axis.n - 1);
+                let f = pt.flags[(ip * axis.n + itn) * pt.nr + rr];
+                n_pairs += (f & 1) as u32;
+                tip |= f & 2 != 0;
+            }
+        }
+        let mut out = if te < -self.backlash_te {
+            if n_pairs > 0 || v[0] != 0.0 {
+                return None; // driving and back flanks at once: left to the full model
+            }
+            return self.evaluate_periodic(model, state);
+        } else {
+            MeshOutputs { te, ..MeshOutputs::default() }
+        };
+        let (m_d_p, m_d_g) = model.damping_for(state, v[3]);
+        out.m_f_p = v[0];
+        out.m_f_g = v[1];
+        out.m_d_p = m_d_p;
+        out.m_d_g = m_d_g;
+        out.f_n = v[2];
+        out.contact_length = v[3] * model.length_per_extent();
+        out.p_max = if model.options().pressure { v[4].max(0.0).sqrt() } else { 0.0 };
+        out.n_pairs = n_pairs;
+        out.tip_contact = tip;
+        out.separated = n_pairs == 0;
+        Some(out)
+    }
+
+    /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations).
+    fn evaluate_periodic(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
         // The reduction of ContactSolver::reduce (exact in the given doubles, see
         // crate::numeric), with the constants kept here.
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
@@ -405,6 +620,25 @@ impl MeshTable {
         model: &MeshModel,
         state: &MeshState,
     ) -> Option<(MeshOutputs, MeshJacobian)> {
+        if let Some(pt) = &self.pairs {
+            let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
+            if te >= -self.backlash_te {
+                let mut d = [[0.0; 2]; 3];
+                let out = self.evaluate_pairs(pt, model, state, Some(&mut d))?;
+                let mut jac = MeshJacobian::default();
+                let (rb_p, rb_g) = (self.rb_p, self.rb_g);
+                for (row, q) in [(MeshJacobian::M_F_P, 0), (MeshJacobian::M_F_G, 1)] {
+                    jac.d[row][MeshJacobian::PHI_P] = d[q][0] + rb_p * d[q][1];
+                    jac.d[row][MeshJacobian::PHI_G] = rb_g * d[q][1];
+                }
+                let extent = out.contact_length / model.length_per_extent();
+                if extent > 0.0 {
+                    let de = [d[2][0] + rb_p * d[2][1], rb_g * d[2][1]];
+                    damping_rows(model, state, extent, de, &mut jac);
+                }
+                return Some((out, jac));
+            }
+        }
         let out = self.evaluate(model, state)?;
         let te = out.te;
         let mut jac = MeshJacobian::default();
@@ -485,8 +719,9 @@ pub(crate) fn damping_rows(
     }
 }
 
-/// Samples of one phase row: (row, drive values, drive flags, back values, back flags).
-type RowSamples = (usize, Vec<f64>, Vec<u16>, Vec<f64>, Vec<u16>);
+/// Samples of one phase row: (row, drive values, drive flags, back values, back flags, drive
+/// per-pair samples (TE node, pair outputs)).
+type RowSamples = (usize, Vec<f64>, Vec<u16>, Vec<f64>, Vec<u16>, Vec<(usize, PairSum)>);
 
 /// State with pinion angle `phi_p` and transmission error `te`, at rest.
 fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
@@ -494,19 +729,23 @@ fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
     MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
 }
 
-/// Full-model samples of one phase row along one TE axis.
+/// Full-model samples of one phase row along one TE axis: node values, node flags and, when
+/// the model records them, the per-pair outputs of each node.
+#[allow(clippy::type_complexity)]
 fn sample_row(
     model: &mut MeshModel,
     phi_p: f64,
     axis: &TeAxis,
-) -> Result<(Vec<f64>, Vec<u16>), MeshError> {
+) -> Result<(Vec<f64>, Vec<u16>, Vec<(usize, PairSum)>), MeshError> {
     let mut values = Vec::with_capacity(axis.n * NV);
     let mut flags = Vec::with_capacity(axis.n);
+    let mut pairs = Vec::new();
     let per_extent = model.length_per_extent();
     for it in 0..axis.n {
         let te = axis.node_te(it);
         let o = model.evaluate_full(&state_at(model, phi_p, te))?;
         let dist = axis.node_distance(it);
+        pairs.extend(model.pair_sums().iter().map(|p| (it, *p)));
         values.extend_from_slice(&[
             o.m_f_p / dist,
             o.m_f_g / dist,
@@ -520,5 +759,5 @@ fn sample_row(
                 | if o.back_contact { 0x200 } else { 0 },
         );
     }
-    Ok((values, flags))
+    Ok((values, flags, pairs))
 }

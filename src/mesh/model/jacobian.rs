@@ -24,6 +24,12 @@
 //!   dP/dν_local = −L·m (L the piece's normal reach), so ∂η*/∂Θ follows from the tooth-axis
 //!   component of that motion and ∂τ = ∓(∂ν − ∂Θ) on the rounding; the profile coordinate p of
 //!   the compliance grid follows ([`SliceInfluence::profile_rates`]);
+//! * flank modifications ([`crate::modifications`]): the overlap is Δ − s(ζ, r_p, r_g), and
+//!   the profile terms of s (crowning, slope, tip relief, deviation map) depend on the contact
+//!   radii, which move with the flank points: dP_p = −L1·(∂ν − ∂Θp)·m relative to the pinion
+//!   tooth, dP_g = L2·(∂ν − ∂Θg)·m relative to the gear tooth, so ∂r = (P − O)·dP/r and
+//!   ∂d gains −(∂s/∂r_p·∂r_p + ∂s/∂r_g·∂r_g)·cos θ (lead terms, pitch deviations and
+//!   misalignment do not move with the angles);
 //! * radii of curvature: ∂L/∂ν_local = −K on an involute, 0 on an arc; the corner's radius
 //!   (a fixed point of the tooth) does not change; with ρ = R/cos θ, R = ρ_p·ρ_g/(ρ_p + ρ_g):
 //!   ∂ρ = R²·(∂ρ_p/ρ_p² + ∂ρ_g/ρ_g²)/cos θ.
@@ -75,6 +81,10 @@ struct SliceRates {
     prof_g: [f64; 2],
     /// ∂ρ of the reduced normal-section radius, m/rad.
     rho: [f64; 2],
+    /// ∂r_p, ∂r_g of the contact radii on pinion and gear, m/rad (the profile
+    /// modifications' separation depends on them).
+    radius_p: [f64; 2],
+    radius_g: [f64; 2],
 }
 
 #[inline]
@@ -145,6 +155,16 @@ fn contact_rates(
         let drp = if corner_p { 0.0 } else { -k1 * up };
         let drg = if corner_g { 0.0 } else { -k2 * ug };
         r.rho[j] = rt * rt * (drp / (rp * rp) + drg / (rg * rg)) / cos_theta;
+        // The flank points move along their profiles relative to the tooth by
+        // dP_p = −L1·(∂ν − ∂Θp)·m and dP_g = L2·(∂ν − ∂Θg)·m, which changes their radii by
+        // (P − O)·dP/r.
+        let (pp, pg) = (c.point_p, [c.point_g[0] - cg[0], c.point_g[1] - cg[1]]);
+        if c.radius_p_m > 0.0 {
+            r.radius_p[j] = -l1 * up * dot(pp, m) / c.radius_p_m;
+        }
+        if c.radius_g_m > 0.0 {
+            r.radius_g[j] = l2 * ug * dot(pg, m) / c.radius_g_m;
+        }
     }
     r
 }
@@ -229,6 +249,15 @@ impl MeshModel {
             let c = &self.slices[i].contact;
             rhs[(i, 0)] = c.arm_p_m * ct;
             rhs[(i, 1)] = c.arm_g_m * ct;
+            // Profile modifications: the separation moves with the contact's roll position.
+            if let Some(sep) = &self.separation
+                && c.side == FlankSide::Drive
+            {
+                let (dsp, dsg) = sep.radial_rates(c.zeta, c.radius_p_m, c.radius_g_m);
+                for j in 0..2 {
+                    rhs[(i, j)] -= (dsp * rates[i].radius_p[j] + dsg * rates[i].radius_g[j]) * ct;
+                }
+            }
         }
         if let Some(sc) = &sc {
             let wq: Vec<f64> = (0..n).map(|j| self.line_length[j] * q[j]).collect();
