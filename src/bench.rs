@@ -26,6 +26,15 @@
 //!   wall time and mesh evaluations, the time per table evaluation at the run's states, and the
 //!   torque error against full fidelity (same slices) at 200 states sampled evenly from the
 //!   run (40 in `--quick`).
+//! * **Drive-line units** ([`DriveUnitCase`]): the engine of the `HelicalGearDrive` FMU
+//!   ([`crate::dynamics::unit::DriveUnit`] of kind Drive, in-process, as the C API's
+//!   `hgm_unit_advance` runs it) at 532 rad/s from its static equilibrium, communication step
+//!   H = 10⁻⁴ s with the outputs read after every step: simulated seconds per wall second over
+//!   1 s of drive-line time (0.01 s in `--quick`) at 32, 64 and 128 RK4 sub-steps per mesh
+//!   period on the default table, with the TE error at the communication points against the
+//!   same unit at 1024 sub-steps (largest difference over the largest |TE|); and at full
+//!   fidelity (200 slices, 128 sub-steps) over 2 ms (speed only; the table's own error against
+//!   the full model is `table_max_rel_err`).
 //! * **Paper run**: the wall time of the whole `paper` run, per stage.
 //!
 //! Timing is wall time on the calling thread; run it on an idle machine.
@@ -168,6 +177,8 @@ pub struct BenchReport {
     pub dynamics: Vec<DynamicsCase>,
     /// The dynamic run over a hunting period with tooth deviations.
     pub hunting: HuntingCase,
+    /// Drive-line unit throughput (the Drive FMU's engine in-process).
+    pub drive_units: Vec<DriveUnitCase>,
     /// Logical cores of the machine.
     pub cores: usize,
     /// CPU model (from /proc/cpuinfo where available).
@@ -328,6 +339,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
 
     // Dynamics.
     let table = default_table.ok_or("no table model")?;
+    let drive_units = drive_unit_cases(pair, &table, q, &say)?;
     let dynamics = dynamics_cases(pair, table, q, &say)?;
     let hunting = hunting_case(pair, q, min_pass_s, &say)?;
 
@@ -358,6 +370,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
         options,
         dynamics,
         hunting,
+        drive_units,
         cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
         cpu: cpu_model(),
         version: env!("CARGO_PKG_VERSION").into(),
@@ -536,6 +549,82 @@ fn bench_deviations(pair: &GearPair) -> crate::modifications::Modifications {
     m.gear.runout_m = sample.gear.runout_m;
     m.gear.runout_phase_rad = sample.gear.runout_phase_rad;
     m
+}
+
+/// One drive-line unit row (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DriveUnitCase {
+    /// Mesh fidelity: `table` or `full`.
+    pub fidelity: &'static str,
+    /// RK4 sub-steps per mesh period.
+    pub steps_per_mesh_period: u32,
+    /// Simulated drive-line time, s.
+    pub simulated_s: f64,
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// Simulated seconds per wall-clock second.
+    pub realtime_factor: f64,
+    /// TE error against the unit at 1024 sub-steps per mesh period (table rows).
+    pub te_rel_err: Option<f64>,
+}
+
+/// The drive-line unit rows (see the module docs).
+fn drive_unit_cases(
+    pair: &GearPair,
+    table: &MeshModel,
+    quick: bool,
+    say: &dyn Fn(&str),
+) -> Result<Vec<DriveUnitCase>, String> {
+    use crate::dynamics::unit::{DriveUnit, UnitKind, UnitStepping};
+    let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
+    let (omega, h) = (532.0, 1e-4);
+    let run = |mesh: MeshModel, steps: u32, n: usize| -> Result<(Vec<f64>, f64), String> {
+        let stepping = UnitStepping::Rk4 { steps_per_mesh_period: steps };
+        let e = |e: crate::dynamics::DynamicsError| e.to_string();
+        let mut u = DriveUnit::new(UnitKind::Drive, mesh, drive, stepping).map_err(e)?;
+        u.start_static(0.0, omega, &EquilibriumSettings::default()).map_err(e)?;
+        let mut te = Vec::with_capacity(n);
+        let t = Instant::now();
+        for _ in 0..n {
+            u.advance(h).map_err(e)?;
+            te.push(u.outputs().map_err(e)?.mesh.te);
+        }
+        Ok((te, t.elapsed().as_secs_f64()))
+    };
+    let n = if quick { 100 } else { 10_000 };
+    say("drive-line units: reference (1024 sub-steps per mesh period)");
+    let (te_ref, _) = run(table.clone(), 1024, n)?;
+    let scale = te_ref.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut cases = Vec::new();
+    for steps in [32, 64, 128] {
+        let (te, wall) = run(table.clone(), steps, n)?;
+        let err = te.iter().zip(&te_ref).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs())) / scale;
+        say(&format!(
+            "drive-line unit, table, {steps} sub-steps: {:.2}× real time, TE error {err:.1e}",
+            n as f64 * h / wall
+        ));
+        cases.push(DriveUnitCase {
+            fidelity: "table",
+            steps_per_mesh_period: steps,
+            simulated_s: n as f64 * h,
+            wall_s: wall,
+            realtime_factor: n as f64 * h / wall,
+            te_rel_err: Some(err),
+        });
+    }
+    let full = MeshModel::new(pair, MeshOptions::default()).map_err(|e| e.to_string())?;
+    let n_full = if quick { 2 } else { 20 };
+    let (_, wall) = run(full, 128, n_full)?;
+    say(&format!("drive-line unit, full: {:.5}× real time", n_full as f64 * h / wall));
+    cases.push(DriveUnitCase {
+        fidelity: "full",
+        steps_per_mesh_period: 128,
+        simulated_s: n_full as f64 * h,
+        wall_s: wall,
+        realtime_factor: n_full as f64 * h / wall,
+        te_rel_err: None,
+    });
+    Ok(cases)
 }
 
 /// The hunting-period case (see the module docs).

@@ -96,5 +96,20 @@ pub fn bench_cmd(a: &BenchArgs) -> Result<(), String> {
         h.max_torque_err,
         h.rms_torque_err
     );
+    println!(
+        "\n  drive-line unit (the HelicalGearDrive engine in-process), 532 rad/s, H = 1e-4 s:"
+    );
+    for c in &r.drive_units {
+        println!(
+            "    {:5} {:4} sub-steps per mesh period: {:.3e} s simulated in {:.3} s = {:.4}× real \
+             time, TE error {}",
+            c.fidelity,
+            c.steps_per_mesh_period,
+            c.simulated_s,
+            c.wall_s,
+            c.realtime_factor,
+            c.te_rel_err.map_or("-".to_string(), |e| format!("{e:.1e}"))
+        );
+    }
     Ok(())
 }
