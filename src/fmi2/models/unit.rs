@@ -12,11 +12,20 @@
 //!   outputs the eight states, TE, the mesh torques and flags.
 //!
 //! The unit integrates inside each communication step (RK4 on the mesh-period grid or
-//! DOPRI5, parameter `integrator`); inputs are passed to the unit only when they change, so
-//! that the Stage's far ends keep turning at their rates between updates. A step the unit
+//! DOPRI5, parameter `integrator`); inputs are passed to the unit when a value or a
+//! derivative (`fmi2SetRealInputDerivatives`, first-order hold) was set since the last step
+//! or when they differ from the unit's: a master that sets nothing between steps lets the
+//! Stage's far ends keep turning at their rates from the last setting. A step the unit
 //! cannot complete returns `fmi2Discard` with the unit's message (time and cause); the state
 //! stays that of the step's start, so no output is ever NaN. The FMU state carries the unit's
-//! snapshot (time, state, inputs, input time, step hint) as JSON with exact floats.
+//! snapshot (time, state, inputs and their rates, input time, step hint) as JSON with exact
+//! floats.
+//!
+//! Model Exchange sees the unit's state in relative coordinates
+//! ([`crate::dynamics::relative`]): the variables `v_TE` (and for the Drive `theta_1`,
+//! `theta_2`, `w_theta_1`, `w_theta_2`) are states besides `phi_p`, `TE` and `w_p`, with
+//! derivatives `der(…)`; `fmi2SetTime` re-anchors the held inputs at the new time (ME inputs are
+//! the values at that time, never extrapolated).
 
 use std::sync::OnceLock;
 
