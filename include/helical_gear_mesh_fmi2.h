@@ -390,10 +390,12 @@ fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real *x, size_t nx
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real *derivatives, size_t nx);
 
 /**
- * No event indicators: accepts `ni` = 0 only.
+ * The model's event indicators (`numberOfEventIndicators`; none in the current models: state
+ * events at a change of contact kind were measured not to help an importer's solver, see the
+ * README).
  *
  * # Safety
- * `c` from `fmi2Instantiate`.
+ * `c` from `fmi2Instantiate`; `event_indicators` with `ni` writable elements.
  */
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real *event_indicators, size_t ni);
 

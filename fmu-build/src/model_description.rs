@@ -404,7 +404,7 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
         version: MODEL_VERSION,
         generation_tool: format!("fmu-build {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
-        event_indicators: 0,
+        event_indicators: model.event_indicators as u32,
         model_exchange: ModelExchange {
             model_identifier: model.identifier,
             needs_execution_tool: c.needs_execution_tool,

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{9f6ad320-2890-821c-88d1-1c44e9a35aa7}"
+#define HelicalGearDrive_GUID "{50fc3358-695f-886e-88ec-71089c23b1fe}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{c17ed3c3-1f2d-8d6b-9d1b-2a3920322d0c}"
+#define HelicalGearMesh_GUID "{b9eb97d7-1b4d-854a-995f-d32b08635fdd}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{37f164ea-7fd0-8860-8cc8-ae85bb3ebecd}"
+#define HelicalGearPair_GUID "{b892ccd6-a9dc-8b74-8e48-cdb622f54734}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{e30da99c-9d28-8807-b861-786b54af7e54}"
+#define HelicalGearStage_GUID "{103b994b-8bbe-8e48-98de-7b88998c3c1f}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */

@@ -795,6 +795,22 @@ impl Instance {
         Ok(fmi2Status::Ok)
     }
 
+    /// `fmi2GetEventIndicators`.
+    pub(crate) fn me_event_indicators(&mut self, z: &mut [f64]) -> Result<fmi2Status, String> {
+        let ni = self.model.event_indicators;
+        if z.len() != ni {
+            return Err(format!(
+                "ni = {}, but {} has {ni} event indicators",
+                z.len(),
+                self.model.identifier
+            ));
+        }
+        if ni > 0 {
+            self.engine()?.event_indicators(z)?;
+        }
+        Ok(fmi2Status::Ok)
+    }
+
     /// `fmi2GetNominalsOfContinuousStates`.
     pub(crate) fn me_nominals(&mut self, x: &mut [f64]) -> Result<fmi2Status, String> {
         self.check_nx(x.len(), "fmi2GetNominalsOfContinuousStates")?;

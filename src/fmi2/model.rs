@@ -81,6 +81,13 @@ pub trait Engine: Send {
         x.fill(1.0);
     }
 
+    /// Model Exchange: the event indicators at the current time, state and inputs (as many
+    /// as [`ModelInfo::event_indicators`]).
+    fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), String> {
+        let _ = z;
+        Ok(())
+    }
+
     /// The exact partial derivatives of the model's outputs and state derivatives with respect
     /// to its continuous states and inputs at the current time, state and `inputs`
     /// (`fmi2GetDirectionalDerivative`).
@@ -125,6 +132,8 @@ pub struct ModelInfo {
     pub default_inputs: fn() -> Inputs,
     /// The default experiment.
     pub experiment: Experiment,
+    /// Model Exchange: number of event indicators (`numberOfEventIndicators`).
+    pub event_indicators: usize,
     /// True when the engine has a state of its own (stateful models): a serialised FMU state
     /// then carries it, and the cached outputs are not serialised (they follow from it).
     pub stateful: bool,
@@ -168,7 +177,7 @@ impl ModelInfo {
     pub fn canonical_description(&self) -> String {
         let mut s =
             format!("{} {MODEL_VERSION} fmi2 cs me\n{CS_CAPABILITIES:?}\n", self.identifier);
-        s.push_str(&format!("{:?}\n", self.experiment));
+        s.push_str(&format!("{:?} events {}\n", self.experiment, self.event_indicators));
         for u in UNITS {
             s.push_str(&format!("{u:?}\n"));
         }

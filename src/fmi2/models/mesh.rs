@@ -93,6 +93,7 @@ pub static INFO: ModelInfo = ModelInfo {
     default_inputs: Inputs::default,
     experiment: Experiment { start: 0.0, stop: 0.1, step: 1e-5 },
     stateful: false,
+    event_indicators: 0,
     build,
     guid_cell: &GUID,
 };

@@ -609,6 +609,7 @@ pub static PAIR: ModelInfo = ModelInfo {
     default_inputs: pair_inputs,
     experiment: Experiment { start: 0.0, stop: 0.05, step: 1e-4 },
     stateful: true,
+    event_indicators: 0,
     build: |s| build_unit(UnitKind::Pair, s),
     guid_cell: &PAIR_GUID,
 };
@@ -630,6 +631,7 @@ pub static STAGE: ModelInfo = ModelInfo {
     default_inputs: stage_inputs,
     experiment: Experiment { start: 0.0, stop: 0.05, step: 1e-4 },
     stateful: true,
+    event_indicators: 0,
     build: |s| build_unit(UnitKind::Stage, s),
     guid_cell: &STAGE_GUID,
 };
@@ -650,6 +652,7 @@ pub static DRIVE: ModelInfo = ModelInfo {
     default_inputs: drive_inputs,
     experiment: Experiment { start: 0.0, stop: 0.05, step: 1e-4 },
     stateful: true,
+    event_indicators: 0,
     build: |s| build_unit(UnitKind::Drive, s),
     guid_cell: &DRIVE_GUID,
 };
