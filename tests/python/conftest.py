@@ -25,7 +25,19 @@ ROOT = Path(__file__).resolve().parents[2]
 FMU = ROOT / "target" / "fmu" / "HelicalGearMesh.fmu"
 RELEASE = ROOT / "target" / "release"
 
-__all__ = ["FMICallException", "Instance", "ROOT", "RELEASE"]
+FMUS = ROOT / "target" / "fmu"
+MODELS = ["HelicalGearMesh", "HelicalGearPair", "HelicalGearStage", "HelicalGearDrive"]
+EXE = RELEASE / "helical-gear"
+
+__all__ = ["EXE", "FMICallException", "FMUS", "Instance", "MODELS", "ROOT", "RELEASE", "fmu_file"]
+
+
+def fmu_file(model):
+    """Path of the packed FMU of `model` (fails the test with the build command if missing)."""
+    p = FMUS / f"{model}.fmu"
+    if not p.exists():
+        pytest.fail(f"{p} is missing: build it with `cargo run --release -p fmu-build`")
+    return str(p)
 
 
 @pytest.fixture(scope="session")

@@ -25,10 +25,7 @@ import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from conftest import RELEASE, ROOT
-
-FMUS = ROOT / "target" / "fmu"
-EXE = RELEASE / "helical-gear"
+from conftest import EXE, FMUS
 Z_P, Z_G = 30, 47
 
 

@@ -10,18 +10,8 @@ import pytest
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
-from conftest import RELEASE, ROOT, FMICallException, Instance
+from conftest import EXE, MODELS, FMICallException, Instance, fmu_file
 
-FMUS = ROOT / "target" / "fmu"
-MODELS = ["HelicalGearMesh", "HelicalGearPair", "HelicalGearStage", "HelicalGearDrive"]
-EXE = RELEASE / "helical-gear"
-
-
-def fmu_file(model):
-    p = FMUS / f"{model}.fmu"
-    if not p.exists():
-        pytest.fail(f"{p} is missing: build it with `cargo run --release -p fmu-build`")
-    return str(p)
 
 
 @pytest.mark.parametrize("model", MODELS)

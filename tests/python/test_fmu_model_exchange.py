@@ -14,18 +14,8 @@ from fmpy import extract, read_model_description, simulate_fmu, supported_platfo
 from fmpy.fmi2 import FMU2Model
 from fmpy.util import fmu_info
 
-from conftest import RELEASE, ROOT
+from conftest import EXE, MODELS, fmu_file
 
-FMUS = ROOT / "target" / "fmu"
-MODELS = ["HelicalGearMesh", "HelicalGearPair", "HelicalGearStage", "HelicalGearDrive"]
-EXE = RELEASE / "helical-gear"
-
-
-def fmu_file(model):
-    p = FMUS / f"{model}.fmu"
-    if not p.exists():
-        pytest.fail(f"{p} is missing: build it with `cargo run --release -p fmu-build`")
-    return str(p)
 
 
 @pytest.mark.parametrize("model", MODELS)

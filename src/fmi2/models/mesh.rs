@@ -152,6 +152,14 @@ fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
 #[derive(Clone)]
 struct MeshEngine(MeshModel);
 
+/// The state for an error message, SI units.
+fn state_text(s: &MeshState) -> String {
+    format!(
+        "phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} rad/s",
+        s.phi_p, s.phi_g, s.w_p, s.w_g
+    )
+}
+
 impl Engine for MeshEngine {
     fn clone_box(&self) -> Box<dyn Engine> {
         Box::new(self.clone())
@@ -168,15 +176,7 @@ impl Engine for MeshEngine {
     fn outputs(&mut self, i: &Inputs) -> Result<Outputs, String> {
         let s = MeshState { phi_p: i.phi_p, phi_g: i.phi_g, w_p: i.w_p, w_g: i.w_g };
         let mesh = self.0.evaluate(&s).map_err(|e| {
-            format!(
-                "mesh evaluation at phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} \
-                 rad/s: {}",
-                s.phi_p,
-                s.phi_g,
-                s.w_p,
-                s.w_g,
-                mesh_error_text(&e)
-            )
+            format!("mesh evaluation at {}: {}", state_text(&s), mesh_error_text(&e))
         })?;
         Ok(Outputs { mesh, ..Outputs::default() })
     }
@@ -198,17 +198,10 @@ impl Engine for MeshEngine {
     /// sensitivity), TE = g_p·phi_p + g_g·phi_g exactly.
     fn jacobian(&mut self, i: &Inputs) -> Result<Jacobian, String> {
         let s = MeshState { phi_p: i.phi_p, phi_g: i.phi_g, w_p: i.w_p, w_g: i.w_g };
-        let (_, j) = self.0.mesh_jacobian(&s).map_err(|e| {
-            format!(
-                "mesh Jacobian at phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} \
-                 rad/s: {}",
-                s.phi_p,
-                s.phi_g,
-                s.w_p,
-                s.w_g,
-                mesh_error_text(&e)
-            )
-        })?;
+        let (_, j) = self
+            .0
+            .mesh_jacobian(&s)
+            .map_err(|e| format!("mesh Jacobian at {}: {}", state_text(&s), mesh_error_text(&e)))?;
         let (gp, gg) = self.0.base_radii();
         let mut values = Vec::with_capacity(20);
         for row in &j.d {

@@ -315,6 +315,19 @@ const M_S2: Option<&str> = Some("m/s2");
 const VEL: Option<&str> = Some("Velocity");
 const ACCEL: Option<&str> = Some("Acceleration");
 
+/// der(phi_p) = w_p, the first state derivative of every stateful model.
+const DER_PHI_P: Variable = me_local!(
+    "der(phi_p)",
+    80,
+    RAD_S,
+    W,
+    "Time derivative of phi_p, rad/s",
+    &["w_p"],
+    true,
+    Some("phi_p"),
+    |o| o.dx[0]
+);
+
 /// Model Exchange states and derivatives of the Pair and the Stage: x = (φp, TE, φ̇p, v_TE).
 const fn me_pair(known: &'static [&'static str]) -> [Variable; 5] {
     [
@@ -329,17 +342,7 @@ const fn me_pair(known: &'static [&'static str]) -> [Variable; 5] {
             None,
             |o| o.x[3]
         ),
-        me_local!(
-            "der(phi_p)",
-            80,
-            RAD_S,
-            W,
-            "Time derivative of phi_p, rad/s",
-            &["w_p"],
-            true,
-            Some("phi_p"),
-            |o| o.dx[0]
-        ),
+        DER_PHI_P,
         me_local!(
             "der(TE)",
             81,
@@ -437,17 +440,7 @@ const ME_DRIVE: [Variable; 13] = [
         None,
         |o| o.x[7]
     ),
-    me_local!(
-        "der(phi_p)",
-        80,
-        RAD_S,
-        W,
-        "Time derivative of phi_p, rad/s",
-        &["w_p"],
-        true,
-        Some("phi_p"),
-        |o| o.dx[0]
-    ),
+    DER_PHI_P,
     me_local!(
         "der(theta_1)",
         84,
