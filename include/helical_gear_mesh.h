@@ -159,6 +159,34 @@ typedef struct {
 } HgmUnitInputs;
 
 /**
+ * Time derivatives of a unit's inputs over a step (first-order hold; SI). Each kind reads
+ * only its own fields.
+ */
+typedef struct {
+  /**
+   * Pair: d(tau_p)/dt, N·m/s.
+   */
+  double tau_p_rate;
+  /**
+   * Pair: d(tau_g)/dt, N·m/s.
+   */
+  double tau_g_rate;
+  /**
+   * Stage: angular acceleration of the pinion shaft's far end, rad/s² (its angle moves as
+   * phi_1 + w_1·s + ½·w_1_rate·s²).
+   */
+  double w_1_rate;
+  /**
+   * Stage: angular acceleration of the gear shaft's far end, rad/s².
+   */
+  double w_2_rate;
+  /**
+   * Drive: d(M)/dt, N·m/s.
+   */
+  double torque_rate;
+} HgmUnitInputRates;
+
+/**
  * Outputs of a unit at its current time (SI).
  */
 typedef struct {
@@ -324,6 +352,27 @@ HgmStatus hgm_unit_start_static(HgmUnit *u, double t0, double w_p_start);
  * `u` must be NULL or a live unit handle; `inputs` NULL or readable.
  */
 HgmStatus hgm_unit_set_inputs(HgmUnit *u, const HgmUnitInputs *inputs);
+
+/**
+ * Sets the time derivatives of the inputs as set (all finite; FMI's input derivatives of
+ * order 1): from the unit's current time on, each input moves as a straight line with its
+ * rate. Setting the inputs again (`hgm_unit_set_inputs`) resets the rates to 0.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle; `rates` NULL or readable.
+ */
+HgmStatus hgm_unit_set_input_rates(HgmUnit *u, const HgmUnitInputRates *rates);
+
+/**
+ * Pair: the stiffness (N·m/rad) and damping (N·m·s/rad) of the caller's connections at the
+ * pinion and gear hubs (for shafts c1/d1, c2/d2: those), each finite and >= 0; with them the
+ * unit corrects the held hub torques by its own hub motion within a step (see the Rust
+ * `dynamics::unit` docs; all 0, the default, is the plain hold). Other kinds accept only 0.
+ *
+ * # Safety
+ * `u` must be NULL or a live unit handle.
+ */
+HgmStatus hgm_unit_set_hub_coupling(HgmUnit *u, double c_p, double d_p, double c_g, double d_g);
 
 /**
  * Advances the unit by `h` seconds (finite, > 0) with the inputs held. On failure the unit's

@@ -44,7 +44,8 @@ use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::dynamics::{
-    DriveUnit, Drivetrain, UnitInputs, UnitKind, UnitOutputs, UnitSnapshot, UnitStepping,
+    DriveUnit, Drivetrain, HubCoupling, UnitInputs, UnitKind, UnitOutputs, UnitSnapshot,
+    UnitStepping,
 };
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
@@ -358,6 +359,24 @@ pub struct HgmUnitInputs {
     pub torque: f64,
 }
 
+/// Time derivatives of a unit's inputs over a step (first-order hold; SI). Each kind reads
+/// only its own fields.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HgmUnitInputRates {
+    /// Pair: d(tau_p)/dt, N·m/s.
+    pub tau_p_rate: f64,
+    /// Pair: d(tau_g)/dt, N·m/s.
+    pub tau_g_rate: f64,
+    /// Stage: angular acceleration of the pinion shaft's far end, rad/s² (its angle moves as
+    /// phi_1 + w_1·s + ½·w_1_rate·s²).
+    pub w_1_rate: f64,
+    /// Stage: angular acceleration of the gear shaft's far end, rad/s².
+    pub w_2_rate: f64,
+    /// Drive: d(M)/dt, N·m/s.
+    pub torque_rate: f64,
+}
+
 /// Outputs of a unit at its current time (SI).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -531,6 +550,56 @@ pub unsafe extern "C" fn hgm_unit_set_inputs(
             ..UnitInputs::default()
         };
         h.unit.set_inputs(v).map_err(|e| invalid_arg(e.to_string()))
+    })
+}
+
+/// Sets the time derivatives of the inputs as set (all finite; FMI's input derivatives of
+/// order 1): from the unit's current time on, each input moves as a straight line with its
+/// rate. Setting the inputs again (`hgm_unit_set_inputs`) resets the rates to 0.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle; `rates` NULL or readable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_set_input_rates(
+    u: *mut HgmUnit,
+    rates: *const HgmUnitInputRates,
+) -> HgmStatus {
+    with_handle(u, "hgm_unit_set_input_rates", |h| {
+        if rates.is_null() {
+            return Err(invalid_arg("`rates` is NULL"));
+        }
+        // SAFETY: non-null, caller contract.
+        let r = unsafe { rates.read() };
+        let v = UnitInputs {
+            tau_p_rate: r.tau_p_rate,
+            tau_g_rate: r.tau_g_rate,
+            w_1_rate: r.w_1_rate,
+            w_2_rate: r.w_2_rate,
+            torque_rate: r.torque_rate,
+            ..*h.unit.inputs()
+        };
+        h.unit.set_inputs(v).map_err(|e| invalid_arg(e.to_string()))
+    })
+}
+
+/// Pair: the stiffness (N·m/rad) and damping (N·m·s/rad) of the caller's connections at the
+/// pinion and gear hubs (for shafts c1/d1, c2/d2: those), each finite and >= 0; with them the
+/// unit corrects the held hub torques by its own hub motion within a step (see the Rust
+/// `dynamics::unit` docs; all 0, the default, is the plain hold). Other kinds accept only 0.
+///
+/// # Safety
+/// `u` must be NULL or a live unit handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_unit_set_hub_coupling(
+    u: *mut HgmUnit,
+    c_p: f64,
+    d_p: f64,
+    c_g: f64,
+    d_g: f64,
+) -> HgmStatus {
+    with_handle(u, "hgm_unit_set_hub_coupling", |h| {
+        let c = HubCoupling { c_p, d_p, c_g, d_g };
+        h.unit.set_hub_coupling(c).map_err(|e| invalid_arg(e.to_string()))
     })
 }
 

@@ -106,3 +106,42 @@ fn bad_steps_are_errors_and_reset_recovers() {
     }
     assert!(f.run(0.0, 2, 1e-4).iter().flatten().all(|x| x.is_finite()));
 }
+
+/// The Pair's hub coupling parameters: a negative stiffness is refused when the model is
+/// built (fmi2ExitInitializationMode), the shafts' values are accepted, and a Pair stepped with
+/// them from its equilibrium inputs stays near the static TE.
+#[test]
+fn pair_hub_coupling_is_validated_and_used() {
+    let g = CString::new(PAIR.guid()).unwrap();
+    let vr = |n: &str| PAIR.by_name(n).unwrap().vr;
+    for (c_p, ok) in [(-1.0, false), (984.0, true)] {
+        unsafe {
+            let c = fmi2Instantiate(
+                c"p".as_ptr(),
+                FMI2_CO_SIMULATION,
+                g.as_ptr(),
+                null(),
+                null(),
+                0,
+                0,
+            );
+            assert!(!c.is_null());
+            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Ok);
+            assert_eq!(fmi2EnterInitializationMode(c), fmi2Status::Ok);
+            let r = [vr("hub_coupling.c_p_nm_per_rad"), vr("hub_coupling.d_p_nms_per_rad")];
+            assert_eq!(fmi2SetReal(c, r.as_ptr(), 2, [c_p, 0.04].as_ptr()), fmi2Status::Ok);
+            let st = fmi2ExitInitializationMode(c);
+            if ok {
+                assert_eq!(st, fmi2Status::Ok);
+                let f = Fmu(c, &PAIR);
+                let te0 = f.get(&["TE"])[0];
+                for o in f.run(0.0, 10, 1e-4) {
+                    assert!((o[0] - te0).abs() < 0.5 * te0, "{} vs {te0}", o[0]);
+                }
+            } else {
+                assert_eq!(st, fmi2Status::Error);
+                fmi2FreeInstance(c);
+            }
+        }
+    }
+}

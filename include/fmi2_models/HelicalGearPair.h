@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{b892ccd6-a9dc-8b74-8e48-cdb622f54734}"
+#define HelicalGearPair_GUID "{50135a3d-73dd-8e69-b40c-88b9b1f8cbce}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -74,6 +74,10 @@ typedef enum {
     HelicalGearPair_vr_rtol = 303, /* parameter Real  */
     HelicalGearPair_vr_atol = 304, /* parameter Real  */
     HelicalGearPair_vr_start_from_equilibrium = 305, /* parameter Boolean  */
+    HelicalGearPair_vr_hub_coupling_c_p_nm_per_rad = 320, /* parameter Real N.m/rad */
+    HelicalGearPair_vr_hub_coupling_d_p_nms_per_rad = 321, /* parameter Real N.m.s/rad */
+    HelicalGearPair_vr_hub_coupling_c_g_nm_per_rad = 322, /* parameter Real N.m/rad */
+    HelicalGearPair_vr_hub_coupling_d_g_nms_per_rad = 323, /* parameter Real N.m.s/rad */
     HelicalGearPair_vr_phi_p_0 = 311, /* parameter Real rad */
     HelicalGearPair_vr_phi_g_0 = 312, /* parameter Real rad */
     HelicalGearPair_vr_w_p_0 = 315, /* parameter Real rad/s */

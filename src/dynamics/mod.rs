@@ -40,5 +40,6 @@ pub use sweep::{
     Resonance, SweepOptions, SweepPoint, SweepResult, find_peaks, static_te_curve, sweep,
 };
 pub use unit::{
-    DriveUnit, UnitInputs, UnitKind, UnitLinearization, UnitOutputs, UnitSnapshot, UnitStepping,
+    DriveUnit, HubCoupling, HubReference, UnitInputs, UnitKind, UnitLinearization, UnitOutputs,
+    UnitSnapshot, UnitStepping,
 };

@@ -34,7 +34,24 @@
 //! tau_p_rate·(t − t_u), FMI's `fmi2SetRealInputDerivatives`); the Stage's far-end angles move
 //! with the given rates and accelerations, φ₁(t) = φ₁ + φ̇₁·s + ½·a₁·s², φ̇₁(t) = φ̇₁ + a₁·s
 //! with s = t − t_u and a₁ = `w_1_rate` (0 by default: the angle's first-order hold consistent
-//! with the held rate). [`DriveUnit::derivatives`] and
+//! with the held rate).
+//!
+//! The Pair's hub torques come from shafts the master integrates, and they depend on the
+//! hub motion the unit computes within the step. Held, they miss the hub's vibration at the
+//! mesh frequency, which a communication step of T_m/4 samples too coarsely (the error of the
+//! hub cut, README "Using the FMUs in a drivetrain"). With a [`HubCoupling`] — the stiffness
+//! and damping of the master's connection, the interface Jacobian −∂tau/∂(φ, φ̇) of the
+//! interface-Jacobian co-simulation methods — the unit corrects the held torques by its own
+//! motion relative to the motion it had when the inputs were set (the reference r: hub angle,
+//! rate and acceleration at t_r = t_u):
+//! ```text
+//! tau_p(t) = tau_p + tau_p_rate·s − c_p·(φp(t) − φp,r − φ̇p,r·s) − d_p·(φ̇p(t) − φ̇p,r − φ̈p,r·s)
+//! ```
+//! and the same for the gear with c_g, d_g. For a linear shaft to a far end that moves with
+//! constant acceleration this is exact: the given rate (the total derivative of the torque at
+//! t_u) already holds the hub's −c·φ̇p,r − d·φ̈p,r, so only the deviation from that trend is
+//! added. The zero coupling (default) is the plain hold; Model Exchange never applies it.
+//! [`DriveUnit::derivatives`] and
 //! [`DriveUnit::linearize`] (Model Exchange, where the inputs are set at every time) use the
 //! inputs as set, without this extrapolation.
 //!
@@ -214,6 +231,61 @@ impl UnitInputs {
     }
 }
 
+/// Pair: stiffness and damping of the master's connections at the hubs (SI, each finite and
+/// ≥ 0; all zero by default, the plain hold). For shafts c₁/d₁, c₂/d₂ in the master these are
+/// c_p = c₁, d_p = d₁, c_g = c₂, d_g = d₂ (see the module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct HubCoupling {
+    /// −∂tau_p/∂φp of the pinion-side connection, N·m/rad.
+    pub c_p: f64,
+    /// −∂tau_p/∂φ̇p of the pinion-side connection, N·m·s/rad.
+    pub d_p: f64,
+    /// −∂tau_g/∂φg of the gear-side connection, N·m/rad.
+    pub c_g: f64,
+    /// −∂tau_g/∂φ̇g of the gear-side connection, N·m·s/rad.
+    pub d_g: f64,
+}
+
+impl HubCoupling {
+    /// Errors: a component that is not finite and ≥ 0, named.
+    pub fn validate(&self) -> Result<(), DynamicsError> {
+        for (name, v) in
+            [("c_p", self.c_p), ("d_p", self.d_p), ("c_g", self.c_g), ("d_g", self.d_g)]
+        {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(invalid(name, v, "finite and >= 0 (hub coupling)"));
+            }
+        }
+        Ok(())
+    }
+
+    fn is_zero(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// Pair with a [`HubCoupling`]: the hub motion when the inputs were set, the reference of the
+/// torque correction (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct HubReference {
+    /// Time of the reference, s.
+    pub t: f64,
+    /// (φp, φg, φ̇p, φ̇g), rad and rad/s.
+    pub hub: [f64; 4],
+    /// (φ̈p, φ̈g) under the inputs as set, rad/s².
+    pub acc: [f64; 2],
+}
+
+impl HubReference {
+    fn check(&self) -> Result<(), DynamicsError> {
+        let all = [self.t].into_iter().chain(self.hub).chain(self.acc);
+        match all.into_iter().find(|v| !v.is_finite()) {
+            Some(v) => Err(invalid("snapshot hub reference", v, "finite")),
+            None => Ok(()),
+        }
+    }
+}
+
 /// Outputs of a unit at its current time and state (SI). Fields a kind does not hold are the
 /// values it sees (Stage: phi_1…w_2 are the far-end inputs at the current time) or 0.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -357,6 +429,10 @@ pub struct UnitSnapshot {
     pub input_time: f64,
     /// DOPRI5: first step of the next advance, s (`None`: automatic choice).
     pub step_hint: Option<f64>,
+    /// Pair with a hub coupling: the reference of the torque correction (`None`: not yet
+    /// taken since the inputs were set).
+    #[serde(default)]
+    pub hub_ref: Option<HubReference>,
 }
 
 /// The right-hand side of a unit: the kind's equations over a [`GearDynamics`].
@@ -368,6 +444,10 @@ struct UnitSystem<M> {
     input_time: f64,
     /// Move the Stage's far ends with their rates from `input_time` (co-simulation).
     extrapolate: bool,
+    /// Pair: the master's connection stiffness and damping at the hubs.
+    coupling: HubCoupling,
+    /// Pair with a coupling: the reference of the correction (co-simulation only).
+    hub_ref: Option<HubReference>,
 }
 
 /// Shaft torques (on the pinion hub, c₁(φ₁ − φp) + d₁(φ̇₁ − φ̇p); and the gear shaft's
@@ -403,7 +483,20 @@ impl<M: MeshTorques> UnitSystem<M> {
         match self.kind {
             UnitKind::Pair => {
                 let (u, dt) = (&self.inputs, self.held_for(t));
-                (u.tau_p + u.tau_p_rate * dt, u.tau_g + u.tau_g_rate * dt)
+                let tp = u.tau_p + u.tau_p_rate * dt;
+                let tg = u.tau_g + u.tau_g_rate * dt;
+                match (&self.hub_ref, self.extrapolate) {
+                    (Some(r), true) => {
+                        let (c, s) = (&self.coupling, t - r.t);
+                        let [pp, pg, wp, wg] = r.hub;
+                        let dp =
+                            c.c_p * (hub[0] - pp - wp * s) + c.d_p * (hub[2] - wp - r.acc[0] * s);
+                        let dg =
+                            c.c_g * (hub[1] - pg - wg * s) + c.d_g * (hub[3] - wg - r.acc[1] * s);
+                        (tp - dp, tg - dg)
+                    }
+                    _ => (tp, tg),
+                }
             }
             _ => {
                 let (s1, s2) = shaft_torques(self.model.drive(), self.far_ends(t), hub);
@@ -558,7 +651,15 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let h_fast = 2.0 * std::f64::consts::PI / omega_fast / STEPS_PER_FAST_PERIOD;
         let inputs = UnitInputs { torque: drive.torque, ..UnitInputs::default() };
         Ok(Self {
-            sys: UnitSystem { kind, model, inputs, input_time: 0.0, extrapolate: true },
+            sys: UnitSystem {
+                kind,
+                model,
+                inputs,
+                input_time: 0.0,
+                extrapolate: true,
+                coupling: HubCoupling::default(),
+                hub_ref: None,
+            },
             stepping,
             drive0: drive,
             t: 0.0,
@@ -657,7 +758,46 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         u.check()?;
         self.sys.inputs = u;
         self.sys.input_time = self.t;
+        self.sys.hub_ref = None;
         self.sys.model.set_torque(u.torque);
+        Ok(())
+    }
+
+    /// Pair: sets the master's connection stiffness and damping at the hubs (module doc;
+    /// validated, zero = plain hold). Other kinds: an error, they hold their shafts themselves.
+    pub fn set_hub_coupling(&mut self, c: HubCoupling) -> Result<(), DynamicsError> {
+        c.validate()?;
+        if self.sys.kind != UnitKind::Pair && !c.is_zero() {
+            return Err(invalid(
+                "hub coupling",
+                c.c_p.max(c.c_g),
+                "0 for units other than the Pair",
+            ));
+        }
+        self.sys.coupling = c;
+        self.sys.hub_ref = None;
+        Ok(())
+    }
+
+    /// The hub coupling (zero unless set).
+    pub fn hub_coupling(&self) -> HubCoupling {
+        self.sys.coupling
+    }
+
+    /// Pair with a coupling and no reference yet: takes it at the current time and state (the
+    /// hub accelerations under the inputs as set; one right-hand side evaluation).
+    fn take_hub_reference(&mut self) -> Result<(), OdeError> {
+        if self.sys.kind != UnitKind::Pair
+            || self.sys.coupling.is_zero()
+            || self.sys.hub_ref.is_some()
+        {
+            return Ok(());
+        }
+        let mut dydt = [0.0; 4];
+        self.sys.rhs(self.t, &self.y[..4], &mut dydt)?;
+        let [pp, pg, wp, wg] = self.sys.hub(&self.y);
+        self.sys.hub_ref =
+            Some(HubReference { t: self.t, hub: [pp, pg, wp, wg], acc: [dydt[2], dydt[3]] });
         Ok(())
     }
 
@@ -741,6 +881,9 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let y0 = self.y;
         self.sys.extrapolate = true;
         self.sys.forget_history(&self.y[..n]);
+        if let Err(e) = self.take_hub_reference() {
+            return Err(e.into());
+        }
         let result = match self.stepping {
             UnitStepping::Rk4 { steps_per_mesh_period } => {
                 let h_max = self.rk4_max_step(steps_per_mesh_period);
@@ -1012,6 +1155,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             inputs: self.sys.inputs,
             input_time: self.sys.input_time,
             step_hint: self.step_hint,
+            hub_ref: self.sys.hub_ref,
         }
     }
 
@@ -1029,6 +1173,9 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             return Err(invalid("snapshot state component", *v, "finite"));
         }
         s.inputs.check()?;
+        if let Some(r) = &s.hub_ref {
+            r.check()?;
+        }
         for (name, v) in [("snapshot time", s.time), ("snapshot input_time", s.input_time)] {
             if !v.is_finite() {
                 return Err(invalid(name, v, "finite (s)"));
@@ -1043,6 +1190,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         self.y[..n].copy_from_slice(&s.state);
         self.sys.inputs = s.inputs;
         self.sys.input_time = s.input_time;
+        self.sys.hub_ref = s.hub_ref;
         self.sys.model.set_torque(s.inputs.torque);
         self.step_hint = s.step_hint;
         Ok(())

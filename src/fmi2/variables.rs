@@ -23,6 +23,7 @@
 //! For compatibility the items of the `HelicalGearMesh` model are re-exported here
 //! ([`VARIABLES`], [`by_name`], [`by_vr`], [`guid`], [`MODEL_IDENTIFIER`]).
 
+use crate::dynamics::HubCoupling;
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
 
 pub use super::models::mesh::{MODEL_IDENTIFIER, VARIABLES, by_name, by_vr, guid};
@@ -80,6 +81,10 @@ pub struct UnitOptions {
     /// Explicit start state (φ1, φp, φg, φ2, φ̇1, φ̇p, φ̇g, φ̇2), rad and rad/s; the
     /// two-inertia models use φp, φg, φ̇p, φ̇g.
     pub start: [f64; 8],
+    /// `HelicalGearPair`: stiffness and damping of the master's connections at the hubs, with
+    /// which the held hub torques are corrected within a step (zero: plain hold; see
+    /// [`crate::dynamics::unit`]).
+    pub hub_coupling: HubCoupling,
 }
 
 impl Default for UnitOptions {
@@ -94,6 +99,7 @@ impl Default for UnitOptions {
             atol: 1e-12,
             start_from_equilibrium: true,
             start: [0.0; 8],
+            hub_coupling: HubCoupling::default(),
         }
     }
 }

@@ -181,7 +181,54 @@ static void test_units(void) {
     CHECK(hgm_unit_outputs(u, NULL) == HGM_STATUS_INVALID_ARGUMENT, "NULL out");
     CHECK(hgm_unit_advance(u, 1e-4) == HGM_STATUS_OK, "usable after errors: %s",
           hgm_unit_last_error(u));
+    /* The hub coupling is the Pair's alone. */
+    CHECK(hgm_unit_set_hub_coupling(u, 984.0, 0.04, 984.0, 0.04) == HGM_STATUS_INVALID_ARGUMENT,
+          "coupling on a drive unit");
+    CHECK(strstr(hgm_unit_last_error(u), "hub coupling") != NULL, "message: %s",
+          hgm_unit_last_error(u));
     hgm_unit_free(u);
+
+    /* A Pair with input rates and the hub coupling: the torques of its static start, then a
+       straight-line torque ramp over one step. The impulse of a ramp r over H equals that of
+       the torque held at its mid-step value, so the pinion speeds after the step agree to the
+       change of the mesh torques over the step (far below the 0.05 rad/s checked). */
+    HgmUnit *p = hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+    HgmUnit *q = hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+    CHECK(p != NULL && q != NULL, "pair units: %s", hgm_unit_last_error(NULL));
+    CHECK(hgm_unit_set_hub_coupling(p, -1.0, 0.0, 0.0, 0.0) == HGM_STATUS_INVALID_ARGUMENT,
+          "negative coupling");
+    CHECK(strstr(hgm_unit_last_error(p), "c_p") != NULL, "message: %s", hgm_unit_last_error(p));
+    CHECK(hgm_unit_set_hub_coupling(p, 984.0, 0.04, 984.0, 0.04) == HGM_STATUS_OK, "%s",
+          hgm_unit_last_error(p));
+    HgmUnitOutputs o0, op, oq;
+    for (int i = 0; i < 2; i++) {
+        HgmUnit *x = i ? q : p;
+        CHECK(hgm_unit_start_static(x, 0.0, 300.0) == HGM_STATUS_OK, "%s", hgm_unit_last_error(x));
+    }
+    CHECK(hgm_unit_outputs(p, &o0) == HGM_STATUS_OK, "%s", hgm_unit_last_error(p));
+    const double r = 2e4, H = 1e-4;
+    HgmUnitInputs pin = {0}, qin = {0};
+    pin.tau_p = o0.tau_p;
+    pin.tau_g = o0.tau_g;
+    qin = pin;
+    qin.tau_p += 0.5 * r * H;
+    HgmUnitInputRates rates = {0};
+    rates.tau_p_rate = NAN;
+    CHECK(hgm_unit_set_inputs(p, &pin) == HGM_STATUS_OK, "%s", hgm_unit_last_error(p));
+    CHECK(hgm_unit_set_input_rates(p, &rates) == HGM_STATUS_INVALID_ARGUMENT, "NaN rate");
+    CHECK(strstr(hgm_unit_last_error(p), "tau_p_rate") != NULL, "message: %s",
+          hgm_unit_last_error(p));
+    rates.tau_p_rate = r;
+    CHECK(hgm_unit_set_input_rates(p, &rates) == HGM_STATUS_OK, "%s", hgm_unit_last_error(p));
+    CHECK(hgm_unit_set_inputs(q, &qin) == HGM_STATUS_OK, "%s", hgm_unit_last_error(q));
+    CHECK(hgm_unit_advance(p, H) == HGM_STATUS_OK, "%s", hgm_unit_last_error(p));
+    CHECK(hgm_unit_advance(q, H) == HGM_STATUS_OK, "%s", hgm_unit_last_error(q));
+    CHECK(hgm_unit_outputs(p, &op) == HGM_STATUS_OK && hgm_unit_outputs(q, &oq) == HGM_STATUS_OK,
+          "outputs");
+    CHECK(fabs(op.w_p - oq.w_p) < 0.05 && op.w_p > o0.w_p && isfinite(op.mesh.te),
+          "ramp vs mid-step hold: w_p %.9g vs %.9g (start %.9g)", op.w_p, oq.w_p, o0.w_p);
+    hgm_unit_free(p);
+    hgm_unit_free(q);
 }
 
 /* ------------------------------------------------------------------ FMI functions */

@@ -37,7 +37,7 @@ use crate::dynamics::unit::{
 use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
 use crate::fmi2::variables::{
-    ANGLE, CALCULATED, Causality, DEG, Depends, Derived, GEAR_PARAMS, Inputs, Integrator,
+    ANGLE, Access, CALCULATED, Causality, DEG, Depends, Derived, GEAR_PARAMS, Inputs, Integrator,
     MESH_OPTIONS, MESH_OUTPUTS, NM, NONE, Outputs, RAD, START_OUTER, START_PAIR, Settings, TORQUE,
     UNIT_OPTIONS, Variability, Variable, concat, group, total_len, with_depends,
 };
@@ -520,6 +520,53 @@ const ME_DRIVE: [Variable; 13] = [
     ),
 ];
 
+/// `HelicalGearPair`: the master's connection stiffness and damping at the hubs
+/// ([`HubCoupling`]).
+const PAIR_COUPLING: [Variable; 4] = [
+    Variable {
+        name: "hub_coupling.c_p_nm_per_rad",
+        vr: 320,
+        description: "Torsional stiffness of the master's connection at the pinion hub, \
+                      -d(tau_p)/d(phi_p), N.m/rad (the pinion shaft's c1): with it and the inputs' \
+                      derivatives (fmi2SetRealInputDerivatives) the held tau_p is corrected by the \
+                      hub's own motion within a step; 0 = plain hold",
+        unit: Some("N.m/rad"),
+        group: group::UNIT,
+        access: Access::RealParam(|s| s.unit.hub_coupling.c_p, |s, v| s.unit.hub_coupling.c_p = v),
+        ..NONE
+    },
+    Variable {
+        name: "hub_coupling.d_p_nms_per_rad",
+        vr: 321,
+        description: "Torsional damping of the master's connection at the pinion hub, \
+                      -d(tau_p)/d(w_p), N.m.s/rad (the pinion shaft's d1); 0 = plain hold",
+        unit: Some("N.m.s/rad"),
+        group: group::UNIT,
+        access: Access::RealParam(|s| s.unit.hub_coupling.d_p, |s, v| s.unit.hub_coupling.d_p = v),
+        ..NONE
+    },
+    Variable {
+        name: "hub_coupling.c_g_nm_per_rad",
+        vr: 322,
+        description: "Torsional stiffness of the master's connection at the gear hub, \
+                      -d(tau_g)/d(phi_g), N.m/rad (the gear shaft's c2); 0 = plain hold",
+        unit: Some("N.m/rad"),
+        group: group::UNIT,
+        access: Access::RealParam(|s| s.unit.hub_coupling.c_g, |s, v| s.unit.hub_coupling.c_g = v),
+        ..NONE
+    },
+    Variable {
+        name: "hub_coupling.d_g_nms_per_rad",
+        vr: 323,
+        description: "Torsional damping of the master's connection at the gear hub, \
+                      -d(tau_g)/d(w_g), N.m.s/rad (the gear shaft's d2); 0 = plain hold",
+        unit: Some("N.m.s/rad"),
+        group: group::UNIT,
+        access: Access::RealParam(|s| s.unit.hub_coupling.d_g, |s, v| s.unit.hub_coupling.d_g = v),
+        ..NONE
+    },
+];
+
 const PAIR_PARTS: &[&[Variable]] = &[
     &PAIR_IO,
     &HUBS,
@@ -528,6 +575,7 @@ const PAIR_PARTS: &[&[Variable]] = &[
     &GEAR_PARAMS,
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
+    &PAIR_COUPLING,
     &START_PAIR,
     &ME_PAIR,
 ];
@@ -678,8 +726,22 @@ fn build_unit(kind: UnitKind, s: &Settings) -> Result<(Box<dyn Engine>, Derived)
     }
     let (mesh, derived) = build_mesh(s)?;
     let drive = Drivetrain::from_pair(&s.pair).map_err(|e| e.to_string())?;
-    let unit = DriveUnit::new(kind, mesh, drive, stepping)
+    let mut unit = DriveUnit::new(kind, mesh, drive, stepping)
         .map_err(|e| format!("{} unit: {e}", kind_name(kind)))?;
+    let c = u.hub_coupling;
+    for (name, x) in [
+        ("hub_coupling.c_p_nm_per_rad", c.c_p),
+        ("hub_coupling.d_p_nms_per_rad", c.d_p),
+        ("hub_coupling.c_g_nm_per_rad", c.c_g),
+        ("hub_coupling.d_g_nms_per_rad", c.d_g),
+    ] {
+        if !(x.is_finite() && x >= 0.0) {
+            return Err(format!("invalid parameter `{name}` = {x}: allowed finite and >= 0"));
+        }
+    }
+    if kind == UnitKind::Pair {
+        unit.set_hub_coupling(c).map_err(|e| format!("pair unit: {e}"))?;
+    }
     let rel = RelativeCoordinates::new(kind, derived.base_radius_p, derived.base_radius_g);
     let mut nominals = [1.0; 8];
     rel.nominals(
