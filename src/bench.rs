@@ -30,9 +30,10 @@
 //!   ([`crate::dynamics::unit::DriveUnit`] of kind Drive, in-process, as the C API's
 //!   `hgm_unit_advance` runs it) at 532 rad/s from its static equilibrium, communication step
 //!   H = 10⁻⁴ s with the outputs read after every step: simulated seconds per wall second over
-//!   1 s of drive-line time (0.01 s in `--quick`) at 32, 64 and 128 RK4 sub-steps per mesh
-//!   period on the default table, with the TE error at the communication points against the
-//!   same unit at 1024 sub-steps (largest difference over the largest |TE|); and at full
+//!   1 s of drive-line time (0.01 s in `--quick`) at 32, 64, 96 and 128 RK4 sub-steps per
+//!   mesh period and with DOPRI5 at rtol 1e-8 on the default table, with the TE error at the
+//!   communication points against the same unit at 1024 sub-steps (largest difference over the
+//!   largest |TE|); and at full
 //!   fidelity (200 slices, 128 sub-steps) over 2 ms (speed only; the table's own error against
 //!   the full model is `table_max_rel_err`).
 //! * **Paper run**: the wall time of the whole `paper` run, per stage.
@@ -556,8 +557,12 @@ fn bench_deviations(pair: &GearPair) -> crate::modifications::Modifications {
 pub struct DriveUnitCase {
     /// Mesh fidelity: `table` or `full`.
     pub fidelity: &'static str,
-    /// RK4 sub-steps per mesh period.
+    /// Integrator inside the unit: `rk4` or `dopri5`.
+    pub integrator: &'static str,
+    /// RK4 sub-steps per mesh period (0 for DOPRI5).
     pub steps_per_mesh_period: u32,
+    /// DOPRI5 relative tolerance (absolute 1e-6 of it); `None` for RK4.
+    pub rtol: Option<f64>,
     /// Simulated drive-line time, s.
     pub simulated_s: f64,
     /// Wall time, s.
@@ -578,34 +583,43 @@ fn drive_unit_cases(
     use crate::dynamics::unit::{DriveUnit, UnitKind, UnitStepping};
     let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
     let (omega, h) = (532.0, 1e-4);
-    let run = |mesh: MeshModel, steps: u32, n: usize| -> Result<(Vec<f64>, f64), String> {
-        let stepping = UnitStepping::Rk4 { steps_per_mesh_period: steps };
-        let e = |e: crate::dynamics::DynamicsError| e.to_string();
-        let mut u = DriveUnit::new(UnitKind::Drive, mesh, drive, stepping).map_err(e)?;
-        u.start_static(0.0, omega, &EquilibriumSettings::default()).map_err(e)?;
-        let mut te = Vec::with_capacity(n);
-        let t = Instant::now();
-        for _ in 0..n {
-            u.advance(h).map_err(e)?;
-            te.push(u.outputs().map_err(e)?.mesh.te);
-        }
-        Ok((te, t.elapsed().as_secs_f64()))
-    };
+    let run =
+        |mesh: MeshModel, stepping: UnitStepping, n: usize| -> Result<(Vec<f64>, f64), String> {
+            let e = |e: crate::dynamics::DynamicsError| e.to_string();
+            let mut u = DriveUnit::new(UnitKind::Drive, mesh, drive, stepping).map_err(e)?;
+            u.start_static(0.0, omega, &EquilibriumSettings::default()).map_err(e)?;
+            let mut te = Vec::with_capacity(n);
+            let t = Instant::now();
+            for _ in 0..n {
+                u.advance(h).map_err(e)?;
+                te.push(u.outputs().map_err(e)?.mesh.te);
+            }
+            Ok((te, t.elapsed().as_secs_f64()))
+        };
     let n = if quick { 100 } else { 10_000 };
     say("drive-line units: reference (1024 sub-steps per mesh period)");
-    let (te_ref, _) = run(table.clone(), 1024, n)?;
+    let rk4 = |steps| UnitStepping::Rk4 { steps_per_mesh_period: steps };
+    let (te_ref, _) = run(table.clone(), rk4(1024), n)?;
     let scale = te_ref.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let mut cases = Vec::new();
-    for steps in [32, 64, 128] {
-        let (te, wall) = run(table.clone(), steps, n)?;
+    let rows = [32, 64, 96, 128].map(|n| (rk4(n), n, None)).into_iter().chain([(
+        UnitStepping::Dopri5 { rtol: 1e-8, atol: 1e-14 },
+        0,
+        Some(1e-8),
+    )]);
+    for (stepping, steps, rtol) in rows {
+        let (te, wall) = run(table.clone(), stepping, n)?;
         let err = te.iter().zip(&te_ref).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs())) / scale;
+        let label = rtol.map_or(format!("RK4 {steps} sub-steps"), |r| format!("DOPRI5 rtol {r:e}"));
         say(&format!(
-            "drive-line unit, table, {steps} sub-steps: {:.2}× real time, TE error {err:.1e}",
+            "drive-line unit, table, {label}: {:.2}× real time, TE error {err:.1e}",
             n as f64 * h / wall
         ));
         cases.push(DriveUnitCase {
             fidelity: "table",
+            integrator: if rtol.is_some() { "dopri5" } else { "rk4" },
             steps_per_mesh_period: steps,
+            rtol,
             simulated_s: n as f64 * h,
             wall_s: wall,
             realtime_factor: n as f64 * h / wall,
@@ -614,11 +628,13 @@ fn drive_unit_cases(
     }
     let full = MeshModel::new(pair, MeshOptions::default()).map_err(|e| e.to_string())?;
     let n_full = if quick { 2 } else { 20 };
-    let (_, wall) = run(full, 128, n_full)?;
+    let (_, wall) = run(full, rk4(128), n_full)?;
     say(&format!("drive-line unit, full: {:.5}× real time", n_full as f64 * h / wall));
     cases.push(DriveUnitCase {
         fidelity: "full",
+        integrator: "rk4",
         steps_per_mesh_period: 128,
+        rtol: None,
         simulated_s: n_full as f64 * h,
         wall_s: wall,
         realtime_factor: n_full as f64 * h / wall,

@@ -357,6 +357,28 @@ fn coupled_pair_snapshot_continues_bit_for_bit() {
     }
 }
 
+/// DOPRI5 inside a unit controls its error in relative coordinates (TE, shaft twists), so its
+/// tolerance bounds the TE error: a Drive unit at rtol 1e-8 follows the RK4 reference within
+/// 2e-6 of TE over ≈ 30 mesh periods at both speeds (the same control on the absolute angles
+/// gave 8.8e-5 over 1 s at 532 rad/s: φp's rtol·|φp| swamped TE).
+#[test]
+fn dopri5_unit_error_control_acts_on_te() {
+    let h = 1e-4;
+    for omega in [300.0, 532.0] {
+        let n = steps_for(omega, h);
+        let stepping = UnitStepping::Dopri5 { rtol: 1e-8, atol: 1e-14 };
+        let mut u = started(UnitKind::Drive, stepping, omega);
+        let mut te = vec![u.outputs().unwrap().mesh.te];
+        for _ in 0..n {
+            u.advance(h).unwrap();
+            te.push(u.outputs().unwrap().mesh.te);
+        }
+        let e = rel_err(&te, &reference(omega, h, n));
+        eprintln!("Drive unit, DOPRI5 rtol 1e-8, {omega} rad/s: TE error {e:.2e}");
+        assert!(e < 2e-6, "{omega} rad/s: {e:e}");
+    }
+}
+
 /// The co-simulation error table of the README: TE error against the reference for H from
 /// T_m/16 to 1 ms, both cuts, both speeds. `cargo test --test dynamics_unit -- --ignored`.
 #[test]
@@ -690,16 +712,16 @@ fn linearize_reports_unsupported_meshes() {
 
 /// In-process speed of the Drive unit at 532 rad/s, table fidelity, H = 1e-4 s: simulated
 /// seconds per wall-clock second and the TE error against RK4 at T_m/1024 (the converged
-/// reference), over 0.1 s of drive-line time.
+/// reference), over 1 s of drive-line time.
 /// `cargo test --release --test dynamics_unit drive_unit_speed -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn drive_unit_speed() {
     let omega = 532.0;
     let h = 1e-4;
-    let n = 1000;
-    let run = |steps: u32| -> (Vec<f64>, f64) {
-        let mut u = started(UnitKind::Drive, rk4(steps), omega);
+    let n = 10_000;
+    let run_with = |stepping: UnitStepping| -> (Vec<f64>, f64) {
+        let mut u = started(UnitKind::Drive, stepping, omega);
         let t0 = std::time::Instant::now();
         let mut te = Vec::with_capacity(n);
         for _ in 0..n {
@@ -708,8 +730,17 @@ fn drive_unit_speed() {
         }
         (te, t0.elapsed().as_secs_f64())
     };
+    let run = |steps: u32| run_with(rk4(steps));
     let (reference, _) = run(1024);
-    for steps in [16, 32, 64, 128] {
+    for rtol in [1e-6, 1e-7, 1e-8, 1e-9] {
+        let (te, wall) = run_with(UnitStepping::Dopri5 { rtol, atol: 1e-6 * rtol });
+        let e = rel_err(&te, &reference);
+        println!(
+            "DOPRI5 rtol {rtol:e}: {:.1} simulated s per wall s, TE error {e:.1e}",
+            n as f64 * h / wall
+        );
+    }
+    for steps in [32, 64, 80, 84, 88, 92, 96, 128] {
         let (te, wall) = run(steps);
         let e = rel_err(&te, &reference);
         println!(

@@ -100,11 +100,14 @@ pub fn bench_cmd(a: &BenchArgs) -> Result<(), String> {
         "\n  drive-line unit (the HelicalGearDrive engine in-process), 532 rad/s, H = 1e-4 s:"
     );
     for c in &r.drive_units {
+        let how = c
+            .rtol
+            .map_or(format!("RK4 {:4} sub-steps per mesh period", c.steps_per_mesh_period), |r| {
+                format!("DOPRI5 rtol {r:e}")
+            });
         println!(
-            "    {:5} {:4} sub-steps per mesh period: {:.3e} s simulated in {:.3} s = {:.4}× real \
-             time, TE error {}",
+            "    {:5} {how}: {:.3e} s simulated in {:.3} s = {:.4}× real time, TE error {}",
             c.fidelity,
-            c.steps_per_mesh_period,
             c.simulated_s,
             c.wall_s,
             c.realtime_factor,
