@@ -354,9 +354,11 @@ pub struct GearDynamics<M> {
     drive: Drivetrain,
     g_p: f64,
     g_g: f64,
-    /// The last evaluation: key (bits of φp, φg, φ̇p, φ̇g), outputs, and whether it was the
-    /// first evaluation after [`Self::forget_history`] (a "cold" one, free of earlier calls).
-    cache: Option<([u64; 4], MeshOutputs, bool)>,
+    /// The last evaluation: key (bits of φp, φg, φ̇p, φ̇g), outputs, whether it was the first
+    /// evaluation after [`Self::forget_history`] (a "cold" one, free of earlier calls), and
+    /// whether the outputs are complete (the right-hand side asks only for the torques,
+    /// [`MeshTorques::torques`]).
+    cache: Option<([u64; 4], MeshOutputs, bool, bool)>,
     /// True between [`Self::forget_history`] and the next actual mesh evaluation.
     cold: bool,
     evaluations: usize,
@@ -372,7 +374,7 @@ impl<M: Clone> Clone for GearDynamics<M> {
             drive: self.drive,
             g_p: self.g_p,
             g_g: self.g_g,
-            cache: self.cache.map(|(k, o, _)| (k, o, false)),
+            cache: self.cache.map(|(k, o, _, c)| (k, o, false, c)),
             cold: self.cold,
             evaluations: self.evaluations,
         }
@@ -435,16 +437,12 @@ impl<M: MeshTorques> GearDynamics<M> {
         if y.len() != N_STATES {
             return Err(invalid("state length", y.len() as f64, "8"));
         }
-        self.eval_mesh(y).map_err(|source| DynamicsError::Mesh { t: None, source })
-    }
-
-    /// [`Self::outputs`] without the length check (`y.len() >= 8`).
-    fn eval_mesh(&mut self, y: &[f64]) -> Result<MeshOutputs, MeshError> {
         self.mesh_at(y[PHI_P], y[PHI_G], y[W_P], y[W_G])
+            .map_err(|source| DynamicsError::Mesh { t: None, source })
     }
 
-    /// Mesh outputs at hub angles `phi_p`, `phi_g` (rad) and rates `w_p`, `w_g` (rad/s); the
-    /// last evaluation is reused for bit-identical arguments.
+    /// Mesh outputs at hub angles `phi_p`, `phi_g` (rad) and rates `w_p`, `w_g` (rad/s), all
+    /// fields; the last evaluation is reused for bit-identical arguments if it is complete.
     pub(crate) fn mesh_at(
         &mut self,
         phi_p: f64,
@@ -452,17 +450,42 @@ impl<M: MeshTorques> GearDynamics<M> {
         w_p: f64,
         w_g: f64,
     ) -> Result<MeshOutputs, MeshError> {
+        self.cached(phi_p, phi_g, w_p, w_g, true)
+    }
+
+    /// [`Self::mesh_at`] for a right-hand side: M_F, M_D and TE are set (bit for bit those of
+    /// [`Self::mesh_at`]), the rest may be 0 ([`MeshTorques::torques`]).
+    pub(crate) fn torques_at(
+        &mut self,
+        phi_p: f64,
+        phi_g: f64,
+        w_p: f64,
+        w_g: f64,
+    ) -> Result<MeshOutputs, MeshError> {
+        self.cached(phi_p, phi_g, w_p, w_g, false)
+    }
+
+    fn cached(
+        &mut self,
+        phi_p: f64,
+        phi_g: f64,
+        w_p: f64,
+        w_g: f64,
+        complete: bool,
+    ) -> Result<MeshOutputs, MeshError> {
         let key = [phi_p.to_bits(), phi_g.to_bits(), w_p.to_bits(), w_g.to_bits()];
-        if let Some((k, o, _)) = &self.cache
+        if let Some((k, o, _, c)) = &self.cache
             && *k == key
+            && (*c || !complete)
         {
             return Ok(*o);
         }
         let state = MeshState { phi_p, phi_g, w_p, w_g };
         self.evaluations += 1;
         let cold = std::mem::replace(&mut self.cold, false);
-        let o = self.mesh.mesh(&state)?;
-        self.cache = Some((key, o, cold));
+        let (o, c) =
+            if complete { (self.mesh.mesh(&state)?, true) } else { self.mesh.torques(&state)? };
+        self.cache = Some((key, o, cold, c));
         Ok(o)
     }
 
@@ -473,7 +496,7 @@ impl<M: MeshTorques> GearDynamics<M> {
     /// and at exactly this state (then it is what a fresh evaluation would give, and is kept).
     pub(crate) fn forget_history(&mut self, phi_p: f64, phi_g: f64, w_p: f64, w_g: f64) {
         let key = [phi_p.to_bits(), phi_g.to_bits(), w_p.to_bits(), w_g.to_bits()];
-        if let Some((k, _, true)) = &self.cache
+        if let Some((k, _, true, _)) = &self.cache
             && *k == key
         {
             return;
@@ -552,7 +575,8 @@ impl<M: MeshTorques> OdeSystem for GearDynamics<M> {
                 found: if y.len() != N_STATES { y.len() } else { dydt.len() },
             });
         }
-        let o = self.eval_mesh(y).map_err(|e| OdeError::rhs(t, e))?;
+        let o =
+            self.torques_at(y[PHI_P], y[PHI_G], y[W_P], y[W_G]).map_err(|e| OdeError::rhs(t, e))?;
         self.derivative(y, &o, dydt);
         Ok(())
     }

@@ -76,8 +76,9 @@
 //! ([`super::relative`]: φp, TE, the shaft twists and their rates), so that the error control
 //! acts on TE itself rather than on the absolute angles, whose `rtol·|φ|` (φp grows by 532 rad
 //! per second at 532 rad/s) would allow errors far larger than TE (measured, Drive at
-//! 532 rad/s over 1 s: TE error 8.8e-5 at rtol 1e-8 on the absolute angles); its first step is the step the controller proposed at the end of
-//! the previous advance (the "step hint", part of the snapshot), so a run cut into
+//! 532 rad/s over 1 s: TE error 8.8e-5 at rtol 1e-8 on the absolute angles, 5.2e-7 on the
+//! relative state). Its first step is the step the controller proposed at the end of the
+//! previous advance (the "step hint", part of the snapshot), so a run cut into
 //! communication steps does not restart the step-size control at each of them.
 //!
 //! Neither path allocates in its step loop: the integrator workspaces live in the unit. On any
@@ -171,7 +172,8 @@ pub enum UnitStepping {
     Dopri5 {
         /// Relative tolerance (> 0).
         rtol: f64,
-        /// Absolute tolerance, rad and rad/s (> 0).
+        /// Absolute tolerance (> 0), for every component of the state in relative
+        /// coordinates (rad, m, rad/s, m/s).
         atol: f64,
     },
 }
@@ -525,6 +527,12 @@ impl<M: MeshTorques> UnitSystem<M> {
         let [pp, pg, wp, wg] = self.hub(y);
         self.model.mesh_at(pp, pg, wp, wg).map_err(|e| OdeError::rhs(t, e))
     }
+
+    /// The mesh torques and TE at `y` (the right-hand side's; [`GearDynamics::torques_at`]).
+    fn torques(&mut self, t: f64, y: &[f64]) -> Result<MeshOutputs, OdeError> {
+        let [pp, pg, wp, wg] = self.hub(y);
+        self.model.torques_at(pp, pg, wp, wg).map_err(|e| OdeError::rhs(t, e))
+    }
 }
 
 impl<M: MeshTorques> OdeSystem for UnitSystem<M> {
@@ -548,7 +556,7 @@ impl<M: MeshTorques> OdeSystem for UnitSystem<M> {
                 found: if y.len() != n { y.len() } else { dydt.len() },
             });
         }
-        let o = self.mesh(t, y)?;
+        let o = self.torques(t, y)?;
         let hub = self.hub(y);
         let (tau_p, tau_g) = self.hub_torques(t, hub);
         let d = self.model.drive();

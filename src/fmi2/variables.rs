@@ -74,7 +74,7 @@ pub struct UnitOptions {
     pub rk4_steps_per_mesh_period: u32,
     /// DOPRI5: relative tolerance.
     pub rtol: f64,
-    /// DOPRI5: absolute tolerance (rad and rad/s).
+    /// DOPRI5: absolute tolerance, for every component of the relative state (rad, m, rad/s, m/s).
     pub atol: f64,
     /// Start in static equilibrium at `w_p_start` (true) or from the explicit start state.
     pub start_from_equilibrium: bool,
@@ -1310,7 +1310,9 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
     Variable {
         name: "rtol",
         vr: 303,
-        description: "DOPRI5: relative tolerance",
+        description: "DOPRI5: relative tolerance, applied to the state in relative \
+                      coordinates (phi_p, TE, the shaft twists and their rates), so that it \
+                      bounds the error of TE rather than that of the absolute angles",
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.rtol, |s, v| s.unit.rtol = v),
         ..NONE
@@ -1318,7 +1320,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
     Variable {
         name: "atol",
         vr: 304,
-        description: "DOPRI5: absolute tolerance (rad and rad/s)",
+        description: "DOPRI5: absolute tolerance, one number for every component of the \
+                      relative state (rad, m, rad/s, m/s)",
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.atol, |s, v| s.unit.atol = v),
         ..NONE

@@ -304,6 +304,14 @@ pub trait MeshTorques {
     /// Mesh outputs for `state`.
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError>;
 
+    /// The mesh outputs a right-hand side needs — M_F, M_D and TE — for `state`, and whether
+    /// the rest is there too (`true`: every field as [`Self::mesh`] gives it; `false`: F_n,
+    /// contact_length, p_max and the flags may be left at their defaults). The fields given
+    /// are bit for bit those of [`Self::mesh`]. The default is [`Self::mesh`], complete.
+    fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
+        Ok((self.mesh(state)?, true))
+    }
+
     /// Base radii (g_p, g_g), m, that define TE = φp·g_p + φg·g_g.
     fn base_radii(&self) -> (f64, f64);
 

@@ -421,7 +421,22 @@ impl MeshTable {
         if let Some(pt) = &self.pairs {
             return self.evaluate_pairs(pt, model, state, None);
         }
-        self.evaluate_periodic(model, state)
+        self.evaluate_periodic::<true>(model, state)
+    }
+
+    /// [`MeshTable::evaluate`] for a right-hand side ([`crate::mesh::MeshTorques::torques`]):
+    /// on the periodic table only M_F, M_D, TE (and the extent behind M_D) are interpolated,
+    /// with the same operations as [`MeshTable::evaluate`], so they agree bit for bit; the
+    /// flag says whether the outputs are complete.
+    pub fn evaluate_torques(
+        &self,
+        model: &MeshModel,
+        state: &MeshState,
+    ) -> Option<(MeshOutputs, bool)> {
+        if let Some(pt) = &self.pairs {
+            return self.evaluate_pairs(pt, model, state, None).map(|o| (o, true));
+        }
+        self.evaluate_periodic::<false>(model, state).map(|o| (o, false))
     }
 
     /// [`MeshTable::evaluate`] with tooth deviations: every tooth pair's driving-flank values
@@ -524,7 +539,7 @@ impl MeshTable {
             if n_pairs > 0 || v[0] != 0.0 {
                 return None; // driving and back flanks at once: left to the full model
             }
-            return self.evaluate_periodic(model, state);
+            return self.evaluate_periodic::<true>(model, state);
         } else {
             MeshOutputs { te, ..MeshOutputs::default() }
         };
@@ -542,8 +557,16 @@ impl MeshTable {
         Some(out)
     }
 
-    /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations).
-    fn evaluate_periodic(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
+    /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations); with `ALL` false
+    /// only the values behind M_F,p, M_F,g and the extent (the damping) are interpolated, F_n,
+    /// p_max and the flags are left at 0.
+    fn evaluate_periodic<const ALL: bool>(
+        &self,
+        model: &MeshModel,
+        state: &MeshState,
+    ) -> Option<MeshOutputs> {
+        // Node values interpolated: all, or M_F,p, M_F,g and the extent.
+        let ks: &[usize] = if ALL { &[0, 1, 2, 3, 4] } else { &[0, 1, 3] };
         // The reduction of ContactSolver::reduce (exact in the given doubles, see
         // crate::numeric), with the constants kept here.
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
@@ -575,18 +598,48 @@ impl MeshTable {
         let mut v = [0.0; NV];
         for (a, &wa) in wp.iter().enumerate() {
             let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            let base = (ip * axis.n + it0) * NV;
+            if nt == 4 {
+                // The common case as fixed-size arrays: one bounds check per phase row, and
+                // the 4 × NV products unrolled.
+                let row: &[f64; 4 * NV] =
+                    axis.values[base..base + 4 * NV].try_into().expect("4 TE nodes");
+                let mut r = [0.0; NV];
+                for (b, &wb) in wt.iter().enumerate() {
+                    let x = &row[b * NV..(b + 1) * NV];
+                    r[0] += wb * x[0];
+                    r[1] += wb * x[1];
+                    r[3] += wb * x[3];
+                    if ALL {
+                        r[2] += wb * x[2];
+                        r[4] += wb * x[4];
+                    }
+                }
+                v[0] += wa * r[0];
+                v[1] += wa * r[1];
+                v[3] += wa * r[3];
+                if ALL {
+                    v[2] += wa * r[2];
+                    v[4] += wa * r[4];
+                }
+                continue;
+            }
             for (b, &wb) in wt.iter().enumerate().take(nt) {
                 let w = wa * wb;
-                let base = (ip * axis.n + it0 + b) * NV;
-                for (k, vk) in v.iter_mut().enumerate() {
-                    *vk += w * axis.values[base + k];
+                let base = base + b * NV;
+                for &k in ks {
+                    v[k] += w * axis.values[base + k];
                 }
             }
         }
         // Nearest node for the discrete outputs.
-        let ipn = ((xp.round() as i64).rem_euclid(np)) as usize;
-        let itn = (xt.round() as usize).min(axis.n - 1);
-        let f = axis.flags[ipn * axis.n + itn];
+        let f = if ALL {
+            let ipn = ((xp.round() as i64).rem_euclid(np)) as usize;
+            let itn = (xt.round() as usize).min(axis.n - 1);
+            axis.flags[ipn * axis.n + itn]
+        } else {
+            0
+        };
         let extent = v[3].max(0.0);
         let (m_d_p, m_d_g) = model.damping_for(state, extent);
         Some(MeshOutputs {
@@ -597,10 +650,14 @@ impl MeshTable {
             te,
             f_n: v[2] * dist,
             contact_length: extent * model.length_per_extent(),
-            p_max: if model.options().pressure { (v[4] * dist).max(0.0).sqrt() } else { 0.0 },
+            p_max: if ALL && model.options().pressure {
+                (v[4] * dist).max(0.0).sqrt()
+            } else {
+                0.0
+            },
             n_pairs: (f & 0xff) as u32,
             tip_contact: f & 0x100 != 0,
-            separated: f & 0xff == 0,
+            separated: ALL && f & 0xff == 0,
             back_contact: f & 0x200 != 0,
         })
     }
