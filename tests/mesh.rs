@@ -204,6 +204,41 @@ fn periodic_in_the_pitch() {
     assert!((a.m_f_p - b.m_f_p).abs() < 1e-9 * a.m_f_p.abs(), "{} vs {}", a.m_f_p, b.m_f_p);
 }
 
+/// `MeshTorques::torques` (the right-hand side's evaluation) gives M_F, M_D and TE bit for bit
+/// as `mesh` does, across the table's range (driving flanks, backlash, back flanks) and
+/// outside it (the full model, complete).
+#[test]
+fn torques_only_evaluation_matches_the_complete_one() {
+    use helical_gear_mesh::mesh::MeshTorques;
+    let mut table = model(MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() });
+    let (lo, hi) = table.table().expect("table").te_range();
+    let mut partial = 0;
+    for i in 0..60 {
+        let phi = 0.37 * i as f64;
+        let te = lo * 1.2 + (hi * 1.2 - lo * 1.2) * (i as f64 / 59.0);
+        let mut s = state(&table, phi, te);
+        s.w_p = 300.0;
+        s.w_g = -190.0;
+        let a = table.mesh(&s).unwrap();
+        let (b, complete) = table.torques(&s).unwrap();
+        for (x, y) in [
+            (a.m_f_p, b.m_f_p),
+            (a.m_f_g, b.m_f_g),
+            (a.m_d_p, b.m_d_p),
+            (a.m_d_g, b.m_d_g),
+            (a.te, b.te),
+        ] {
+            assert_eq!(x.to_bits(), y.to_bits(), "TE {te:e}: {x:e} vs {y:e}");
+        }
+        if complete {
+            assert_eq!(a, b);
+        } else {
+            partial += 1;
+        }
+    }
+    assert!(partial > 20, "the table's torque-only path ran at {partial} points");
+}
+
 /// Table fidelity: relative torque error against `full` at random points ≤ 0.5 % where the
 /// torque exceeds 1 % of nominal, fallback outside the range, exact zero inside the backlash.
 #[test]
