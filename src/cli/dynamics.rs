@@ -94,7 +94,8 @@ pub struct SimulateArgs {
     /// DOPRI5 relative tolerance.
     #[arg(long, default_value_t = 1e-8)]
     rtol: f64,
-    /// DOPRI5 absolute tolerance (rad and rad/s).
+    /// DOPRI5 absolute tolerance, for every component of the relative state (φp, the shaft
+    /// twists and TE and their rates: rad, m, rad/s, m/s).
     #[arg(long, default_value_t = 1e-12)]
     atol: f64,
 }

@@ -2,7 +2,12 @@
 //!
 //! * [`simulate`]: one trajectory from a given state, fixed-step RK4 (exactly the step given,
 //!   the mesh evaluated at every RK stage with the stage state) or adaptive DOPRI5; the state
-//!   and the mesh outputs are recorded at every output time.
+//!   and the mesh outputs are recorded at every output time. DOPRI5 (here and in
+//!   [`run_to_steady`]) integrates the state in relative coordinates
+//!   ([`super::relative::InRelative`]: φp, the shaft twists, TE and their rates), so that its
+//!   `rtol`/`atol` act on TE and the twists; on the absolute angles rtol·|φp| (φp grows by
+//!   ω_p per second) would allow TE errors larger than TE's own ripple. The recorded states
+//!   are absolute.
 //! * [`run_to_steady`]: from the static-equilibrium start at a nominal pinion speed
 //!   ([`GearDynamics::static_start`]) until the transmission error is periodic with the mesh
 //!   period T_m = 2π/(z_p·ω_p), or with k·T_m for a subharmonic response ([`SteadyState`]),
@@ -42,7 +47,9 @@ use std::ops::ControlFlow;
 
 use super::integrators::{Dopri5, Dopri5Options, Rk4};
 use super::model::{DynamicsError, GearDynamics, N_STATES, invalid};
+use super::relative::{InRelative, RelativeCoordinates};
 use super::steady::{PeriodCheck, SteadyOptions, SteadyState, SteadyStatus};
+use super::unit::UnitKind;
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{MeshOutputs, MeshTorques};
 
@@ -83,10 +90,11 @@ pub struct Trajectory {
     pub mesh_evaluations: usize,
 }
 
-fn state_array(y: &[f64]) -> [f64; N_STATES] {
-    let mut a = [0.0; N_STATES];
-    a.copy_from_slice(y);
-    a
+/// The map of the 8-state model to relative coordinates (φp, θ₁, TE, θ₂ and their rates) in
+/// which DOPRI5 controls its error.
+fn relative_map<M: MeshTorques>(model: &GearDynamics<M>) -> RelativeCoordinates {
+    let (gp, gg) = model.base_radii();
+    RelativeCoordinates::new(UnitKind::Drive, gp, gg)
 }
 
 /// Integrates Eqs. 1–4 from `y0` at t = 0 to `t_end` (s, > 0) and records the trajectory.
@@ -150,9 +158,20 @@ pub fn simulate<M: MeshTorques>(
             let mut next_out = 1usize;
             let mut buf = [0.0; N_STATES];
             let mut dense_failure = None;
-            let stats = dp.integrate(model, 0.0, t_end, &mut y, |step| {
+            // Integrated in relative coordinates (the tolerances act on TE and the shaft
+            // twists, see the module doc); samples are mapped back to the absolute state.
+            let rel = relative_map(model);
+            let mut x = [0.0; N_STATES];
+            rel.to_relative(&y, &mut x);
+            let absolute = |x: &[f64]| {
+                let mut a = [0.0; N_STATES];
+                rel.to_absolute(x, &mut a);
+                a
+            };
+            let mut sys = InRelative::new(model, rel);
+            let stats = dp.integrate(&mut sys, 0.0, t_end, &mut x, |step| {
                 match output_dt {
-                    None => samples.push((step.t_end(), state_array(step.y_end()))),
+                    None => samples.push((step.t_end(), absolute(step.y_end()))),
                     Some(h) => loop {
                         let t = next_out as f64 * h;
                         // The last output may exceed t_end by round-off of next_out·h.
@@ -164,7 +183,7 @@ pub fn simulate<M: MeshTorques>(
                             dense_failure = Some(e);
                             return ControlFlow::Break(());
                         }
-                        samples.push((t, buf));
+                        samples.push((t, absolute(&buf)));
                         next_out += 1;
                     },
                 }
@@ -536,7 +555,17 @@ pub fn run_to_steady<M: MeshTorques>(
             let mut failure: Option<DynamicsError> = None;
             ring.push_back((0.0, y, None));
             let t1 = opts.max_periods as f64 * t_m;
-            let stats = dp.integrate(model, 0.0, t1, &mut y, |step| {
+            // In relative coordinates, as in `simulate`; states mapped back for the record.
+            let rel = relative_map(model);
+            let mut x = [0.0; N_STATES];
+            rel.to_relative(&y, &mut x);
+            let absolute = |x: &[f64]| {
+                let mut a = [0.0; N_STATES];
+                rel.to_absolute(x, &mut a);
+                a
+            };
+            let mut sys = InRelative::new(model, rel);
+            let stats = dp.integrate(&mut sys, 0.0, t1, &mut x, |step| {
                 let mut stop = false;
                 loop {
                     let t = next as f64 * dt_s;
@@ -548,7 +577,7 @@ pub fn run_to_steady<M: MeshTorques>(
                         return ControlFlow::Break(());
                     }
                     next += 1;
-                    match det.push(te_of(&buf)) {
+                    match det.push(te_of(&absolute(&buf))) {
                         Ok(s) => {
                             if s.is_steady() && det.samples_seen() > min_samples {
                                 stop = true;
@@ -561,7 +590,7 @@ pub fn run_to_steady<M: MeshTorques>(
                         }
                     }
                 }
-                ring.push_back((step.t_end(), state_array(step.y_end()), None));
+                ring.push_back((step.t_end(), absolute(step.y_end()), None));
                 while ring.front().is_some_and(|f| f.0 < step.t_end() - window_span - t_m) {
                     ring.pop_front();
                 }

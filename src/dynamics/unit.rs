@@ -112,7 +112,7 @@ use super::model::{
     Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
     W_1, W_2, W_G, W_P, invalid, mesh_stiffness,
 };
-use super::relative::RelativeCoordinates;
+use super::relative::{InRelative, RelativeCoordinates};
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{MeshJacobian, MeshOutputs, MeshState, MeshTorques};
 
@@ -568,29 +568,6 @@ impl<M: MeshTorques> OdeSystem for UnitSystem<M> {
     }
 }
 
-/// A unit's right-hand side seen in relative coordinates x = T·y ([`RelativeCoordinates`]):
-/// ẋ = T·f(t, T⁻¹·x). The DOPRI5 path integrates this (module doc).
-struct RelativeSystem<'a, M> {
-    sys: &'a mut UnitSystem<M>,
-    rel: RelativeCoordinates,
-    y: [f64; N_STATES],
-    dy: [f64; N_STATES],
-}
-
-impl<M: MeshTorques> OdeSystem for RelativeSystem<'_, M> {
-    fn dim(&self) -> usize {
-        self.sys.dim()
-    }
-
-    fn rhs(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), OdeError> {
-        let n = self.sys.dim();
-        self.rel.to_absolute(x, &mut self.y[..n]);
-        self.sys.rhs(t, &self.y[..n], &mut self.dy[..n])?;
-        self.rel.to_relative(&self.dy[..n], dxdt);
-        Ok(())
-    }
-}
-
 /// A unit: a drive-line part with its own state and integrator (see the module doc).
 #[derive(Debug, Clone)]
 pub struct DriveUnit<M> {
@@ -945,12 +922,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
                 let rel = RelativeCoordinates::new(self.sys.kind, gp, gg);
                 let mut x = [0.0; N_STATES];
                 rel.to_relative(&self.y[..n], &mut x[..n]);
-                let mut rs = RelativeSystem {
-                    sys: &mut self.sys,
-                    rel,
-                    y: [0.0; N_STATES],
-                    dy: [0.0; N_STATES],
-                };
+                let mut rs = InRelative::new(&mut self.sys, rel);
                 let r = match dp.set_h_init(self.step_hint) {
                     Err(e) => Err(e),
                     Ok(()) => dp
