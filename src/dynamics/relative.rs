@@ -231,40 +231,6 @@ fn matmul(a: &[f64], b: &[f64], r: usize, k: usize, c: usize) -> Vec<f64> {
     m
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_map_and_its_inverse_are_inverse() {
-        for kind in [UnitKind::Pair, UnitKind::Stage, UnitKind::Drive] {
-            let r = RelativeCoordinates::new(kind, 0.031, 0.052);
-            let n = r.n();
-            let (t, ti) = (r.t(), r.t_inv());
-            let id = matmul(&t, &ti, n, n, n);
-            for i in 0..n {
-                for j in 0..n {
-                    let e = if i == j { 1.0 } else { 0.0 };
-                    assert!((id[i * n + j] - e).abs() < 1e-14, "{kind:?} ({i},{j})");
-                }
-            }
-            let y: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 * 0.37).collect();
-            let (mut x, mut back) = (vec![0.0; n], vec![0.0; n]);
-            r.to_relative(&y, &mut x);
-            r.to_absolute(&x, &mut back);
-            for (a, b) in y.iter().zip(&back) {
-                assert!((a - b).abs() < 1e-14);
-            }
-            let te = x[r.names().iter().position(|s| *s == "TE").unwrap()];
-            let (pp, pg) = match kind {
-                UnitKind::Drive => (y[1], y[2]),
-                _ => (y[0], y[1]),
-            };
-            assert!((te - (0.031 * pp + 0.052 * pg)).abs() < 1e-15);
-        }
-    }
-}
-
 /// An ODE system in absolute coordinates y seen in relative coordinates x = T·y:
 /// ẋ = T·f(t, T⁻¹·x). Integrating this with an error-controlled method (DOPRI5) puts the
 /// tolerances on φp, TE and the shaft twists (module doc) instead of on the absolute angles,
@@ -302,5 +268,39 @@ impl<S: OdeSystem + ?Sized> OdeSystem for InRelative<'_, S> {
         self.sys.rhs(t, &self.y[..n], &mut self.dy[..n])?;
         self.rel.to_relative(&self.dy[..n], dxdt);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_map_and_its_inverse_are_inverse() {
+        for kind in [UnitKind::Pair, UnitKind::Stage, UnitKind::Drive] {
+            let r = RelativeCoordinates::new(kind, 0.031, 0.052);
+            let n = r.n();
+            let (t, ti) = (r.t(), r.t_inv());
+            let id = matmul(&t, &ti, n, n, n);
+            for i in 0..n {
+                for j in 0..n {
+                    let e = if i == j { 1.0 } else { 0.0 };
+                    assert!((id[i * n + j] - e).abs() < 1e-14, "{kind:?} ({i},{j})");
+                }
+            }
+            let y: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 * 0.37).collect();
+            let (mut x, mut back) = (vec![0.0; n], vec![0.0; n]);
+            r.to_relative(&y, &mut x);
+            r.to_absolute(&x, &mut back);
+            for (a, b) in y.iter().zip(&back) {
+                assert!((a - b).abs() < 1e-14);
+            }
+            let te = x[r.names().iter().position(|s| *s == "TE").unwrap()];
+            let (pp, pg) = match kind {
+                UnitKind::Drive => (y[1], y[2]),
+                _ => (y[0], y[1]),
+            };
+            assert!((te - (0.031 * pp + 0.052 * pg)).abs() < 1e-15);
+        }
     }
 }
