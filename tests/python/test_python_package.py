@@ -160,25 +160,46 @@ def test_static_curve_equals_the_cli(tmp_path):
 
 
 def test_long_calls_release_the_gil():
+    import sys
     import threading
+    import time
 
+    # A loaded state (TE about 20 um, contact on every point) at full fidelity: each point solves
+    # the load distribution, so the call lasts a tenth of a second or more.
     model = hg.MeshModel()
     phi = np.linspace(0.0, 0.2, 400)
+    phi_g = -phi * 30 / 47 + 3e-4
+    window = {}
     started = threading.Event()
 
     def work():
         started.set()
-        model.evaluate(phi, -0.0001 - phi * 30 / 47, 300.0, -191.0)
+        window["start"] = time.perf_counter()
+        out = model.evaluate(phi, phi_g, 300.0, -191.0)
+        window["end"] = time.perf_counter()
+        window["loaded"] = bool(np.all(out["F_n"] > 0.0))
 
     t = threading.Thread(target=work)
     t.start()
     started.wait()
-    spins = 0
+    stamps = []
+    last = 0.0
     while t.is_alive():
-        spins += 1
+        now = time.perf_counter()
+        if now - last > 1e-3:
+            stamps.append(now)
+            last = now
     t.join()
-    # With the GIL held for the whole Rust call this thread could not spin at all meanwhile.
-    assert spins > 1000
+    assert window["loaded"]
+    duration = window["end"] - window["start"]
+    # The test is meaningful only if the call outlasts the interpreter's switch interval many
+    # times over: a thread that holds the GIL can lose it only at the edges of the call.
+    assert duration > 20 * sys.getswitchinterval(), duration
+    # With the GIL held for the whole Rust call this thread could not run in its middle half.
+    lo = window["start"] + 0.25 * duration
+    hi = window["start"] + 0.75 * duration
+    inside = [s for s in stamps if lo < s < hi]
+    assert len(inside) >= 10, (duration, len(stamps), len(inside))
 
 
 def test_results_plot_and_tabulate():
