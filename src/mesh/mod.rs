@@ -50,7 +50,7 @@ pub use statics::{
     Equilibrium, EquilibriumSettings, StaticCurve, TipThreshold, WaterfallRow, equilibrium,
     pressure_waterfall, static_curve, tip_contact_threshold, tip_contact_threshold_curve,
 };
-pub use table::MeshTable;
+pub use table::{MeshTable, TableTruncation};
 
 /// The kinematic state of the two gears.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -15,6 +15,22 @@
 //! u = √δ: the first cells, where the load is a small fraction of nominal and the Hertzian
 //! logarithm bends the curve most, are fine, the last ones twice the uniform size.
 //!
+//! **Where the model stops holding.** Under heavy overload the flanks of the neighbouring pairs
+//! overlap at the tip roundings, and for some designs the compliance of all overlapping slices
+//! is no longer a P-matrix there: the load solver proves it on its working set and the full
+//! model reports the state out of range ([`MeshError::OutOfRange`](super::MeshError::OutOfRange)). A table row that meets
+//! such a node ends there, and the axis keeps the nodes every phase row reached; the first m of
+//! the n graded nodes are exactly an m-node axis, so nothing is resampled. The last node is then
+//! checked at every phase-cell centre and the error check's cell centres are evaluated too; an
+//! out-of-range state there cuts the axis below it. The cut is recorded
+//! ([`MeshTable::truncations`]); it is an error only when the driving axis would end below the
+//! nominal static TE or keep fewer than 4 nodes. The ill-posed region is not monotone in TE or
+//! phase and depends on the solver's start, so isolated states below the cut can still be out of
+//! the full model's range; the table interpolates its well-posed neighbours there. Measured for
+//! β = 18.5°, b = 10.7 mm on the coarse FE mesh (`tests/mesh.rs`): the driving axis ends at
+//! 2.1× the nominal static TE (designed 4×), 1 of 24 states below it is out of the full
+//! model's range, the table agrees with the full model within 2 % at the other 23.
+//!
 //! Between −j_t and 0 no flank can touch (the real flanks lie inside the full involutes, whose
 //! overlap is TE, resp. −TE − j_t), so the outputs there are exactly zero and need no nodes.
 //! Outside [−j_t − TE_hi/2, TE_hi] the model falls back to the full solve.
@@ -60,9 +76,10 @@
 use std::sync::Arc;
 
 use super::model::{MeshModel, PairSum};
-use super::statics::{EquilibriumSettings, equilibrium};
-use super::{MeshError, MeshJacobian, MeshOutputs, MeshState};
+use super::{MeshJacobian, MeshOutputs, MeshState};
 use crate::modifications::Separation;
+
+mod build;
 
 /// Number of interpolated real-valued outputs per node.
 const NV: usize = 5;
@@ -109,6 +126,20 @@ impl TeAxis {
     fn end(&self) -> f64 {
         self.onset + self.dir * self.range
     }
+
+    /// The axis of the first `m` nodes (2 ≤ m ≤ n): on the graded grid these are exactly the
+    /// nodes of an m-node axis over δ_{m−1} (node 0 included), so nothing is resampled.
+    fn truncated(&self, m: usize) -> Self {
+        let np = self.values.len() / (self.n * NV);
+        let mut axis = Self::new(self.onset, self.dir, self.node_distance(m - 1), m, np);
+        for ip in 0..np {
+            let src = ip * self.n;
+            axis.values[ip * m * NV..(ip + 1) * m * NV]
+                .copy_from_slice(&self.values[src * NV..(src + m) * NV]);
+            axis.flags[ip * m..(ip + 1) * m].copy_from_slice(&self.flags[src..src + m]);
+        }
+        axis
+    }
 }
 
 /// The surrogate table (see the module docs).
@@ -130,6 +161,24 @@ pub struct MeshTable {
     checked_points: usize,
     /// Per-tooth-pair driving-flank values, with the tooth deviations they are shifted by.
     pairs: Option<PairTable>,
+    /// The TE axes that were cut short at the model's range (see [`TableTruncation`]).
+    truncations: Vec<TableTruncation>,
+}
+
+/// A TE axis of the table that ends short of its designed extent because the full model is
+/// not well posed beyond ([`MeshError::OutOfRange`](super::MeshError::OutOfRange) at the next node of some phase row). The
+/// axis keeps the nodes every phase row reached, on the same graded grid; states beyond fall
+/// back to the full model, which reports them out of range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TableTruncation {
+    /// Which flanks: `"driving"` (TE > 0) or `"back"` (TE < −j_t).
+    pub flanks: &'static str,
+    /// Distance from the contact onset the axis was designed to cover, m.
+    pub designed_m: f64,
+    /// Distance from the contact onset it covers, m.
+    pub covered_m: f64,
+    /// Message of the first out-of-range state beyond the covered extent.
+    pub cause: String,
 }
 
 /// The driving-flank node values split by tooth pair (see the module docs, "Tooth
@@ -258,127 +307,6 @@ fn axis_weights_of(i: usize, n: usize, [h00, h10, h01, h11]: [f64; 4]) -> (usize
 }
 
 impl MeshTable {
-    /// Builds the table from the full model of `model` (see the module docs). With
-    /// `deviations` (the pair's separation with tooth-by-tooth deviations; `model` then holds
-    /// its periodic part and records per-pair outputs) the driving-flank values are also kept
-    /// per tooth pair and evaluation shifts each pair by its deviation. Errors: a full
-    /// evaluation fails, or the nominal static TE cannot be found.
-    pub fn build(
-        model: &mut MeshModel,
-        deviations: Option<Arc<Separation>>,
-    ) -> Result<Self, MeshError> {
-        let t0 = std::time::Instant::now();
-        let opts = *model.options();
-        let geo = model.geometry().clone();
-        let zp = geo.params.z_p as f64;
-        let pitch = 2.0 * std::f64::consts::PI / zp;
-        let np = opts.table_phase_points;
-        let phase_h = pitch / np as f64;
-        let phase_lo = -0.5 * pitch;
-        let torque = geo.params.drive.torque_nm.abs().max(1.0);
-
-        // Largest static TE at the nominal torque over a few phases.
-        let mut te_nom: f64 = 0.0;
-        let mut guess = 1e-5;
-        for k in 0..8 {
-            let phi_p = phase_lo + pitch * (k as f64 + 0.5) / 8.0;
-            let eq = equilibrium(model, phi_p, torque, guess, &EquilibriumSettings::default())?;
-            guess = eq.te;
-            te_nom = te_nom.max(eq.te);
-        }
-        let te_hi = 4.0 * te_nom;
-        let nd = opts.table_te_points;
-        let jt = geo.backlash_te;
-        let back_lo = -jt - 0.5 * te_hi;
-        let nb = (nd / 2).max(8);
-        let mut drive = TeAxis::new(0.0, 1.0, te_hi, nd, np);
-        let mut back = TeAxis::new(-jt, -1.0, -jt - back_lo, nb, np);
-
-        // Sample the full model, phase rows split over the available cores.
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
-        let rows: Vec<usize> = (0..np).collect();
-        let chunk = np.div_ceil(threads);
-        let results: Vec<Result<Vec<RowSamples>, MeshError>> = std::thread::scope(|s| {
-            let handles: Vec<_> = rows
-                .chunks(chunk)
-                .map(|rs| {
-                    let mut m = model.clone();
-                    let (d, b) = (&drive, &back);
-                    s.spawn(move || {
-                        let mut out = Vec::with_capacity(rs.len());
-                        for &ip in rs {
-                            let phi_p = phase_lo + phase_h * ip as f64;
-                            let (dv, df, dp) = sample_row(&mut m, phi_p, d)?;
-                            let (bv, bf, _) = sample_row(&mut m, phi_p, b)?;
-                            out.push((ip, dv, df, bv, bf, dp));
-                        }
-                        Ok(out)
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| {
-                    h.join().unwrap_or_else(|_| {
-                        Err(MeshError::Compliance("table build thread panicked".into()))
-                    })
-                })
-                .collect()
-        });
-        let mut pair_samples: Vec<(usize, usize, PairSum)> = Vec::new();
-        for r in results {
-            for (ip, dv, df, bv, bf, dp) in r? {
-                drive.values[ip * nd * NV..(ip + 1) * nd * NV].copy_from_slice(&dv);
-                drive.flags[ip * nd..(ip + 1) * nd].copy_from_slice(&df);
-                back.values[ip * nb * NV..(ip + 1) * nb * NV].copy_from_slice(&bv);
-                back.flags[ip * nb..(ip + 1) * nb].copy_from_slice(&bf);
-                pair_samples.extend(dp.into_iter().map(|(it, ps)| (ip, it, ps)));
-            }
-        }
-        let mut table = Self {
-            phase_lo,
-            phase_h,
-            np,
-            drive,
-            back,
-            backlash_te: jt,
-            pitch_p: crate::numeric::Pitch::of_teeth(geo.pinion.z),
-            rb_p: geo.pinion.rb,
-            rb_g: geo.gear.rb,
-            nominal_torque: torque,
-            build_s: 0.0,
-            max_rel_err: 0.0,
-            checked_points: 0,
-            pairs: None,
-        };
-
-        // Error check at cell centres (a deterministic subset of cells on the drive axis).
-        let mut worst: f64 = 0.0;
-        let mut checked = 0;
-        let cells = 64usize;
-        for k in 0..cells {
-            let ip = (k * 7919) % np;
-            let it = (k * 104_729) % (nd - 1);
-            let phi_p = phase_lo + phase_h * (ip as f64 + 0.5);
-            let te = 0.5 * (table.drive.node_te(it.max(1)) + table.drive.node_te(it + 1));
-            let state = state_at(model, phi_p, te);
-            let full = model.evaluate_full(&state)?;
-            if full.m_f_p.abs() > 0.01 * torque {
-                if let Some(t) = table.evaluate(model, &state) {
-                    worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
-                    checked += 1;
-                }
-            }
-        }
-        table.max_rel_err = worst;
-        table.checked_points = checked;
-        if let Some(sep) = deviations {
-            table.pairs = Some(PairTable::new(sep, &table.drive, np, &pair_samples));
-        }
-        table.build_s = t0.elapsed().as_secs_f64();
-        Ok(table)
-    }
-
     /// True when the table carries tooth-by-tooth deviations (per-pair values).
     pub fn has_tooth_deviations(&self) -> bool {
         self.pairs.is_some()
@@ -403,6 +331,12 @@ impl MeshTable {
     /// TE range covered: (lowest back-flank TE, highest driving-flank TE), m.
     pub fn te_range(&self) -> (f64, f64) {
         (self.back.end(), self.drive.end())
+    }
+
+    /// The TE axes cut short at the model's range (empty when the table covers its designed
+    /// range: 4× the nominal static TE on the driving flanks).
+    pub fn truncations(&self) -> &[TableTruncation] {
+        &self.truncations
     }
 
     /// Grid sizes: (phase points, driving TE points, back TE points).
@@ -774,47 +708,4 @@ pub(crate) fn damping_rows(
         jac.d[row][MeshJacobian::PHI_P] = d * rate * d_extent[0] * rb_k;
         jac.d[row][MeshJacobian::PHI_G] = d * rate * d_extent[1] * rb_k;
     }
-}
-
-/// Samples of one phase row: (row, drive values, drive flags, back values, back flags, drive
-/// per-pair samples (TE node, pair outputs)).
-type RowSamples = (usize, Vec<f64>, Vec<u16>, Vec<f64>, Vec<u16>, Vec<(usize, PairSum)>);
-
-/// State with pinion angle `phi_p` and transmission error `te`, at rest.
-fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
-    let geo = model.geometry();
-    MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
-}
-
-/// Full-model samples of one phase row along one TE axis: node values, node flags and, when
-/// the model records them, the per-pair outputs of each node.
-#[allow(clippy::type_complexity)]
-fn sample_row(
-    model: &mut MeshModel,
-    phi_p: f64,
-    axis: &TeAxis,
-) -> Result<(Vec<f64>, Vec<u16>, Vec<(usize, PairSum)>), MeshError> {
-    let mut values = Vec::with_capacity(axis.n * NV);
-    let mut flags = Vec::with_capacity(axis.n);
-    let mut pairs = Vec::new();
-    let per_extent = model.length_per_extent();
-    for it in 0..axis.n {
-        let te = axis.node_te(it);
-        let o = model.evaluate_full(&state_at(model, phi_p, te))?;
-        let dist = axis.node_distance(it);
-        pairs.extend(model.pair_sums().iter().map(|p| (it, *p)));
-        values.extend_from_slice(&[
-            o.m_f_p / dist,
-            o.m_f_g / dist,
-            o.f_n / dist,
-            o.contact_length / per_extent,
-            o.p_max * o.p_max / dist,
-        ]);
-        flags.push(
-            (o.n_pairs.min(255) as u16)
-                | if o.tip_contact { 0x100 } else { 0 }
-                | if o.back_contact { 0x200 } else { 0 },
-        );
-    }
-    Ok((values, flags, pairs))
 }

@@ -1,0 +1,319 @@
+//! Building the table: the full model sampled on the (phase, TE) grid, phase rows split over
+//! the cores; each TE axis cut where the full model stops being well posed; the error check at
+//! cell centres (see the parent module's docs).
+
+use std::sync::Arc;
+
+use super::super::model::{MeshModel, PairSum};
+use super::super::statics::{EquilibriumSettings, equilibrium};
+use super::super::{MeshError, MeshState};
+use super::{MeshTable, NV, PairTable, TableTruncation, TeAxis};
+use crate::modifications::Separation;
+
+impl MeshTable {
+    /// Builds the table from the full model of `model` (see the module docs). With
+    /// `deviations` (the pair's separation with tooth-by-tooth deviations; `model` then holds
+    /// its periodic part and records per-pair outputs) the driving-flank values are also kept
+    /// per tooth pair and evaluation shifts each pair by its deviation. Errors: a full
+    /// evaluation fails, or the nominal static TE cannot be found.
+    pub fn build(
+        model: &mut MeshModel,
+        deviations: Option<Arc<Separation>>,
+    ) -> Result<Self, MeshError> {
+        let t0 = std::time::Instant::now();
+        let opts = *model.options();
+        let geo = model.geometry().clone();
+        let zp = geo.params.z_p as f64;
+        let pitch = 2.0 * std::f64::consts::PI / zp;
+        let np = opts.table_phase_points;
+        let phase_h = pitch / np as f64;
+        let phase_lo = -0.5 * pitch;
+        let torque = geo.params.drive.torque_nm.abs().max(1.0);
+
+        // Largest static TE at the nominal torque over a few phases.
+        let mut te_nom: f64 = 0.0;
+        let mut guess = 1e-5;
+        for k in 0..8 {
+            let phi_p = phase_lo + pitch * (k as f64 + 0.5) / 8.0;
+            let eq = equilibrium(model, phi_p, torque, guess, &EquilibriumSettings::default())?;
+            guess = eq.te;
+            te_nom = te_nom.max(eq.te);
+        }
+        let te_hi = 4.0 * te_nom;
+        let nd = opts.table_te_points;
+        let jt = geo.backlash_te;
+        let back_lo = -jt - 0.5 * te_hi;
+        let nb = (nd / 2).max(8);
+        let drive = TeAxis::new(0.0, 1.0, te_hi, nd, np);
+        let back = TeAxis::new(-jt, -1.0, -jt - back_lo, nb, np);
+
+        // Sample the full model, phase rows split over the available cores.
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
+        let rows: Vec<usize> = (0..np).collect();
+        let chunk = np.div_ceil(threads);
+        let results: Vec<Result<Vec<RowSamples>, MeshError>> = std::thread::scope(|s| {
+            let handles: Vec<_> = rows
+                .chunks(chunk)
+                .map(|rs| {
+                    let mut m = model.clone();
+                    let (d, b) = (&drive, &back);
+                    s.spawn(move || {
+                        let mut out = Vec::with_capacity(rs.len());
+                        for &ip in rs {
+                            let phi_p = phase_lo + phase_h * ip as f64;
+                            let dr = sample_row(&mut m, phi_p, d)?;
+                            let br = sample_row(&mut m, phi_p, b)?;
+                            out.push((ip, dr, br));
+                        }
+                        Ok(out)
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| {
+                    h.join().unwrap_or_else(|_| {
+                        Err(MeshError::Compliance("table build thread panicked".into()))
+                    })
+                })
+                .collect()
+        });
+        let mut drive_rows = Vec::with_capacity(np);
+        let mut back_rows = Vec::with_capacity(np);
+        for r in results {
+            for (ip, dr, br) in r? {
+                drive_rows.push((ip, dr));
+                back_rows.push((ip, br));
+            }
+        }
+        let mut truncations = Vec::new();
+        let phases = (phase_lo, phase_h);
+        let (drive, pair_samples) =
+            assemble(model, &drive, drive_rows, phases, te_nom, "driving", &mut truncations)?;
+        let (back, _) = assemble(model, &back, back_rows, phases, 0.0, "back", &mut truncations)?;
+        let mut table = Self {
+            phase_lo,
+            phase_h,
+            np,
+            drive,
+            back,
+            backlash_te: jt,
+            pitch_p: crate::numeric::Pitch::of_teeth(geo.pinion.z),
+            rb_p: geo.pinion.rb,
+            rb_g: geo.gear.rb,
+            nominal_torque: torque,
+            build_s: 0.0,
+            max_rel_err: 0.0,
+            checked_points: 0,
+            pairs: None,
+            truncations,
+        };
+
+        // Error check at cell centres (a deterministic subset of cells on the drive axis). A
+        // checked state out of the model's range cuts the driving axis below it (the
+        // ill-posed region of heavy overload, with corner contacts on the tip roundings, is
+        // not monotone in TE), and the check starts again on the shorter axis.
+        let (worst, checked) = loop {
+            match table.self_check(model, torque)? {
+                Ok(found) => break found,
+                Err((te, e)) => {
+                    let m = (0..table.drive.n).take_while(|&k| table.drive.node_te(k) < te).count();
+                    if m < 4 || table.drive.node_distance(m - 1) < te_nom {
+                        return Err(e);
+                    }
+                    let designed = table.drive.range;
+                    table.drive = table.drive.truncated(m);
+                    let cut = TableTruncation {
+                        flanks: "driving",
+                        designed_m: designed,
+                        covered_m: table.drive.range,
+                        cause: e.to_string(),
+                    };
+                    match table.truncations.iter_mut().find(|t| t.flanks == "driving") {
+                        Some(t) => {
+                            t.covered_m = cut.covered_m;
+                            t.cause = cut.cause;
+                        }
+                        None => table.truncations.push(cut),
+                    }
+                }
+            }
+        };
+        table.max_rel_err = worst;
+        table.checked_points = checked;
+        if let Some(sep) = deviations {
+            let n = table.drive.n;
+            let kept: Vec<_> = pair_samples.into_iter().filter(|(_, it, _)| *it < n).collect();
+            table.pairs = Some(PairTable::new(sep, &table.drive, np, &kept));
+        }
+        table.build_s = t0.elapsed().as_secs_f64();
+        Ok(table)
+    }
+
+    /// The build's error check: the full model against the table at the centres of a
+    /// deterministic subset of 64 driving-axis cells. Returns the largest relative error of
+    /// M_F,p where |M_F,p| > 1 % of `torque` and the number of such cells, or the TE and the
+    /// error of the first checked state out of the model's range.
+    #[allow(clippy::type_complexity)]
+    fn self_check(
+        &self,
+        model: &mut MeshModel,
+        torque: f64,
+    ) -> Result<Result<(f64, usize), (f64, MeshError)>, MeshError> {
+        let mut worst: f64 = 0.0;
+        let mut checked = 0;
+        let nd = self.drive.n;
+        for k in 0..64usize {
+            let ip = (k * 7919) % self.np;
+            let it = (k * 104_729) % (nd - 1);
+            let phi_p = self.phase_lo + self.phase_h * (ip as f64 + 0.5);
+            let te = 0.5 * (self.drive.node_te(it.max(1)) + self.drive.node_te(it + 1));
+            let state = state_at(model, phi_p, te);
+            let full = match model.evaluate_full(&state) {
+                Ok(o) => o,
+                Err(e @ MeshError::OutOfRange { .. }) => return Ok(Err((te, e))),
+                Err(e) => return Err(e),
+            };
+            if full.m_f_p.abs() > 0.01 * torque {
+                if let Some(t) = self.evaluate(model, &state) {
+                    worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
+                    checked += 1;
+                }
+            }
+        }
+        Ok(Ok((worst, checked)))
+    }
+}
+
+/// A per-pair sample of the driving axis: (phase row, TE node, the pair's outputs).
+type PairSample = (usize, usize, PairSum);
+
+/// Samples of one phase row: (row, driving axis, back axis).
+type RowSamples = (usize, AxisRow, AxisRow);
+
+/// State with pinion angle `phi_p` and transmission error `te`, at rest.
+fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+    let geo = model.geometry();
+    MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
+}
+
+/// Packs the phase rows of one TE axis into the axis and cuts it at the model's range (see
+/// [`TableTruncation`]):
+///
+/// 1. when a row ended early (the next node out of range), the axis keeps the nodes every row
+///    reached;
+/// 2. then, while the full model is out of range at the last node's TE at some phase-cell
+///    centre (between the sampled phases, where the ill-posed region can reach below the
+///    nodes), the last node is dropped.
+///
+/// It is an error (the out-of-range state) when fewer than 4 nodes would remain or the axis
+/// would end short of `min_range` (for the driving flanks the nominal static TE). Returns the
+/// axis and the per-pair samples (phase row, TE node, pair outputs) of the kept nodes.
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    model: &mut MeshModel,
+    proto: &TeAxis,
+    rows: Vec<(usize, AxisRow)>,
+    (phase_lo, phase_h): (f64, f64),
+    min_range: f64,
+    flanks: &'static str,
+    truncations: &mut Vec<TableTruncation>,
+) -> Result<(TeAxis, Vec<PairSample>), MeshError> {
+    let np = proto.values.len() / (proto.n * NV);
+    let mut axis = TeAxis::new(proto.onset, proto.dir, proto.range, proto.n, np);
+    let mut pairs = Vec::new();
+    let mut cause = None;
+    for (ip, row) in rows {
+        let k = row.flags.len();
+        let (lo, hi) = (ip * proto.n, ip * proto.n + k);
+        axis.values[lo * NV..hi * NV].copy_from_slice(&row.values);
+        axis.flags[lo..hi].copy_from_slice(&row.flags);
+        pairs.extend(row.pairs.into_iter().map(|(it, ps)| (ip, it, ps)));
+        if k < proto.n && cause.as_ref().is_none_or(|(m, _)| k < *m) {
+            cause = row.out_of_range.map(|e| (k, e));
+        }
+    }
+    let mut m = cause.as_ref().map_or(proto.n, |(k, _)| *k);
+    let mut cause = cause.map(|(_, e)| e);
+    loop {
+        if m < 4 || proto.node_distance(m - 1) < min_range {
+            return Err(cause.expect("the axis is cut only at an out-of-range state"));
+        }
+        let te = proto.node_te(m - 1);
+        let mut beyond = None;
+        for ip in 0..np {
+            let phi_p = phase_lo + phase_h * (ip as f64 + 0.5);
+            match model.evaluate_full(&state_at(model, phi_p, te)) {
+                Ok(_) => {}
+                Err(e @ MeshError::OutOfRange { .. }) => {
+                    beyond = Some(e);
+                    break;
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        match beyond {
+            None => break,
+            Some(e) => {
+                cause = Some(e);
+                m -= 1;
+            }
+        }
+    }
+    if m < proto.n {
+        axis = axis.truncated(m);
+        truncations.push(TableTruncation {
+            flanks,
+            designed_m: proto.range,
+            covered_m: axis.range,
+            cause: cause.map(|e| e.to_string()).unwrap_or_default(),
+        });
+        pairs.retain(|(_, it, _)| *it < m);
+    }
+    Ok((axis, pairs))
+}
+
+/// Full-model samples of one phase row along one TE axis (see [`AxisRow`]): the row ends early
+/// at the first node (after node 0) out of the model's range.
+fn sample_row(model: &mut MeshModel, phi_p: f64, axis: &TeAxis) -> Result<AxisRow, MeshError> {
+    let mut values = Vec::with_capacity(axis.n * NV);
+    let mut flags = Vec::with_capacity(axis.n);
+    let mut pairs = Vec::new();
+    let per_extent = model.length_per_extent();
+    for it in 0..axis.n {
+        let te = axis.node_te(it);
+        let o = match model.evaluate_full(&state_at(model, phi_p, te)) {
+            Ok(o) => o,
+            // Beyond the model's range: the row ends at the last node that was well posed.
+            Err(e @ MeshError::OutOfRange { .. }) if it > 0 => {
+                return Ok(AxisRow { values, flags, pairs, out_of_range: Some(e) });
+            }
+            Err(e) => return Err(e),
+        };
+        let dist = axis.node_distance(it);
+        pairs.extend(model.pair_sums().iter().map(|p| (it, *p)));
+        values.extend_from_slice(&[
+            o.m_f_p / dist,
+            o.m_f_g / dist,
+            o.f_n / dist,
+            o.contact_length / per_extent,
+            o.p_max * o.p_max / dist,
+        ]);
+        flags.push(
+            (o.n_pairs.min(255) as u16)
+                | if o.tip_contact { 0x100 } else { 0 }
+                | if o.back_contact { 0x200 } else { 0 },
+        );
+    }
+    Ok(AxisRow { values, flags, pairs, out_of_range: None })
+}
+
+/// The samples of one phase row along one TE axis: the node values and flags of the first
+/// `flags.len()` nodes, the per-pair sums, and, when the row ended early, the out-of-range
+/// error of its first node beyond the model's range.
+struct AxisRow {
+    values: Vec<f64>,
+    flags: Vec<u16>,
+    pairs: Vec<(usize, PairSum)>,
+    out_of_range: Option<MeshError>,
+}
