@@ -97,6 +97,13 @@ fn relative_map<M: MeshTorques>(model: &GearDynamics<M>) -> RelativeCoordinates 
     RelativeCoordinates::new(UnitKind::Drive, gp, gg)
 }
 
+/// The absolute state of relative state `x` under `rel`.
+fn absolute_of(rel: &RelativeCoordinates, x: &[f64]) -> [f64; N_STATES] {
+    let mut a = [0.0; N_STATES];
+    rel.to_absolute(x, &mut a);
+    a
+}
+
 /// Integrates Eqs. 1–4 from `y0` at t = 0 to `t_end` (s, > 0) and records the trajectory.
 ///
 /// With [`Stepping::Rk4`], `t_end` must be a whole number n of steps (|n·dt − t_end| ≤
@@ -163,11 +170,7 @@ pub fn simulate<M: MeshTorques>(
             let rel = relative_map(model);
             let mut x = [0.0; N_STATES];
             rel.to_relative(&y, &mut x);
-            let absolute = |x: &[f64]| {
-                let mut a = [0.0; N_STATES];
-                rel.to_absolute(x, &mut a);
-                a
-            };
+            let absolute = |x: &[f64]| absolute_of(&rel, x);
             let mut sys = InRelative::new(model, rel);
             let stats = dp.integrate(&mut sys, 0.0, t_end, &mut x, |step| {
                 match output_dt {
@@ -559,11 +562,7 @@ pub fn run_to_steady<M: MeshTorques>(
             let rel = relative_map(model);
             let mut x = [0.0; N_STATES];
             rel.to_relative(&y, &mut x);
-            let absolute = |x: &[f64]| {
-                let mut a = [0.0; N_STATES];
-                rel.to_absolute(x, &mut a);
-                a
-            };
+            let absolute = |x: &[f64]| absolute_of(&rel, x);
             let mut sys = InRelative::new(model, rel);
             let stats = dp.integrate(&mut sys, 0.0, t1, &mut x, |step| {
                 let mut stop = false;
