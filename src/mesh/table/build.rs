@@ -110,9 +110,10 @@ impl MeshTable {
         };
 
         // Error check at cell centres (a deterministic subset of cells on the drive axis). A
-        // checked state out of the model's range cuts the driving axis below it (the
-        // ill-posed region of heavy overload, with corner contacts on the tip roundings, is
-        // not monotone in TE), and the check starts again on the shorter axis.
+        // checked state out of the model's range cuts the driving axis below it (nothing
+        // guarantees that the ill-posed region of heavy overload, with corner contacts on the
+        // tip roundings, is monotone in TE and phase), and the check starts again on the
+        // shorter axis.
         let (worst, checked) = loop {
             match table.self_check(model, torque)? {
                 Ok(found) => break found,
