@@ -85,7 +85,7 @@
 //! reported; a problem that was solved directly is never touched. Measured for β = 18.5°,
 //! b = 10.7 mm (coarse FE, `tests/mesh.rs`): without the retry every cold solve from 1.3× the
 //! nominal static TE up failed at its first step, while the same states solved from the
-//! neighbouring state's loads up to 4.7×; with it the cold solves give those loads (F_n to
+//! neighbouring state's loads up to 4.6×; with it the cold solves give those loads (F_n to
 //! 1e-12 relative) up to the same limit, beyond which both fail.
 
 //! Simplified Newton: within one solve C does not change, only the diagonal slopes u_c' of
@@ -556,51 +556,48 @@ impl LoadSolver {
         }
     }
 
-    /// The continuation retry of [`LoadSolver::solve`]: approaches d − (1 − k/K)·max d for
-    /// k = 1 … K from q = 0, each from the previous loads, K = 4 then 16. The report sums the
-    /// work of the successful pass.
+    /// The continuation retry of [`LoadSolver::solve`]: a pass of K = 4 steps, then one of 16
+    /// (see [`LoadSolver::continuation_pass`]).
     fn solve_by_continuation(
         &mut self,
         problem: &LoadProblem<'_>,
     ) -> Result<LoadReport, LoadError> {
-        let n = problem.approach.len();
         let mut part = std::mem::take(&mut self.approach_part);
-        part.resize(n, 0.0);
-        let d_max = problem.approach.iter().fold(0.0_f64, |m, &d| m.max(d));
-        let mut result = Err(LoadError::NoConvergence {
-            iterations: 0,
-            residual: f64::INFINITY,
-            tolerance: 0.0,
-        });
-        'passes: for steps in [4usize, 16] {
-            let (mut iterations, mut factorizations, mut evaluations) = (0, 0, 0);
-            for k in 1..=steps {
-                let shift = d_max * (steps - k) as f64 / steps as f64;
-                for (x, &d) in part.iter_mut().zip(problem.approach) {
-                    *x = d - shift;
-                }
-                let step = LoadProblem { approach: &part, ..*problem };
-                let start = if k == 1 { Start::Cold } else { Start::Warm };
-                match self.solve_from(&step, start) {
-                    Ok(r) => {
-                        iterations += r.iterations;
-                        factorizations += r.factorizations;
-                        evaluations += r.evaluations;
-                        if k == steps {
-                            result =
-                                Ok(LoadReport { iterations, factorizations, evaluations, ..r });
-                            break 'passes;
-                        }
-                    }
-                    Err(e) => {
-                        result = Err(e);
-                        continue 'passes;
-                    }
-                }
-            }
-        }
+        part.resize(problem.approach.len(), 0.0);
+        let result = self
+            .continuation_pass(problem, &mut part, 4)
+            .or_else(|_| self.continuation_pass(problem, &mut part, 16));
         self.approach_part = part;
         result
+    }
+
+    /// One continuation pass of `steps` = K steps: approaches d − (1 − k/K)·max d (into
+    /// `part`) for k = 1 … K from q = 0, each from the previous loads. The report sums the
+    /// pass's work; the first failing step's error ends it.
+    fn continuation_pass(
+        &mut self,
+        problem: &LoadProblem<'_>,
+        part: &mut [f64],
+        steps: usize,
+    ) -> Result<LoadReport, LoadError> {
+        let d_max = problem.approach.iter().fold(0.0_f64, |m, &d| m.max(d));
+        let (mut iterations, mut factorizations, mut evaluations) = (0, 0, 0);
+        let mut last = None;
+        for k in 1..=steps {
+            let shift = d_max * (steps - k) as f64 / steps as f64;
+            for (x, &d) in part.iter_mut().zip(problem.approach) {
+                *x = d - shift;
+            }
+            let step = LoadProblem { approach: part, ..*problem };
+            let start = if k == 1 { Start::Cold } else { Start::Warm };
+            let r = self.solve_from(&step, start)?;
+            iterations += r.iterations;
+            factorizations += r.factorizations;
+            evaluations += r.evaluations;
+            last = Some(r);
+        }
+        let r = last.expect("a pass has at least one step");
+        Ok(LoadReport { iterations, factorizations, evaluations, ..r })
     }
 
     /// [`LoadSolver::solve`] without the continuation retry.
