@@ -43,10 +43,12 @@ use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
+use crate::dynamics::unit::{MAX_ANGLE_RAD, MAX_SPEED_RAD_S};
 use crate::dynamics::{
     DriveUnit, Drivetrain, HubCoupling, UnitInputs, UnitKind, UnitOutputs, UnitSnapshot,
     UnitStepping,
 };
+use crate::error::short_num;
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
 use crate::params::GearPair;
@@ -262,23 +264,38 @@ pub unsafe extern "C" fn hgm_evaluate(
                     format!("input `{name}` = {v} is not finite"),
                 ));
             }
+            let (max, range) = if name.starts_with("phi") {
+                (MAX_ANGLE_RAD, "1e15 rad")
+            } else {
+                (MAX_SPEED_RAD_S, "1e5 rad/s")
+            };
+            if v.abs() > max {
+                return Err((
+                    HgmStatus::InvalidArgument,
+                    format!("input `{name}` = {}: allowed |{name}| <= {range}", short_num(v)),
+                ));
+            }
         }
         let o = m
             .evaluate(&MeshState { phi_p, phi_g, w_p, w_g })
             .map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
+        check_mesh_outputs(&o)?;
         // SAFETY: non-null, caller contract.
         unsafe { out.write(o.into()) };
         Ok(())
     })
 }
 
-/// Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m (finite, ≥ 0).
+/// Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m, in its range [0, 1e9] (the
+/// range of the JSON key `d_mesh_n_s_per_m`); outside it `HGM_STATUS_INVALID_ARGUMENT`.
 ///
 /// # Safety
 /// `h` must be NULL or a live handle.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_set_d_mesh(h: *mut HgmModel, d_mesh: f64) -> HgmStatus {
     with_model(h, "hgm_set_d_mesh", |m| {
+        crate::params::check_d_mesh(d_mesh)
+            .map_err(|e| (HgmStatus::InvalidArgument, e.to_string()))?;
         m.set_d_mesh(d_mesh).map_err(|e| (HgmStatus::ModelError, e.to_string()))
     })
 }
@@ -317,7 +334,8 @@ pub unsafe extern "C" fn hgm_free(h: *mut HgmModel) {
 // Stateful units
 // ---------------------------------------------------------------------------------------------
 
-/// Which part of the drive line a unit holds (see `HgmUnit`).
+/// Which part of the drive line a unit holds (see `HgmUnit`): the values of `hgm_unit_create`'s
+/// `kind` argument, which takes an `int32_t` and refuses any other value.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HgmUnitKind {
@@ -329,7 +347,8 @@ pub enum HgmUnitKind {
     Drive = 2,
 }
 
-/// Mesh evaluation of a unit.
+/// Mesh evaluation of a unit: the values of `hgm_unit_create`'s `fidelity` argument, which
+/// takes an `int32_t` and refuses any other value.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HgmFidelity {
@@ -434,6 +453,32 @@ impl Handle for HgmUnit {
     }
 }
 
+/// The one check on every value handed to C with `HGM_STATUS_OK`: the first non-finite one is
+/// a `HGM_STATUS_MODEL_ERROR` naming it.
+fn check_finite(values: &[(&str, f64)]) -> Result<(), (HgmStatus, String)> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        None => Ok(()),
+        Some((name, v)) => Err((
+            HgmStatus::ModelError,
+            format!("output `{name}` = {v} is not finite (the model left its valid range)"),
+        )),
+    }
+}
+
+/// [`check_finite`] over the mesh outputs.
+fn check_mesh_outputs(o: &MeshOutputs) -> Result<(), (HgmStatus, String)> {
+    check_finite(&[
+        ("m_f_p", o.m_f_p),
+        ("m_f_g", o.m_f_g),
+        ("m_d_p", o.m_d_p),
+        ("m_d_g", o.m_d_g),
+        ("te", o.te),
+        ("f_n", o.f_n),
+        ("contact_length", o.contact_length),
+        ("p_max", o.p_max),
+    ])
+}
+
 fn model_err(e: impl std::fmt::Display) -> (HgmStatus, String) {
     (HgmStatus::ModelError, e.to_string())
 }
@@ -448,15 +493,19 @@ fn invalid_arg(msg: impl Into<String>) -> (HgmStatus, String) {
 /// `steps_per_mesh_period` > 0 gives RK4 on a grid of at most T_m/steps_per_mesh_period
 /// (≥ 4; 128 is the crate's default); 0 gives adaptive DOPRI5 with `rtol`, `atol` (> 0).
 /// The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
+/// `kind` and `fidelity` are integers (a C enum may hold any value): `kind` one of
+/// `HGM_UNIT_KIND_PAIR` (0), `HGM_UNIT_KIND_STAGE` (1), `HGM_UNIT_KIND_DRIVE` (2), `fidelity`
+/// one of `HGM_FIDELITY_TABLE` (0), `HGM_FIDELITY_FULL` (1); another value gives NULL with a
+/// message naming the argument and its allowed values.
 /// Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
 ///
 /// # Safety
 /// `json` must be NULL or a zero-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_unit_create(
-    kind: HgmUnitKind,
+    kind: i32,
     json: *const c_char,
-    fidelity: HgmFidelity,
+    fidelity: i32,
     steps_per_mesh_period: u32,
     rtol: f64,
     atol: f64,
@@ -472,13 +521,24 @@ pub unsafe extern "C" fn hgm_unit_create(
             GearPair::from_json(text)?
         };
         let fidelity = match fidelity {
-            HgmFidelity::Table => Fidelity::Table,
-            HgmFidelity::Full => Fidelity::Full,
+            x if x == HgmFidelity::Table as i32 => Fidelity::Table,
+            x if x == HgmFidelity::Full as i32 => Fidelity::Full,
+            x => {
+                return Err(format!(
+                    "`fidelity` = {x}: allowed HGM_FIDELITY_TABLE (0) or HGM_FIDELITY_FULL (1)"
+                ));
+            }
         };
         let kind = match kind {
-            HgmUnitKind::Pair => UnitKind::Pair,
-            HgmUnitKind::Stage => UnitKind::Stage,
-            HgmUnitKind::Drive => UnitKind::Drive,
+            x if x == HgmUnitKind::Pair as i32 => UnitKind::Pair,
+            x if x == HgmUnitKind::Stage as i32 => UnitKind::Stage,
+            x if x == HgmUnitKind::Drive as i32 => UnitKind::Drive,
+            x => {
+                return Err(format!(
+                    "`kind` = {x}: allowed HGM_UNIT_KIND_PAIR (0), HGM_UNIT_KIND_STAGE (1) or \
+                     HGM_UNIT_KIND_DRIVE (2)"
+                ));
+            }
         };
         let stepping = if steps_per_mesh_period > 0 {
             UnitStepping::Rk4 { steps_per_mesh_period }
@@ -629,6 +689,24 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
             return Err(invalid_arg("`out` is NULL"));
         }
         let o: UnitOutputs = h.unit.outputs().map_err(model_err)?;
+        check_mesh_outputs(&o.mesh)?;
+        check_finite(&[
+            ("t", h.unit.time()),
+            ("phi_p", o.phi_p),
+            ("w_p", o.w_p),
+            ("a_p", o.a_p),
+            ("phi_g", o.phi_g),
+            ("w_g", o.w_g),
+            ("a_g", o.a_g),
+            ("phi_1", o.phi_1),
+            ("w_1", o.w_1),
+            ("phi_2", o.phi_2),
+            ("w_2", o.w_2),
+            ("tau_1", o.tau_1),
+            ("tau_2", o.tau_2),
+            ("tau_p", o.tau_p),
+            ("tau_g", o.tau_g),
+        ])?;
         let c = HgmUnitOutputs {
             t: h.unit.time(),
             phi_p: o.phi_p,
@@ -653,16 +731,17 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
     })
 }
 
-/// The unit's snapshot (time, state, inputs, integrator hint) as JSON text, valid until the
-/// next call on this handle; NULL on failure. `hgm_unit_restore` continues from it bit for bit.
+/// The unit's snapshot (time, state, inputs, integrator hint) as JSON text with a format
+/// version and a 64-bit FNV-1a checksum (`{"format_version":1,"checksum":…,"snapshot":{…}}`),
+/// valid until the next call on this handle; NULL on failure. `hgm_unit_restore` continues
+/// from it bit for bit.
 ///
 /// # Safety
 /// `u` must be NULL or a live unit handle.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_unit_snapshot(u: *mut HgmUnit) -> *const c_char {
     let st = with_handle(u, "hgm_unit_snapshot", |h| {
-        let json = serde_json::to_string(&h.unit.snapshot()).map_err(model_err)?;
-        h.snapshot = to_cstring(&json);
+        h.snapshot = to_cstring(&h.unit.snapshot().to_text());
         Ok(())
     });
     if st == HgmStatus::Ok {
@@ -673,7 +752,10 @@ pub unsafe extern "C" fn hgm_unit_snapshot(u: *mut HgmUnit) -> *const c_char {
     }
 }
 
-/// Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind.
+/// Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind. A text of another
+/// format version, whose checksum does not match, or with a value out of range (angles
+/// beyond ±1e15 rad, speeds beyond ±1e5 rad/s, torques beyond ±1e9 N·m) is refused whole
+/// (`HGM_STATUS_INVALID_ARGUMENT`) and the unit is unchanged.
 ///
 /// # Safety
 /// `u` must be NULL or a live unit handle; `json` NULL or a zero-terminated string.
@@ -687,8 +769,7 @@ pub unsafe extern "C" fn hgm_unit_restore(u: *mut HgmUnit, json: *const c_char) 
         let text = unsafe { CStr::from_ptr(json) }
             .to_str()
             .map_err(|e| invalid_arg(format!("`json` is not UTF-8: {e}")))?;
-        let s: UnitSnapshot =
-            serde_json::from_str(text).map_err(|e| invalid_arg(format!("snapshot JSON: {e}")))?;
+        let s = UnitSnapshot::from_text(text).map_err(invalid_arg)?;
         h.unit.restore(&s).map_err(|e| invalid_arg(e.to_string()))
     })
 }

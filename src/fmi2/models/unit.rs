@@ -894,11 +894,13 @@ impl Engine for UnitEngine {
     }
 
     fn save(&self) -> Vec<u8> {
-        serde_json::to_vec(&self.unit.snapshot()).expect("a unit snapshot serialises")
+        self.unit.snapshot().to_text().into_bytes()
     }
 
     fn load(&mut self, bytes: &[u8]) -> Result<(), String> {
-        let s: UnitSnapshot = serde_json::from_slice(bytes)
+        let text = std::str::from_utf8(bytes)
+            .map_err(|e| format!("serialised state: unit snapshot: {e}"))?;
+        let s = UnitSnapshot::from_text(text)
             .map_err(|e| format!("serialised state: unit snapshot: {e}"))?;
         self.unit.restore(&s).map_err(|e| format!("serialised state: unit snapshot: {e}"))
     }
