@@ -287,15 +287,14 @@ pub unsafe extern "C" fn hgm_evaluate(
 }
 
 /// Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m, in its range [0, 1e9] (the
-/// range of the JSON key `d_mesh_n_s_per_m`); outside it `HGM_STATUS_INVALID_ARGUMENT`.
+/// range of the JSON key `d_mesh_n_s_per_m`); outside it `HGM_STATUS_MODEL_ERROR` with a
+/// message naming the key, the value and the range.
 ///
 /// # Safety
 /// `h` must be NULL or a live handle.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_set_d_mesh(h: *mut HgmModel, d_mesh: f64) -> HgmStatus {
     with_model(h, "hgm_set_d_mesh", |m| {
-        crate::params::check_d_mesh(d_mesh)
-            .map_err(|e| (HgmStatus::InvalidArgument, e.to_string()))?;
         m.set_d_mesh(d_mesh).map_err(|e| (HgmStatus::ModelError, e.to_string()))
     })
 }
@@ -672,7 +671,10 @@ pub unsafe extern "C" fn hgm_unit_set_hub_coupling(
 pub unsafe extern "C" fn hgm_unit_advance(u: *mut HgmUnit, h: f64) -> HgmStatus {
     with_handle(u, "hgm_unit_advance", |x| {
         if !(h.is_finite() && h > 0.0) {
-            return Err(invalid_arg(format!("step `h` = {h}: allowed finite and > 0 (s)")));
+            return Err(invalid_arg(format!(
+                "step `h` = {}: allowed finite and > 0 (s)",
+                short_num(h)
+            )));
         }
         x.unit.advance(h).map_err(model_err)
     })

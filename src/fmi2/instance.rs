@@ -16,6 +16,7 @@ use super::variables::{
     Access, Causality, Derived, InputRates, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability,
     Variable,
 };
+use crate::error::short_num;
 
 /// States of the FMI 2.0 state machines of co-simulation (section 4.2.4) and model exchange
 /// (section 3.2.3), as bits so that each function can carry the set of states it is allowed
@@ -361,7 +362,11 @@ impl Instance {
         if let Some(t) = stop
             && !(t.is_finite() && t >= start)
         {
-            return Err(format!("stopTime = {t}: allowed finite and >= startTime = {start}"));
+            return Err(format!(
+                "stopTime = {}: allowed finite and >= startTime = {}",
+                short_num(t),
+                short_num(start)
+            ));
         }
         self.data.start_time = start;
         self.data.time = start;
@@ -685,21 +690,29 @@ impl Instance {
     pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Result<fmi2Status, String> {
         if !t.is_finite() || !h.is_finite() || h <= 0.0 {
             return Err(format!(
-                "communication step from t = {t} s with h = {h} s: allowed finite t and h > 0"
+                "communication step from t = {} s with h = {} s: allowed finite t and h > 0",
+                short_num(t),
+                short_num(h)
             ));
         }
         let now = self.data.time;
         let tol = 1e-9 * now.abs().max(h).max(1e-9);
         if (t - now).abs() > tol {
             return Err(format!(
-                "currentCommunicationPoint = {t} s differs from the FMU's time {now} s (the end \
-                 of the previous step)"
+                "currentCommunicationPoint = {} s differs from the FMU's time {} s (the end \
+                 of the previous step)",
+                short_num(t),
+                short_num(now)
             ));
         }
         if let Some(stop) = self.data.stop_time
             && t + h > stop + 1e-9 * stop.abs().max(h)
         {
-            return Err(format!("step to t + h = {} s beyond stopTime = {stop} s", t + h));
+            return Err(format!(
+                "step to t + h = {} s beyond stopTime = {} s",
+                short_num(t + h),
+                short_num(stop)
+            ));
         }
         if self.model.stateful {
             self.ensure_started()?;

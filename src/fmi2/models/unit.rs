@@ -887,8 +887,11 @@ impl Engine for UnitEngine {
         self.sync(inputs).map_err(StepFailure::Error)?;
         self.unit.advance(h).map_err(|e| {
             StepFailure::Discard(format!(
-                "the step from t = {t} s by h = {h} s cannot be completed (state kept at t = \
-                 {t} s): {e}"
+                "the step from t = {} s by h = {} s cannot be completed (state kept at t = \
+                 {} s): {e}",
+                crate::error::short_num(t),
+                crate::error::short_num(h),
+                crate::error::short_num(t)
             ))
         })
     }
