@@ -18,7 +18,10 @@
 //! last message, or with a NULL handle the calling thread's last message (the only way to read
 //! why a constructor failed). No function panics across the C boundary; every pointer argument
 //! may be NULL (reported as `HGM_STATUS_INVALID_ARGUMENT`). A handle may be used from any
-//! thread, but from one thread at a time.
+//! thread, but from one thread at a time. Inputs beyond their stated ranges (|angle| ≤ 1e15 rad,
+//! |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m) are `HGM_STATUS_INVALID_ARGUMENT`; an output that
+//! is not finite is never written with `HGM_STATUS_OK` (it is a `HGM_STATUS_MODEL_ERROR` naming
+//! it). Enum arguments are taken as `int32_t` and checked against their allowed values.
 //!
 //! # Stateful units
 //!

@@ -6,7 +6,7 @@
 //! function's allowed set; otherwise it logs and returns `fmi2Error`). Any `fmi2Error` moves the
 //! instance to the error state, from which `fmi2Reset` or `fmi2SetFMUstate` recover.
 //!
-//! An `fmi2Component` points to a [`Component`]: the instance with an atomic in-use flag. Every
+//! An `fmi2Component` points to a `Component`: the instance with an atomic in-use flag. Every
 //! function sets the flag on entry and clears it on exit; a call that finds it set (a second
 //! thread entering an instance in use, which the standard forbids) returns `fmi2Error` at once
 //! with a log message and touches nothing (the instance's state is that of the other call),

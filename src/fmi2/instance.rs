@@ -6,6 +6,13 @@
 //! caller logs the message, moves the instance to the error state and returns `fmi2Error`.
 //! Nothing here knows a model: the variable table, the defaults and the physics come from the
 //! instance's [`ModelInfo`].
+//!
+//! Boundaries: an input is checked against its stated range when set or restored
+//! ([`Variable::check_input`]: |angle| ≤ 1e15 rad, |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m),
+//! the tunable `d_mesh` against the pair's own range (`params::check_d_mesh`), and every value
+//! a getter or a step hands out with a success status passes one check, [`ensure_finite`]: a
+//! non-finite value is an error naming the variable, never a result. Serialised FMU states
+//! carry a format version and a checksum (see the layout below).
 
 use std::ffi::CString;
 use std::path::PathBuf;
