@@ -18,7 +18,8 @@
 //! last message, or with a NULL handle the calling thread's last message (the only way to read
 //! why a constructor failed). No function panics across the C boundary; every pointer argument
 //! may be NULL (reported as `HGM_STATUS_INVALID_ARGUMENT`). A handle may be used from any
-//! thread, but from one thread at a time. Inputs beyond their stated ranges (|angle| ≤ 1e15 rad,
+//! thread, but from one thread at a time; a call entering a handle that another call is using
+//! is refused (`HGM_STATUS_INVALID_ARGUMENT`, message in `hgm_last_error(NULL)`). Inputs beyond their stated ranges (|angle| ≤ 1e15 rad,
 //! |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m) are `HGM_STATUS_INVALID_ARGUMENT`; an output that
 //! is not finite is never written with `HGM_STATUS_OK` (it is a `HGM_STATUS_MODEL_ERROR` naming
 //! it). Enum arguments are taken as `int32_t` and checked against their allowed values.
@@ -207,7 +208,33 @@ impl Handle for HgmModel {
     }
 }
 
-/// Runs `f` on the payload behind `h` with panic containment and error bookkeeping.
+/// The handles (addresses) inside a call: a second thread entering a handle in use is refused
+/// (its message goes to that thread's `hgm_last_error(NULL)`) instead of racing on it.
+static IN_USE: std::sync::Mutex<Vec<usize>> = std::sync::Mutex::new(Vec::new());
+
+/// Holds a handle's place in [`IN_USE`] for the length of a call.
+struct InUse(usize);
+
+impl InUse {
+    fn enter(h: usize) -> Option<Self> {
+        let mut set = IN_USE.lock().unwrap_or_else(|e| e.into_inner());
+        if set.contains(&h) {
+            return None;
+        }
+        set.push(h);
+        Some(Self(h))
+    }
+}
+
+impl Drop for InUse {
+    fn drop(&mut self) {
+        let mut set = IN_USE.lock().unwrap_or_else(|e| e.into_inner());
+        set.retain(|&x| x != self.0);
+    }
+}
+
+/// Runs `f` on the payload behind `h` with the in-use guard, panic containment and error
+/// bookkeeping.
 fn with_handle<H: Handle>(
     h: *mut H,
     what: &str,
@@ -217,6 +244,13 @@ fn with_handle<H: Handle>(
         set_thread_error(&format!("{what}: the handle is NULL"));
         return HgmStatus::InvalidArgument;
     }
+    let Some(_in_use) = InUse::enter(h as usize) else {
+        set_thread_error(&format!(
+            "{what}: the handle is in use by another call (a handle may be used by one thread \
+             at a time); nothing was done"
+        ));
+        return HgmStatus::InvalidArgument;
+    };
     let r = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: non-null handle from a constructor (caller contract).
         f(unsafe { &mut *h }.parts().0)

@@ -429,3 +429,36 @@ fn error_messages_carry_short_numbers_and_name_the_key() {
     let e = e.to_string();
     assert!(e.contains("`w_1`") && numbers_are_short(&e), "{e}");
 }
+
+#[test]
+fn two_threads_on_one_c_api_handle_get_errors_not_a_crash() {
+    let h = hgm_create_default() as usize;
+    let hammer = |seed: f64| {
+        move || {
+            let h = h as *mut HgmModel;
+            let (mut ok, mut refused) = (0, 0);
+            for k in 0..100 {
+                let mut o = HgmOutputs::default();
+                let phi_p = 0.01 + seed * 1e-4 + k as f64 * 1e-6;
+                match unsafe { hgm_evaluate(h, phi_p, -0.0060851, 100.0, -63.83, &mut o) } {
+                    HgmStatus::Ok => {
+                        assert!(o.m_f_p.is_finite());
+                        ok += 1;
+                    }
+                    HgmStatus::InvalidArgument => refused += 1,
+                    other => panic!("status {other:?}"),
+                }
+            }
+            (ok, refused)
+        }
+    };
+    let a = std::thread::spawn(hammer(1.0));
+    let b = std::thread::spawn(hammer(2.0));
+    let (ra, rb) = (a.join().unwrap(), b.join().unwrap());
+    eprintln!("C API thread A: {ra:?}, thread B: {rb:?} (ok, refused)");
+    assert_eq!(ra.0 + ra.1 + rb.0 + rb.1, 200);
+    let mut o = HgmOutputs::default();
+    let h = h as *mut HgmModel;
+    assert_eq!(unsafe { hgm_evaluate(h, 0.01, -0.0060851, 100.0, -63.83, &mut o) }, HgmStatus::Ok);
+    unsafe { hgm_free(h) };
+}
