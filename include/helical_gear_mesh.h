@@ -29,7 +29,8 @@ typedef enum {
 } HgmStatus;
 
 /**
- * Which part of the drive line a unit holds (see `HgmUnit`).
+ * Which part of the drive line a unit holds (see `HgmUnit`): the values of `hgm_unit_create`'s
+ * `kind` argument, which takes an `int32_t` and refuses any other value.
  */
 typedef enum {
   /**
@@ -47,7 +48,8 @@ typedef enum {
 } HgmUnitKind;
 
 /**
- * Mesh evaluation of a unit.
+ * Mesh evaluation of a unit: the values of `hgm_unit_create`'s `fidelity` argument, which
+ * takes an `int32_t` and refuses any other value.
  */
 typedef enum {
   /**
@@ -292,7 +294,8 @@ HgmStatus hgm_evaluate(HgmModel *h,
                        HgmOutputs *out);
 
 /**
- * Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m (finite, ≥ 0).
+ * Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m, in its range [0, 1e9] (the
+ * range of the JSON key `d_mesh_n_s_per_m`); outside it `HGM_STATUS_INVALID_ARGUMENT`.
  *
  * # Safety
  * `h` must be NULL or a live handle.
@@ -324,14 +327,18 @@ void hgm_free(HgmModel *h);
  * `steps_per_mesh_period` > 0 gives RK4 on a grid of at most T_m/steps_per_mesh_period
  * (≥ 4; 128 is the crate's default); 0 gives adaptive DOPRI5 with `rtol`, `atol` (> 0).
  * The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
+ * `kind` and `fidelity` are integers (a C enum may hold any value): `kind` one of
+ * `HGM_UNIT_KIND_PAIR` (0), `HGM_UNIT_KIND_STAGE` (1), `HGM_UNIT_KIND_DRIVE` (2), `fidelity`
+ * one of `HGM_FIDELITY_TABLE` (0), `HGM_FIDELITY_FULL` (1); another value gives NULL with a
+ * message naming the argument and its allowed values.
  * Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
  *
  * # Safety
  * `json` must be NULL or a zero-terminated string.
  */
-HgmUnit *hgm_unit_create(HgmUnitKind kind,
+HgmUnit *hgm_unit_create(int32_t kind,
                          const char *json,
-                         HgmFidelity fidelity,
+                         int32_t fidelity,
                          uint32_t steps_per_mesh_period,
                          double rtol,
                          double atol);
@@ -392,8 +399,10 @@ HgmStatus hgm_unit_advance(HgmUnit *u, double h);
 HgmStatus hgm_unit_outputs(HgmUnit *u, HgmUnitOutputs *out);
 
 /**
- * The unit's snapshot (time, state, inputs, integrator hint) as JSON text, valid until the
- * next call on this handle; NULL on failure. `hgm_unit_restore` continues from it bit for bit.
+ * The unit's snapshot (time, state, inputs, integrator hint) as JSON text with a format
+ * version and a 64-bit FNV-1a checksum (`{"format_version":1,"checksum":…,"snapshot":{…}}`),
+ * valid until the next call on this handle; NULL on failure. `hgm_unit_restore` continues
+ * from it bit for bit.
  *
  * # Safety
  * `u` must be NULL or a live unit handle.
@@ -401,7 +410,10 @@ HgmStatus hgm_unit_outputs(HgmUnit *u, HgmUnitOutputs *out);
 const char *hgm_unit_snapshot(HgmUnit *u);
 
 /**
- * Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind.
+ * Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind. A text of another
+ * format version, whose checksum does not match, or with a value out of range (angles
+ * beyond ±1e15 rad, speeds beyond ±1e5 rad/s, torques beyond ±1e9 N·m) is refused whole
+ * (`HGM_STATUS_INVALID_ARGUMENT`) and the unit is unchanged.
  *
  * # Safety
  * `u` must be NULL or a live unit handle; `json` NULL or a zero-terminated string.

@@ -18,7 +18,11 @@
 //! last message, or with a NULL handle the calling thread's last message (the only way to read
 //! why a constructor failed). No function panics across the C boundary; every pointer argument
 //! may be NULL (reported as `HGM_STATUS_INVALID_ARGUMENT`). A handle may be used from any
-//! thread, but from one thread at a time.
+//! thread, but from one thread at a time; a call entering a handle that another call is using
+//! is refused (`HGM_STATUS_INVALID_ARGUMENT`, message in `hgm_last_error(NULL)`). Inputs beyond their stated ranges (|angle| ≤ 1e15 rad,
+//! |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m) are `HGM_STATUS_INVALID_ARGUMENT`; an output that
+//! is not finite is never written with `HGM_STATUS_OK` (it is a `HGM_STATUS_MODEL_ERROR` naming
+//! it). Enum arguments are taken as `int32_t` and checked against their allowed values.
 //!
 //! # Stateful units
 //!
@@ -43,10 +47,12 @@ use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
+use crate::dynamics::unit::{MAX_ANGLE_RAD, MAX_SPEED_RAD_S};
 use crate::dynamics::{
     DriveUnit, Drivetrain, HubCoupling, UnitInputs, UnitKind, UnitOutputs, UnitSnapshot,
     UnitStepping,
 };
+use crate::error::short_num;
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
 use crate::params::GearPair;
@@ -202,7 +208,33 @@ impl Handle for HgmModel {
     }
 }
 
-/// Runs `f` on the payload behind `h` with panic containment and error bookkeeping.
+/// The handles (addresses) inside a call: a second thread entering a handle in use is refused
+/// (its message goes to that thread's `hgm_last_error(NULL)`) instead of racing on it.
+static IN_USE: std::sync::Mutex<Vec<usize>> = std::sync::Mutex::new(Vec::new());
+
+/// Holds a handle's place in [`IN_USE`] for the length of a call.
+struct InUse(usize);
+
+impl InUse {
+    fn enter(h: usize) -> Option<Self> {
+        let mut set = IN_USE.lock().unwrap_or_else(|e| e.into_inner());
+        if set.contains(&h) {
+            return None;
+        }
+        set.push(h);
+        Some(Self(h))
+    }
+}
+
+impl Drop for InUse {
+    fn drop(&mut self) {
+        let mut set = IN_USE.lock().unwrap_or_else(|e| e.into_inner());
+        set.retain(|&x| x != self.0);
+    }
+}
+
+/// Runs `f` on the payload behind `h` with the in-use guard, panic containment and error
+/// bookkeeping.
 fn with_handle<H: Handle>(
     h: *mut H,
     what: &str,
@@ -212,6 +244,13 @@ fn with_handle<H: Handle>(
         set_thread_error(&format!("{what}: the handle is NULL"));
         return HgmStatus::InvalidArgument;
     }
+    let Some(_in_use) = InUse::enter(h as usize) else {
+        set_thread_error(&format!(
+            "{what}: the handle is in use by another call (a handle may be used by one thread \
+             at a time); nothing was done"
+        ));
+        return HgmStatus::InvalidArgument;
+    };
     let r = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: non-null handle from a constructor (caller contract).
         f(unsafe { &mut *h }.parts().0)
@@ -262,17 +301,31 @@ pub unsafe extern "C" fn hgm_evaluate(
                     format!("input `{name}` = {v} is not finite"),
                 ));
             }
+            let (max, range) = if name.starts_with("phi") {
+                (MAX_ANGLE_RAD, "1e15 rad")
+            } else {
+                (MAX_SPEED_RAD_S, "1e5 rad/s")
+            };
+            if v.abs() > max {
+                return Err((
+                    HgmStatus::InvalidArgument,
+                    format!("input `{name}` = {}: allowed |{name}| <= {range}", short_num(v)),
+                ));
+            }
         }
         let o = m
             .evaluate(&MeshState { phi_p, phi_g, w_p, w_g })
             .map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
+        check_mesh_outputs(&o)?;
         // SAFETY: non-null, caller contract.
         unsafe { out.write(o.into()) };
         Ok(())
     })
 }
 
-/// Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m (finite, ≥ 0).
+/// Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m, in its range [0, 1e9] (the
+/// range of the JSON key `d_mesh_n_s_per_m`); outside it `HGM_STATUS_MODEL_ERROR` with a
+/// message naming the key, the value and the range.
 ///
 /// # Safety
 /// `h` must be NULL or a live handle.
@@ -317,7 +370,8 @@ pub unsafe extern "C" fn hgm_free(h: *mut HgmModel) {
 // Stateful units
 // ---------------------------------------------------------------------------------------------
 
-/// Which part of the drive line a unit holds (see `HgmUnit`).
+/// Which part of the drive line a unit holds (see `HgmUnit`): the values of `hgm_unit_create`'s
+/// `kind` argument, which takes an `int32_t` and refuses any other value.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HgmUnitKind {
@@ -329,7 +383,8 @@ pub enum HgmUnitKind {
     Drive = 2,
 }
 
-/// Mesh evaluation of a unit.
+/// Mesh evaluation of a unit: the values of `hgm_unit_create`'s `fidelity` argument, which
+/// takes an `int32_t` and refuses any other value.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HgmFidelity {
@@ -434,6 +489,32 @@ impl Handle for HgmUnit {
     }
 }
 
+/// The one check on every value handed to C with `HGM_STATUS_OK`: the first non-finite one is
+/// a `HGM_STATUS_MODEL_ERROR` naming it.
+fn check_finite(values: &[(&str, f64)]) -> Result<(), (HgmStatus, String)> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        None => Ok(()),
+        Some((name, v)) => Err((
+            HgmStatus::ModelError,
+            format!("output `{name}` = {v} is not finite (the model left its valid range)"),
+        )),
+    }
+}
+
+/// [`check_finite`] over the mesh outputs.
+fn check_mesh_outputs(o: &MeshOutputs) -> Result<(), (HgmStatus, String)> {
+    check_finite(&[
+        ("m_f_p", o.m_f_p),
+        ("m_f_g", o.m_f_g),
+        ("m_d_p", o.m_d_p),
+        ("m_d_g", o.m_d_g),
+        ("te", o.te),
+        ("f_n", o.f_n),
+        ("contact_length", o.contact_length),
+        ("p_max", o.p_max),
+    ])
+}
+
 fn model_err(e: impl std::fmt::Display) -> (HgmStatus, String) {
     (HgmStatus::ModelError, e.to_string())
 }
@@ -448,15 +529,19 @@ fn invalid_arg(msg: impl Into<String>) -> (HgmStatus, String) {
 /// `steps_per_mesh_period` > 0 gives RK4 on a grid of at most T_m/steps_per_mesh_period
 /// (≥ 4; 128 is the crate's default); 0 gives adaptive DOPRI5 with `rtol`, `atol` (> 0).
 /// The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
+/// `kind` and `fidelity` are integers (a C enum may hold any value): `kind` one of
+/// `HGM_UNIT_KIND_PAIR` (0), `HGM_UNIT_KIND_STAGE` (1), `HGM_UNIT_KIND_DRIVE` (2), `fidelity`
+/// one of `HGM_FIDELITY_TABLE` (0), `HGM_FIDELITY_FULL` (1); another value gives NULL with a
+/// message naming the argument and its allowed values.
 /// Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
 ///
 /// # Safety
 /// `json` must be NULL or a zero-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_unit_create(
-    kind: HgmUnitKind,
+    kind: i32,
     json: *const c_char,
-    fidelity: HgmFidelity,
+    fidelity: i32,
     steps_per_mesh_period: u32,
     rtol: f64,
     atol: f64,
@@ -472,13 +557,24 @@ pub unsafe extern "C" fn hgm_unit_create(
             GearPair::from_json(text)?
         };
         let fidelity = match fidelity {
-            HgmFidelity::Table => Fidelity::Table,
-            HgmFidelity::Full => Fidelity::Full,
+            x if x == HgmFidelity::Table as i32 => Fidelity::Table,
+            x if x == HgmFidelity::Full as i32 => Fidelity::Full,
+            x => {
+                return Err(format!(
+                    "`fidelity` = {x}: allowed HGM_FIDELITY_TABLE (0) or HGM_FIDELITY_FULL (1)"
+                ));
+            }
         };
         let kind = match kind {
-            HgmUnitKind::Pair => UnitKind::Pair,
-            HgmUnitKind::Stage => UnitKind::Stage,
-            HgmUnitKind::Drive => UnitKind::Drive,
+            x if x == HgmUnitKind::Pair as i32 => UnitKind::Pair,
+            x if x == HgmUnitKind::Stage as i32 => UnitKind::Stage,
+            x if x == HgmUnitKind::Drive as i32 => UnitKind::Drive,
+            x => {
+                return Err(format!(
+                    "`kind` = {x}: allowed HGM_UNIT_KIND_PAIR (0), HGM_UNIT_KIND_STAGE (1) or \
+                     HGM_UNIT_KIND_DRIVE (2)"
+                ));
+            }
         };
         let stepping = if steps_per_mesh_period > 0 {
             UnitStepping::Rk4 { steps_per_mesh_period }
@@ -612,7 +708,10 @@ pub unsafe extern "C" fn hgm_unit_set_hub_coupling(
 pub unsafe extern "C" fn hgm_unit_advance(u: *mut HgmUnit, h: f64) -> HgmStatus {
     with_handle(u, "hgm_unit_advance", |x| {
         if !(h.is_finite() && h > 0.0) {
-            return Err(invalid_arg(format!("step `h` = {h}: allowed finite and > 0 (s)")));
+            return Err(invalid_arg(format!(
+                "step `h` = {}: allowed finite and > 0 (s)",
+                short_num(h)
+            )));
         }
         x.unit.advance(h).map_err(model_err)
     })
@@ -629,6 +728,24 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
             return Err(invalid_arg("`out` is NULL"));
         }
         let o: UnitOutputs = h.unit.outputs().map_err(model_err)?;
+        check_mesh_outputs(&o.mesh)?;
+        check_finite(&[
+            ("t", h.unit.time()),
+            ("phi_p", o.phi_p),
+            ("w_p", o.w_p),
+            ("a_p", o.a_p),
+            ("phi_g", o.phi_g),
+            ("w_g", o.w_g),
+            ("a_g", o.a_g),
+            ("phi_1", o.phi_1),
+            ("w_1", o.w_1),
+            ("phi_2", o.phi_2),
+            ("w_2", o.w_2),
+            ("tau_1", o.tau_1),
+            ("tau_2", o.tau_2),
+            ("tau_p", o.tau_p),
+            ("tau_g", o.tau_g),
+        ])?;
         let c = HgmUnitOutputs {
             t: h.unit.time(),
             phi_p: o.phi_p,
@@ -653,16 +770,17 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
     })
 }
 
-/// The unit's snapshot (time, state, inputs, integrator hint) as JSON text, valid until the
-/// next call on this handle; NULL on failure. `hgm_unit_restore` continues from it bit for bit.
+/// The unit's snapshot (time, state, inputs, integrator hint) as JSON text with a format
+/// version and a 64-bit FNV-1a checksum (`{"format_version":1,"checksum":…,"snapshot":{…}}`),
+/// valid until the next call on this handle; NULL on failure. `hgm_unit_restore` continues
+/// from it bit for bit.
 ///
 /// # Safety
 /// `u` must be NULL or a live unit handle.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_unit_snapshot(u: *mut HgmUnit) -> *const c_char {
     let st = with_handle(u, "hgm_unit_snapshot", |h| {
-        let json = serde_json::to_string(&h.unit.snapshot()).map_err(model_err)?;
-        h.snapshot = to_cstring(&json);
+        h.snapshot = to_cstring(&h.unit.snapshot().to_text());
         Ok(())
     });
     if st == HgmStatus::Ok {
@@ -673,7 +791,10 @@ pub unsafe extern "C" fn hgm_unit_snapshot(u: *mut HgmUnit) -> *const c_char {
     }
 }
 
-/// Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind.
+/// Restores a snapshot from `hgm_unit_snapshot` of a unit of the same kind. A text of another
+/// format version, whose checksum does not match, or with a value out of range (angles
+/// beyond ±1e15 rad, speeds beyond ±1e5 rad/s, torques beyond ±1e9 N·m) is refused whole
+/// (`HGM_STATUS_INVALID_ARGUMENT`) and the unit is unchanged.
 ///
 /// # Safety
 /// `u` must be NULL or a live unit handle; `json` NULL or a zero-terminated string.
@@ -687,8 +808,7 @@ pub unsafe extern "C" fn hgm_unit_restore(u: *mut HgmUnit, json: *const c_char) 
         let text = unsafe { CStr::from_ptr(json) }
             .to_str()
             .map_err(|e| invalid_arg(format!("`json` is not UTF-8: {e}")))?;
-        let s: UnitSnapshot =
-            serde_json::from_str(text).map_err(|e| invalid_arg(format!("snapshot JSON: {e}")))?;
+        let s = UnitSnapshot::from_text(text).map_err(invalid_arg)?;
         h.unit.restore(&s).map_err(|e| invalid_arg(e.to_string()))
     })
 }

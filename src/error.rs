@@ -5,6 +5,14 @@
 
 use std::fmt;
 
+/// A number for a message: its shortest round-trip text when that has at most 16 characters
+/// (`12`, `0.0205`, `-1e-5`, `NaN`, `inf`), otherwise scientific with five significant digits
+/// (`1.0000e300`), so that no message carries a 300-digit number.
+pub fn short_num(v: f64) -> String {
+    let s = format!("{v}");
+    if s.len() <= 16 { s } else { format!("{v:.4e}") }
+}
+
 /// A gear-pair parameter outside its allowed range.
 ///
 /// `name` is the parameter's JSON key (e.g. `"z_p"`), `value` the offending value in the unit of
@@ -29,7 +37,13 @@ impl ParamError {
 
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "invalid parameter `{}` = {}: allowed {}", self.name, self.value, self.allowed)
+        write!(
+            f,
+            "invalid parameter `{}` = {}: allowed {}",
+            self.name,
+            short_num(self.value),
+            self.allowed
+        )
     }
 }
 

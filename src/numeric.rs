@@ -145,6 +145,15 @@ pub fn amplitude_spectrum(x: &[f64]) -> Vec<f64> {
     out
 }
 
+/// 64-bit FNV-1a hash of `bytes` (offset basis 0xcbf29ce484222325, prime 0x100000001b3): the
+/// checksum of serialised FMU states and unit snapshots. Not cryptographic; any single flipped
+/// bit changes it, and a random corruption passes with probability 2⁻⁶⁴.
+pub fn fnv1a_64(bytes: &[u8]) -> u64 {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    bytes.iter().fold(OFFSET, |h, &b| (h ^ u64::from(b)).wrapping_mul(PRIME))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

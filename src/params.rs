@@ -312,13 +312,7 @@ impl GearPair {
                 "in [1, 1e5] kg/m³",
             )?;
         }
-        check_finite_range(
-            "d_mesh_n_s_per_m",
-            self.d_mesh_n_s_per_m,
-            0.0,
-            1e9,
-            "in [0, 1e9] N·s/m",
-        )?;
+        check_d_mesh(self.d_mesh_n_s_per_m)?;
         let d = &self.drive;
         check_finite_range("drive.torque_nm", d.torque_nm, -1e9, 1e9, "finite, |M| <= 1e9 N·m")?;
         check_finite_range("drive.j1_kgm2", d.j1_kgm2, 1e-12, 1e9, "> 0")?;
@@ -332,6 +326,17 @@ impl GearPair {
 }
 
 /// `Ok` when `value` is finite and in `[lo, hi]`, else a [`ParamError`] with `allowed`.
+/// Largest mesh damping coefficient d_mesh (Eq. 14), N·s/m: the range of the JSON key
+/// `d_mesh_n_s_per_m` (FMI parameter `d_mesh`) is [0, D_MESH_MAX_N_S_PER_M].
+pub const D_MESH_MAX_N_S_PER_M: f64 = 1e9;
+
+/// Checks a mesh damping coefficient against its range [0, [`D_MESH_MAX_N_S_PER_M`]] N·s/m:
+/// the one check behind the pair's validation and every later change of the tunable damping
+/// (FMU `d_mesh`, C API `hgm_set_d_mesh`, Python).
+pub fn check_d_mesh(d_mesh: f64) -> Result<(), ParamError> {
+    check_finite_range("d_mesh_n_s_per_m", d_mesh, 0.0, D_MESH_MAX_N_S_PER_M, "in [0, 1e9] N·s/m")
+}
+
 pub(crate) fn check_finite_range(
     name: &str,
     value: f64,

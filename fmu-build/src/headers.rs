@@ -40,6 +40,8 @@ pub fn capi_header(root: &Path) -> Result<String, String> {
         c.sys_includes = vec!["stdbool.h".into(), "stdint.h".into()];
         c.export.item_types =
             vec![ItemType::Functions, ItemType::Enums, ItemType::Structs, ItemType::OpaqueItems];
+        // The values of hgm_unit_create's integer arguments `kind` and `fidelity`.
+        c.export.include = vec!["HgmUnitKind".into(), "HgmFidelity".into()];
     })
 }
 

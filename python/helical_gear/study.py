@@ -119,6 +119,28 @@ def _plain(v: Any) -> Any:
     return v.item() if hasattr(v, "item") else v
 
 
+def _speed_range(rec: dict, default: tuple) -> tuple | str:
+    """The design's speed range (from, to, points) from its speed columns (else `default`), or
+    the message naming the column and the value that is not one: a speed must be a finite real
+    number, the number of points an integer. Nothing is coerced (no text parsed as a number,
+    no 2.5 points rounded, no boolean taken as 0 or 1)."""
+    out = []
+    for c, d in zip(SPEED_COLUMNS, default):
+        v = _plain(rec[c]) if c in rec and not _is_missing(rec[c]) else d
+        integral = c == "omega_points"
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            return f"column `{c}` = {v!r}: allowed a number"
+        if not math.isfinite(v):
+            return f"column `{c}` = {v!r}: allowed a finite number"
+        if integral:
+            if v != int(v):
+                return f"column `{c}` = {v!r}: allowed a whole number of points"
+            out.append(int(v))
+        else:
+            out.append(float(v))
+    return tuple(out)
+
+
 def design_pair(params: dict) -> GearPair:
     """The gear pair of one design row (dotted keys, missing values keep the default)."""
     return GearPair(**{k: v for k, v in params.items() if not _is_missing(v)})
@@ -323,15 +345,16 @@ def run(
             for k, v in rec.items()
             if not str(k).startswith("_") and k not in SPEED_COLUMNS
         }
-        speeds = tuple(
-            _plain(rec[c]) if c in rec and not _is_missing(rec[c]) else d
-            for c, d in zip(SPEED_COLUMNS, sweep)
-        )
-        speeds = (float(speeds[0]), float(speeds[1]), int(speeds[2]))
+        speeds = _speed_range(rec, sweep)
         key = _key({"params": {k: v for k, v in params.items() if not _is_missing(v)},
-                    "speeds": speeds, "settings": asdict(settings)})
+                    "speeds": speeds if isinstance(speeds, tuple) else repr(
+                        [_plain(rec.get(c)) for c in SPEED_COLUMNS]),
+                    "settings": asdict(settings)})
         keys.append(key)
         if key not in jobs:
+            if isinstance(speeds, str):
+                jobs[key] = (speeds, None)
+                continue
             try:
                 jobs[key] = (design_pair(params), speeds)
             except Exception as e:  # noqa: BLE001 - invalid design: an error row

@@ -140,6 +140,44 @@ fn run<T: Send>(py: Python<'_>, f: impl FnOnce() -> Res<T> + Send) -> PyResult<T
     }
 }
 
+/// The mesh outputs handed to Python, in order.
+const OUTPUT_NAMES: [&str; 8] =
+    ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
+
+/// The one check on every number handed to Python: a non-finite value is a solver error naming
+/// where (`at`) and which value, never a result.
+fn finite(at: &str, names: &[&str], values: &[f64]) -> Res<()> {
+    match names.iter().zip(values).find(|(_, v)| !v.is_finite()) {
+        None => Ok(()),
+        Some((name, v)) => Err(Failure::Solver(format!(
+            "{at}: `{name}` = {v} is not finite (the model left its valid range)"
+        ))),
+    }
+}
+
+/// An input state within the stated ranges of the library (|angle| <= 1e15 rad, |speed| <=
+/// 1e5 rad/s, `dynamics::unit::MAX_ANGLE_RAD`, `MAX_SPEED_RAD_S`).
+fn check_state(i: usize, s: &MeshState) -> Res<()> {
+    use helical_gear_mesh::dynamics::unit::{MAX_ANGLE_RAD, MAX_SPEED_RAD_S};
+    for (name, v, max, range) in [
+        ("phi_p", s.phi_p, MAX_ANGLE_RAD, "1e15 rad"),
+        ("phi_g", s.phi_g, MAX_ANGLE_RAD, "1e15 rad"),
+        ("w_p", s.w_p, MAX_SPEED_RAD_S, "1e5 rad/s"),
+        ("w_g", s.w_g, MAX_SPEED_RAD_S, "1e5 rad/s"),
+    ] {
+        if !v.is_finite() {
+            return Err(Failure::Param(format!("state {i}: input `{name}` = {v} is not finite")));
+        }
+        if v.abs() > max {
+            return Err(Failure::Param(format!(
+                "state {i}: input `{name}` = {}: allowed |{name}| <= {range}",
+                helical_gear_mesh::error::short_num(v)
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Parses and validates gear-pair JSON.
 fn parse_pair(text: &str) -> Res<GearPair> {
     let p = GearPair::from_json(text).map_err(Failure::Param)?;
@@ -430,6 +468,7 @@ impl MeshModel {
             let mut flags: [Vec<bool>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut pairs = Vec::with_capacity(n);
             for (i, s) in states.iter().enumerate() {
+                check_state(i, s)?;
                 let o = m.evaluate(s).map_err(|e| match Failure::from(e) {
                     Failure::Param(msg) => Failure::Param(format!("state {i}: {msg}")),
                     Failure::Solver(msg) => Failure::Solver(format!("state {i}: {msg}")),
@@ -447,6 +486,11 @@ impl MeshModel {
                 ]) {
                     c.push(v);
                 }
+                finite(
+                    &format!("state {i}"),
+                    &OUTPUT_NAMES,
+                    &[o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.te, o.f_n, o.contact_length, o.p_max],
+                )?;
                 for (c, v) in flags.iter_mut().zip([o.tip_contact, o.separated, o.back_contact]) {
                     c.push(v);
                 }
@@ -456,11 +500,7 @@ impl MeshModel {
         })?;
         let (cols, flags, pairs) = out;
         let d = PyDict::new(py);
-        for (name, c) in
-            ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"]
-                .into_iter()
-                .zip(cols)
-        {
+        for (name, c) in OUTPUT_NAMES.into_iter().zip(cols) {
             d.set_item(name, array(py, c))?;
         }
         d.set_item("n_pairs", PyArray1::from_vec(py, pairs))?;
@@ -594,6 +634,15 @@ impl MeshModel {
                 .static_start(phi_p0, w_p, &EquilibriumSettings::default())
                 .map_err(|e| Failure::Solver(format!("static start: {e}")))?;
             let tr = simulate(&mut model, &start.y, t_end, &stepping)?;
+            for (k, (y, o)) in tr.states.iter().zip(&tr.outputs).enumerate() {
+                let at = format!("sample {k} (t = {:.6e} s)", tr.time[k]);
+                finite(&at, &STATE_NAMES, &y[..STATE_NAMES.len()])?;
+                finite(
+                    &at,
+                    &["TE", "M_F_p", "M_F_g", "M_D_p", "M_D_g"],
+                    &[o.te, o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g],
+                )?;
+            }
             Ok((tr.time, tr.states, tr.outputs, tr.steps, tr.mesh_evaluations))
         })?;
         let d = PyDict::new(py);

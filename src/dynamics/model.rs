@@ -141,7 +141,11 @@ impl fmt::Display for DynamicsError {
             DynamicsError::Steady(e) => write!(f, "steady-state detection: {e}"),
             DynamicsError::Param(e) => write!(f, "{e}"),
             DynamicsError::InvalidInput { name, value, allowed } => {
-                write!(f, "invalid `{name}` = {value}: allowed {allowed}")
+                write!(
+                    f,
+                    "invalid `{name}` = {}: allowed {allowed}",
+                    crate::error::short_num(*value)
+                )
             }
             DynamicsError::AtSpeed { omega_p, source } => {
                 write!(f, "run at ω_p = {omega_p} rad/s: {source}")

@@ -214,16 +214,40 @@ pub struct UnitInputs {
     pub torque_rate: f64,
 }
 
+/// Largest |angle| of a unit's inputs and state, rad. The mesh reduces angles by whole pitches
+/// exactly (README "Numerical robustness"), so 10¹⁵ rad still give finite outputs; beyond, an
+/// angle is no longer an operating point but a corrupted number.
+pub const MAX_ANGLE_RAD: f64 = 1e15;
+
+/// Largest |speed| of a unit's inputs and state, rad/s (about 10⁶ rpm, far above any gear's
+/// running speed; beyond, the damping torques and the integrator's work per period explode).
+pub const MAX_SPEED_RAD_S: f64 = 1e5;
+
+/// Largest |torque| input of a unit, N·m (the range of the pair's `drive.torque_nm`).
+pub const MAX_TORQUE_NM: f64 = 1e9;
+
+/// Checks `v` of the value named `name` against |v| ≤ `max` (finite).
+fn check_abs(
+    name: &'static str,
+    v: f64,
+    max: f64,
+    allowed: &'static str,
+) -> Result<(), DynamicsError> {
+    if v.is_finite() && v.abs() <= max { Ok(()) } else { Err(invalid(name, v, allowed)) }
+}
+
 impl UnitInputs {
     fn check(&self) -> Result<(), DynamicsError> {
+        for (name, v) in [("tau_p", self.tau_p), ("tau_g", self.tau_g), ("torque", self.torque)] {
+            check_abs(name, v, MAX_TORQUE_NM, "finite, |torque| <= 1e9 N·m")?;
+        }
+        for (name, v) in [("phi_1", self.phi_1), ("phi_2", self.phi_2)] {
+            check_abs(name, v, MAX_ANGLE_RAD, "finite, |angle| <= 1e15 rad")?;
+        }
+        for (name, v) in [("w_1", self.w_1), ("w_2", self.w_2)] {
+            check_abs(name, v, MAX_SPEED_RAD_S, "finite, |speed| <= 1e5 rad/s")?;
+        }
         for (name, v) in [
-            ("tau_p", self.tau_p),
-            ("tau_g", self.tau_g),
-            ("phi_1", self.phi_1),
-            ("w_1", self.w_1),
-            ("phi_2", self.phi_2),
-            ("w_2", self.w_2),
-            ("torque", self.torque),
             ("tau_p_rate", self.tau_p_rate),
             ("tau_g_rate", self.tau_g_rate),
             ("w_1_rate", self.w_1_rate),
@@ -440,6 +464,62 @@ pub struct UnitSnapshot {
     /// taken since the inputs were set).
     #[serde(default)]
     pub hub_ref: Option<HubReference>,
+}
+
+/// Format version of [`UnitSnapshot::to_text`]; a text of another version is refused.
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 1;
+
+/// The envelope of a snapshot's text: format version, 64-bit FNV-1a checksum (16 hex digits)
+/// of the snapshot's compact JSON, the snapshot.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SnapshotText {
+    format_version: u32,
+    checksum: String,
+    snapshot: UnitSnapshot,
+}
+
+impl UnitSnapshot {
+    /// The snapshot as JSON text with a format version and a checksum:
+    /// `{"format_version":1,"checksum":"<16 hex digits>","snapshot":{…}}`, the checksum being
+    /// [`crate::numeric::fnv1a_64`] of the snapshot's compact JSON (serde_json with
+    /// `float_roundtrip`, so every f64 is kept exactly).
+    pub fn to_text(&self) -> String {
+        let body = serde_json::to_string(self).expect("a unit snapshot serialises");
+        let envelope = SnapshotText {
+            format_version: SNAPSHOT_FORMAT_VERSION,
+            checksum: format!("{:016x}", crate::numeric::fnv1a_64(body.as_bytes())),
+            snapshot: self.clone(),
+        };
+        serde_json::to_string(&envelope).expect("a unit snapshot serialises")
+    }
+
+    /// Reads a text of [`UnitSnapshot::to_text`]. Refused whole when it is not that JSON, has
+    /// another format version, or its checksum does not match the snapshot it carries (the
+    /// snapshot is serialised again and hashed: any change of a value is caught, a change of
+    /// spelling that keeps every value, such as `1e-5` for `1E-5`, is harmless). The values are
+    /// range-checked by [`DriveUnit::restore`].
+    pub fn from_text(text: &str) -> Result<Self, String> {
+        let e: SnapshotText =
+            serde_json::from_str(text).map_err(|e| format!("unit snapshot text: {e}"))?;
+        if e.format_version != SNAPSHOT_FORMAT_VERSION {
+            return Err(format!(
+                "unit snapshot has format version {}; this build reads version \
+                 {SNAPSHOT_FORMAT_VERSION}",
+                e.format_version
+            ));
+        }
+        let body = serde_json::to_string(&e.snapshot).map_err(|e| e.to_string())?;
+        let sum = format!("{:016x}", crate::numeric::fnv1a_64(body.as_bytes()));
+        if sum != e.checksum {
+            return Err(format!(
+                "unit snapshot checksum mismatch (stored {}, computed {sum}): the snapshot was \
+                 altered or corrupted",
+                e.checksum.chars().take(16).collect::<String>()
+            ));
+        }
+        Ok(e.snapshot)
+    }
 }
 
 /// The right-hand side of a unit: the kind's equations over a [`GearDynamics`].
@@ -766,7 +846,8 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         self.sys.input_time
     }
 
-    /// Sets the inputs (every field finite), valid from the current time on.
+    /// Sets the inputs, valid from the current time on: torques within ±[`MAX_TORQUE_NM`],
+    /// angles within ±[`MAX_ANGLE_RAD`], speeds within ±[`MAX_SPEED_RAD_S`], rates finite.
     pub fn set_inputs(&mut self, u: UnitInputs) -> Result<(), DynamicsError> {
         u.check()?;
         self.sys.inputs = u;
@@ -1179,8 +1260,9 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         }
     }
 
-    /// Restores a snapshot of a unit of the same kind (checked, as are all values: finite,
-    /// right length, step hint > 0).
+    /// Restores a snapshot of a unit of the same kind (checked, as are all values: right
+    /// length, angles within ±[`MAX_ANGLE_RAD`], speeds within ±[`MAX_SPEED_RAD_S`], inputs as
+    /// [`DriveUnit::set_inputs`] checks them, times finite, step hint > 0).
     pub fn restore(&mut self, s: &UnitSnapshot) -> Result<(), DynamicsError> {
         if s.kind != self.sys.kind {
             return Err(invalid("snapshot kind", s.kind.n_states() as f64, "the unit's kind"));
@@ -1189,8 +1271,17 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         if s.state.len() != n {
             return Err(invalid("snapshot state length", s.state.len() as f64, "the unit's"));
         }
-        if let Some(v) = s.state.iter().find(|v| !v.is_finite()) {
-            return Err(invalid("snapshot state component", *v, "finite"));
+        for (&v, name) in s.state.iter().zip(self.sys.kind.state_names()) {
+            if name.starts_with("phi") {
+                check_abs(name, v, MAX_ANGLE_RAD, "finite, |angle| <= 1e15 rad (snapshot state)")?;
+            } else {
+                check_abs(
+                    name,
+                    v,
+                    MAX_SPEED_RAD_S,
+                    "finite, |speed| <= 1e5 rad/s (snapshot state)",
+                )?;
+            }
         }
         s.inputs.check()?;
         if let Some(r) = &s.hub_ref {

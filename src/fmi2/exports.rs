@@ -6,6 +6,13 @@
 //! function's allowed set; otherwise it logs and returns `fmi2Error`). Any `fmi2Error` moves the
 //! instance to the error state, from which `fmi2Reset` or `fmi2SetFMUstate` recover.
 //!
+//! An `fmi2Component` points to a `Component`: the instance with an atomic in-use flag. Every
+//! function sets the flag on entry and clears it on exit; a call that finds it set (a second
+//! thread entering an instance in use, which the standard forbids) returns `fmi2Error` at once
+//! with a log message and touches nothing (the instance's state is that of the other call),
+//! instead of racing on the instance. `fmi2FreeInstance` of an instance in use leaks it rather
+//! than freeing memory that another call is using.
+//!
 //! # Safety (all functions)
 //!
 //! The pointer arguments must be as the FMI 2.0 standard requires: `c` is NULL or a pointer
@@ -15,8 +22,10 @@
 #![allow(non_snake_case)]
 
 use std::any::Any;
+use std::cell::UnsafeCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::instance::{Func, Instance, Phase, Snapshot, cat, func, log_to, mask_names};
 use super::models::{MODELS, by_guid};
@@ -33,8 +42,53 @@ fn panic_text(p: &(dyn Any + Send)) -> String {
     }
 }
 
-/// Runs `body` on the instance behind `c` with the state-machine check, error logging and
-/// panic containment described in the module docs.
+/// What an `fmi2Component` points to: the instance behind an in-use flag, with copies of the
+/// logger, its environment and the instance name that stay readable while another call holds
+/// the instance.
+pub(crate) struct Component {
+    busy: AtomicBool,
+    logger: Option<fmi2CallbackLogger>,
+    env: fmi2ComponentEnvironment,
+    name: CString,
+    inst: UnsafeCell<Instance>,
+}
+
+/// Clears the in-use flag when dropped (also when the body panicked).
+struct InUse<'a>(&'a AtomicBool);
+
+impl Drop for InUse<'_> {
+    fn drop(&mut self) {
+        self.0.store(false, Ordering::Release);
+    }
+}
+
+/// Sets the in-use flag of the component behind `c`; `None` (after logging) when it was set.
+///
+/// # Safety
+/// `c` non-null and from `fmi2Instantiate`, not yet freed.
+unsafe fn enter<'a>(c: fmi2Component, f: Func) -> Option<(InUse<'a>, *mut Instance)> {
+    // SAFETY: caller contract; only the atomic and the immutable copies are read here.
+    let comp = unsafe { &*c.cast::<Component>() };
+    if comp.busy.swap(true, Ordering::Acquire) {
+        log_to(
+            comp.logger,
+            comp.env,
+            &comp.name,
+            fmi2Status::Error,
+            cat::ERROR,
+            &format!(
+                "{}: the instance is in use by another call (an instance may be used by one \
+                 thread at a time); nothing was done",
+                f.name
+            ),
+        );
+        return None;
+    }
+    Some((InUse(&comp.busy), comp.inst.get()))
+}
+
+/// Runs `body` on the instance behind `c` with the in-use guard, the state-machine check, error
+/// logging and panic containment described in the module docs.
 fn call(
     c: fmi2Component,
     f: Func,
@@ -43,7 +97,19 @@ fn call(
     if c.is_null() {
         return fmi2Status::Error;
     }
-    let p = c.cast::<Instance>();
+    // SAFETY: `c` came from fmi2Instantiate (caller contract).
+    let Some((_guard, p)) = (unsafe { enter(c, f) }) else {
+        return fmi2Status::Error;
+    };
+    call_entered(p, f, body)
+}
+
+/// [`call`] once the in-use flag is held.
+fn call_entered(
+    p: *mut Instance,
+    f: Func,
+    body: impl FnOnce(&mut Instance) -> Result<fmi2Status, String>,
+) -> fmi2Status {
     let result = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: `c` came from fmi2Instantiate (caller contract).
         let inst = unsafe { &mut *p };
@@ -278,7 +344,14 @@ pub unsafe extern "C" fn fmi2Instantiate(
         if let Some(w) = warning {
             inst.log(fmi2Status::Warning, cat::WARNING, &format!("fmi2Instantiate: {w}"));
         }
-        Box::into_raw(Box::new(inst)).cast()
+        let comp = Component {
+            busy: AtomicBool::new(false),
+            logger,
+            env,
+            name: inst.name.clone(),
+            inst: UnsafeCell::new(inst),
+        };
+        Box::into_raw(Box::new(comp)).cast()
     }));
     r.unwrap_or(std::ptr::null_mut())
 }
@@ -292,14 +365,20 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     if c.is_null() {
         return;
     }
+    // SAFETY: `c` came from fmi2Instantiate (caller contract).
+    let Some((guard, p)) = (unsafe { enter(c, func::fmi2FreeInstance) }) else {
+        // In use by another call: leaked rather than freed under it.
+        return;
+    };
     // The mask admits every state, so the body runs; whatever it returns, the instance goes.
-    call(c, func::fmi2FreeInstance, |inst| {
+    call_entered(p, func::fmi2FreeInstance, |inst| {
         inst.free_all_states();
         Ok(fmi2Status::Ok)
     });
+    std::mem::forget(guard);
     let _ = catch_unwind(|| {
         // SAFETY: created by Box::into_raw in fmi2Instantiate; the caller does not use it again.
-        drop(unsafe { Box::from_raw(c.cast::<Instance>()) });
+        drop(unsafe { Box::from_raw(c.cast::<Component>()) });
     });
 }
 
@@ -1151,6 +1230,36 @@ mod tests {
         // Fatal is final: every further call but fmi2FreeInstance is refused as fatal.
         assert_eq!(unsafe { fmi2Reset(c) }, fmi2Status::Fatal);
         assert_eq!(unsafe { fmi2DoStep(c, 0.0, 1.0, FMI2_TRUE) }, fmi2Status::Fatal);
+        unsafe { fmi2FreeInstance(c) };
+    }
+
+    #[test]
+    fn a_call_entering_an_instance_in_use_is_refused_and_changes_nothing() {
+        let g = CString::new(crate::fmi2::variables::guid()).unwrap();
+        let c = unsafe {
+            fmi2Instantiate(
+                c"busy".as_ptr(),
+                FMI2_CO_SIMULATION,
+                g.as_ptr(),
+                std::ptr::null(),
+                std::ptr::null(),
+                FMI2_FALSE,
+                FMI2_FALSE,
+            )
+        };
+        assert!(!c.is_null());
+        // While one call holds the instance, another (here from inside it) is refused.
+        let inner = call(c, func::fmi2Reset, |inst| {
+            assert_eq!(unsafe { fmi2Reset(c) }, fmi2Status::Error);
+            assert_eq!(unsafe { fmi2EnterInitializationMode(c) }, fmi2Status::Error);
+            // fmi2FreeInstance of an instance in use leaves it alive.
+            unsafe { fmi2FreeInstance(c) };
+            assert_eq!(inst.mode(), Phase::Instantiated);
+            Ok(fmi2Status::Ok)
+        });
+        assert_eq!(inner, fmi2Status::Ok);
+        // The refused calls left the state machine as it was, and the flag is cleared.
+        assert_eq!(unsafe { fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0) }, fmi2Status::Ok);
         unsafe { fmi2FreeInstance(c) };
     }
 }

@@ -6,6 +6,13 @@
 //! caller logs the message, moves the instance to the error state and returns `fmi2Error`.
 //! Nothing here knows a model: the variable table, the defaults and the physics come from the
 //! instance's [`ModelInfo`].
+//!
+//! Boundaries: an input is checked against its stated range when set or restored
+//! ([`Variable::check_input`]: |angle| ≤ 1e15 rad, |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m),
+//! the tunable `d_mesh` against the pair's own range (`params::check_d_mesh`), and every value
+//! a getter or a step hands out with a success status passes one check, [`ensure_finite`]: a
+//! non-finite value is an error naming the variable, never a result. Serialised FMU states
+//! carry a format version and a checksum (see the layout below).
 
 use std::ffi::CString;
 use std::path::PathBuf;
@@ -16,6 +23,7 @@ use super::variables::{
     Access, Causality, Derived, InputRates, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability,
     Variable,
 };
+use crate::error::short_num;
 
 /// States of the FMI 2.0 state machines of co-simulation (section 4.2.4) and model exchange
 /// (section 3.2.3), as bits so that each function can carry the set of states it is allowed
@@ -168,6 +176,25 @@ pub(crate) fn mask_names(mask: u16) -> String {
         "none (this FMU never runs a step asynchronously)".into()
     } else {
         names.join(", ")
+    }
+}
+
+/// The one check between computed values and the importer: every value a getter or step
+/// hands out with a success status is finite. `name(i)` names value `i` for the message; the
+/// first non-finite value is reported as an error (the call then returns `fmi2Error`).
+pub(crate) fn ensure_finite(
+    what: &str,
+    values: &[f64],
+    name: impl Fn(usize) -> String,
+) -> Result<(), String> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(format!(
+            "{what}: `{}` = {} is not finite (the model left its valid range; the last \
+             inputs and parameters are kept)",
+            name(i),
+            values[i]
+        )),
     }
 }
 
@@ -342,7 +369,11 @@ impl Instance {
         if let Some(t) = stop
             && !(t.is_finite() && t >= start)
         {
-            return Err(format!("stopTime = {t}: allowed finite and >= startTime = {start}"));
+            return Err(format!(
+                "stopTime = {}: allowed finite and >= startTime = {}",
+                short_num(t),
+                short_num(start)
+            ));
         }
         self.data.start_time = start;
         self.data.time = start;
@@ -459,10 +490,11 @@ impl Instance {
         let computed = |v: &&Variable| {
             matches!(v.access, Access::RealOutput(_) | Access::IntOutput(_) | Access::BoolOutput(_))
         };
+        if vars.iter().any(|v| v.causality == Causality::CalculatedParameter) {
+            self.ensure_built()?;
+        }
         if vars.iter().any(computed) {
             self.ensure_outputs()?;
-        } else if vars.iter().any(|v| v.causality == Causality::CalculatedParameter) {
-            self.ensure_built()?;
         }
         Ok(())
     }
@@ -484,6 +516,7 @@ impl Instance {
         for (o, v) in out.iter_mut().zip(&vars) {
             *o = self.read_real(v);
         }
+        ensure_finite("fmi2GetReal", out, |i| vars[i].name.to_string())?;
         Ok(fmi2Status::Ok)
     }
 
@@ -587,9 +620,7 @@ impl Instance {
             self.check_settable(v)?;
             match v.access {
                 Access::Input(get, set) => {
-                    if !x.is_finite() {
-                        return Err(format!("input `{}` = {x} is not finite", v.name));
-                    }
+                    v.check_input(x)?;
                     self.data.inputs.fresh = true;
                     if let Some(r) = self.data.inputs.rates.slot(v.name) {
                         *r = 0.0;
@@ -604,6 +635,10 @@ impl Instance {
                         continue;
                     }
                     if v.variability == Variability::Tunable {
+                        // The parameter's own range (the one the pair's validation applies),
+                        // checked now, also before the model exists.
+                        crate::params::check_d_mesh(x)
+                            .map_err(|e| format!("{e} (FMI parameter `{}`)", v.name))?;
                         if let Some(b) = self.data.built.as_mut() {
                             b.engine.set_d_mesh(x)?;
                             set(&mut b.settings, x);
@@ -662,21 +697,29 @@ impl Instance {
     pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Result<fmi2Status, String> {
         if !t.is_finite() || !h.is_finite() || h <= 0.0 {
             return Err(format!(
-                "communication step from t = {t} s with h = {h} s: allowed finite t and h > 0"
+                "communication step from t = {} s with h = {} s: allowed finite t and h > 0",
+                short_num(t),
+                short_num(h)
             ));
         }
         let now = self.data.time;
         let tol = 1e-9 * now.abs().max(h).max(1e-9);
         if (t - now).abs() > tol {
             return Err(format!(
-                "currentCommunicationPoint = {t} s differs from the FMU's time {now} s (the end \
-                 of the previous step)"
+                "currentCommunicationPoint = {} s differs from the FMU's time {} s (the end \
+                 of the previous step)",
+                short_num(t),
+                short_num(now)
             ));
         }
         if let Some(stop) = self.data.stop_time
             && t + h > stop + 1e-9 * stop.abs().max(h)
         {
-            return Err(format!("step to t + h = {} s beyond stopTime = {stop} s", t + h));
+            return Err(format!(
+                "step to t + h = {} s beyond stopTime = {} s",
+                short_num(t + h),
+                short_num(stop)
+            ));
         }
         if self.model.stateful {
             self.ensure_started()?;
@@ -686,6 +729,12 @@ impl Instance {
                 Ok(()) => {
                     d.outputs = None;
                     d.inputs.fresh = false;
+                    let mut x = vec![0.0; engine.n_states()];
+                    engine.get_states(&mut x);
+                    let names = self.model.state_names();
+                    ensure_finite("fmi2DoStep", &x, |i| {
+                        names.get(i).map_or_else(|| format!("state {}", i + 1), |n| n.to_string())
+                    })?;
                 }
                 Err(StepFailure::Discard(msg)) => {
                     self.data.mode = Phase::StepFailed;
@@ -783,6 +832,8 @@ impl Instance {
     pub(crate) fn me_get_states(&mut self, x: &mut [f64]) -> Result<fmi2Status, String> {
         self.check_nx(x.len(), "fmi2GetContinuousStates")?;
         self.engine()?.get_states(x);
+        let names = self.model.state_names();
+        ensure_finite("fmi2GetContinuousStates", x, |i| names[i].to_string())?;
         Ok(fmi2Status::Ok)
     }
 
@@ -792,6 +843,8 @@ impl Instance {
         self.check_nx(dx.len(), "fmi2GetDerivatives")?;
         let o = self.ensure_outputs()?;
         dx.copy_from_slice(&o.dx[..dx.len()]);
+        let names: Vec<&str> = self.model.derivatives().map(|v| v.name).collect();
+        ensure_finite("fmi2GetDerivatives", dx, |i| names[i].to_string())?;
         Ok(fmi2Status::Ok)
     }
 
@@ -807,6 +860,7 @@ impl Instance {
         }
         if ni > 0 {
             self.engine()?.event_indicators(z)?;
+            ensure_finite("fmi2GetEventIndicators", z, |i| format!("event indicator {}", i + 1))?;
         }
         Ok(fmi2Status::Ok)
     }
@@ -816,6 +870,8 @@ impl Instance {
         self.check_nx(x.len(), "fmi2GetNominalsOfContinuousStates")?;
         if !x.is_empty() {
             self.ensure_built()?.engine.nominals(x);
+            let names = self.model.state_names();
+            ensure_finite("fmi2GetNominalsOfContinuousStates", x, |i| names[i].to_string())?;
         }
         Ok(fmi2Status::Ok)
     }
@@ -1014,10 +1070,14 @@ pub(crate) fn log_to(
 // last the cached outputs (u8 flag, then the twelve mesh-output fields; stateful models
 // always write 0: their outputs follow from the state). The engine itself (the mesh model) is
 // not serialised: it is rebuilt from the parameters (or cloned from the instance's last build
-// with the same parameters).
+// with the same parameters). The last 8 bytes are the 64-bit FNV-1a checksum
+// (`numeric::fnv1a_64`) of everything before them. A state is refused whole when the magic,
+// the version, the GUID or the checksum does not match, and every value read is checked:
+// finite times and parameters (their ranges when the model is rebuilt), inputs within their
+// stated ranges (`Variable::check_input`), finite cached outputs.
 
 const MAGIC: &[u8; 8] = b"HGMSTATE";
-const FORMAT_VERSION: u32 = 3;
+const FORMAT_VERSION: u32 = 4;
 
 fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     let mut b = Vec::with_capacity(512);
@@ -1088,6 +1148,8 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
         }
         _ => b.push(0),
     }
+    let sum = crate::numeric::fnv1a_64(&b);
+    b.extend_from_slice(&sum.to_le_bytes());
     b
 }
 
@@ -1140,6 +1202,20 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
              {FORMAT_VERSION}"
         ));
     }
+    if bytes.len() < 8 + 4 + 8 {
+        return Err(format!("serialised state truncated: {} bytes", bytes.len()));
+    }
+    let (payload, tail) = bytes.split_at(bytes.len() - 8);
+    let stored = u64::from_le_bytes(tail.try_into().expect("8 bytes"));
+    let sum = crate::numeric::fnv1a_64(payload);
+    if stored != sum {
+        return Err(format!(
+            "serialised state truncated or corrupted: checksum mismatch (stored \
+             {stored:016x}, computed {sum:016x})"
+        ));
+    }
+    let bytes = payload;
+    let mut r = Reader { b: bytes, at: r.at };
     let n = r.u32()? as usize;
     let g = r.b.get(r.at..r.at + n).ok_or("serialised state truncated in the GUID")?;
     r.at += n;
@@ -1181,12 +1257,7 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
             Access::BoolParam(_, set) => set(&mut d.settings, r.bool()?),
             Access::Input(_, set) => {
                 let x = r.f64()?;
-                if !x.is_finite() {
-                    return Err(format!(
-                        "serialised state: input `{}` = {x} is not finite",
-                        v.name
-                    ));
-                }
+                v.check_input(x).map_err(|e| format!("serialised state: {e}"))?;
                 set(&mut d.inputs, x)
             }
             Access::StringParam(_, set) => {
@@ -1248,6 +1319,9 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
             separated: r.bool()?,
             back_contact: r.bool()?,
         };
+        const NAMES: [&str; 8] =
+            ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
+        ensure_finite("serialised state: cached output", &x, |i| NAMES[i].to_string())?;
         d.outputs = Some(Outputs { mesh, ..Outputs::default() });
     }
     if r.at != bytes.len() {

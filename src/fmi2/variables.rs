@@ -104,7 +104,10 @@ impl Default for UnitOptions {
     }
 }
 
-/// The input values of an instance (every model reads only its own inputs).
+pub use crate::dynamics::unit::{MAX_ANGLE_RAD, MAX_SPEED_RAD_S, MAX_TORQUE_NM};
+
+/// The input values of an instance (every model reads only its own inputs). Each input is
+/// checked against its range when set or restored ([`Variable::check_input`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Inputs {
     /// `HelicalGearMesh`: pinion hub angle, rad.
@@ -444,6 +447,31 @@ impl Variable {
                 Some("calculated")
             }
             Causality::Input => None,
+        }
+    }
+
+    /// Checks a value `x` for this input against its stated range, by the input's unit:
+    /// angles (rad) within ±[`MAX_ANGLE_RAD`], speeds (rad/s) within ±[`MAX_SPEED_RAD_S`],
+    /// torques (N.m) within ±[`MAX_TORQUE_NM`], anything else finite. The error names the
+    /// input, the value and the range.
+    pub fn check_input(&self, x: f64) -> Result<(), String> {
+        let (max, range) = match self.unit {
+            Some("rad") => (MAX_ANGLE_RAD, "1e15 rad"),
+            Some("rad/s") => (MAX_SPEED_RAD_S, "1e5 rad/s"),
+            Some("N.m") => (MAX_TORQUE_NM, "1e9 N.m"),
+            _ => (f64::INFINITY, ""),
+        };
+        if !x.is_finite() {
+            Err(format!("input `{}` = {x} is not finite", self.name))
+        } else if x.abs() <= max {
+            Ok(())
+        } else {
+            Err(format!(
+                "input `{}` = {}: allowed finite, |{}| <= {range}",
+                self.name,
+                crate::error::short_num(x),
+                self.name
+            ))
         }
     }
 

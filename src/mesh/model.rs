@@ -424,11 +424,9 @@ impl MeshModel {
         self.d_mesh
     }
 
-    /// Sets d_mesh (N·s/m, finite, ≥ 0).
+    /// Sets d_mesh, N·s/m, in [0, [`crate::params::D_MESH_MAX_N_S_PER_M`]].
     pub fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), MeshError> {
-        if !(d_mesh.is_finite() && d_mesh >= 0.0) {
-            return Err(ParamError::new("d_mesh_n_s_per_m", d_mesh, ">= 0 and finite").into());
-        }
+        crate::params::check_d_mesh(d_mesh)?;
         self.d_mesh = d_mesh;
         Ok(())
     }

@@ -124,6 +124,9 @@ static void test_capi(void) {
     CHECK(hgm_evaluate(m, 0, 0, 0, 0, NULL) == HGM_STATUS_INVALID_ARGUMENT, "NULL out");
     CHECK(hgm_set_d_mesh(m, -1.0) == HGM_STATUS_MODEL_ERROR, "negative d_mesh");
     CHECK(strstr(hgm_last_error(m), "d_mesh") != NULL, "message: %s", hgm_last_error(m));
+    CHECK(hgm_set_d_mesh(m, 1e300) == HGM_STATUS_MODEL_ERROR, "d_mesh beyond its range");
+    CHECK(strstr(hgm_last_error(m), "1.0000e300") != NULL, "short number: %s",
+          hgm_last_error(m));
     CHECK(hgm_evaluate(m, 0.0, phi_g_for(0.0, te_static), 0, 0, &out) == HGM_STATUS_OK,
           "usable after errors");
     hgm_free(m);
@@ -138,6 +141,13 @@ static void test_units(void) {
     CHECK(hgm_unit_create(HGM_UNIT_KIND_STAGE, NULL, HGM_FIDELITY_TABLE, 2, 0, 0) == NULL,
           "too few steps per mesh period");
     CHECK(strstr(hgm_unit_last_error(NULL), "steps_per_mesh_period") != NULL, "message: %s",
+          hgm_unit_last_error(NULL));
+    /* The enum arguments are integers checked against their allowed values. */
+    CHECK(hgm_unit_create(3, NULL, HGM_FIDELITY_TABLE, 128, 0, 0) == NULL, "kind 3");
+    CHECK(strstr(hgm_unit_last_error(NULL), "`kind` = 3") != NULL, "message: %s",
+          hgm_unit_last_error(NULL));
+    CHECK(hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, -1, 128, 0, 0) == NULL, "fidelity -1");
+    CHECK(strstr(hgm_unit_last_error(NULL), "`fidelity` = -1") != NULL, "message: %s",
           hgm_unit_last_error(NULL));
     hgm_unit_free(NULL);
 

@@ -887,18 +887,23 @@ impl Engine for UnitEngine {
         self.sync(inputs).map_err(StepFailure::Error)?;
         self.unit.advance(h).map_err(|e| {
             StepFailure::Discard(format!(
-                "the step from t = {t} s by h = {h} s cannot be completed (state kept at t = \
-                 {t} s): {e}"
+                "the step from t = {} s by h = {} s cannot be completed (state kept at t = \
+                 {} s): {e}",
+                crate::error::short_num(t),
+                crate::error::short_num(h),
+                crate::error::short_num(t)
             ))
         })
     }
 
     fn save(&self) -> Vec<u8> {
-        serde_json::to_vec(&self.unit.snapshot()).expect("a unit snapshot serialises")
+        self.unit.snapshot().to_text().into_bytes()
     }
 
     fn load(&mut self, bytes: &[u8]) -> Result<(), String> {
-        let s: UnitSnapshot = serde_json::from_slice(bytes)
+        let text = std::str::from_utf8(bytes)
+            .map_err(|e| format!("serialised state: unit snapshot: {e}"))?;
+        let s = UnitSnapshot::from_text(text)
             .map_err(|e| format!("serialised state: unit snapshot: {e}"))?;
         self.unit.restore(&s).map_err(|e| format!("serialised state: unit snapshot: {e}"))
     }
