@@ -317,7 +317,7 @@ impl<'a> ContactSolver<'a> {
     ) -> ReducedAngles {
         out.clear();
         let red = self.reduce(phi_p, phi_g);
-        if zetas.is_empty() || !(phi_p.abs() <= self.max_angle()) {
+        if zetas.is_empty() || phi_p.abs() > self.max_angle() {
             return red;
         }
         let zmin = zetas.iter().copied().fold(f64::INFINITY, f64::min);

@@ -294,7 +294,7 @@ unsafe fn instantiate(guid: &str) -> fmi2Component {
 #[test]
 fn fmu_unit_step_out_of_range_is_discarded_and_rolled_back() {
     unsafe {
-        let c = instantiate(&PAIR.guid());
+        let c = instantiate(PAIR.guid());
         let names = ["phi_p", "phi_g", "w_p", "w_g", "TE", "M_F_p"];
         let vrs: Vec<u32> = names.iter().map(|n| vr_of(&PAIR, n)).collect();
         assert_eq!(fmi2DoStep(c, 0.0, 1e-4, 1), fmi2Status::Ok);
@@ -323,7 +323,7 @@ fn mesh_element_out_of_range_is_fmi2_error() {
     assert_eq!(gp.z_p, 30);
     for (phi_p, te) in [(0.01, 2e-3), (0.01, -2e-3), (1e19, 20e-6)] {
         unsafe {
-            let c = instantiate(&guid());
+            let c = instantiate(guid());
             let v = [phi_p, m.geometry().phi_g_for_te(phi_p, te), 100.0, -63.83];
             assert_eq!(fmi2SetReal(c, inputs.as_ptr(), 4, v.as_ptr()), fmi2Status::Ok);
             let (s, _) = get(c, &outs);
@@ -333,7 +333,7 @@ fn mesh_element_out_of_range_is_fmi2_error() {
     }
     // Inside the range: Ok.
     unsafe {
-        let c = instantiate(&guid());
+        let c = instantiate(guid());
         let v = [0.01, m.geometry().phi_g_for_te(0.01, 20e-6), 100.0, -63.83];
         assert_eq!(fmi2SetReal(c, inputs.as_ptr(), 4, v.as_ptr()), fmi2Status::Ok);
         let (s, o) = get(c, &outs);
