@@ -413,7 +413,7 @@ impl TipThreshold {
 /// edge; `None` if there is none up to `te_max`. Scans TE in `steps` equal steps, then bisects
 /// the first step with tip contact down to `te_tol` (m). Tip contact is taken to persist once
 /// reached (more TE, more overlap at the tip); a window narrower than one scan step can be
-/// missed.
+/// missed. The scan ends at the model's validity range if `te_max` lies beyond it.
 pub fn tip_contact_threshold(
     model: &mut super::MeshModel,
     phi_p: f64,
@@ -422,6 +422,7 @@ pub fn tip_contact_threshold(
     te_tol: f64,
 ) -> Result<Option<f64>, MeshError> {
     let geo = model.geometry().clone();
+    let te_max = te_max.min(model.validity().te_max);
     let mut tip = |te: f64| -> Result<bool, MeshError> {
         let s = MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 };
         Ok(model.evaluate_full(&s)?.tip_contact)
