@@ -125,7 +125,8 @@ pub struct ReducedAngles {
     pub phi_p: f64,
     /// Gear angle shifted by the same number of (gear) pitches, rad.
     pub phi_g: f64,
-    /// Number of whole pinion pitches removed.
+    /// Number of whole pinion pitches removed (exact for |φp| ≤ [`ContactSolver::max_angle`];
+    /// saturated at the `i64` range beyond).
     pub pitches: i64,
     /// Transmission error TE = φp·r_bp + φg·r_bg, m.
     pub te: f64,
@@ -236,6 +237,15 @@ impl<'a> ContactSolver<'a> {
         self.geo
     }
 
+    /// The exact range of the pinion angle, rad: |φp| ≤ 2⁵³ pinion pitches
+    /// ([`crate::numeric::Pitch::max_angle`], [`crate::mesh::validity`]). Within it the
+    /// reduction is exact and the tooth-pair numbers are exact `i64`s; beyond it
+    /// [`ContactSolver::contacts_on`] finds no contacts (the mesh model reports such an angle
+    /// as an error before any search).
+    pub fn max_angle(&self) -> f64 {
+        self.pitch_p.max_angle()
+    }
+
     /// Reduces (φp, φg) to one mesh cycle without changing the contact set.
     ///
     /// Exact in the given doubles ([`crate::numeric`]): TE = φp·g_p + φg·g_g is computed from
@@ -244,7 +254,8 @@ impl<'a> ContactSolver<'a> {
     /// gives that TE at the reduced pinion angle (so the contacts see exactly the TE that is
     /// reported; a gear angle reduced by whole gear pitches would differ by the few-ulp
     /// mismatch of g_p/g_g and z_p/z_g, which 10¹² rad turn into micrometres). Without a whole
-    /// pitch to remove (k = 0) the angles pass unchanged.
+    /// pitch to remove (k = 0) the angles pass unchanged. Exact for |φp| ≤
+    /// [`ContactSolver::max_angle`].
     pub fn reduce(&self, phi_p: f64, phi_g: f64) -> ReducedAngles {
         let te = self.geo.transmission_error(phi_p, phi_g);
         let (rp, k) = self.pitch_p.reduce(phi_p);
@@ -293,7 +304,9 @@ impl<'a> ContactSolver<'a> {
         self.contacts_on(FlankSide::Drive, phi_p, phi_g, zetas, out)
     }
 
-    /// Like [`ContactSolver::contacts`] for the flanks `side` (driving or back flanks).
+    /// Like [`ContactSolver::contacts`] for the flanks `side` (driving or back flanks). A pinion
+    /// angle beyond [`ContactSolver::max_angle`] gives no contacts (its tooth-pair numbers would
+    /// not be exact); check it first.
     pub fn contacts_on(
         &self,
         side: FlankSide,
@@ -304,7 +317,7 @@ impl<'a> ContactSolver<'a> {
     ) -> ReducedAngles {
         out.clear();
         let red = self.reduce(phi_p, phi_g);
-        if zetas.is_empty() {
+        if zetas.is_empty() || phi_p.abs() > self.max_angle() {
             return red;
         }
         let zmin = zetas.iter().copied().fold(f64::INFINITY, f64::min);
@@ -313,6 +326,7 @@ impl<'a> ContactSolver<'a> {
         for k in lo..=hi {
             for &zeta in zetas {
                 if let Some(mut c) = self.contact_fast_on(side, red.phi_p, red.phi_g, k, zeta) {
+                    // |k| is a few pitches and |pitches| ≤ 2⁵³ here: no overflow.
                     c.pair = k - red.pitches;
                     out.push(c);
                 }

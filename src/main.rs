@@ -379,6 +379,13 @@ fn contact_cmd(
     let p = load_params(common)?;
     let g = PairGeometry::new(&p).map_err(|e| e.to_string())?;
     let solver = ContactSolver::new(&g);
+    if phi_p.abs() > solver.max_angle() {
+        return Err(format!(
+            "--phi-p = {phi_p:.4e} rad is beyond the exact range |phi_p| <= {:.4e} rad (2^53 \
+             pinion pitches, where the mesh phase and the tooth-pair number are exact)",
+            solver.max_angle()
+        ));
+    }
     let phi_g = g.phi_g_for_te(phi_p, te);
     let zetas = solver.slice_zetas(slices);
     let mut cs = Vec::new();

@@ -19,8 +19,12 @@
 //!   carried as fl(2π) + 2.449…·10⁻¹⁶) and [`Pitch::reduce`], the remainder φ − k·2π/z with k
 //!   the nearest whole number of pitches, computed with `two_prod` on k·hi so that no digit of φ
 //!   is lost. The error is at most ½ ulp of the remainder plus |k|·2⁻¹⁰⁴·2π/z, i.e. about
-//!   10⁻²⁰ rad at 10¹² rad (k < 2⁵³ is required; that is |φ| up to about 10¹⁴ rad for
-//!   z ≤ 150, far beyond any simulation).
+//!   10⁻²⁰ rad at 10¹² rad. This requires |k| ≤ 2⁵³ = [`MAX_PITCHES`] (every such integer is
+//!   a double, and k·hi is then split exactly): |φ| ≤ [`Pitch::max_angle`] = 2⁵³·2π/z, i.e.
+//!   1.9·10¹⁵ rad for z = 30 and 3.8·10¹⁴ rad for z = 150. Beyond it the computed quotient
+//!   φ·z/2π is off by more than a pitch and k no longer exact as the nearest whole number, and
+//!   from 2⁶³ pitches k is not even representable in an `i64`: callers check the bound first
+//!   ([`crate::mesh::validity`]).
 //!
 //! What cannot be recovered is the rounding of the inputs themselves: a hub angle near 10¹² rad
 //! is a double with an ulp of 1.2·10⁻⁴ rad, i.e. a TE granularity of ½ ulp(φ)·g ≈ 3–4 µm per
@@ -30,6 +34,10 @@
 //! few ulp(φ)·g at most).
 
 use std::f64::consts::TAU;
+
+/// Largest number of whole pitches |k| of an exact reduction ([`Pitch::reduce`]): 2⁵³, up to
+/// which every integer is a double.
+pub const MAX_PITCHES: f64 = 9_007_199_254_740_992.0;
 
 /// fl(2π) − 2π to double precision: 2π = `TAU` + `TAU_LO` to about 2⁻¹⁰⁶ relative.
 pub const TAU_LO: f64 = 2.449_293_598_294_706_4e-16;
@@ -107,21 +115,44 @@ impl Pitch {
         self.hi
     }
 
+    /// The largest |φ| (rad) that [`Pitch::reduce`] reduces exactly: [`MAX_PITCHES`] pitches.
+    pub fn max_angle(&self) -> f64 {
+        MAX_PITCHES * self.hi
+    }
+
     /// Returns (r, k): k the nearest whole number of pitches to `phi` (as a float holding an
     /// integer) and r = φ − k·2π/z computed without loss of the digits of φ, |r| ≤ ½ pitch (up
-    /// to one ulp). Non-finite φ gives a non-finite r.
+    /// to 10⁻¹² of it: the rounding of the quotient φ·z/2π, up to 2⁻⁵²·|k| pitches, is
+    /// corrected from the exact remainder when it moves k off the nearest whole number by more
+    /// than that). Exact for |φ| ≤ [`Pitch::max_angle`];
+    /// beyond it k is a whole number of pitches near φ, no longer the nearest, and the
+    /// remainder loses digits. Non-finite φ gives a non-finite r.
     #[inline]
     pub fn reduce(&self, phi: f64) -> (f64, f64) {
         let k = (phi * self.inv).round();
         if k == 0.0 || !k.is_finite() {
             return (phi, if k.is_finite() { 0.0 } else { k });
         }
+        let r = self.remainder(phi, k);
+        if r.abs() <= 0.5 * self.hi * (1.0 + 1e-12) {
+            return (r, k);
+        }
+        // The quotient's rounding (2⁻⁵²·|k| pitches) moved k off the nearest whole number
+        // (at huge |k| only; a remainder within 10⁻¹² of half a pitch is left as it is, so
+        // that moderate angles reduce bit for bit as without this step): correct it from the
+        // exact remainder (k + k1 stays exact for |φ| within `max_angle`).
+        let k = k + (r * self.inv).round();
+        (self.remainder(phi, k), k)
+    }
+
+    /// φ − k·(hi + lo), exactly up to the rounding of the result and of k·lo.
+    #[inline]
+    fn remainder(&self, phi: f64, k: f64) -> f64 {
         let (p1, e1) = two_prod(k, self.hi); // k·hi = p1 + e1 exactly
         let p2 = k * self.lo; // |k·lo| ≤ 2⁻⁵³·|k·hi|: its rounding is far below ulp(r)
         let (s, es) = two_sum(phi, -p1); // φ − p1, exact
         let (t, et) = two_sum(s, -e1);
-        let r = t + (et + es - p2);
-        (r, k)
+        t + (et + es - p2)
     }
 }
 

@@ -82,7 +82,9 @@ impl From<ParamError> for Failure {
 impl From<MeshError> for Failure {
     fn from(e: MeshError) -> Self {
         match e {
-            MeshError::Param(_) | MeshError::NonFinite { .. } => Failure::Param(e.to_string()),
+            MeshError::Param(_)
+            | MeshError::NonFinite { .. }
+            | MeshError::AngleOutOfRange { .. } => Failure::Param(e.to_string()),
             MeshError::Compliance(_) => Failure::Compliance(e.to_string()),
             _ => Failure::Solver(e.to_string()),
         }

@@ -24,14 +24,18 @@
 //! module documents every term; nothing is neglected). Both agree with central differences of
 //! [`MeshModel::evaluate`] to better than 1e-5 of the row (`tests/mesh_jacobian.rs`).
 //!
-//! A state so far outside the model that its load problem is not well posed (teeth crushed
-//! through) is reported as [`MeshError::OutOfRange`], which names TE, the mesh phase and the
-//! overlap against the module.
+//! The model holds in a stated range of the state ([`validity`]: flank overlaps up to 0.2·m_n,
+//! i.e. −j_t − 0.2·m_n ≤ TE ≤ 0.2·m_n, and |φp| up to 2⁵³ pinion pitches). A state outside it,
+//! or inside it but so far overloaded that its load problem is not well posed (teeth crushed
+//! through), is reported as [`MeshError::OutOfRange`], which names TE, the mesh phase, the
+//! range and the overlap against the module; a pinion angle beyond the exact range is
+//! [`MeshError::AngleOutOfRange`]. Never "separated" for teeth that passed through each other.
 
 pub mod face_load;
 pub mod model;
 pub mod statics;
 pub mod table;
+pub mod validity;
 
 use std::fmt;
 use std::sync::Arc;
@@ -51,6 +55,7 @@ pub use statics::{
     pressure_waterfall, static_curve, tip_contact_threshold, tip_contact_threshold_curve,
 };
 pub use table::{MeshTable, TableTruncation};
+pub use validity::ValidityRange;
 
 /// The kinematic state of the two gears.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -208,20 +213,36 @@ pub enum MeshError {
     Equilibrium(String),
     /// The implementation cannot give what was asked (e.g. analytic derivatives); names it.
     Unsupported(&'static str),
-    /// The state lies outside the range where the model holds: the flanks would have to
-    /// overlap so far (teeth crushed through) that the load problem of Eq. 12 is not well
-    /// posed there (the compliance matrix of the loaded slices is not a P-matrix).
+    /// The state lies outside the range where the model holds: TE outside the stated
+    /// validity range ([`validity`]: flank overlaps beyond 0.2·m_n, teeth passed through each
+    /// other), or inside it but with flanks overlapping so far (teeth crushed through) that
+    /// the load problem of Eq. 12 is not well posed there (the compliance matrix of the loaded
+    /// slices is not a P-matrix).
     OutOfRange {
         /// Transmission error of the state, m.
         te: f64,
         /// Mesh phase: pinion angle reduced to one pitch, rad.
         phase: f64,
-        /// Largest required overlap Δ·m_n of a slice, m.
+        /// The validity range of TE, [TE_min, TE_max], m ([`ValidityRange`]).
+        range: (f64, f64),
+        /// Largest required overlap Δ·m_n of a slice, m (outside the range: TE on the
+        /// driving flanks, −TE − j_t on the back flanks).
         max_overlap: f64,
         /// Normal module m_n, m (the scale of the tooth).
         module: f64,
-        /// The load solver's failure.
-        cause: LoadError,
+        /// The load solver's failure when the state lies inside the range; `None` when TE
+        /// lies outside it.
+        cause: Option<LoadError>,
+    },
+    /// The pinion angle lies beyond the range where the mesh phase and the tooth-pair number
+    /// are exact (|φp| ≤ 2⁵³ pinion pitches, [`validity`]).
+    AngleOutOfRange {
+        /// Name of the input (`phi_p`).
+        name: &'static str,
+        /// Its value, rad.
+        value: f64,
+        /// The bound on its magnitude, rad.
+        bound: f64,
     },
 }
 
@@ -236,15 +257,39 @@ impl fmt::Display for MeshError {
             MeshError::Load(e) => write!(f, "load distribution: {e}"),
             MeshError::Equilibrium(m) => write!(f, "static equilibrium: {m}"),
             MeshError::Unsupported(what) => write!(f, "not supported by this mesh model: {what}"),
-            MeshError::OutOfRange { te, phase, max_overlap, module, cause } => write!(
+            MeshError::OutOfRange { te, phase, range, max_overlap, module, cause: None } => {
+                write!(
+                    f,
+                    "mesh state outside the model's range: TE = {te:.4e} m at mesh phase \
+                     {phase:.6} rad requires a flank overlap of {max_overlap:.3e} m ({:.3}·m_n), \
+                     outside the validity range {:.4e} m <= TE <= {:.4e} m (flank overlaps up \
+                     to {}·m_n: beyond, the teeth would have to pass through each other)",
+                    max_overlap / module,
+                    range.0,
+                    range.1,
+                    validity::MAX_OVERLAP_MN
+                )
+            }
+            MeshError::OutOfRange { te, phase, range, max_overlap, module, cause: Some(cause) } => {
+                write!(
+                    f,
+                    "mesh state outside the model's range: TE = {te:.4e} m at mesh phase \
+                     {phase:.6} rad requires a flank overlap of {max_overlap:.3e} m ({:.3}·m_n); \
+                     TE lies inside the validity range {:.4e} m <= TE <= {:.4e} m, but the model \
+                     holds for elastic approaches small against the tooth (for Table 1 the load \
+                     problem was measured well posed up to overlaps of 0.19·m_n with the fitted \
+                     and 0.59·m_n with the interpolated compliance; the nominal load needs about \
+                     0.01·m_n), and here the load problem is not well posed ({cause})",
+                    max_overlap / module,
+                    range.0,
+                    range.1
+                )
+            }
+            MeshError::AngleOutOfRange { name, value, bound } => write!(
                 f,
-                "mesh state outside the model's range: TE = {te:e} m at mesh phase {phase:.6} \
-                 rad requires a flank overlap of {max_overlap:e} m ({:.3}·m_n); the model holds \
-                 for elastic approaches small against the tooth (for Table 1 the load problem \
-                 was measured well posed up to overlaps of 0.19·m_n with the fitted and 0.59·m_n \
-                 with the interpolated compliance; the nominal load needs about 0.003·m_n), and \
-                 here the load problem is not well posed ({cause})",
-                max_overlap / module
+                "input `{name}` = {value:.4e} rad is beyond the exact range |{name}| <= \
+                 {bound:.4e} rad (2^53 pinion pitches, where the mesh phase and the tooth-pair \
+                 number are exact)"
             ),
         }
     }
@@ -314,6 +359,13 @@ pub trait MeshTorques {
 
     /// Base radii (g_p, g_g), m, that define TE = φp·g_p + φg·g_g.
     fn base_radii(&self) -> (f64, f64);
+
+    /// The range [TE_min, TE_max] (m) in which the implementation holds; states outside it
+    /// are errors ([`MeshError::OutOfRange`] for the [`MeshModel`], [`validity`]). Searches
+    /// over TE (the static equilibrium) end there. The default is unbounded.
+    fn te_range(&self) -> (f64, f64) {
+        (f64::NEG_INFINITY, f64::INFINITY)
+    }
 
     /// Mesh outputs and their partial derivatives with respect to the state at `state`,
     /// computed from the model (not by finite differences). Implementations that cannot give

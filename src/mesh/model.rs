@@ -47,6 +47,14 @@
 //! grown them to the sizes a trajectory needs, evaluations do not touch the heap
 //! (`tests/mesh_alloc.rs` counts allocations). Clones start with empty buffers.
 //!
+//! # Validity range
+//! Every evaluation (full or table, outputs or Jacobian) first checks the state against the
+//! pair's [`ValidityRange`] (`super::validity`): |φp| beyond 2⁵³ pinion pitches is
+//! [`MeshError::AngleOutOfRange`], TE outside [−j_t − 0.2·m_n, 0.2·m_n] is
+//! [`MeshError::OutOfRange`] without a load-solver cause — before any contact search, so that
+//! teeth that passed through each other are never reported "separated". Inside the range the
+//! outputs are bit for bit those without the check.
+//!
 //! # Warm start
 //! The loads of the previous call are kept with their keys (flank side, tooth pair, slice); a
 //! new call starts from them, which makes the active set of a nearby state exact after one
@@ -58,6 +66,7 @@ use std::sync::Arc;
 
 use faer::Mat;
 
+use super::validity::ValidityRange;
 use super::{Fidelity, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
 use crate::compliance::fitted::FittedInfluence;
 use crate::compliance::hertz::LocalContact;
@@ -176,6 +185,8 @@ pub struct MeshModel {
     slice_comp: Option<Arc<[SliceInfluence; 2]>>,
     local: LocalContact,
     d_mesh: f64,
+    /// The validity range of the state (`super::validity`).
+    validity: ValidityRange,
     zetas: Vec<f64>,
     dzeta: f64,
     cos_theta: f64,
@@ -257,6 +268,7 @@ impl Clone for MeshModel {
             slice_comp: self.slice_comp.clone(),
             local: self.local,
             d_mesh: self.d_mesh,
+            validity: self.validity,
             zetas: self.zetas.clone(),
             dzeta: self.dzeta,
             cos_theta: self.cos_theta,
@@ -335,6 +347,7 @@ impl MeshModel {
         let slice_comp = slice_kernel(&pinion, &gear, &zetas);
         let cos_theta = geo.base_helix_angle.cos();
         let cap = 4 * n_line;
+        let validity = ValidityRange::of(&geo);
         let mut model = Self {
             pair: pair.clone(),
             geo: Arc::new(geo),
@@ -344,6 +357,7 @@ impl MeshModel {
             slice_comp,
             local,
             d_mesh: pair.d_mesh_n_s_per_m,
+            validity,
             zetas,
             dzeta,
             cos_theta,
@@ -419,6 +433,51 @@ impl MeshModel {
         self.table.as_deref()
     }
 
+    /// The range of states in which the model holds (`super::validity`); evaluations outside
+    /// it are errors.
+    pub fn validity(&self) -> &ValidityRange {
+        &self.validity
+    }
+
+    /// Checks `state` against the validity range: a NaN or infinite component
+    /// ([`MeshError::NonFinite`]), |φp| beyond the exact range ([`MeshError::AngleOutOfRange`])
+    /// or TE outside [TE_min, TE_max] ([`MeshError::OutOfRange`], no load-solver cause).
+    pub fn check_state(&self, state: &MeshState) -> Result<(), MeshError> {
+        check_state(state)?;
+        self.check_angle(state.phi_p)?;
+        let te = self.geo.transmission_error(state.phi_p, state.phi_g);
+        self.check_te(te, state.phi_p)
+    }
+
+    fn check_angle(&self, phi_p: f64) -> Result<(), MeshError> {
+        if self.validity.contains_phi_p(phi_p) {
+            return Ok(());
+        }
+        Err(MeshError::AngleOutOfRange {
+            name: "phi_p",
+            value: phi_p,
+            bound: self.validity.phi_p_max,
+        })
+    }
+
+    /// TE (m) of a state at pinion angle `phi_p` (rad, within the exact range) against the
+    /// validity range.
+    fn check_te(&self, te: f64, phi_p: f64) -> Result<(), MeshError> {
+        let v = &self.validity;
+        if v.contains_te(te) {
+            return Ok(());
+        }
+        let phase = crate::numeric::Pitch::of_teeth(self.geo.pinion.z).reduce(phi_p).0;
+        Err(MeshError::OutOfRange {
+            te,
+            phase,
+            range: (v.te_min, v.te_max),
+            max_overlap: v.required_overlap(te),
+            module: self.pair.normal_module_m,
+            cause: None,
+        })
+    }
+
     /// Mesh damping d_mesh of Eq. 14, N·s/m.
     pub fn d_mesh(&self) -> f64 {
         self.d_mesh
@@ -484,7 +543,7 @@ impl MeshModel {
 
     /// Evaluates the mesh at `state` with the configured fidelity (see the module docs).
     pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
-        check_state(state)?;
+        self.check_state(state)?;
         if let Some(table) = &self.table {
             if let Some(o) = table.evaluate(self, state) {
                 return Ok(o);
@@ -494,12 +553,15 @@ impl MeshModel {
     }
 
     /// Evaluates the mesh at `state` by the full contact search and load solve, whatever the
-    /// fidelity.
+    /// fidelity (the state checked against the validity range as by [`Self::check_state`]).
     pub fn evaluate_full(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        check_state(state)?;
+        self.check_angle(state.phi_p)?;
         let geo = self.geo.clone();
         let cs = ContactSolver::new(&geo);
         let red = cs.reduce(state.phi_p, state.phi_g);
         let te = red.te;
+        self.check_te(te, state.phi_p)?;
         self.slices.clear();
         let nl = self.zetas.len();
         // Drive flanks only when TE > 0 and back flanks only below −backlash: the actual
@@ -654,7 +716,10 @@ impl MeshModel {
         let start = if any { Start::From(&self.start) } else { Start::Cold };
         let report = match self.solver.solve(&problem, start) {
             Ok(r) => r,
-            Err(e) => return Err(load_failure(e, &geo, te, red.phi_p, &self.slices)),
+            Err(e) => {
+                let range = (self.validity.te_min, self.validity.te_max);
+                return Err(load_failure(e, &geo, te, red.phi_p, range, &self.slices));
+            }
         };
         self.stats.add(&report, n);
         let q = self.solver.load();
@@ -764,7 +829,7 @@ impl MeshTorques for MeshModel {
     /// contact extent the damping needs are interpolated (3 of the 5 node values, no flags,
     /// no pressure): about 10 % of a drive-line run's time; everything else is complete.
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
-        check_state(state)?;
+        self.check_state(state)?;
         if let Some(table) = &self.table {
             if let Some(r) = table.evaluate_torques(self, state) {
                 return Ok(r);
@@ -777,6 +842,10 @@ impl MeshTorques for MeshModel {
         (self.geo.pinion.rb, self.geo.gear.rb)
     }
 
+    fn te_range(&self) -> (f64, f64) {
+        (self.validity.te_min, self.validity.te_max)
+    }
+
     /// Exact partial derivatives: at table fidelity those of the table's interpolant
     /// ([`super::table::MeshTable::evaluate_jacobian`]), else (and outside the table) those of
     /// the full model from the load solution's sensitivity (see the `jacobian` module docs).
@@ -784,7 +853,7 @@ impl MeshTorques for MeshModel {
         &mut self,
         state: &MeshState,
     ) -> Result<(MeshOutputs, super::MeshJacobian), MeshError> {
-        check_state(state)?;
+        self.check_state(state)?;
         if let Some(table) = &self.table {
             if let Some(r) = table.evaluate_jacobian(self, state) {
                 return Ok(r);
@@ -803,6 +872,7 @@ fn load_failure(
     geo: &PairGeometry,
     te: f64,
     phase: f64,
+    range: (f64, f64),
     slices: &[Slice],
 ) -> MeshError {
     use crate::load::LoadError;
@@ -812,9 +882,10 @@ fn load_failure(
             MeshError::OutOfRange {
                 te,
                 phase,
+                range,
                 max_overlap,
                 module: geo.params.normal_module_m,
-                cause: e,
+                cause: Some(e),
             }
         }
         e => MeshError::Load(e),

@@ -7,7 +7,10 @@
 //! non-decreasing in TE (more overlap, more load), strictly increasing once any slice is
 //! loaded. The root is bracketed by expanding from a guess and then found by Brent's method
 //! (inverse quadratic interpolation with bisection safeguard), which converges superlinearly
-//! on the piecewise-smooth M_F,p(TE) and never leaves the bracket.
+//! on the piecewise-smooth M_F,p(TE) and never leaves the bracket. The bracket search ends at
+//! the model's validity range ([`MeshTorques::te_range`], `super::validity`): a torque that no
+//! TE inside it carries is an [`MeshError::Equilibrium`] naming the bound, not an evaluation
+//! beyond it.
 //!
 //! [`tip_contact_threshold_curve`] gives, over one mesh period, the smallest TE at which a
 //! loaded contact reaches a tip rounding or tip edge: the static onset of tip contact that the
@@ -65,6 +68,8 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         }
     }
     let (gp, gg) = mesh.base_radii();
+    let (te_lo, te_hi) = mesh.te_range();
+    let te_guess = te_guess.clamp(te_lo, te_hi);
     let count = std::cell::Cell::new(0usize);
     let eval = |mesh: &mut M, te: f64| -> Result<(f64, MeshOutputs), MeshError> {
         count.set(count.get() + 1);
@@ -97,10 +102,17 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     let (mut b, mut fb_o);
     if fa_o.0 < 0.0 {
         loop {
-            b = a + step;
+            b = (a + step).min(te_hi);
             fb_o = eval(mesh, b)?;
             if fb_o.0 >= 0.0 {
                 break;
+            }
+            if b >= te_hi {
+                return Err(MeshError::Equilibrium(format!(
+                    "no TE up to the end of the model's validity range, {te_hi:.4e} m, carries \
+                     the torque {torque} N·m at φp = {phi_p} rad (largest mesh torque {:.4e} N·m)",
+                    fb_o.1.m_f_p
+                )));
             }
             a = b;
             fa_o = fb_o;
@@ -115,10 +127,16 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         b = a;
         fb_o = fa_o;
         loop {
-            a = b - step;
+            a = (b - step).max(te_lo);
             fa_o = eval(mesh, a)?;
             if fa_o.0 < 0.0 {
                 break;
+            }
+            if a <= te_lo {
+                return Err(MeshError::Equilibrium(format!(
+                    "mesh torque stays above {torque} N·m down to the end of the model's validity \
+                     range, TE = {te_lo:.4e} m, at φp = {phi_p} rad"
+                )));
             }
             b = a;
             fb_o = fa_o;
@@ -395,7 +413,7 @@ impl TipThreshold {
 /// edge; `None` if there is none up to `te_max`. Scans TE in `steps` equal steps, then bisects
 /// the first step with tip contact down to `te_tol` (m). Tip contact is taken to persist once
 /// reached (more TE, more overlap at the tip); a window narrower than one scan step can be
-/// missed.
+/// missed. The scan ends at the model's validity range if `te_max` lies beyond it.
 pub fn tip_contact_threshold(
     model: &mut super::MeshModel,
     phi_p: f64,
@@ -404,6 +422,7 @@ pub fn tip_contact_threshold(
     te_tol: f64,
 ) -> Result<Option<f64>, MeshError> {
     let geo = model.geometry().clone();
+    let te_max = te_max.min(model.validity().te_max);
     let mut tip = |te: f64| -> Result<bool, MeshError> {
         let s = MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 };
         Ok(model.evaluate_full(&s)?.tip_contact)

@@ -140,6 +140,21 @@ def test_vectorised_evaluate_equals_the_c_api_bit_for_bit(capi):
         model.evaluate([0.0, np.nan], 0.0, 0.0, 0.0)
 
 
+def test_state_outside_the_validity_range_raises():
+    # Flank overlaps beyond 0.2 m_n (TE of 2 mm, back flanks 3 mm past the backlash) and pinion
+    # angles beyond 2^53 pitches are errors, never a torque or "separated".
+    pair = hg.GearPair()
+    g = hg.geometry(pair)
+    gp, gg = g.base_radius_p_m, g.base_radius_g_m
+    model = hg.MeshModel(pair)
+    for te in (2e-3, -3e-3):
+        with pytest.raises(hg.SolverError, match="validity range"):
+            model.evaluate(0.01, (te - 0.01 * gp) / gg, 0.0, 0.0)
+    with pytest.raises(hg.ParameterError, match="phi_p"):
+        model.evaluate(1e19, (20e-6 - 1e19 * gp) / gg, 0.0, 0.0)
+    assert issubclass(hg.SolverError, hg.GearMeshError)
+
+
 def test_static_curve_equals_the_cli(tmp_path):
     cli = RELEASE / "helical-gear"
     if not cli.exists():

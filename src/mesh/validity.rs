@@ -1,0 +1,113 @@
+//! The range of mesh states in which the model holds — a specification.
+//!
+//! # Transmission error: flank overlaps up to 0.2·m_n
+//! The model is a small-deformation model: the contact is found on the undeformed flanks
+//! ([`crate::contact`]), the tooth and body compliance is linear FE elasticity and the local
+//! term is Hertzian. The required approach of a slice is its overlap, and the real flanks lie
+//! inside the full involutes, whose overlap is TE on the driving flanks and −TE − j_t on the
+//! back flanks (j_t the backlash along the line of action): every slice overlap is at most
+//! that distance from the flanks' onset (plus the few micrometres that flank modifications may
+//! add). The model therefore holds for
+//!
+//! ```text
+//! −j_t − Δ_max ≤ TE ≤ Δ_max,   Δ_max = 0.2·m_n
+//! ```
+//!
+//! and a state outside it is [`MeshError::OutOfRange`](super::MeshError::OutOfRange) (TE, the
+//! mesh phase, this range), at full and at table fidelity and whatever the contact search would
+//! find there. Why 0.2·m_n:
+//!
+//! * **Elasticity.** Tooth dimensions scale with m_n (height 2.25·m_n, thickness at the
+//!   reference circle ≈ 1.57·m_n), so a tooth deflection δ means strains of order δ/m_n at the
+//!   root: about 1 % at 0.02·m_n, 10 % at 0.2·m_n. Gear steels yield at strains of 0.2–0.7 %
+//!   (σ_y/E); at 0.2·m_n the linear model would describe strains 15–50 times the yield strain
+//!   and rotations of the tooth of order 0.1 rad, where even small-strain kinematics no longer
+//!   hold. Contact approaches at the nominal load are micrometres to tens of micrometres
+//!   (Table 1: the nominal static TE is 29–31 µm = 0.01·m_n; the bound is 20 times it and
+//!   carries about 2.3–2.5 kN·m, 23–25 times the nominal torque).
+//! * **Geometry.** The teeth pass through each other at overlaps of the order of the tooth
+//!   thickness (the tip is 0.6–0.8·m_n thick for a standard tooth); before that the contact
+//!   search on the undeformed flanks loses the loaded pairs one by one (their common normals
+//!   run off the flanks) and the outputs fall towards "separated" although the teeth are
+//!   crushed. Measured for Table 1 without this bound: overlaps of 2–10 mm (0.7–3·m_n) gave
+//!   20–30 kN·m (200–300× the nominal torque) and beyond about 2 cm no contact at all, zero
+//!   torque, both with a success status.
+//! * **Margin for real use.** The table's designed range, 4× the nominal static TE on the
+//!   driving flanks and half of that on the back flanks, is 0.04·m_n for Table 1 (0.17·m_n for
+//!   the heavily loaded β = 18.5°, b = 10.7 mm test design at 200 N·m); the kicked Table 1 runs
+//!   of `tests/stress_dynamics.rs` reach TE = 378 µm = 0.13·m_n and back-flank overlaps of
+//!   318 µm = 0.11·m_n; the random designs of `tests/stress_designs.rs` (Winkler c′ =
+//!   14 N/(mm·µm) under up to five times a line load of 300 N/mm, an approach of the order of
+//!   0.1 mm, with m_n ≥ 1 mm) pass unchanged. All lie inside.
+//!
+//! Inside the range the load problem may still be ill posed (heavily overloaded tip contacts:
+//! Table 1 measured well posed to 0.19·m_n with the fitted and 0.59·m_n with the interpolated
+//! compliance); the load solver proves it and the state is reported out of range as well, with
+//! the solver's cause. Searches that probe TE ([`super::statics::equilibrium`], the table
+//! build) treat the range as the end of their search interval.
+//!
+//! # Pinion angle: the exact range |φp| ≤ 2⁵³ pitches
+//! The mesh phase and the tooth-pair numbers come from the reduction φp = k·2π/z_p + r
+//! ([`crate::numeric::Pitch::reduce`]); the pair number of a contact is an `i64` found from k.
+//! k is exact (every integer up to 2⁵³ is a double) and the remainder is exact as long as
+//! |k| ≤ 2⁵³, i.e.
+//!
+//! ```text
+//! |φp| ≤ 2⁵³·2π/z_p   (1.9·10¹⁵ rad for z_p = 30, 3.8·10¹⁴ rad for z_p = 150).
+//! ```
+//!
+//! Beyond it the whole number of pitches is no longer determined by the double φp and, from
+//! about 1.9·10¹⁸ rad (z_p = 30), not even representable in an i64; such an angle is
+//! [`MeshError::AngleOutOfRange`](super::MeshError::AngleOutOfRange), naming the angle and the
+//! bound. The gear angle needs no bound of its own: it enters only through TE (computed
+//! exactly from any finite angles, [`crate::numeric::dot2`]), whose range is the one above.
+//! Angles of 10¹² rad lose no digits (README, "Numerical robustness").
+
+use crate::geometry::PairGeometry;
+use crate::numeric::Pitch;
+
+/// Largest flank overlap Δ_max in which the model holds, in units of m_n (see the module docs).
+pub const MAX_OVERLAP_MN: f64 = 0.2;
+
+/// The validity range of the mesh state of one gear pair (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ValidityRange {
+    /// Lowest transmission error, −j_t − Δ_max, m (back flanks overlapping by Δ_max).
+    pub te_min: f64,
+    /// Highest transmission error, Δ_max, m (driving flanks overlapping by Δ_max).
+    pub te_max: f64,
+    /// Largest flank overlap Δ_max = 0.2·m_n, m.
+    pub max_overlap: f64,
+    /// Largest |φp|, rad: 2⁵³ pinion pitches.
+    pub phi_p_max: f64,
+}
+
+impl ValidityRange {
+    /// The range of the pair `geo`.
+    pub fn of(geo: &PairGeometry) -> Self {
+        let max_overlap = MAX_OVERLAP_MN * geo.params.normal_module_m;
+        Self {
+            te_min: -geo.backlash_te - max_overlap,
+            te_max: max_overlap,
+            max_overlap,
+            phi_p_max: Pitch::of_teeth(geo.pinion.z).max_angle(),
+        }
+    }
+
+    /// True when TE (m) lies in [`Self::te_min`, `Self::te_max`].
+    pub fn contains_te(&self, te: f64) -> bool {
+        (self.te_min..=self.te_max).contains(&te)
+    }
+
+    /// True when |φp| (rad) is at most [`Self::phi_p_max`].
+    pub fn contains_phi_p(&self, phi_p: f64) -> bool {
+        phi_p.abs() <= self.phi_p_max
+    }
+
+    /// The largest flank overlap a state at `te` requires (m): TE on the driving flanks,
+    /// −TE − j_t on the back flanks, 0 inside the backlash.
+    pub fn required_overlap(&self, te: f64) -> f64 {
+        let jt = -self.te_min - self.max_overlap;
+        te.max(-te - jt).max(0.0)
+    }
+}
