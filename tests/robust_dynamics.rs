@@ -8,12 +8,11 @@ use helical_gear_mesh::GearPair;
 use helical_gear_mesh::dynamics::model::{N_STATES, W_P};
 use helical_gear_mesh::dynamics::{
     Clearance, ConstantStiffnessMesh, DriveUnit, Drivetrain, DynamicsError, GearDynamics,
-    MAX_UNIT_SUBSTEPS, OdeSystem, RK4_MAX_OMEGA_H, STEPS_PER_FAST_PERIOD, Stepping,
-    SweepOptions, UnitKind, UnitStepping, default_rk4_step, fastest_mode, simulate,
-    stable_rk4_step, sweep,
+    MAX_UNIT_SUBSTEPS, OdeSystem, RK4_MAX_OMEGA_H, STEPS_PER_FAST_PERIOD, Stepping, SweepOptions,
+    UnitKind, UnitStepping, default_rk4_step, fastest_mode, simulate, stable_rk4_step, sweep,
 };
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
-use helical_gear_mesh::mesh::{Fidelity, MeshModel, MeshOptions};
+use helical_gear_mesh::mesh::{Fidelity, MeshModel, MeshOptions, MeshTorques};
 
 /// Table 1 at a coarse table fidelity (fast to build) and its drivetrain.
 fn table_mesh() -> (MeshModel, Drivetrain) {
@@ -81,12 +80,13 @@ fn simulate_from_rest_to_10_rad_s_agrees_with_a_4x_finer_step() {
         let (coarse, te0) = te_run(omega, dt, t_end);
         let (fine, _) = te_run(omega, dt / 4.0, t_end);
         assert_eq!(fine.len(), 4 * (coarse.len() - 1) + 1);
-        let diff = coarse
-            .iter()
-            .enumerate()
-            .map(|(i, c)| (c - fine[4 * i]).abs())
-            .fold(0.0, f64::max);
-        assert!(diff / te0 < 1e-3, "ω {omega}: max TE difference {:.3e} of the static TE", diff / te0);
+        let diff =
+            coarse.iter().enumerate().map(|(i, c)| (c - fine[4 * i]).abs()).fold(0.0, f64::max);
+        assert!(
+            diff / te0 < 1e-3,
+            "ω {omega}: max TE difference {:.3e} of the static TE",
+            diff / te0
+        );
         assert!(coarse.iter().all(|t| t.is_finite() && (t - te0).abs() < te0), "ω {omega}");
     }
 }
@@ -114,9 +114,13 @@ fn pair_runs_up_from_rest_to_300_rad_s() {
     // gear set accelerates as one rigid body, ω_p(t) = ΔM·t/J_eff with J_eff = J_p + J_g·(z_p/z_g)²,
     // while TE follows the static TE of the (slightly higher) mesh load.
     let (mesh, drive) = table_mesh();
-    let mut u =
-        DriveUnit::new(UnitKind::Pair, mesh, drive, UnitStepping::Rk4 { steps_per_mesh_period: 128 })
-            .unwrap();
+    let mut u = DriveUnit::new(
+        UnitKind::Pair,
+        mesh,
+        drive,
+        UnitStepping::Rk4 { steps_per_mesh_period: 128 },
+    )
+    .unwrap();
     let start = u.start_static(0.0, 0.0, &EquilibriumSettings::default()).unwrap();
     let ratio = drive.z_p as f64 / drive.z_g as f64;
     let j_eff = drive.j_p + drive.j_g * ratio * ratio;
@@ -125,7 +129,7 @@ fn pair_runs_up_from_rest_to_300_rad_s() {
     let mut inputs = *u.inputs();
     inputs.tau_p += dm;
     u.set_inputs(inputs).unwrap();
-    let (gp, gg) = (u.mesh().base_radii().0, u.mesh().base_radii().1);
+    let (gp, gg) = u.mesh().base_radii();
     let h = 1e-3;
     let mut te_max: f64 = 0.0;
     while u.time() < t_run - 0.5 * h {

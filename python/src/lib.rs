@@ -95,9 +95,7 @@ impl From<DynamicsError> for Failure {
         match e {
             DynamicsError::Param(_)
             | DynamicsError::InvalidInput { .. }
-            | DynamicsError::TooLarge(_) => {
-                Failure::Param(e.to_string())
-            }
+            | DynamicsError::TooLarge(_) => Failure::Param(e.to_string()),
             _ => Failure::Solver(e.to_string()),
         }
     }
@@ -540,7 +538,9 @@ impl MeshModel {
     ) -> PyResult<Bound<'py, PyDict>> {
         let (tr_time, states, outs, steps, evals) = run(py, || {
             if !(w_p.is_finite() && w_p >= 0.0) {
-                return Err(Failure::Param(format!("w_p = {w_p}: allowed finite and >= 0 (rad/s)")));
+                return Err(Failure::Param(format!(
+                    "w_p = {w_p}: allowed finite and >= 0 (rad/s)"
+                )));
             }
             if !(t_end.is_finite() && t_end > 0.0) {
                 return Err(Failure::Param(format!("t_end = {t_end}: allowed finite and > 0 (s)")));

@@ -15,8 +15,8 @@ use std::io::Write;
 
 use clap::{Args, ValueEnum};
 use helical_gear_mesh::GearPair;
-use helical_gear_mesh::dynamics::model::STATE_NAMES;
 use helical_gear_mesh::dynamics::limits::trajectory_sample_bytes;
+use helical_gear_mesh::dynamics::model::STATE_NAMES;
 use helical_gear_mesh::dynamics::simulate::default_rk4_step;
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_TRAJECTORY_SAMPLES,

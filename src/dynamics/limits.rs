@@ -63,21 +63,26 @@ pub const RK4_STABILITY_RADIUS: f64 = 2.6;
 pub const RK4_MAX_OMEGA_H: f64 = 2.0;
 
 /// Most samples a trajectory of [`super::simulate`] may record (one per RK4 step or output
-/// time): 10⁷ samples of time, 8 states and the mesh outputs are about 2 GB… no: about
-/// 1.5·10² bytes each, 1.5 GB at most; 10⁷ RK4 steps at table fidelity take about 10–40 s.
-pub const MAX_TRAJECTORY_SAMPLES: usize = 10_000_000;
+/// time): a sample (time, 8 states, the mesh outputs) is 144 bytes, so 2·10⁶ samples are
+/// 288 MB, and 2·10⁶ RK4 steps at table fidelity take about 3 s (Table 1 at 532 rad/s with
+/// T_m/128 needs 3.3·10⁵ per simulated second). The request refused first: 1 ms at 10⁹ rad/s
+/// (6.1·10⁸ samples, 88 GB).
+pub const MAX_TRAJECTORY_SAMPLES: usize = 2_000_000;
 
 /// Most RK4 steps of one run of [`super::run_to_steady`] (`max_periods` × steps per mesh
-/// period), checked before the run starts: at table fidelity about 1–4 minutes.
+/// period), checked before the run starts: at table fidelity about 2.5 minutes. A sweep point
+/// at 0.01 rad/s (Table 1: 6.7·10⁶ steps per mesh period, 3000 periods, 2·10¹⁰ steps, about
+/// 8 hours) is refused at once.
 pub const MAX_STEADY_STEPS: f64 = 1e8;
 
 /// Most samples of the steady window (period multiple × period P × steps per mesh period)
-/// kept by [`super::run_to_steady`] (states and outputs, ~1.5·10² bytes each, plus the
-/// detector's 2 samples of 8 bytes each): about 4·10² MB at most.
+/// kept by [`super::run_to_steady`] (states and outputs, 144 bytes each, plus the detector's
+/// 2 samples of 8 bytes each): about 3·10² MB at most.
 pub const MAX_WINDOW_SAMPLES: usize = 2_000_000;
 
 /// Most RK4 sub-steps of one [`super::DriveUnit::advance`] (a communication step): at table
-/// fidelity about 1–4 s, at full fidelity minutes. A longer step is refused before it starts
+/// fidelity about 1.5 s, at full fidelity minutes (a 0.1 ms step at w_p = 10⁹ rad/s asked for
+/// 6·10⁷). A longer step is refused before it starts
 /// (an FMU returns `fmi2Discard` with its state unchanged); a master takes shorter steps.
 pub const MAX_UNIT_SUBSTEPS: f64 = 1e6;
 

@@ -574,8 +574,7 @@ pub fn run_to_steady<M: MeshTorques>(
             "run_to_steady at ω_p = {omega_p:.3e} rad/s would keep {window:.3e} samples of the \
              steady window ({} × {period} mesh periods × {n} samples); at most {:.0e}: lower \
              the steps per period, max_multiple or the period, or raise ω_p",
-            multiple,
-            MAX_WINDOW_SAMPLES as f64
+            multiple, MAX_WINDOW_SAMPLES as f64
         )));
     }
     let mut det = SteadyState::new(SteadyOptions {

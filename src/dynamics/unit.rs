@@ -914,8 +914,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
                          {h_max:.3e} s (ω_p = {:.3e} rad/s, {steps_per_mesh_period} steps per \
                          mesh period, fastest mode {:.3e} rad/s); at most \
                          {MAX_UNIT_SUBSTEPS:.0e}: take shorter communication steps",
-                        self.y[iw],
-                        self.omega_fast
+                        self.y[iw], self.omega_fast
                     )));
                 }
                 steps as u64

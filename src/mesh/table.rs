@@ -81,7 +81,6 @@ use crate::modifications::Separation;
 
 mod build;
 
-
 /// Most nodes of one table, `table_phase_points` × `table_te_points` (each axis 8 … 4096):
 /// the build evaluates the full model about 2.5 times per node (driving axis, back-flank axis
 /// of half the points, the error check at cell centres). The default 64 × 48 = 3072 nodes build
