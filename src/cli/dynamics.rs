@@ -19,8 +19,9 @@ use helical_gear_mesh::dynamics::limits::trajectory_sample_bytes;
 use helical_gear_mesh::dynamics::model::STATE_NAMES;
 use helical_gear_mesh::dynamics::simulate::default_rk4_step;
 use helical_gear_mesh::dynamics::{
-    DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_TRAJECTORY_SAMPLES,
-    SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate, sweep,
+    DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_REFINE_RUNS,
+    MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate,
+    sweep,
 };
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, MeshError, MeshModel, MeshOptions, MeshTorques,
@@ -68,8 +69,8 @@ pub enum CliMethod {
 pub struct SimulateArgs {
     #[command(flatten)]
     common: Common,
-    /// Nominal pinion speed ω_p, rad/s (≥ 0; 0 is standstill); the gear turns at
-    /// −ω_p·z_p/z_g.
+    /// Nominal pinion speed ω_p, rad/s (> 0; low speeds are integrated with the step of the
+    /// fastest mode); the gear turns at −ω_p·z_p/z_g.
     #[arg(long)]
     omega_p: f64,
     /// End time, s (> 0). With `--dt` and RK4 a whole number of steps.
@@ -179,8 +180,8 @@ fn io_err(e: std::io::Error) -> String {
 
 /// `helical-gear simulate`.
 pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
-    if !(a.omega_p.is_finite() && a.omega_p >= 0.0) {
-        return Err(format!("--omega-p = {}: allowed finite and >= 0 (rad/s)", a.omega_p));
+    if !(a.omega_p.is_finite() && a.omega_p > 0.0) {
+        return Err(format!("--omega-p = {}: allowed finite and > 0 (rad/s)", a.omega_p));
     }
     if !(a.t_end.is_finite() && a.t_end > 0.0) {
         return Err(format!("--t-end = {}: allowed finite and > 0 (s)", a.t_end));
@@ -346,6 +347,14 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
         return Err(format!(
             "--points = {}: allowed 1 (with --from = --to) or 2 … 100000 (with --from < --to)",
             a.points
+        ));
+    }
+    // Known before the model is built (the library checks it again).
+    if a.refine_runs > MAX_REFINE_RUNS {
+        return Err(format!(
+            "--refine-runs = {}: at most {MAX_REFINE_RUNS} runs per resonance (each a run to \
+             the steady state; the bracket shrinks by 0.618 per run)",
+            a.refine_runs
         ));
     }
     let (pair, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;

@@ -94,8 +94,9 @@ pub const MAX_REFINE_RUNS: usize = 64;
 /// Most speeds of one [`super::sweep`].
 pub const MAX_SWEEP_SPEEDS: usize = 100_000;
 
-/// Most TE samples of a static spectrum (meshes of the period × points per mesh period): one
-/// static equilibrium each, about 10⁻³ s at full fidelity, so 10⁶ samples take ~20 minutes and
+/// Most TE samples of a static spectrum (meshes of the period × points per mesh period) or of
+/// a sweep's static TE curve ([`super::SweepOptions::static_points`]): one static equilibrium
+/// each, about 10⁻³ s at full fidelity, so 10⁶ samples take ~20 minutes and
 /// 8 MB.
 pub const MAX_SPECTRUM_SAMPLES: u64 = 1_000_000;
 

@@ -163,7 +163,7 @@ pub fn default_rk4_step<M: MeshTorques>(
 /// RK4's stability region for the fastest linearised mode (ω_fast·dt >
 /// [`super::limits::RK4_MAX_OMEGA_H`], [`check_rk4_step`]) is an error, and so is a record of
 /// more than [`MAX_TRAJECTORY_SAMPLES`] samples (checked before anything is reserved; DOPRI5:
-/// t_end/output_dt + 1, or `max_steps` + 1 without an output interval). The mesh is evaluated
+/// t_end/output_dt + 1, or `max_steps` without an output interval). The mesh is evaluated
 /// at every stage state (four times per step, the first stage's evaluation being the recorded
 /// output of the previous step).
 pub fn simulate<M: MeshTorques>(

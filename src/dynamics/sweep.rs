@@ -34,7 +34,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::limits::{MAX_REFINE_RUNS, MAX_SWEEP_SPEEDS, stable_rk4_step};
+use super::limits::{MAX_REFINE_RUNS, MAX_SPECTRUM_SAMPLES, MAX_SWEEP_SPEEDS, stable_rk4_step};
 use super::model::{Drivetrain, DynamicsError, GearDynamics, invalid, mesh_stiffness};
 use super::simulate::{
     DEFAULT_STEPS_PER_MESH_PERIOD, SteadyMethod, SteadyResponse, SteadyRunOptions, SteadyWarning,
@@ -293,6 +293,13 @@ where
         return Err(DynamicsError::TooLarge(format!(
             "a sweep of {} speeds; at most {MAX_SWEEP_SPEEDS}: use fewer speeds",
             speeds.len()
+        )));
+    }
+    if opts.static_points as u64 > MAX_SPECTRUM_SAMPLES {
+        return Err(DynamicsError::TooLarge(format!(
+            "a static TE curve of {} points (one static equilibrium each); at most \
+             {MAX_SPECTRUM_SAMPLES}: lower static_points",
+            opts.static_points
         )));
     }
     if opts.refine_runs > MAX_REFINE_RUNS {

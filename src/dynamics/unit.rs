@@ -69,7 +69,16 @@
 //! inside RK4's stability interval (|ω·h| < 2.8 on the imaginary axis), so a unit at rest is
 //! stable and its mesh mode resolved even if the actual stiffness is several times k (the
 //! mesh stiffens with load). For Table 1 (ω_fast ≈ 1.6·10⁴ rad/s) the mesh-period bound
-//! governs above ≈ 34 rad/s at N = 128.
+//! governs above ≈ 34 rad/s at N = 128. This is the crate's one step rule,
+//! [`super::limits::stable_rk4_step`] (see [`super::limits`] for the stability argument).
+//!
+//! Bounded work: the sub-step count n is checked against [`super::limits::MAX_UNIT_SUBSTEPS`]
+//! before anything changes; a larger request (a communication step of 0.1 ms at
+//! φ̇p = 10⁹ rad/s is 6·10⁷ sub-steps, a stiff light shaft 10¹⁰) is an error that leaves time
+//! and state as they were (an FMU returns `fmi2Discard`), never a hang. A step whose time
+//! cannot advance in double precision ((t + h) − t off h by more than [`TIME_RESOLUTION`]·h;
+//! t + 10⁻⁴ s == t from t ≈ 10¹⁷ s on) is an error as well: the state never advances while
+//! the time stands still.
 //!
 //! [`UnitStepping::Dopri5`]: each advance is one [`Dopri5::integrate`] call from t to t + h
 //! with the given tolerances, on the state in relative coordinates
