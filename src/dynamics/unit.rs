@@ -916,7 +916,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             UnitStepping::Rk4 { steps_per_mesh_period } => {
                 let h_max = self.rk4_max_step(steps_per_mesh_period);
                 let steps = (h / h_max).ceil().max(1.0);
-                if !(steps <= MAX_UNIT_SUBSTEPS) {
+                if steps.is_nan() || steps > MAX_UNIT_SUBSTEPS {
                     let [_, _, iw, _] = self.sys.kind.hub_indices();
                     return Err(DynamicsError::TooLarge(format!(
                         "a unit step of h = {h:.3e} s would take {steps:.3e} RK4 sub-steps of \
