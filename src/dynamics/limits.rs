@@ -2,8 +2,8 @@
 //!
 //! # The step rule
 //!
-//! Every fixed-step RK4 integration of Eqs. 1–4 ([`super::simulate`]'s default step,
-//! [`super::run_to_steady`], [`super::sweep`], `spectrum --dynamic`, the units of
+//! Every fixed-step RK4 integration of Eqs. 1–4 ([`fn@super::simulate`]'s default step,
+//! [`super::run_to_steady`], [`fn@super::sweep`], `spectrum --dynamic`, the units of
 //! [`super::unit`] and the Python package) takes its largest step from one function,
 //! [`stable_rk4_step`]:
 //!
@@ -11,7 +11,7 @@
 //! h_max = min( T_m/N , 2π/(ω_fast·S) ),   T_m = 2π/(z_p·|ω_p|)  (∞ at rest)
 //! ```
 //!
-//! with N the steps per mesh period (default 128, see [`super::simulate`]), ω_fast the fastest
+//! with N the steps per mesh period (default 128, see [`mod@super::simulate`]), ω_fast the fastest
 //! natural frequency of the system linearised about its static equilibrium
 //! ([`super::model::Drivetrain::linear_frequencies`] with the mesh stiffness measured by
 //! [`super::model::mesh_stiffness`] under the nominal torque; the units use the same measured
@@ -62,7 +62,7 @@ pub const RK4_STABILITY_RADIUS: f64 = 2.6;
 /// margin in ω for the mesh stiffening under dynamic load), dimensionless.
 pub const RK4_MAX_OMEGA_H: f64 = 2.0;
 
-/// Most samples a trajectory of [`super::simulate`] may record (one per RK4 step or output
+/// Most samples a trajectory of [`fn@super::simulate`] may record (one per RK4 step or output
 /// time): a sample (time, 8 states, the mesh outputs) is 144 bytes, so 2·10⁶ samples are
 /// 288 MB, and 2·10⁶ RK4 steps at table fidelity take about 3 s (Table 1 at 532 rad/s with
 /// T_m/128 needs 3.3·10⁵ per simulated second). The request refused first: 1 ms at 10⁹ rad/s
@@ -86,12 +86,12 @@ pub const MAX_WINDOW_SAMPLES: usize = 2_000_000;
 /// (an FMU returns `fmi2Discard` with its state unchanged); a master takes shorter steps.
 pub const MAX_UNIT_SUBSTEPS: f64 = 1e6;
 
-/// Most golden-section refinement runs per resonance peak of [`super::sweep`] (each a
+/// Most golden-section refinement runs per resonance peak of [`fn@super::sweep`] (each a
 /// [`super::run_to_steady`]); more would not narrow the bracket below round-off anyway
 /// (0.618⁶⁴ ≈ 4·10⁻¹⁴).
 pub const MAX_REFINE_RUNS: usize = 64;
 
-/// Most speeds of one [`super::sweep`].
+/// Most speeds of one [`fn@super::sweep`].
 pub const MAX_SWEEP_SPEEDS: usize = 100_000;
 
 /// Most TE samples of a static spectrum (meshes of the period × points per mesh period) or of
