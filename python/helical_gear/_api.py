@@ -177,8 +177,9 @@ class MeshModel:
     2 s) and falls back to the full model outside it. `slices`: total axial slices over the
     simultaneous contact lines (the paper's 200). `compliance`: FE data of this pair (default:
     `compliance(pair)`). `table_size`: the table's points per mesh period × points along TE
-    (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³). Pickles as pair + options (+ the compliance when given) and is rebuilt
-    on unpickling.
+    (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³); each 8 … 4096 and
+    their product at most 65 536 (about a minute of build), else `ParameterError`. Pickles as
+    pair + options (+ the compliance when given) and is rebuilt on unpickling.
     """
 
     def __init__(
@@ -366,9 +367,13 @@ def simulate(
     compliance: Compliance | None = None,
 ) -> Trajectory:
     """One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
-    (rad/s) to `t_end` (s), as the CLI's ``simulate``: RK4 with fixed step `dt` (default the
-    mesh period / 128, shortened to divide `t_end`) or adaptive ``method="dopri5"`` (`dt` is
-    then the output interval). Drivetrain and mesh damping from the pair."""
+    (rad/s, ≥ 0: standstill and low speed are normal operation) to `t_end` (s), as the CLI's
+    ``simulate``: RK4 with fixed step `dt` or adaptive ``method="dopri5"`` (`dt` is then the
+    output interval). The default RK4 step is the library's step rule: the smaller of the mesh
+    period / 128 and the period of the fastest linearised mode / 32, shortened to divide
+    `t_end`. An explicit `dt` outside RK4's stability region for that mode, or a trajectory of
+    more than 2·10⁶ samples, raises `ParameterError` before anything runs. Drivetrain and mesh
+    damping from the pair."""
     m = _model(pair, fidelity, slices, compliance)
     d = m._m.simulate(
         m.pair.to_json(), float(w_p), float(t_end), dt, method, float(phi_p0), rtol, atol
@@ -448,7 +453,10 @@ def sweep(
 ) -> SweepResult:
     """Steady-state runs at every speed (rad/s; default a uniform grid of `points` from
     `w_from` to `w_to`) and the resonances, as the CLI's ``sweep`` (the library's
-    ``dynamics::sweep``; `threads` worker threads, default one per core)."""
+    ``dynamics::sweep``; `threads` worker threads, default one per core). Work is bounded
+    before anything runs: at most 64 `refine_runs`, and per run at most 10⁸ RK4 steps
+    (`max_periods` × steps per mesh period, raised at low speed to resolve the mesh mode), so
+    a sweep at 0.01 rad/s raises at once instead of running for hours."""
     m = _model(pair, fidelity, slices, compliance)
     if speeds is None:
         speeds = np.linspace(w_from, w_to, int(points)) if points > 1 else np.array([w_from])

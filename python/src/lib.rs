@@ -25,7 +25,8 @@ use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::dynamics::model::STATE_NAMES;
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, DynamicsError, GearDynamics,
-    SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate, sweep,
+    MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions,
+    default_rk4_step, simulate, sweep,
 };
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, MeshError, MeshModel as RustMeshModel, MeshOptions, MeshState,
@@ -94,9 +95,9 @@ impl From<MeshError> for Failure {
 impl From<DynamicsError> for Failure {
     fn from(e: DynamicsError) -> Self {
         match e {
-            DynamicsError::Param(_) | DynamicsError::InvalidInput { .. } => {
-                Failure::Param(e.to_string())
-            }
+            DynamicsError::Param(_)
+            | DynamicsError::InvalidInput { .. }
+            | DynamicsError::TooLarge(_) => Failure::Param(e.to_string()),
             _ => Failure::Solver(e.to_string()),
         }
     }
@@ -559,8 +560,8 @@ impl MeshModel {
     }
 
     /// One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
-    /// (rad/s) to `t_end` (s), with RK4 steps `dt` (default: the mesh period / 128, shortened to
-    /// divide `t_end`) or adaptive DOPRI5 (`method="dopri5"`, `dt` = output interval); the
+    /// (rad/s, ≥ 0) to `t_end` (s), with RK4 steps `dt` (default: the library's step rule,
+    /// `dynamics::default_rk4_step`, shortened to divide `t_end`) or adaptive DOPRI5 (`method="dopri5"`, `dt` = output interval); the
     /// drivetrain and mesh damping from `pair_json`. Returns a dict of arrays: `time`, the eight
     /// states, `TE`, `M_F_p`, `M_F_g`, `M_D_p`, `M_D_g`; and `steps`, `mesh_evaluations`.
     #[pyo3(signature = (pair_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
@@ -578,8 +579,10 @@ impl MeshModel {
         atol: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (tr_time, states, outs, steps, evals) = run(py, || {
-            if !(w_p.is_finite() && w_p > 0.0) {
-                return Err(Failure::Param(format!("w_p = {w_p}: allowed finite and > 0 (rad/s)")));
+            if !(w_p.is_finite() && w_p >= 0.0) {
+                return Err(Failure::Param(format!(
+                    "w_p = {w_p}: allowed finite and >= 0 (rad/s)"
+                )));
             }
             if !(t_end.is_finite() && t_end > 0.0) {
                 return Err(Failure::Param(format!("t_end = {t_end}: allowed finite and > 0 (s)")));
@@ -597,30 +600,31 @@ impl MeshModel {
             let pair = parse_pair(pair_json)?;
             let drive = Drivetrain::from_pair(&pair)?;
             let t_m = drive.mesh_period(w_p);
+            let mut mesh = lock(&self.model)?.clone();
+            mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
+            let mut model = GearDynamics::new(mesh, drive)?;
             let stepping = match method {
                 "rk4" => {
                     let dt = match dt {
                         Some(dt) => {
                             let n = (t_end / dt).round();
-                            if (n * dt - t_end).abs() > 1e-9 * t_end || n > 1e9 {
+                            if (n * dt - t_end).abs() > 1e-9 * t_end {
                                 return Err(Failure::Param(format!(
                                     "t_end = {t_end} is not a whole number of RK4 steps dt = \
-                                     {dt} (within 1e-9), or more than 1e9 steps"
+                                     {dt} (within 1e-9)"
                                 )));
                             }
                             dt
                         }
-                        None => {
-                            let n = (t_end / (t_m / DEFAULT_STEPS_PER_MESH_PERIOD as f64)).ceil();
-                            t_end / n.max(1.0)
-                        }
+                        // The step rule of dynamics::limits (mesh period and fastest mode).
+                        None => default_rk4_step(&mut model, w_p, phi_p0, t_end)?,
                     };
                     Stepping::Rk4 { dt }
                 }
                 "dopri5" => {
                     let mut options = Dopri5Options::with_tolerances(rtol, atol);
-                    options.h_max = Some(t_m);
-                    options.max_steps = 10_000_000;
+                    options.h_max = t_m.is_finite().then_some(t_m);
+                    options.max_steps = MAX_TRAJECTORY_SAMPLES;
                     Stepping::Dopri5 { options, output_dt: dt }
                 }
                 other => {
@@ -629,9 +633,6 @@ impl MeshModel {
                     )));
                 }
             };
-            let mut mesh = lock(&self.model)?.clone();
-            mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
-            let mut model = GearDynamics::new(mesh, drive)?;
             let start = model
                 .static_start(phi_p0, w_p, &EquilibriumSettings::default())
                 .map_err(|e| Failure::Solver(format!("static start: {e}")))?;

@@ -15,10 +15,13 @@ use std::io::Write;
 
 use clap::{Args, ValueEnum};
 use helical_gear_mesh::GearPair;
+use helical_gear_mesh::dynamics::limits::trajectory_sample_bytes;
 use helical_gear_mesh::dynamics::model::STATE_NAMES;
+use helical_gear_mesh::dynamics::simulate::default_rk4_step;
 use helical_gear_mesh::dynamics::{
-    DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, SteadyMethod,
-    SteadyRunOptions, Stepping, SweepOptions, simulate, sweep,
+    DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_REFINE_RUNS,
+    MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate,
+    sweep,
 };
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, MeshError, MeshModel, MeshOptions, MeshTorques,
@@ -66,13 +69,16 @@ pub enum CliMethod {
 pub struct SimulateArgs {
     #[command(flatten)]
     common: Common,
-    /// Nominal pinion speed ω_p, rad/s (> 0); the gear turns at −ω_p·z_p/z_g.
+    /// Nominal pinion speed ω_p, rad/s (> 0; low speeds are integrated with the step of the
+    /// fastest mode); the gear turns at −ω_p·z_p/z_g.
     #[arg(long)]
     omega_p: f64,
     /// End time, s (> 0). With `--dt` and RK4 a whole number of steps.
     #[arg(long)]
     t_end: f64,
-    /// RK4: the fixed step, s (default: the mesh period / 128, shortened to divide --t-end).
+    /// RK4: the fixed step, s (default: the smaller of the mesh period / 128 and the period of
+    /// the fastest linearised mode / 32, shortened to divide --t-end; a step outside RK4's
+    /// stability region is refused).
     /// DOPRI5: the output interval (default: every accepted step).
     #[arg(long)]
     dt: Option<f64>,
@@ -187,35 +193,46 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
     }
     if let (Some(dt), CliMethod::Rk4) = (a.dt, a.method) {
         let n = (a.t_end / dt).round();
-        if (n * dt - a.t_end).abs() > 1e-9 * a.t_end || n > 1e9 {
+        if (n * dt - a.t_end).abs() > 1e-9 * a.t_end {
             return Err(format!(
-                "--t-end = {} is not a whole number of RK4 steps --dt = {dt} (within 1e-9), or \
-                 more than 1e9 steps",
+                "--t-end = {} is not a whole number of RK4 steps --dt = {dt} (within 1e-9)",
                 a.t_end
+            ));
+        }
+    }
+    // The record's size is known before the mesh is built (limits::MAX_TRAJECTORY_SAMPLES).
+    if let Some(dt) = a.dt {
+        let samples = (a.t_end / dt).floor() + 1.0;
+        if samples > MAX_TRAJECTORY_SAMPLES as f64 {
+            return Err(format!(
+                "simulate would store {samples:.3e} samples ({:.3e} GB); at most {:.0e}: lower \
+                 --t-end or raise --dt",
+                samples * trajectory_sample_bytes() as f64 * 1e-9,
+                MAX_TRAJECTORY_SAMPLES as f64
             ));
         }
     }
     let (_, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
     let t_m = drive.mesh_period(a.omega_p);
+    let mut model = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
     let stepping = match a.method {
         CliMethod::Rk4 => {
             let dt = match a.dt {
                 Some(dt) => dt,
-                None => {
-                    let n = (a.t_end / (t_m / DEFAULT_STEPS_PER_MESH_PERIOD as f64)).ceil();
-                    a.t_end / n.max(1.0)
-                }
+                // The step rule of `limits`: mesh period and fastest mode, divides --t-end.
+                None => default_rk4_step(&mut model, a.omega_p, a.phi_p0, a.t_end)
+                    .map_err(|e| e.to_string())?,
             };
             Stepping::Rk4 { dt }
         }
         CliMethod::Dopri5 => {
             let mut options = Dopri5Options::with_tolerances(a.rtol, a.atol);
-            options.h_max = Some(t_m);
-            options.max_steps = 10_000_000;
+            // At rest T_m = ∞: no bound from the mesh period.
+            options.h_max = t_m.is_finite().then_some(t_m);
+            options.max_steps = MAX_TRAJECTORY_SAMPLES;
             Stepping::Dopri5 { options, output_dt: a.dt }
         }
     };
-    let mut model = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
     let start = model
         .static_start(a.phi_p0, a.omega_p, &EquilibriumSettings::default())
         .map_err(|e| format!("static start: {e}"))?;
@@ -330,6 +347,14 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
         return Err(format!(
             "--points = {}: allowed 1 (with --from = --to) or 2 … 100000 (with --from < --to)",
             a.points
+        ));
+    }
+    // Known before the model is built (the library checks it again).
+    if a.refine_runs > MAX_REFINE_RUNS {
+        return Err(format!(
+            "--refine-runs = {}: at most {MAX_REFINE_RUNS} runs per resonance (each a run to \
+             the steady state; the bracket shrinks by 0.618 per run)",
+            a.refine_runs
         ));
     }
     let (pair, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;

@@ -380,11 +380,23 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     if a.dynamic {
         return dynamic_spectrum(a, &pair, t0);
     }
+    // One static equilibrium per sample: bounded before the model is built or memory reserved.
+    let hunting = Modifications::hunting_meshes(pair.z_p, pair.z_g);
+    let samples = hunting.saturating_mul(a.points_per_pitch as u64);
+    if samples > helical_gear_mesh::dynamics::MAX_SPECTRUM_SAMPLES {
+        return Err(format!(
+            "spectrum would solve {samples:.3e} static equilibria ({hunting} meshes of the \
+             hunting period × {} points per pitch); at most {:.0e}: lower --points-per-pitch \
+             or use tooth numbers with a common factor",
+            a.points_per_pitch,
+            helical_gear_mesh::dynamics::MAX_SPECTRUM_SAMPLES as f64
+        ));
+    }
     let mut options = a.model.options(a.slices);
     options.detail = false;
     let mut m = MeshModel::new(&pair, options).map_err(|e| e.to_string())?;
     let pitch = m.geometry().pinion.angular_pitch();
-    let meshes = Modifications::hunting_meshes(pair.z_p, pair.z_g) as usize;
+    let meshes = hunting as usize;
     let revs = meshes as f64 / pair.z_p as f64;
     eprintln!("spectrum: static TE over {meshes} meshes ({revs} pinion revolutions)");
     let curve = static_curve(&mut m, torque, 0.0, pitch, a.points_per_pitch, meshes)

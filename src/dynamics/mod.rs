@@ -6,6 +6,8 @@
 //!   mesh-torque evaluation propagates instead of turning into NaN.
 //! * [`steady`]: detection of the periodic steady state of the transmission error (period
 //!   k·T_m, k = 1 or a small subharmonic multiple), from samples on a uniform grid.
+//! * [`limits`]: the one stable RK4 step rule of every integration and the bounds on the work
+//!   a request may ask for.
 //! * [`model`]: Eqs. 1–4 as an [`OdeSystem`] over any [`crate::mesh::MeshTorques`], the
 //!   drivetrain data, the static-equilibrium start and the linearised natural frequencies.
 //! * [`simulate`](mod@simulate): trajectories and runs to the steady state.
@@ -18,6 +20,7 @@
 
 pub mod analytic_mesh;
 pub mod integrators;
+pub mod limits;
 pub mod model;
 pub mod relative;
 pub mod simulate;
@@ -30,10 +33,15 @@ pub use integrators::{
     AbsTol, Dopri5, Dopri5Options, Dopri5Stats, Dopri5Step, FnSystem, OdeError, OdeSystem,
     Quantity, Rk4,
 };
+pub use limits::{
+    MAX_REFINE_RUNS, MAX_SPECTRUM_SAMPLES, MAX_STEADY_STEPS, MAX_SWEEP_SPEEDS,
+    MAX_TRAJECTORY_SAMPLES, MAX_UNIT_SUBSTEPS, MAX_WINDOW_SAMPLES, RK4_MAX_OMEGA_H,
+    STEPS_PER_FAST_PERIOD, check_rk4_step, fastest_mode, stable_rk4_step,
+};
 pub use model::{Drivetrain, DynamicsError, GearDynamics, StaticStart, mesh_stiffness};
 pub use simulate::{
     DEFAULT_STEPS_PER_MESH_PERIOD, SteadyMethod, SteadyResponse, SteadyRunOptions, SteadyWarning,
-    Stepping, Trajectory, WindowSample, run_to_steady, simulate,
+    Stepping, Trajectory, WindowSample, default_rk4_step, run_to_steady, simulate,
 };
 pub use steady::{PeriodCheck, SteadyError, SteadyOptions, SteadyState, SteadyStatus};
 pub use sweep::{

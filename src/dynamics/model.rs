@@ -121,6 +121,10 @@ pub enum DynamicsError {
         /// Allowed range, in words.
         allowed: &'static str,
     },
+    /// A request whose work (samples, steps, sub-steps, runs) exceeds a bound of
+    /// [`super::limits`], or an RK4 step outside the stability region: the message names the
+    /// request, its cost and the bound. Nothing was allocated or integrated.
+    TooLarge(String),
     /// A run of a speed sweep failed at pinion speed `omega_p` (rad/s).
     AtSpeed {
         /// Pinion speed of the failed run, rad/s.
@@ -147,6 +151,7 @@ impl fmt::Display for DynamicsError {
                     crate::error::short_num(*value)
                 )
             }
+            DynamicsError::TooLarge(m) => write!(f, "{m}"),
             DynamicsError::AtSpeed { omega_p, source } => {
                 write!(f, "run at ω_p = {omega_p} rad/s: {source}")
             }
@@ -162,7 +167,7 @@ impl std::error::Error for DynamicsError {
             DynamicsError::Steady(e) => Some(e),
             DynamicsError::Param(e) => Some(e),
             DynamicsError::AtSpeed { source, .. } => Some(source.as_ref()),
-            DynamicsError::InvalidInput { .. } => None,
+            DynamicsError::InvalidInput { .. } | DynamicsError::TooLarge(_) => None,
         }
     }
 }

@@ -31,9 +31,15 @@
 //! The step is T_m/N with N steps per mesh period ([`DEFAULT_STEPS_PER_MESH_PERIOD`]), so that
 //! the TE samples fall on a grid with an integer number of samples per period, as the
 //! steady-state detector needs. N is raised where T_m/N would exceed
-//! [`SteadyRunOptions::max_step`]: below the main resonance the mesh mode oscillates several
-//! times per mesh period, and it is the period of the fastest mode, not T_m, that sets the
-//! accuracy. The default N = 128 comes from a convergence study with the mesh-periodic
+//! [`SteadyRunOptions::max_step`], by default the step rule of [`super::limits`]
+//! ([`stable_rk4_step`]: 32 steps per period of the fastest linearised mode): below the main
+//! resonance the mesh mode oscillates several times per mesh period, and it is the period of
+//! the fastest mode, not T_m, that sets the accuracy (and, far below, RK4's stability).
+//! [`default_rk4_step`] is the default step of [`simulate`] by the same rule; an explicit RK4
+//! step outside the stability region is refused. Work is bounded before it starts: a
+//! trajectory records at most [`MAX_TRAJECTORY_SAMPLES`] samples, a run to the steady state
+//! takes at most [`MAX_STEADY_STEPS`] steps (`max_periods`·N) and keeps at most
+//! [`MAX_WINDOW_SAMPLES`] window samples. The default N = 128 comes from a convergence study with the mesh-periodic
 //! analytic mesh at its main resonance (z_p·ω_p equal to the mesh-mode frequency, 5 %
 //! damping, TE after 40 mesh periods against a 1024-step reference; observed order 4):
 //! relative TE error 1.3·10⁻³ at N = 16, 8.2·10⁻⁵ at 32, 5.1·10⁻⁶ at 64, 1.0·10⁻⁶ at 96,
@@ -46,6 +52,10 @@ use std::fmt;
 use std::ops::ControlFlow;
 
 use super::integrators::{Dopri5, Dopri5Options, Rk4};
+use super::limits::{
+    MAX_STEADY_STEPS, MAX_TRAJECTORY_SAMPLES, MAX_WINDOW_SAMPLES, STEPS_PER_FAST_PERIOD,
+    check_rk4_step, fastest_mode, stable_rk4_step, trajectory_sample_bytes,
+};
 use super::model::{DynamicsError, GearDynamics, N_STATES, invalid};
 use super::relative::{InRelative, RelativeCoordinates};
 use super::steady::{PeriodCheck, SteadyOptions, SteadyState, SteadyStatus};
@@ -104,10 +114,56 @@ fn absolute_of(rel: &RelativeCoordinates, x: &[f64]) -> [f64; N_STATES] {
     a
 }
 
+/// Refuses a trajectory of `samples` recorded samples above [`MAX_TRAJECTORY_SAMPLES`]
+/// before anything is reserved; `remedy` says what to change.
+fn check_samples(samples: f64, remedy: &str) -> Result<(), DynamicsError> {
+    if samples <= MAX_TRAJECTORY_SAMPLES as f64 {
+        return Ok(());
+    }
+    let bytes = samples * trajectory_sample_bytes() as f64;
+    Err(DynamicsError::TooLarge(format!(
+        "simulate would store {samples:.3e} samples ({:.3e} GB); at most \
+         {:.0e}: {remedy}",
+        bytes * 1e-9,
+        MAX_TRAJECTORY_SAMPLES as f64
+    )))
+}
+
+/// The default RK4 step of [`simulate`] at nominal pinion speed `omega_p` (rad/s, ≥ 0; 0 is
+/// standstill) over `t_end` (s, > 0): the step of [`stable_rk4_step`] with
+/// [`DEFAULT_STEPS_PER_MESH_PERIOD`] steps per mesh period and [`STEPS_PER_FAST_PERIOD`] per
+/// period of the fastest linearised mode ([`fastest_mode`] at pinion angle `phi_p0`, rad),
+/// shortened to divide `t_end` into a whole number of steps. Errors: invalid arguments, a mesh
+/// without a static equilibrium under the torque, or more steps than
+/// [`MAX_TRAJECTORY_SAMPLES`] (the error names the count and the memory).
+pub fn default_rk4_step<M: MeshTorques>(
+    model: &mut GearDynamics<M>,
+    omega_p: f64,
+    phi_p0: f64,
+    t_end: f64,
+) -> Result<f64, DynamicsError> {
+    if !(omega_p.is_finite() && omega_p >= 0.0) {
+        return Err(invalid("omega_p", omega_p, "finite and >= 0 (rad/s)"));
+    }
+    if !(t_end.is_finite() && t_end > 0.0) {
+        return Err(invalid("t_end", t_end, "finite and > 0 (s)"));
+    }
+    let w = fastest_mode(model, phi_p0)?;
+    let t_m = model.drive().mesh_period(omega_p);
+    let h = stable_rk4_step(t_m, DEFAULT_STEPS_PER_MESH_PERIOD as f64, w, STEPS_PER_FAST_PERIOD);
+    let n = (t_end / h).ceil().max(1.0);
+    check_samples(n + 1.0, "lower t_end")?;
+    Ok(t_end / n)
+}
+
 /// Integrates Eqs. 1–4 from `y0` at t = 0 to `t_end` (s, > 0) and records the trajectory.
 ///
 /// With [`Stepping::Rk4`], `t_end` must be a whole number n of steps (|n·dt − t_end| ≤
-/// 10⁻⁹·t_end); n steps of exactly `dt` are taken and the times are i·dt. The mesh is evaluated
+/// 10⁻⁹·t_end); n steps of exactly `dt` are taken and the times are i·dt. A step outside
+/// RK4's stability region for the fastest linearised mode (ω_fast·dt >
+/// [`super::limits::RK4_MAX_OMEGA_H`], [`check_rk4_step`]) is an error, and so is a record of
+/// more than [`MAX_TRAJECTORY_SAMPLES`] samples (checked before anything is reserved; DOPRI5:
+/// t_end/output_dt + 1, or `max_steps` without an output interval). The mesh is evaluated
 /// at every stage state (four times per step, the first stage's evaluation being the recorded
 /// output of the previous step).
 pub fn simulate<M: MeshTorques>(
@@ -136,8 +192,12 @@ pub fn simulate<M: MeshTorques>(
             if n < 1.0 || (n * dt - t_end).abs() > 1e-9 * t_end {
                 return Err(invalid("t_end", t_end, "a whole number of steps dt (within 1e-9)"));
             }
-            if n > 1e9 {
-                return Err(invalid("t_end", t_end, "at most 1e9 steps dt"));
+            check_samples(n + 1.0, "lower t_end or raise dt")?;
+            // A step outside RK4's stability region gives a diverging trajectory, not a coarse
+            // one (see `limits`); checked where the fastest mode can be measured (a mesh
+            // without a static equilibrium under the torque is left to the caller).
+            if let Ok(w) = fastest_mode(model, y0[1]) {
+                check_rk4_step(dt, w)?;
             }
             let n = n as usize;
             tr.time.reserve(n);
@@ -159,6 +219,13 @@ pub fn simulate<M: MeshTorques>(
                 && !(h.is_finite() && *h > 0.0)
             {
                 return Err(invalid("output_dt", *h, "finite and > 0 (s)"));
+            }
+            match output_dt {
+                Some(h) => check_samples((t_end / h).floor() + 1.0, "lower t_end or raise dt")?,
+                None => check_samples(
+                    options.max_steps as f64,
+                    "lower max_steps (one sample per accepted step) or give an output interval",
+                )?,
             }
             let mut dp = Dopri5::new(N_STATES, options.clone())?;
             let mut samples: Vec<(f64, [f64; N_STATES])> = Vec::new();
@@ -237,7 +304,9 @@ pub struct SteadyRunOptions {
     pub method: SteadyMethod,
     /// Largest RK4 step, s: N is raised to ⌈T_m/max_step⌉ where T_m/N would exceed it. A
     /// natural choice is the period of the fastest linearised mode divided by the steps per
-    /// period wanted (see [`super::model::Drivetrain::linear_frequencies`]). Default `None`.
+    /// period wanted (see [`super::model::Drivetrain::linear_frequencies`]). Default `None`:
+    /// the step rule of [`super::limits`] ([`stable_rk4_step`] with
+    /// [`STEPS_PER_FAST_PERIOD`] and the fastest mode measured at the static equilibrium).
     pub max_step: Option<f64>,
     /// Pinion angle φp at t = 0, rad. Default 0.
     pub phi_p0: f64,
@@ -451,8 +520,26 @@ pub fn run_to_steady<M: MeshTorques>(
             if n < 4 {
                 return Err(invalid("steps_per_period", n as f64, ">= 4"));
             }
-            if let Some(h) = opts.max_step {
+            // Without a caller's bound the step rule of `limits` gives it: the mesh mode, not
+            // the mesh period, sets the step at low speed.
+            let max_step = match opts.max_step {
+                Some(h) => Some(h),
+                None => {
+                    let w = fastest_mode(model, opts.phi_p0)?;
+                    Some(stable_rk4_step(t_m, n as f64, w, STEPS_PER_FAST_PERIOD))
+                }
+            };
+            if let Some(h) = max_step {
                 let need = (t_m / h).ceil();
+                if need * opts.max_periods as f64 > MAX_STEADY_STEPS {
+                    return Err(DynamicsError::TooLarge(format!(
+                        "run_to_steady at ω_p = {omega_p:.3e} rad/s would take up to {:.3e} \
+                         RK4 steps ({} mesh periods × {need:.3e} steps of {h:.3e} s); at most \
+                         {MAX_STEADY_STEPS:.0e}: lower max_periods or raise ω_p",
+                        need * opts.max_periods as f64,
+                        opts.max_periods,
+                    )));
+                }
                 if need > 1e7 {
                     return Err(invalid(
                         "max_step",
@@ -461,6 +548,16 @@ pub fn run_to_steady<M: MeshTorques>(
                     ));
                 }
                 n = n.max(need as usize);
+            }
+            let total = opts.max_periods as f64 * n as f64;
+            if total > MAX_STEADY_STEPS {
+                return Err(DynamicsError::TooLarge(format!(
+                    "run_to_steady at ω_p = {omega_p:.3e} rad/s would take up to {total:.3e} \
+                     RK4 steps ({} mesh periods × {n} steps of {:.3e} s); at most \
+                     {MAX_STEADY_STEPS:.0e}: lower max_periods or raise ω_p",
+                    opts.max_periods,
+                    t_m / n as f64
+                )));
             }
             n
         }
@@ -471,6 +568,15 @@ pub fn run_to_steady<M: MeshTorques>(
             *samples_per_period
         }
     };
+    let window = (multiple * period) as f64 * n as f64;
+    if window > MAX_WINDOW_SAMPLES as f64 {
+        return Err(DynamicsError::TooLarge(format!(
+            "run_to_steady at ω_p = {omega_p:.3e} rad/s would keep {window:.3e} samples of the \
+             steady window ({} × {period} mesh periods × {n} samples); at most {:.0e}: lower \
+             the steps per period, max_multiple or the period, or raise ω_p",
+            multiple, MAX_WINDOW_SAMPLES as f64
+        )));
+    }
     let mut det = SteadyState::new(SteadyOptions {
         samples_per_period: n * period,
         max_multiple: multiple,

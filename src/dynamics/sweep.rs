@@ -19,8 +19,11 @@
 //! Step size: unless [`SteadyRunOptions::max_step`] is set, the sweep estimates the mesh
 //! stiffness at the static equilibrium ([`mesh_stiffness`]), takes the fastest linearised
 //! natural frequency ω_max of Eqs. 1–4 ([`Drivetrain::linear_frequencies`]) and limits the
-//! RK4 step to 2π/(ω_max·[`SweepOptions::steps_per_fastest_mode`]): at low speeds the mesh
-//! mode, not the mesh period, sets the step.
+//! RK4 step to 2π/(ω_max·[`SweepOptions::steps_per_fastest_mode`]) ([`stable_rk4_step`]):
+//! at low speeds the mesh mode, not the mesh period, sets the step. Work is bounded before
+//! anything runs: at most [`MAX_SWEEP_SPEEDS`] speeds, [`MAX_REFINE_RUNS`] refinement runs
+//! per peak, and each run's steps and window by [`run_to_steady`]'s bounds (a sweep at
+//! 0.01 rad/s is refused at once rather than integrating for hours).
 //!
 //! Progress: with [`SweepOptions::progress`] one line per finished run goes to stderr (never
 //! stdout).
@@ -31,6 +34,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::limits::{MAX_REFINE_RUNS, MAX_SPECTRUM_SAMPLES, MAX_SWEEP_SPEEDS, stable_rk4_step};
 use super::model::{Drivetrain, DynamicsError, GearDynamics, invalid, mesh_stiffness};
 use super::simulate::{
     DEFAULT_STEPS_PER_MESH_PERIOD, SteadyMethod, SteadyResponse, SteadyRunOptions, SteadyWarning,
@@ -285,6 +289,26 @@ where
     if opts.threads == Some(0) {
         return Err(invalid("threads", 0.0, ">= 1"));
     }
+    if speeds.len() > MAX_SWEEP_SPEEDS {
+        return Err(DynamicsError::TooLarge(format!(
+            "a sweep of {} speeds; at most {MAX_SWEEP_SPEEDS}: use fewer speeds",
+            speeds.len()
+        )));
+    }
+    if opts.static_points as u64 > MAX_SPECTRUM_SAMPLES {
+        return Err(DynamicsError::TooLarge(format!(
+            "a static TE curve of {} points (one static equilibrium each); at most \
+             {MAX_SPECTRUM_SAMPLES}: lower static_points",
+            opts.static_points
+        )));
+    }
+    if opts.refine_runs > MAX_REFINE_RUNS {
+        return Err(DynamicsError::TooLarge(format!(
+            "{} refinement runs per resonance (each a run to the steady state); at most \
+             {MAX_REFINE_RUNS} (the bracket shrinks by 0.618 per run): lower refine_runs",
+            opts.refine_runs
+        )));
+    }
     let mesh_err = |source| DynamicsError::Mesh { t: None, source };
 
     // Static pass (and the model check) on this thread.
@@ -307,7 +331,8 @@ where
         if k.is_finite() && k > 0.0 {
             let (gp, gg) = proto.base_radii();
             let w_max = drive.linear_frequencies(k, gp, gg)[3];
-            run.max_step = Some(2.0 * std::f64::consts::PI / (w_max * n as f64));
+            // The step rule of `limits` with the sweep's finer steps per fastest period.
+            run.max_step = Some(stable_rk4_step(f64::INFINITY, 1.0, w_max, n as f64));
             k_mesh = Some(k);
         }
     }

@@ -69,7 +69,16 @@
 //! inside RK4's stability interval (|ω·h| < 2.8 on the imaginary axis), so a unit at rest is
 //! stable and its mesh mode resolved even if the actual stiffness is several times k (the
 //! mesh stiffens with load). For Table 1 (ω_fast ≈ 1.6·10⁴ rad/s) the mesh-period bound
-//! governs above ≈ 34 rad/s at N = 128.
+//! governs above ≈ 34 rad/s at N = 128. This is the crate's one step rule,
+//! [`super::limits::stable_rk4_step`] (see [`super::limits`] for the stability argument).
+//!
+//! Bounded work: the sub-step count n is checked against [`super::limits::MAX_UNIT_SUBSTEPS`]
+//! before anything changes; a larger request (a communication step of 0.1 ms at
+//! φ̇p = 10⁹ rad/s is 6·10⁷ sub-steps, a stiff light shaft 10¹⁰) is an error that leaves time
+//! and state as they were (an FMU returns `fmi2Discard`), never a hang. A step whose time
+//! cannot advance in double precision ((t + h) − t off h by more than [`TIME_RESOLUTION`]·h;
+//! t + 10⁻⁴ s == t from t ≈ 10¹⁷ s on) is an error as well: the state never advances while
+//! the time stands still.
 //!
 //! [`UnitStepping::Dopri5`]: each advance is one [`Dopri5::integrate`] call from t to t + h
 //! with the given tolerances, on the state in relative coordinates
@@ -108,6 +117,7 @@
 use std::ops::ControlFlow;
 
 use super::integrators::{Dopri5, Dopri5Options, OdeError, OdeSystem, Rk4};
+use super::limits::{MAX_UNIT_SUBSTEPS, stable_rk4_step};
 use super::model::{
     Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
     W_1, W_2, W_G, W_P, invalid, mesh_stiffness,
@@ -116,10 +126,14 @@ use super::relative::{InRelative, RelativeCoordinates};
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{MeshJacobian, MeshOutputs, MeshState, MeshTorques};
 
-/// Sub-steps per period of the fastest linearised mode at most (see the module doc).
-pub const STEPS_PER_FAST_PERIOD: f64 = 32.0;
+pub use super::limits::STEPS_PER_FAST_PERIOD;
 
-/// Which part of the drive line a unit holds (DESIGN.md §10).
+/// Largest relative difference between the step a unit's time actually advances by in double
+/// precision, (t + h) − t, and the step h asked for; beyond it [`DriveUnit::advance`] refuses
+/// the step (at h = 10⁻⁴ s from about t = 10⁹ s on; `t + h == t` from about 10¹⁷ s on).
+pub const TIME_RESOLUTION: f64 = 1e-3;
+
+/// Which part of the drive line a unit holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum UnitKind {
     /// J_p, J_g and the mesh. States (φp, φg, φ̇p, φ̇g). Inputs tau_p, tau_g.
@@ -660,8 +674,6 @@ pub struct DriveUnit<M> {
     rk4: Rk4,
     dopri: Option<Dopri5>,
     step_hint: Option<f64>,
-    /// Largest RK4 sub-step from the fastest linearised mode, T_fast/32, s.
-    h_fast: f64,
     /// Angular frequency of the fastest linearised mode, rad/s.
     omega_fast: f64,
     /// Mesh stiffness at the static equilibrium under the nominal torque, N/m.
@@ -741,7 +753,6 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             UnitKind::Drive => hub.max(d.linear_frequencies(k, gp, gg)[3]),
             _ => hub,
         };
-        let h_fast = 2.0 * std::f64::consts::PI / omega_fast / STEPS_PER_FAST_PERIOD;
         let inputs = UnitInputs { torque: drive.torque, ..UnitInputs::default() };
         Ok(Self {
             sys: UnitSystem {
@@ -760,7 +771,6 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             rk4: Rk4::new(kind.n_states()),
             dopri,
             step_hint: None,
-            h_fast,
             omega_fast,
             k_mesh: k,
             dydt: [0.0; N_STATES],
@@ -955,7 +965,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let w = self.y[iw].abs();
         let z = self.drive0.z_p as f64;
         let t_m = 2.0 * std::f64::consts::PI / (z * w);
-        (t_m / steps_per_mesh_period as f64).min(self.h_fast)
+        stable_rk4_step(t_m, steps_per_mesh_period as f64, self.omega_fast, STEPS_PER_FAST_PERIOD)
     }
 
     /// Advances from time() to time()+h (h > 0, finite), inputs held over the step (Stage: the
@@ -972,6 +982,35 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         if !t1.is_finite() {
             return Err(invalid("t + h", t1, "finite (s)"));
         }
+        // Time that stops advancing: at |t| ≳ 10¹⁷ s, t + 10⁻⁴ s == t; the state must not
+        // advance while the time stands still (or moves by a different amount than h).
+        if (t1 - t0 - h).abs() > TIME_RESOLUTION * h {
+            return Err(DynamicsError::TooLarge(format!(
+                "time t = {t0:.6e} s cannot advance by h = {h:.3e} s in double precision \
+                 (t + h − t = {:.3e} s, more than {TIME_RESOLUTION:e}·h off): restart the \
+                 time nearer 0",
+                t1 - t0
+            )));
+        }
+        // The sub-step count is bounded before anything changes (limits::MAX_UNIT_SUBSTEPS).
+        let rk4_steps = match self.stepping {
+            UnitStepping::Rk4 { steps_per_mesh_period } => {
+                let h_max = self.rk4_max_step(steps_per_mesh_period);
+                let steps = (h / h_max).ceil().max(1.0);
+                if steps.is_nan() || steps > MAX_UNIT_SUBSTEPS {
+                    let [_, _, iw, _] = self.sys.kind.hub_indices();
+                    return Err(DynamicsError::TooLarge(format!(
+                        "a unit step of h = {h:.3e} s would take {steps:.3e} RK4 sub-steps of \
+                         {h_max:.3e} s (ω_p = {:.3e} rad/s, {steps_per_mesh_period} steps per \
+                         mesh period, fastest mode {:.3e} rad/s); at most \
+                         {MAX_UNIT_SUBSTEPS:.0e}: take shorter communication steps",
+                        self.y[iw], self.omega_fast
+                    )));
+                }
+                steps as u64
+            }
+            UnitStepping::Dopri5 { .. } => 0,
+        };
         let y0 = self.y;
         self.sys.extrapolate = true;
         self.sys.forget_history(&self.y[..n]);
@@ -979,13 +1018,8 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             return Err(e.into());
         }
         let result = match self.stepping {
-            UnitStepping::Rk4 { steps_per_mesh_period } => {
-                let h_max = self.rk4_max_step(steps_per_mesh_period);
-                let steps = (h / h_max).ceil().max(1.0);
-                if steps > 1e12 {
-                    return Err(invalid("h", h, "at most 1e12 RK4 sub-steps of the unit's grid"));
-                }
-                let steps = steps as u64;
+            UnitStepping::Rk4 { .. } => {
+                let steps = rk4_steps;
                 let hs = h / steps as f64;
                 let mut r = Ok(());
                 for i in 0..steps {

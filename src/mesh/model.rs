@@ -312,13 +312,7 @@ fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
     if !(10..=4000).contains(&o.slices) {
         return Err(ParamError::new("slices", o.slices as f64, "10 … 4000"));
     }
-    if !(8..=4096).contains(&o.table_phase_points) {
-        return Err(ParamError::new("table_phase_points", o.table_phase_points as f64, "8 … 4096"));
-    }
-    if !(8..=4096).contains(&o.table_te_points) {
-        return Err(ParamError::new("table_te_points", o.table_te_points as f64, "8 … 4096"));
-    }
-    Ok(())
+    super::table::check_table_size(o.table_phase_points, o.table_te_points)
 }
 
 impl MeshModel {

@@ -1,0 +1,299 @@
+//! Regression tests of the dynamics' step rule and work bounds (`dynamics::limits`): low
+//! speed and standstill are integrated stably, a run-up from rest works, and every request
+//! whose cost grows with an input is refused before anything is reserved or integrated.
+
+use std::sync::OnceLock;
+
+use helical_gear_mesh::GearPair;
+use helical_gear_mesh::dynamics::model::{N_STATES, W_P};
+use helical_gear_mesh::dynamics::{
+    Clearance, ConstantStiffnessMesh, DriveUnit, Drivetrain, DynamicsError, GearDynamics,
+    MAX_UNIT_SUBSTEPS, OdeSystem, RK4_MAX_OMEGA_H, STEPS_PER_FAST_PERIOD, Stepping, SweepOptions,
+    UnitKind, UnitStepping, default_rk4_step, fastest_mode, simulate, stable_rk4_step, sweep,
+};
+use helical_gear_mesh::mesh::statics::EquilibriumSettings;
+use helical_gear_mesh::mesh::{Fidelity, MeshModel, MeshOptions, MeshTorques};
+
+/// Table 1 at a coarse table fidelity (fast to build) and its drivetrain.
+fn table_mesh() -> (MeshModel, Drivetrain) {
+    static MESH: OnceLock<(MeshModel, Drivetrain)> = OnceLock::new();
+    let (m, d) = MESH.get_or_init(|| {
+        let pair = GearPair::paper_table1();
+        let options = MeshOptions {
+            fidelity: Fidelity::Table,
+            slices: 60,
+            table_phase_points: 24,
+            table_te_points: 16,
+            pressure: false,
+            ..MeshOptions::default()
+        };
+        (MeshModel::new(&pair, options).unwrap(), Drivetrain::from_pair(&pair).unwrap())
+    });
+    (m.clone(), *d)
+}
+
+fn too_large(e: &DynamicsError) -> bool {
+    matches!(e, DynamicsError::TooLarge(_))
+}
+
+/// simulate from the static start at `omega` with step `dt` over `t_end`: TE samples.
+fn te_run(omega: f64, dt: f64, t_end: f64) -> (Vec<f64>, f64) {
+    let (mesh, drive) = table_mesh();
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    let start = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    let tr = simulate(&mut model, &start.y, t_end, &Stepping::Rk4 { dt }).unwrap();
+    (tr.outputs.iter().map(|o| o.te).collect(), start.te)
+}
+
+#[test]
+fn simulate_default_step_is_stable_at_8_rad_s() {
+    let (mesh, drive) = table_mesh();
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    let w = fastest_mode(&mut model, 0.0).unwrap();
+    let t_end = 0.02;
+    let dt = default_rk4_step(&mut model, 8.0, 0.0, t_end).unwrap();
+    // The fast mode, not the mesh period (T_m/128 = 2.6e-4 s), sets the step.
+    let rule = stable_rk4_step(drive.mesh_period(8.0), 128.0, w, STEPS_PER_FAST_PERIOD);
+    assert!(dt <= rule && dt > 0.99 * rule, "dt {dt:e}, rule {rule:e}");
+    assert!(w * dt <= 2.0 * std::f64::consts::PI / 32.0 * 1.000001, "ω·dt = {}", w * dt);
+    let (te, te0) = te_run(8.0, dt, t_end);
+    let dev = te.iter().map(|t| (t - te0).abs()).fold(0.0, f64::max);
+    // Quasi-static running: TE stays near the static TE (the old step gave ±0.8 m).
+    assert!(dev < 0.5 * te0, "TE deviates {dev:e} m from the static {te0:e} m");
+    // The old default step is refused, naming dt and the limit, instead of diverging.
+    let old = drive.mesh_period(8.0) / 128.0;
+    let mut model = GearDynamics::new(table_mesh().0, drive).unwrap();
+    let start = model.static_start(0.0, 8.0, &EquilibriumSettings::default()).unwrap();
+    let e = simulate(&mut model, &start.y, 100.0 * old, &Stepping::Rk4 { dt: old }).unwrap_err();
+    assert!(too_large(&e), "{e}");
+    let msg = e.to_string();
+    assert!(msg.contains("dt = ") && msg.contains(&format!("{RK4_MAX_OMEGA_H}")), "{msg}");
+}
+
+#[test]
+fn simulate_from_rest_to_10_rad_s_agrees_with_a_4x_finer_step() {
+    let (mesh, drive) = table_mesh();
+    let t_end = 0.01;
+    for omega in [0.0, 0.5, 1.0, 5.0, 8.0, 10.0] {
+        let mut model = GearDynamics::new(mesh.clone(), drive).unwrap();
+        let dt = default_rk4_step(&mut model, omega, 0.0, t_end).unwrap();
+        let (coarse, te0) = te_run(omega, dt, t_end);
+        let (fine, _) = te_run(omega, dt / 4.0, t_end);
+        assert_eq!(fine.len(), 4 * (coarse.len() - 1) + 1);
+        let diff =
+            coarse.iter().enumerate().map(|(i, c)| (c - fine[4 * i]).abs()).fold(0.0, f64::max);
+        assert!(
+            diff / te0 < 1e-3,
+            "ω {omega}: max TE difference {:.3e} of the static TE",
+            diff / te0
+        );
+        assert!(coarse.iter().all(|t| t.is_finite() && (t - te0).abs() < te0), "ω {omega}");
+    }
+}
+
+#[test]
+fn static_start_at_zero_speed_is_an_equilibrium() {
+    let (mesh, drive) = table_mesh();
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    let s = model.static_start(0.0, 0.0, &EquilibriumSettings::default()).unwrap();
+    assert!(s.te > 0.0 && s.te.is_finite());
+    assert!(s.y[4..].iter().all(|w| *w == 0.0), "rates {:?}", &s.y[4..]);
+    let mut dydt = [0.0; N_STATES];
+    model.rhs(0.0, &s.y, &mut dydt).unwrap();
+    // Accelerations small against the driving torque's M/J_p (residual of the equilibrium
+    // search on M_F,p and the gear-side balance).
+    let scale = drive.torque / drive.j_p;
+    for (i, a) in dydt[4..].iter().enumerate() {
+        assert!(a.abs() < 1e-6 * scale, "acceleration {i}: {a:e} (scale {scale:e})");
+    }
+}
+
+#[test]
+fn pair_runs_up_from_rest_to_300_rad_s() {
+    // The Pair from the static equilibrium at rest, the pinion hub torque raised by ΔM: the
+    // gear set accelerates as one rigid body, ω_p(t) = ΔM·t/J_eff with J_eff = J_p + J_g·(z_p/z_g)²,
+    // while TE follows the static TE of the (slightly higher) mesh load.
+    let (mesh, drive) = table_mesh();
+    let mut u = DriveUnit::new(
+        UnitKind::Pair,
+        mesh,
+        drive,
+        UnitStepping::Rk4 { steps_per_mesh_period: 128 },
+    )
+    .unwrap();
+    let start = u.start_static(0.0, 0.0, &EquilibriumSettings::default()).unwrap();
+    let ratio = drive.z_p as f64 / drive.z_g as f64;
+    let j_eff = drive.j_p + drive.j_g * ratio * ratio;
+    let t_run = 0.05;
+    let dm = j_eff * 300.0 / t_run;
+    let mut inputs = *u.inputs();
+    inputs.tau_p += dm;
+    u.set_inputs(inputs).unwrap();
+    let (gp, gg) = u.mesh().base_radii();
+    let h = 1e-3;
+    let mut te_max: f64 = 0.0;
+    while u.time() < t_run - 0.5 * h {
+        u.advance(h).unwrap();
+        let y = u.state();
+        let te = y[0] * gp + y[1] * gg;
+        assert!(te.is_finite() && te > 0.0, "t {}: TE {te:e}", u.time());
+        te_max = te_max.max(te);
+    }
+    let w = u.state()[2];
+    assert!((w - 300.0).abs() < 0.01 * 300.0, "ω_p after the run-up {w} rad/s");
+    // The mesh carries at most M + ΔM: TE stays below a few times the static TE.
+    assert!(te_max < 3.0 * start.te * (1.0 + dm / drive.torque), "TE max {te_max:e}");
+}
+
+#[test]
+fn simulate_refuses_a_39_gb_trajectory() {
+    let (mesh, drive) = table_mesh();
+    let mut model = GearDynamics::new(mesh, drive).unwrap();
+    // Default step at 1e9 rad/s over 1 ms: 6e8 samples.
+    let e = default_rk4_step(&mut model, 1e9, 0.0, 1e-3).unwrap_err();
+    assert!(too_large(&e) && e.to_string().contains("GB"), "{e}");
+    // An explicit step of 1 ps over 1 ms: 1e9 samples, refused before reserving.
+    let start = model.static_start(0.0, 100.0, &EquilibriumSettings::default()).unwrap();
+    let e = simulate(&mut model, &start.y, 1e-3, &Stepping::Rk4 { dt: 1e-12 }).unwrap_err();
+    assert!(too_large(&e) && e.to_string().contains("samples"), "{e}");
+}
+
+/// A linear mesh with the unit's inertias and shafts (no table needed).
+fn linear_unit(drive: Drivetrain, n: u32) -> DriveUnit<ConstantStiffnessMesh> {
+    let mesh = ConstantStiffnessMesh::new(3e8, 100.0, 0.05, 0.08, Clearance::Bilateral).unwrap();
+    DriveUnit::new(UnitKind::Drive, mesh, drive, UnitStepping::Rk4 { steps_per_mesh_period: n })
+        .unwrap()
+}
+
+#[test]
+fn unit_step_refuses_1e10_substeps() {
+    let (_, drive) = table_mesh();
+    let settings = EquilibriumSettings::default();
+    // w_p_start = 1e9 rad/s: T_m/128 ≈ 1.6e-12 s, a 0.1 ms step would be 6e7 sub-steps.
+    let mut u = linear_unit(drive, 128);
+    u.start_static(0.0, 1e9, &settings).unwrap();
+    let (t0, y0) = (u.time(), u.state().to_vec());
+    let e = u.advance(1e-4).unwrap_err();
+    assert!(too_large(&e) && e.to_string().contains("sub-steps"), "{e}");
+    assert_eq!((u.time(), u.state()), (t0, y0.as_slice()), "state untouched");
+    // 2^31 − 1 steps per mesh period.
+    let mut u = linear_unit(drive, i32::MAX as u32);
+    u.start_static(0.0, 100.0, &settings).unwrap();
+    assert!(too_large(&u.advance(1e-4).unwrap_err()));
+    // A stiff, light unit: J = 1e-12 kg·m² on c = 1e15 N·m/rad, ω ≈ 3e13 rad/s.
+    let stiff = Drivetrain { j1: 1e-12, j2: 1e-12, c1: 1e15, c2: 1e15, ..drive };
+    let mut u = linear_unit(stiff, 128);
+    u.start_static(0.0, 100.0, &settings).unwrap();
+    let (t0, y0) = (u.time(), u.state().to_vec());
+    let e = u.advance(1e-4).unwrap_err();
+    assert!(too_large(&e), "{e}");
+    assert_eq!((u.time(), u.state()), (t0, y0.as_slice()));
+    // Below the bound the same unit steps.
+    let h = 0.5 * MAX_UNIT_SUBSTEPS * 2.0 * std::f64::consts::PI / (u.fastest_mode() * 32.0);
+    u.advance(h.min(1e-9)).unwrap();
+}
+
+#[test]
+fn unit_time_that_stops_advancing_is_an_error() {
+    let (_, drive) = table_mesh();
+    let mut u = linear_unit(drive, 128);
+    u.start_static(1e17, 100.0, &EquilibriumSettings::default()).unwrap();
+    let y0 = u.state().to_vec();
+    assert_eq!(1e17 + 1e-4, 1e17);
+    let e = u.advance(1e-4).unwrap_err();
+    assert!(too_large(&e) && e.to_string().contains("cannot advance"), "{e}");
+    assert_eq!((u.time(), u.state()), (1e17, y0.as_slice()), "neither state nor time moved");
+    // Near 0 the same step advances.
+    u.set_time(0.0).unwrap();
+    u.advance(1e-4).unwrap();
+    assert_eq!(u.time(), 1e-4);
+    assert!(u.state()[W_P].is_finite());
+}
+
+#[test]
+fn sweep_at_0_01_rad_s_ends_within_bounds() {
+    let (mesh, drive) = table_mesh();
+    let e = sweep(&mesh, &drive, &[0.01, 0.02], &SweepOptions::default()).unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.contains("RK4 steps") && msg.contains("at most"), "{msg}");
+    // refine_runs = 1e9 is refused before any run.
+    let opts = SweepOptions { refine_runs: 1_000_000_000, ..SweepOptions::default() };
+    let e = sweep(&mesh, &drive, &[300.0, 400.0], &opts).unwrap_err();
+    assert!(too_large(&e) && e.to_string().contains("refine"), "{e}");
+}
+
+#[test]
+fn table_size_4096_is_refused() {
+    let pair = GearPair::paper_table1();
+    let options = MeshOptions {
+        fidelity: Fidelity::Table,
+        table_phase_points: 4096,
+        table_te_points: 4096,
+        ..MeshOptions::default()
+    };
+    let e = MeshModel::new(&pair, options).unwrap_err().to_string();
+    assert!(e.contains("table_phase_points") && e.contains("65536"), "{e}");
+}
+
+/// Runs the `helical-gear` binary: (success, stdout, stderr).
+fn cli(args: &[&str]) -> (bool, String, String) {
+    let out =
+        std::process::Command::new(env!("CARGO_BIN_EXE_helical-gear")).args(args).output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn cli_simulate_refuses_a_64_gb_trajectory_before_building_the_model() {
+    // --dt 1e-12 over 1 ms: 1e9 samples (144 GB), refused with exit status 1, not an abort.
+    let (ok, _, err) = cli(&["simulate", "--omega-p", "100", "--t-end", "1e-3", "--dt", "1e-12"]);
+    assert!(!ok && err.contains("samples") && err.contains("at most"), "{err}");
+    assert!(!err.contains("building the mesh model"), "refused before the build: {err}");
+}
+
+#[test]
+fn cli_spectrum_refuses_a_hunting_period_of_1e10_meshes() {
+    let mut pair = GearPair::paper_table1();
+    pair.z_p = 99991;
+    pair.z_g = 99989;
+    let path = std::env::temp_dir().join(format!("robust_dynamics_{}.json", std::process::id()));
+    std::fs::write(&path, serde_json::to_string(&pair).unwrap()).unwrap();
+    let (ok, _, err) = cli(&["spectrum", "--params", path.to_str().unwrap()]);
+    std::fs::remove_file(&path).ok();
+    assert!(!ok && err.contains("static equilibria") && err.contains("at most"), "{err}");
+}
+
+#[test]
+fn cli_simulate_default_step_is_stable_at_8_rad_s() {
+    let (ok, out, err) =
+        cli(&["simulate", "--omega-p", "8", "--t-end", "0.005", "--fidelity", "table", "--json"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let te0 = v["te_static_start_m"].as_f64().unwrap();
+    let te: Vec<f64> = v["te_m"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let dev = te.iter().map(|t| (t - te0).abs()).fold(0.0, f64::max);
+    assert!(dev < 0.5 * te0, "TE deviates {dev:e} m from the static {te0:e} m");
+    assert!(v["dt_s"].as_f64().unwrap() < 2e-5, "the mesh mode sets the step");
+}
+
+#[test]
+fn cli_sweep_at_0_01_rad_s_ends_within_bounds() {
+    let (ok, _, err) =
+        cli(&["sweep", "--from", "0.01", "--to", "0.02", "--points", "2", "--refine-runs", "0"]);
+    assert!(!ok && err.contains("RK4 steps") && err.contains("at most"), "{err}");
+    let (ok, _, err) = cli(&[
+        "sweep",
+        "--from",
+        "300",
+        "--to",
+        "400",
+        "--points",
+        "2",
+        "--refine-runs",
+        "1000000000",
+    ]);
+    assert!(!ok && err.contains("refine"), "{err}");
+}
