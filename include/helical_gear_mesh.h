@@ -295,7 +295,8 @@ HgmStatus hgm_evaluate(HgmModel *h,
 
 /**
  * Sets the mesh damping coefficient d_mesh of Eq. 14, N·s/m, in its range [0, 1e9] (the
- * range of the JSON key `d_mesh_n_s_per_m`); outside it `HGM_STATUS_INVALID_ARGUMENT`.
+ * range of the JSON key `d_mesh_n_s_per_m`); outside it `HGM_STATUS_MODEL_ERROR` with a
+ * message naming the key, the value and the range.
  *
  * # Safety
  * `h` must be NULL or a live handle.

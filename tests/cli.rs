@@ -74,7 +74,7 @@ fn bad_parameters_give_a_clear_error() {
 #[test]
 fn simulate_and_sweep_reject_bad_arguments_before_building_the_model() {
     let cases: [(&[&str], &str); 5] = [
-        (&["simulate", "--omega-p", "0", "--t-end", "1e-3"], "--omega-p"),
+        (&["simulate", "--omega-p", "-1", "--t-end", "1e-3"], "--omega-p"),
         (&["simulate", "--omega-p", "100", "--t-end", "1e-3", "--dt", "3e-4"], "whole number"),
         (&["simulate", "--omega-p", "100", "--t-end", "-1"], "--t-end"),
         (&["sweep", "--from", "500", "--to", "400", "--points", "3"], "--from"),

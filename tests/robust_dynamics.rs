@@ -280,6 +280,20 @@ fn cli_simulate_default_step_is_stable_at_8_rad_s() {
 }
 
 #[test]
+fn cli_simulate_at_standstill_holds_the_static_equilibrium() {
+    // ω_p = 0 is an operating point: the static equilibrium under the torque at rest, held.
+    let (ok, out, err) =
+        cli(&["simulate", "--omega-p", "0", "--t-end", "0.002", "--fidelity", "table", "--json"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let te0 = v["te_static_start_m"].as_f64().unwrap();
+    assert!(te0 > 0.0, "loaded at rest: {te0:e} m");
+    let te: Vec<f64> = v["te_m"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let dev = te.iter().map(|t| (t - te0).abs()).fold(0.0, f64::max);
+    assert!(dev < 1e-4 * te0, "TE drifts {dev:e} m from the static {te0:e} m at rest");
+}
+
+#[test]
 fn cli_sweep_at_0_01_rad_s_ends_within_bounds() {
     let (ok, _, err) =
         cli(&["sweep", "--from", "0.01", "--to", "0.02", "--points", "2", "--refine-runs", "0"]);

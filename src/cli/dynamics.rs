@@ -180,8 +180,10 @@ fn io_err(e: std::io::Error) -> String {
 
 /// `helical-gear simulate`.
 pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
-    if !(a.omega_p.is_finite() && a.omega_p > 0.0) {
-        return Err(format!("--omega-p = {}: allowed finite and > 0 (rad/s)", a.omega_p));
+    // Standstill is an operating point: the start is the static equilibrium at rest and the
+    // step comes from the fastest mode (`limits`), not from the infinite mesh period.
+    if !(a.omega_p.is_finite() && a.omega_p >= 0.0) {
+        return Err(format!("--omega-p = {:.4e}: allowed finite and >= 0 (rad/s)", a.omega_p));
     }
     if !(a.t_end.is_finite() && a.t_end > 0.0) {
         return Err(format!("--t-end = {}: allowed finite and > 0 (s)", a.t_end));
