@@ -7,30 +7,35 @@ mod fuzz_harness;
 
 use std::path::Path;
 
-/// Runs `f` on every file of `fuzz/corpus/<target>/`; returns how many there were.
+/// Runs `f` on every file of `fuzz/corpus/<target>/`; asserts there was at least one (a moved
+/// corpus must not pass by replaying nothing).
 /// A file that takes over a second is named on stderr (`--nocapture`), as a hint to minimise.
-fn replay(target: &str, f: fn(&[u8])) -> usize {
+fn replay(target: &str, f: fn(&[u8])) {
     // FUZZ_CORPUS=DIR replays DIR/<target>/ instead (e.g. fuzz/artifacts-known).
-    let base = std::env::var_os("FUZZ_CORPUS").map_or_else(
+    let chosen = std::env::var_os("FUZZ_CORPUS");
+    let base = chosen.as_ref().map_or_else(
         || Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/corpus"),
         std::path::PathBuf::from,
     );
     let dir = base.join(target);
-    let Ok(entries) = std::fs::read_dir(&dir) else { return 0 };
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        assert!(chosen.is_some(), "no corpus at {}", dir.display());
+        return;
+    };
     let mut files: Vec<_> = entries.filter_map(|e| e.ok()).map(|e| e.path()).collect();
     files.sort();
     for path in &files {
         let data = std::fs::read(path).expect("corpus file reads");
-        let name = path.file_name().unwrap_or_default().to_string_lossy().into_owned();
         let started = std::time::Instant::now();
         let r = std::panic::catch_unwind(|| f(&data));
         let took = started.elapsed().as_secs_f64();
         if took > 1.0 {
-            eprintln!("fuzz/corpus/{target}/{name}: {took:.1} s");
+            eprintln!("{}: {took:.1} s", path.display());
         }
         if let Err(p) = r {
             std::panic::resume_unwind(Box::new(format!(
-                "fuzz/corpus/{target}/{name}: {}",
+                "{}: {}",
+                path.display(),
                 p.downcast_ref::<String>()
                     .cloned()
                     .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
@@ -38,7 +43,7 @@ fn replay(target: &str, f: fn(&[u8])) -> usize {
             )));
         }
     }
-    files.len()
+    assert!(chosen.is_some() || !files.is_empty(), "empty corpus at {}", dir.display());
 }
 
 #[test]

@@ -904,11 +904,15 @@ pub fn fmi2_calls(data: &[u8]) {
                         let mut v = serialised.clone();
                         if b.bool() {
                             let i = b.u16() as usize % v.len();
-                            v[i] ^= 1 << b.pick(8);
+                            let bit = b.pick(8);
+                            v[i] ^= 1 << bit;
+                            trace(|| format!("serialised state, bit {bit} of byte {i} flipped"));
                         }
                         v
                     } else {
-                        b.chunk(200).to_vec()
+                        let v = b.chunk(200).to_vec();
+                        trace(|| format!("fuzzed bytes as a state: {v:02x?}"));
+                        v
                     };
                     let mut st: fmi2FMUstate = null_mut();
                     let s = fmi2DeSerializeFMUstate(c, bytes.as_ptr().cast(), bytes.len(), &mut st);
