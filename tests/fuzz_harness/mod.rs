@@ -506,8 +506,8 @@ pub fn capi(data: &[u8]) {
         let u = if (0..3).contains(&kind) && (0..2).contains(&fid_arg) {
             create(kind, json.as_ref().map_or(null(), |j| j.as_ptr()), fid_arg, steps, rtol, atol)
         } else if b.bool() {
-            // Out of range: must be refused (NULL). The pair text is the default so that a
-            // wrongly accepted enum does not start a table build.
+            // Out of range: must be refused (NULL). The pair is Table 1's, so that a wrongly
+            // accepted enum needs no FE run (a fidelity taken as the table still builds one).
             let u = create(kind, null(), fid_arg, steps, rtol, atol);
             if !u.is_null() {
                 hgm_unit_free(u);
