@@ -886,13 +886,23 @@ fn load_failure(
     }
 }
 
-/// Rejects a state with a NaN or infinite component, naming it.
+/// Rejects a state with a NaN or infinite component, naming it, and speeds beyond
+/// ±[`super::validity::MAX_SPEED_RAD_S`] (whose damping torque would overflow).
 fn check_state(state: &MeshState) -> Result<(), MeshError> {
     for (name, v) in
         [("phi_p", state.phi_p), ("phi_g", state.phi_g), ("w_p", state.w_p), ("w_g", state.w_g)]
     {
         if !v.is_finite() {
             return Err(MeshError::NonFinite { name, value: v });
+        }
+    }
+    for (name, v) in [("w_p", state.w_p), ("w_g", state.w_g)] {
+        if v.abs() > super::validity::MAX_SPEED_RAD_S {
+            return Err(MeshError::Param(crate::error::ParamError::new(
+                name,
+                v,
+                "|speed| <= 1e5 rad/s (the validity range of the mesh state)",
+            )));
         }
     }
     Ok(())

@@ -69,6 +69,13 @@ use crate::numeric::Pitch;
 /// Largest flank overlap Δ_max in which the model holds, in units of m_n (see the module docs).
 pub const MAX_OVERLAP_MN: f64 = 0.2;
 
+/// Largest |φ̇p|, |φ̇g| of a mesh state, rad/s (about 10⁶ rpm, far above any gear's running
+/// speed). The damping torque M_D = d_mesh·(g_p·φ̇p + g_g·φ̇g)·g is linear in the speeds; with
+/// the largest d_mesh (10⁹ N·s/m) and base radii of metres it stays below 10¹⁵ N·m here, while
+/// speeds of 10³⁰⁸ rad/s would make it infinite with a success status. The units, the FMUs, the
+/// C API and Python hold their inputs and states to the same bound.
+pub const MAX_SPEED_RAD_S: f64 = 1e5;
+
 /// The validity range of the mesh state of one gear pair (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ValidityRange {

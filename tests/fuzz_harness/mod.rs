@@ -500,9 +500,7 @@ pub fn capi(data: &[u8]) {
         let atol = 10f64.powf(b.f64_in(-14.0, -3.0));
         // Full fidelity stands for both in range: a table is built in seconds, too slow here.
         let fid_arg = if fidelity == 0 { 1 } else { fidelity };
-        let create: UnitCreateInts = std::mem::transmute(
-            hgm_unit_create as unsafe extern "C" fn(_, _, _, _, _, _) -> *mut HgmUnit,
-        );
+        let create: UnitCreateInts = hgm_unit_create;
         let u = if (0..3).contains(&kind) && (0..2).contains(&fid_arg) {
             create(kind, json.as_ref().map_or(null(), |j| j.as_ptr()), fid_arg, steps, rtol, atol)
         } else if b.bool() {
