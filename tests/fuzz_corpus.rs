@@ -1,7 +1,7 @@
 //! Replays every kept fuzz input: each file of `fuzz/corpus/<target>/` through the same
 //! function the fuzz target `<target>` runs (`tests/fuzz_harness/mod.rs`), so every input the
-//! fuzzer ever kept stays a regression test on stable Rust. Inputs that still expose a known
-//! defect live under `fuzz/artifacts-known/` instead and are not replayed here.
+//! fuzzer ever kept stays a regression test on stable Rust, the inputs of every defect the
+//! fuzzers found included.
 
 mod fuzz_harness;
 
