@@ -199,10 +199,10 @@ fmi2Status fmi2SetBoolean(fmi2Component c,
                           const fmi2Boolean *value);
 
 /**
- * Sets String parameters (`modifications`: the JSON object of DESIGN §11). Malformed JSON or
- * an unknown key is an error naming it; the values are checked against the geometry at
- * `fmi2ExitInitializationMode` (errors name the key, e.g.
- * `modifications.pinion.lead_crowning_m`).
+ * Sets String parameters (`modifications`: the JSON object of the README, "Modifications,
+ * misalignment and deviations"). Malformed JSON or an unknown key is an error naming it; the
+ * values are checked against the geometry at `fmi2ExitInitializationMode` (errors name the
+ * key, e.g. `modifications.pinion.lead_crowning_m`).
  *
  * # Safety
  * Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with

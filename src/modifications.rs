@@ -230,8 +230,8 @@ impl Modifications {
         *self == Self::default()
     }
 
-    /// Parses a `modifications` JSON object (DESIGN §11; every key optional, missing = zero).
-    /// Errors name the unknown or ill-typed key as serde reports it. Values are validated
+    /// Parses a `modifications` JSON object (the schema of the README, "Modifications,
+    /// misalignment and deviations"; every key optional, missing = zero). Errors name the unknown or ill-typed key as serde reports it. Values are validated
     /// against the geometry later, by [`Modifications::validate`].
     pub fn from_json(text: &str) -> Result<Self, String> {
         serde_json::from_str(text).map_err(|e| format!("modifications JSON: {e}"))

@@ -477,8 +477,8 @@ fn unsupported_functions_are_errors() {
     }
 }
 
-/// The String parameter `modifications` (the JSON object of DESIGN §11): a pinion pitch
-/// deviation set through `fmi2SetString` gives exactly the outputs of the library model of the
+/// The String parameter `modifications` (the JSON object of the README, "Modifications"): a
+/// pinion pitch deviation set through `fmi2SetString` gives exactly the outputs of the library model of the
 /// same pair (so the same static TE), differs from the perfect pair on the deviated tooth,
 /// survives an FMU state round trip; malformed JSON or an unknown key is refused by
 /// `fmi2SetString`, a value beyond its limit by `fmi2ExitInitializationMode`, and the messages

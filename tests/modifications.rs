@@ -448,7 +448,7 @@ fn cli(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).expect("one JSON object")
 }
 
-/// The contract keys of `static` (Winkler flags, K_Hβ) and `harris` (DESIGN §11).
+/// The contract keys of `static` (Winkler flags, K_Hβ) and `harris` (README, "Modifications, misalignment and deviations").
 #[test]
 fn cli_static_and_harris_keys() {
     let dir = std::env::temp_dir().join(format!("hg_mods_cli_{}", std::process::id()));
@@ -493,8 +493,8 @@ fn cli_static_and_harris_keys() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A Harris variant's modifications are merged into the base key by key (DESIGN §11,
-/// "merged"): keys of the variant replace the base's, nested objects merge, the rest stays;
+/// A Harris variant's modifications are merged into the base key by key (README,
+/// "Modifications, misalignment and deviations", "merged"): keys of the variant replace the base's, nested objects merge, the rest stays;
 /// an unknown key is an error naming it.
 #[test]
 fn variant_modifications_merge_key_by_key() {
@@ -573,9 +573,9 @@ fn dynamic_spectrum_with_pinion_deviations_has_pinion_orders_only() {
 }
 
 /// The C API takes the modifications in the gear-pair JSON (`hgm_create_from_json`, the
-/// `modifications` key of DESIGN §11): a pair with a pinion pitch deviation evaluates exactly
-/// as the library model of the same pair, and differs from the perfect pair on the deviated
-/// tooth; a misspelt or out-of-range key gives NULL and a message naming it.
+/// `modifications` key of the README's "Modifications" section): a pair with a pinion pitch
+/// deviation evaluates exactly as the library model of the same pair, and differs from the
+/// perfect pair on the deviated tooth; a misspelt or out-of-range key gives NULL and a message naming it.
 #[test]
 fn c_api_takes_modifications_in_the_json() {
     use helical_gear_mesh::capi::{
