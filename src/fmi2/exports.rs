@@ -1211,12 +1211,12 @@ pub const EXPORTED_FUNCTIONS: [&str; 44] = [
 mod tests {
     use super::*;
 
-    #[test]
-    fn a_panic_becomes_fatal_and_the_instance_can_still_be_freed() {
+    /// A Co-Simulation instance of the mesh element named `name`.
+    fn instantiate_cs(name: &std::ffi::CStr) -> fmi2Component {
         let g = CString::new(crate::fmi2::variables::guid()).unwrap();
         let c = unsafe {
             fmi2Instantiate(
-                c"p".as_ptr(),
+                name.as_ptr(),
                 FMI2_CO_SIMULATION,
                 g.as_ptr(),
                 std::ptr::null(),
@@ -1226,6 +1226,12 @@ mod tests {
             )
         };
         assert!(!c.is_null());
+        c
+    }
+
+    #[test]
+    fn a_panic_becomes_fatal_and_the_instance_can_still_be_freed() {
+        let c = instantiate_cs(c"p");
         assert_eq!(call(c, func::fmi2Reset, |_| panic!("boom")), fmi2Status::Fatal);
         // Fatal is final: every further call but fmi2FreeInstance is refused as fatal.
         assert_eq!(unsafe { fmi2Reset(c) }, fmi2Status::Fatal);
@@ -1235,19 +1241,7 @@ mod tests {
 
     #[test]
     fn a_call_entering_an_instance_in_use_is_refused_and_changes_nothing() {
-        let g = CString::new(crate::fmi2::variables::guid()).unwrap();
-        let c = unsafe {
-            fmi2Instantiate(
-                c"busy".as_ptr(),
-                FMI2_CO_SIMULATION,
-                g.as_ptr(),
-                std::ptr::null(),
-                std::ptr::null(),
-                FMI2_FALSE,
-                FMI2_FALSE,
-            )
-        };
-        assert!(!c.is_null());
+        let c = instantiate_cs(c"busy");
         // While one call holds the instance, another (here from inside it) is refused.
         let inner = call(c, func::fmi2Reset, |inst| {
             assert_eq!(unsafe { fmi2Reset(c) }, fmi2Status::Error);

@@ -537,8 +537,9 @@ impl MeshModel {
 
     /// Evaluates the mesh at `state` with the configured fidelity (see the module docs).
     pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
-        self.check_state(state)?;
+        // `evaluate_full` checks the state itself; the table is asked only for a checked one.
         if let Some(table) = &self.table {
+            self.check_state(state)?;
             if let Some(o) = table.evaluate(self, state) {
                 return Ok(o);
             }
@@ -823,8 +824,8 @@ impl MeshTorques for MeshModel {
     /// contact extent the damping needs are interpolated (3 of the 5 node values, no flags,
     /// no pressure): about 10 % of a drive-line run's time; everything else is complete.
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
-        self.check_state(state)?;
         if let Some(table) = &self.table {
+            self.check_state(state)?;
             if let Some(r) = table.evaluate_torques(self, state) {
                 return Ok(r);
             }
