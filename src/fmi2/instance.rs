@@ -729,12 +729,11 @@ impl Instance {
                 Ok(()) => {
                     d.outputs = None;
                     d.inputs.fresh = false;
-                    let mut x = vec![0.0; engine.n_states()];
-                    engine.get_states(&mut x);
-                    let names = self.model.state_names();
-                    ensure_finite("fmi2DoStep", &x, |i| {
-                        names.get(i).map_or_else(|| format!("state {}", i + 1), |n| n.to_string())
-                    })?;
+                    // At most the Drive's eight states: no allocation per step.
+                    let mut buf = [0.0; crate::dynamics::model::N_STATES];
+                    let x = &mut buf[..engine.n_states()];
+                    engine.get_states(x);
+                    ensure_finite("fmi2DoStep", x, |i| self.model.state_name(i))?;
                 }
                 Err(StepFailure::Discard(msg)) => {
                     self.data.mode = Phase::StepFailed;
@@ -832,8 +831,7 @@ impl Instance {
     pub(crate) fn me_get_states(&mut self, x: &mut [f64]) -> Result<fmi2Status, String> {
         self.check_nx(x.len(), "fmi2GetContinuousStates")?;
         self.engine()?.get_states(x);
-        let names = self.model.state_names();
-        ensure_finite("fmi2GetContinuousStates", x, |i| names[i].to_string())?;
+        ensure_finite("fmi2GetContinuousStates", x, |i| self.model.state_name(i))?;
         Ok(fmi2Status::Ok)
     }
 
@@ -843,8 +841,13 @@ impl Instance {
         self.check_nx(dx.len(), "fmi2GetDerivatives")?;
         let o = self.ensure_outputs()?;
         dx.copy_from_slice(&o.dx[..dx.len()]);
-        let names: Vec<&str> = self.model.derivatives().map(|v| v.name).collect();
-        ensure_finite("fmi2GetDerivatives", dx, |i| names[i].to_string())?;
+        // The names are looked up only for the message (no allocation per call).
+        ensure_finite("fmi2GetDerivatives", dx, |i| {
+            self.model
+                .derivatives()
+                .nth(i)
+                .map_or_else(|| format!("derivative {}", i + 1), |v| v.name.to_string())
+        })?;
         Ok(fmi2Status::Ok)
     }
 
@@ -870,8 +873,7 @@ impl Instance {
         self.check_nx(x.len(), "fmi2GetNominalsOfContinuousStates")?;
         if !x.is_empty() {
             self.ensure_built()?.engine.nominals(x);
-            let names = self.model.state_names();
-            ensure_finite("fmi2GetNominalsOfContinuousStates", x, |i| names[i].to_string())?;
+            ensure_finite("fmi2GetNominalsOfContinuousStates", x, |i| self.model.state_name(i))?;
         }
         Ok(fmi2Status::Ok)
     }

@@ -165,6 +165,15 @@ impl ModelInfo {
         self.derivatives().filter_map(|v| v.derivative_of).collect()
     }
 
+    /// The name of Model Exchange state `i` (0-based), or `state <i+1>` if there is none: for
+    /// messages, without collecting the names.
+    pub fn state_name(&self, i: usize) -> String {
+        self.derivatives()
+            .filter_map(|v| v.derivative_of)
+            .nth(i)
+            .map_or_else(|| format!("state {}", i + 1), str::to_string)
+    }
+
     /// The start value of `v` in this model.
     pub fn start(&self, v: &Variable) -> Option<String> {
         v.start_in(&(self.default_settings)(), &(self.default_inputs)())
