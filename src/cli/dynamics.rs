@@ -15,9 +15,8 @@ use std::io::Write;
 
 use clap::{Args, ValueEnum};
 use helical_gear_mesh::GearPair;
-use helical_gear_mesh::dynamics::limits::trajectory_sample_bytes;
 use helical_gear_mesh::dynamics::model::STATE_NAMES;
-use helical_gear_mesh::dynamics::simulate::default_rk4_step;
+use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_REFINE_RUNS,
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate,
@@ -204,15 +203,8 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
     }
     // The record's size is known before the mesh is built (limits::MAX_TRAJECTORY_SAMPLES).
     if let Some(dt) = a.dt {
-        let samples = (a.t_end / dt).floor() + 1.0;
-        if samples > MAX_TRAJECTORY_SAMPLES as f64 {
-            return Err(format!(
-                "simulate would store {samples:.3e} samples ({:.3e} GB); at most {:.0e}: lower \
-                 --t-end or raise --dt",
-                samples * trajectory_sample_bytes() as f64 * 1e-9,
-                MAX_TRAJECTORY_SAMPLES as f64
-            ));
-        }
+        check_samples((a.t_end / dt).floor() + 1.0, "lower --t-end or raise --dt")
+            .map_err(|e| e.to_string())?;
     }
     let (_, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
     let t_m = drive.mesh_period(a.omega_p);

@@ -115,8 +115,9 @@ fn absolute_of(rel: &RelativeCoordinates, x: &[f64]) -> [f64; N_STATES] {
 }
 
 /// Refuses a trajectory of `samples` recorded samples above [`MAX_TRAJECTORY_SAMPLES`]
-/// before anything is reserved; `remedy` says what to change.
-fn check_samples(samples: f64, remedy: &str) -> Result<(), DynamicsError> {
+/// before anything is reserved; the error names the count, its memory and the bound, and
+/// `remedy` says what to change.
+pub fn check_samples(samples: f64, remedy: &str) -> Result<(), DynamicsError> {
     if samples <= MAX_TRAJECTORY_SAMPLES as f64 {
         return Ok(());
     }
