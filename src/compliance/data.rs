@@ -86,7 +86,6 @@
 //!
 //! The fit takes about 0.02 s per gear (release build).
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 use std::time::Instant;
@@ -94,16 +93,15 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::InfluenceGrid;
-use super::fe::FeError;
+/// The error of the compliance computations ([`super::error`]), re-exported where it was.
+pub use super::error::ComplianceError;
 use super::fe::gear_mesh::GearMeshDensity;
 use super::fitted::{
     Deviation, FitError, FitOptions, FitReport, FittedInfluence, InfluenceParameters, PairSelection,
 };
-use super::hertz::HertzError;
 use super::influence_fe::{DEFAULT_DEPTH_MN, FeInfluence, axial_gauss_resample, fe_influence};
 use super::interpolated::InterpolatedInfluence;
 use super::stiffness::{PairStiffness, pair_stiffness};
-use crate::error::ParamError;
 use crate::geometry::{Member, PairGeometry};
 use crate::params::GearPair;
 
@@ -460,68 +458,6 @@ impl CacheOptions {
     /// No disk cache, no progress output (embedded data or computation only).
     pub fn no_disk() -> Self {
         Self { dir: None, progress: false }
-    }
-}
-
-/// Failure to compute, read, write or use compliance data.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ComplianceError {
-    /// The gear pair is invalid.
-    Param(ParamError),
-    /// The FE run of a gear failed.
-    Fe {
-        /// `"pinion"` or `"gear"`.
-        member: &'static str,
-        /// The FE error.
-        source: FeError,
-    },
-    /// The fit of a gear failed.
-    Fit {
-        /// `"pinion"` or `"gear"`.
-        member: &'static str,
-        /// The fit error.
-        source: FitError,
-    },
-    /// Stored data are unusable; the message names the item and the problem.
-    InvalidData(String),
-    /// Reading or writing a file failed.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The operating system's message.
-        message: String,
-    },
-    /// An argument is out of range; the message names it, its value and the limit.
-    Input(String),
-    /// The local contact term failed.
-    Hertz(HertzError),
-}
-
-impl fmt::Display for ComplianceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ComplianceError::Param(e) => write!(f, "{e}"),
-            ComplianceError::Fe { member, source } => write!(f, "FE run of the {member}: {source}"),
-            ComplianceError::Fit { member, source } => write!(f, "fit of the {member}: {source}"),
-            ComplianceError::InvalidData(m) => write!(f, "compliance data: {m}"),
-            ComplianceError::Io { path, message } => write!(f, "{}: {message}", path.display()),
-            ComplianceError::Input(m) => write!(f, "{m}"),
-            ComplianceError::Hertz(e) => write!(f, "local contact term: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for ComplianceError {}
-
-impl From<ParamError> for ComplianceError {
-    fn from(e: ParamError) -> Self {
-        ComplianceError::Param(e)
-    }
-}
-
-impl From<HertzError> for ComplianceError {
-    fn from(e: HertzError) -> Self {
-        ComplianceError::Hertz(e)
     }
 }
 

@@ -26,6 +26,7 @@
 //! reduces them to the tooth-pair stiffness c′ at the pitch point (ISO 6336-1 convention).
 
 pub mod data;
+pub mod error;
 pub mod fe;
 pub mod fitted;
 pub mod hertz;

@@ -70,7 +70,7 @@
 //!
 //! Units: SI inside (m, N, N/m, rad); the result also in N/(mm·µm).
 
-use super::data::ComplianceError;
+use super::error::ComplianceError;
 use super::hertz::LocalContact;
 use super::{Compliance, FlankCoord};
 use crate::contact::{ContactSolver, FlankSide};
