@@ -42,6 +42,10 @@ fn density_name(d: &GearMeshDensity) -> &'static str {
 /// Number of axial slices of the pair-stiffness load case.
 const STIFFNESS_SLICES: usize = 200;
 
+/// Runs `helical-gear compliance`: loads (or, with `--write-cache` or a non-default density,
+/// computes) the FE compliance data, prints the fit quality and the tooth-pair stiffness at the
+/// pitch point (c′ in N/(mm·µm), with its split into global and local approach), as text or
+/// JSON.
 pub fn compliance_cmd(
     common: &Common,
     write_cache: Option<&std::path::Path>,

@@ -7,6 +7,8 @@ use serde_json::json;
 
 use super::{Common, load_params};
 
+/// Runs `helical-gear contact`: the per-slice contact table at pinion angle `phi_p` (rad) and
+/// transmission error `te` (m) over `slices` axial slices; `back` lists the back flanks.
 pub fn contact_cmd(
     common: &Common,
     phi_p: f64,

@@ -6,6 +6,8 @@ use serde_json::json;
 
 use super::{Common, load_params};
 
+/// Runs `helical-gear geometry`: the derived geometry (radii in m, inertias in kg·m²,
+/// contact ratios) as text or JSON.
 pub fn geometry_cmd(common: &Common) -> Result<(), String> {
     let p = load_params(common)?;
     let g = PairGeometry::new(&p).map_err(|e| e.to_string())?;

@@ -7,6 +7,9 @@ use serde_json::json;
 
 use super::{Common, load_params, mods};
 
+/// Runs `helical-gear static`: the static TE curve under `torque` (N·m on the pinion; default
+/// the parameters' drive torque) at `points_per_pitch` angles over `pitches` pinion pitches,
+/// the face load and K_Hβ per point, and with `plot` the CSV/PNG figures into that directory.
 pub fn static_cmd(
     common: &Common,
     torque: Option<f64>,
