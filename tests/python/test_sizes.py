@@ -3,7 +3,7 @@ most 6 MB zipped, and the linux64 library inside at most 8 MB.
 
 The library carries only the model (no command line, figures or font: those are the
 applications' crate, app/) and no debug info (release profile: ``debug = false``,
-``strip = "debuginfo"``). With line tables and the applications linked in, the library was
+``strip = "symbols"``). With line tables and the applications linked in, the library was
 31.7 MB and each FMU 16.8 MB. 1 MB = 10^6 bytes.
 """
 
