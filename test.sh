@@ -46,7 +46,7 @@ if [ -d tests/python ] && ls tests/python/test_*.py >/dev/null 2>&1; then
 
   echo "== release build: FMU (target/fmu/HelicalGearMesh.fmu, linux64 and win64) and CLI"
   cargo run --release -p fmu-build -- "${win64[@]}"
-  cargo build --release --bin helical-gear
+  cargo build --release -p helical-gear-app --bin helical-gear
 
   echo "== python tests (fmpy + pytest in .venv; includes the C test of tests/c)"
   if [ ! -x .venv/bin/python ]; then

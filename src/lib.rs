@@ -20,7 +20,6 @@
 //! radius): TE = 0 when ideal unloaded involute driving flanks just touch, TE > 0 when the teeth
 //! must deform.
 
-pub mod bench;
 pub mod capi;
 pub mod compliance;
 pub mod contact;
@@ -32,9 +31,7 @@ pub mod load;
 pub mod mesh;
 pub mod modifications;
 pub mod numeric;
-pub mod paper;
 pub mod params;
-pub mod plot;
 
 pub use error::ParamError;
 pub use geometry::PairGeometry;

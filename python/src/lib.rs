@@ -19,6 +19,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
+use helical_gear_app::paper::{PaperOptions, run_paper};
 use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData, ComplianceKey};
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
@@ -32,7 +33,6 @@ use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, MeshError, MeshModel as RustMeshModel, MeshOptions, MeshState,
     static_curve,
 };
-use helical_gear_mesh::paper::{PaperOptions, run_paper};
 use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;

@@ -7,7 +7,7 @@
 //! 1. **Static**: the static transmission error STE over one pinion pitch (Fig. 6 analogue) and
 //!    the static pressure waterfall over the whole engagement of tooth pair 0 (Fig. 7), full
 //!    fidelity. Then the **static onset of tip contact**
-//!    ([`crate::mesh::tip_contact_threshold_curve`]): at 40 pinion angles over one pitch the
+//!    ([`helical_gear_mesh::mesh::tip_contact_threshold_curve`]): at 40 pinion angles over one pitch the
 //!    smallest TE at which a loaded contact reaches a tip rounding or tip edge
 //!    (`tip_threshold.csv`; its minimum is `tip_contact_te_threshold_um` in the summary).
 //! 2. **Sweeps**: steady TE_max/STE_max over the pinion speed for d_mesh = 100 and 200 N·s/m
@@ -44,20 +44,20 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::GearPair;
-use crate::compliance::data::{CacheOptions, ComplianceData};
-use crate::compliance::fe::gear_mesh::GearMeshDensity;
-use crate::dynamics::model::{PHI_G, PHI_P, W_G, W_P};
-use crate::dynamics::{
+use crate::plot;
+use helical_gear_mesh::GearPair;
+use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData};
+use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
+use helical_gear_mesh::dynamics::model::{PHI_G, PHI_P, W_G, W_P};
+use helical_gear_mesh::dynamics::{
     Drivetrain, GearDynamics, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, SweepResult,
     mesh_stiffness, run_to_steady, simulate, sweep,
 };
-use crate::geometry::Member;
-use crate::mesh::{
+use helical_gear_mesh::geometry::Member;
+use helical_gear_mesh::mesh::{
     Fidelity, GearCompliance, MeshModel, MeshOptions, MeshState, TipThreshold, pressure_waterfall,
     static_curve, tip_contact_threshold_curve,
 };
-use crate::plot;
 
 /// The paper's values (Andersson & Vedmar 2003) that the run is compared with.
 pub mod reference {
@@ -874,7 +874,11 @@ fn short_sweep_size(quick: bool) -> (usize, usize) {
 
 /// The pinion speed (rad/s) at which the mesh frequency z_p·ω_p meets the mesh mode (the
 /// highest of the four) of Eqs. 1–4 linearised with the constant mesh stiffness `k` (N/m).
-fn linear_mesh_speed(geo: &crate::geometry::PairGeometry, d: &Drivetrain, k: f64) -> f64 {
+fn linear_mesh_speed(
+    geo: &helical_gear_mesh::geometry::PairGeometry,
+    d: &Drivetrain,
+    k: f64,
+) -> f64 {
     d.linear_frequencies(k, geo.pinion.rb, geo.gear.rb)[3] / d.z_p as f64
 }
 
@@ -901,7 +905,7 @@ const LABEL_OMEGA_CRIT: &str = "this model's omega_crit resonance";
 /// Largest TE (m) over `samples` and the closest approach min(threshold(φp) − TE) (m).
 fn te_against_threshold(
     samples: &[(f64, [f64; 8])],
-    geo: &crate::geometry::PairGeometry,
+    geo: &helical_gear_mesh::geometry::PairGeometry,
     threshold: &TipThreshold,
 ) -> (f64, f64) {
     let (mut te_max, mut margin) = (f64::NEG_INFINITY, f64::INFINITY);
@@ -1118,7 +1122,10 @@ fn line_png(
 }
 
 /// Static TE over one pitch (Fig. 6 analogue): `static_te.csv` and `.png` in `dir`.
-pub fn figure_static_te(dir: &Path, curve: &crate::mesh::StaticCurve) -> Result<(), String> {
+pub fn figure_static_te(
+    dir: &Path,
+    curve: &helical_gear_mesh::mesh::StaticCurve,
+) -> Result<(), String> {
     let mut csv = String::from("phi_p_rad,ste_um,n_pairs,p_max_pa,tip_contact\n");
     for e in &curve.points {
         csv.push_str(&format!(
@@ -1142,7 +1149,7 @@ pub fn figure_static_te(dir: &Path, curve: &crate::mesh::StaticCurve) -> Result<
 }
 
 /// Static pressure waterfall of tooth pair 0 (Fig. 7): `waterfall_static.csv` and `.png` in `dir`.
-pub fn figure_7(dir: &Path, rows: &[crate::mesh::WaterfallRow]) -> Result<(), String> {
+pub fn figure_7(dir: &Path, rows: &[helical_gear_mesh::mesh::WaterfallRow]) -> Result<(), String> {
     let mut csv = String::from("phi_p_rad,ste_um,zeta,pressure_pa,tip_contact\n");
     for r in rows {
         for (z, p) in r.zeta.iter().zip(&r.pressure) {

@@ -1,11 +1,11 @@
-//! The `paper` subcommand: the whole paper run ([`helical_gear_mesh::paper::run_paper`]) into
+//! The `paper` subcommand: the whole paper run ([`helical_gear_app::paper::run_paper`]) into
 //! an output directory. Progress goes to stderr, one line per stage; stdout gets a short text
 //! summary, or the summary JSON with `--json`.
 
 use clap::Args;
-use helical_gear_mesh::paper::{PaperOptions, reference, run_paper};
+use helical_gear_app::paper::{PaperOptions, reference, run_paper};
 
-use crate::{Common, load_params};
+use super::{Common, load_params};
 
 /// Arguments of `helical-gear paper`.
 #[derive(Args, Clone)]

@@ -9,7 +9,7 @@
 //!   evaluation (the fastest of several passes over the states, single thread) and the largest
 //!   relative error of M_F,p against the reference: full fidelity at 50…400 slices, with
 //!   interpolated and fitted compliance, the general interpolation without the slice kernel
-//!   (the assembly before [`crate::compliance::interpolated::SliceInfluence`]), and the table
+//!   (the assembly before [`helical_gear_mesh::compliance::interpolated::SliceInfluence`]), and the table
 //!   fidelity at four sizes (with its build time).
 //! * **Options**: what switching off pressure, damping or the neighbour coupling, or switching
 //!   on the per-slice detail, costs or saves at 200 slices (and, for the coupling, the error
@@ -21,13 +21,13 @@
 //!   DOPRI5 at tolerances 10⁻⁶…10⁻¹².
 //! * **Tooth deviations** ([`HuntingCase`]): the pair with the pitch errors and runouts of
 //!   `docs/modifications/table1_pitch_errors.json` on the table fidelity (per-pair table,
-//!   [`crate::mesh::table`]): an RK4 run at 500 rad/s over a whole hunting period
+//!   [`helical_gear_mesh::mesh::table`]): an RK4 run at 500 rad/s over a whole hunting period
 //!   (z_p·z_g/gcd meshes, 1410 for Table 1; 30 in `--quick`) at 32 steps per mesh period, its
 //!   wall time and mesh evaluations, the time per table evaluation at the run's states, and the
 //!   torque error against full fidelity (same slices) at 200 states sampled evenly from the
 //!   run (40 in `--quick`).
 //! * **Drive-line units** ([`DriveUnitCase`]): the engine of the `HelicalGearDrive` FMU
-//!   ([`crate::dynamics::unit::DriveUnit`] of kind Drive, in-process, as the C API's
+//!   ([`helical_gear_mesh::dynamics::unit::DriveUnit`] of kind Drive, in-process, as the C API's
 //!   `hgm_unit_advance` runs it) at 532 rad/s from its static equilibrium, communication step
 //!   H = 10⁻⁴ s with the outputs read after every step: simulated seconds per wall second over
 //!   1 s of drive-line time (0.01 s in `--quick`) at 32, 64, 96 and 128 RK4 sub-steps per
@@ -45,14 +45,16 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::dynamics::integrators::{AbsTol, Dopri5Options};
-use crate::dynamics::model::{Drivetrain, GearDynamics};
-use crate::dynamics::simulate::{Stepping, simulate};
-use crate::mesh::statics::EquilibriumSettings;
-use crate::mesh::{ComplianceModel, Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
 use crate::paper::{PaperOptions, StageTiming, run_paper};
-use crate::params::GearPair;
 use crate::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
+use helical_gear_mesh::dynamics::integrators::{AbsTol, Dopri5Options};
+use helical_gear_mesh::dynamics::model::{Drivetrain, GearDynamics};
+use helical_gear_mesh::dynamics::simulate::{Stepping, simulate};
+use helical_gear_mesh::mesh::statics::EquilibriumSettings;
+use helical_gear_mesh::mesh::{
+    ComplianceModel, Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState,
+};
+use helical_gear_mesh::params::GearPair;
 
 /// Options of [`run_bench`].
 #[derive(Debug, Clone, PartialEq)]
@@ -196,7 +198,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
         }
     };
     let q = opts.quick;
-    let err = |e: crate::mesh::MeshError| e.to_string();
+    let err = |e: helical_gear_mesh::mesh::MeshError| e.to_string();
     let base = MeshOptions::default();
     let reference_slices = if q { 200 } else { 800 };
     let (n_phase, min_pass_s) = if q { (6, 0.02) } else { (64, 1.0) };
@@ -419,7 +421,7 @@ fn time_with(
     m: &mut MeshModel,
     states: &[MeshState],
     min_s: f64,
-    f: impl Fn(&mut MeshModel, &MeshState) -> Result<MeshOutputs, crate::mesh::MeshError>,
+    f: impl Fn(&mut MeshModel, &MeshState) -> Result<MeshOutputs, helical_gear_mesh::mesh::MeshError>,
 ) -> Result<(f64, Vec<MeshOutputs>), String> {
     let out = states.iter().map(|s| f(m, s)).collect::<Result<Vec<_>, _>>();
     let out = out.map_err(|e| e.to_string())?;
@@ -535,9 +537,9 @@ fn dynamics_cases(
 /// The pitch errors and runouts of the benchmark with tooth deviations (the file
 /// `docs/modifications/table1_pitch_errors.json`, scaled to the pair's tooth numbers: the
 /// 30 pinion values repeated, the runouts kept).
-fn bench_deviations(pair: &GearPair) -> crate::modifications::Modifications {
+fn bench_deviations(pair: &GearPair) -> helical_gear_mesh::modifications::Modifications {
     let sample =
-        GearPair::from_json(include_str!("../docs/modifications/table1_pitch_errors.json"))
+        GearPair::from_json(include_str!("../../docs/modifications/table1_pitch_errors.json"))
             .map(|p| p.modifications)
             .unwrap_or_default();
     let mut m = pair.modifications.clone();
@@ -580,12 +582,12 @@ fn drive_unit_cases(
     quick: bool,
     say: &dyn Fn(&str),
 ) -> Result<Vec<DriveUnitCase>, String> {
-    use crate::dynamics::unit::{DriveUnit, UnitKind, UnitStepping};
+    use helical_gear_mesh::dynamics::unit::{DriveUnit, UnitKind, UnitStepping};
     let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
     let (omega, h) = (532.0, 1e-4);
     let run =
         |mesh: MeshModel, stepping: UnitStepping, n: usize| -> Result<(Vec<f64>, f64), String> {
-            let e = |e: crate::dynamics::DynamicsError| e.to_string();
+            let e = |e: helical_gear_mesh::dynamics::DynamicsError| e.to_string();
             let mut u = DriveUnit::new(UnitKind::Drive, mesh, drive, stepping).map_err(e)?;
             u.start_static(0.0, omega, &EquilibriumSettings::default()).map_err(e)?;
             let mut te = Vec::with_capacity(n);
@@ -650,7 +652,7 @@ fn hunting_case(
     min_pass_s: f64,
     say: &dyn Fn(&str),
 ) -> Result<HuntingCase, String> {
-    let err = |e: crate::mesh::MeshError| e.to_string();
+    let err = |e: helical_gear_mesh::mesh::MeshError| e.to_string();
     let p = GearPair { modifications: bench_deviations(pair), ..pair.clone() };
     let slices = if quick { 50 } else { 200 };
     let o = MeshOptions { fidelity: Fidelity::Table, slices, ..MeshOptions::default() };
@@ -659,8 +661,11 @@ fn hunting_case(
     let build_s = t0.elapsed().as_secs_f64();
     let mut full =
         MeshModel::new(&p, MeshOptions { slices, ..MeshOptions::default() }).map_err(err)?;
-    let meshes =
-        if quick { 30 } else { crate::modifications::Modifications::hunting_meshes(p.z_p, p.z_g) };
+    let meshes = if quick {
+        30
+    } else {
+        helical_gear_mesh::modifications::Modifications::hunting_meshes(p.z_p, p.z_g)
+    };
     let drive = Drivetrain::from_pair(&p).map_err(|e| e.to_string())?;
     let mut dynm = GearDynamics::new(table, drive).map_err(|e| e.to_string())?;
     let omega = 500.0;

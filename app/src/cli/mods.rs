@@ -5,6 +5,8 @@
 //! the deviations' period, sampled at uniform pinion angles).
 
 use clap::{Args, ValueEnum};
+use helical_gear_app::plot::PlotError;
+use helical_gear_app::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
     ComplianceModel, MeshModel, MeshOptions, MeshState, StaticCurve, face_load, k_h_beta_iso,
@@ -12,12 +14,10 @@ use helical_gear_mesh::mesh::{
 };
 use helical_gear_mesh::modifications::Modifications;
 use helical_gear_mesh::numeric::amplitude_spectrum;
-use helical_gear_mesh::plot::PlotError;
-use helical_gear_mesh::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
 use serde::Deserialize;
 use serde_json::json;
 
-use crate::{Common, load_params};
+use super::{Common, load_params};
 
 /// `--compliance` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -27,7 +27,7 @@ use helical_gear_mesh::mesh::{
 };
 use serde_json::{Value, json};
 
-use crate::{Common, load_params};
+use super::{Common, load_params};
 
 /// Mesh evaluation fidelity on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use helical_gear_mesh::plot::{
+use helical_gear_app::plot::{
     Heatmap, LineChart, PlotError, Series, SeriesStyle, Waterfall, heatmap, line_chart, waterfall,
     write_csv,
 };

@@ -8,9 +8,9 @@
 //!
 //! Rendering uses `plotters` with its bitmap backend and pure-Rust `ab_glyph` text, so neither
 //! building nor running needs system font libraries. Text is set in DejaVu Sans
-//! (`assets/fonts/DejaVuSans.ttf`, DejaVu fonts 2.37), embedded in the library. Its licence
-//! (Bitstream Vera and Arev font licences, permissive; DejaVu changes are public domain) is in
-//! `assets/fonts/LICENSE-DejaVu.txt`. The font is registered with plotters under a private
+//! (`app/assets/fonts/DejaVuSans.ttf`, DejaVu fonts 2.37), embedded in this application crate,
+//! not in the model library. Its licence (Bitstream Vera and Arev font licences, permissive;
+//! DejaVu changes are public domain) is in `app/assets/fonts/LICENSE-DejaVu.txt`. The font is registered with plotters under a private
 //! family name, see [`FONT_FAMILY`].
 //!
 //! Bad data never panics: non-finite points (and non-positive ones on a logarithmic axis) are
@@ -39,7 +39,7 @@ use plotters::style::{FontStyle, register_font};
 /// A private name, so that a `"sans-serif"` font registered by other code is left alone.
 pub const FONT_FAMILY: &str = "helical_gear_mesh DejaVu Sans";
 
-/// DejaVu Sans (Book), see `assets/fonts/LICENSE-DejaVu.txt`.
+/// DejaVu Sans (Book), see `app/assets/fonts/LICENSE-DejaVu.txt`.
 static FONT_TTF: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
 /// Smallest accepted image side in pixels: below it the axes and labels do not fit.

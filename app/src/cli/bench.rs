@@ -1,11 +1,11 @@
 //! The `bench` subcommand: the work-precision benchmark
-//! ([`helical_gear_mesh::bench::run_bench`]). Progress goes to stderr; stdout gets a text
+//! ([`helical_gear_app::bench::run_bench`]). Progress goes to stderr; stdout gets a text
 //! table, or the report as one JSON object with `--json`.
 
 use clap::Args;
-use helical_gear_mesh::bench::{BenchOptions, run_bench, write_bench_files};
+use helical_gear_app::bench::{BenchOptions, run_bench, write_bench_files};
 
-use crate::{Common, load_params};
+use super::{Common, load_params};
 
 /// Arguments of `helical-gear bench`.
 #[derive(Args, Clone)]

@@ -1,0 +1,129 @@
+//! The `static` subcommand: static transmission error over the mesh cycle (Eq. 16), the face
+//! load distribution and, with `--plot`, the pressure waterfall (Fig. 7).
+
+use helical_gear_app::paper;
+use helical_gear_mesh::mesh::{MeshModel, pressure_waterfall, static_curve};
+use serde_json::json;
+
+use super::{Common, load_params, mods};
+
+/// Runs `helical-gear static`: the static TE curve under `torque` (N·m on the pinion; default
+/// the parameters' drive torque) at `points_per_pitch` angles over `pitches` pinion pitches,
+/// the face load and K_Hβ per point, and with `plot` the CSV/PNG figures into that directory.
+pub fn static_cmd(
+    common: &Common,
+    torque: Option<f64>,
+    points_per_pitch: usize,
+    pitches: usize,
+    slices: usize,
+    plot: Option<&std::path::Path>,
+    model_args: &mods::ModelArgs,
+) -> Result<(), String> {
+    let p = load_params(common)?;
+    let torque = torque.unwrap_or(p.drive.torque_nm);
+    if !(torque.is_finite() && torque > 0.0) {
+        return Err(format!("--torque = {torque} N·m: allowed > 0 and finite"));
+    }
+    if !(1..=10_000).contains(&points_per_pitch) || !(1..=100).contains(&pitches) {
+        return Err(format!(
+            "--points-per-pitch = {points_per_pitch} (allowed 1..=10000), --pitches = {pitches} \
+             (allowed 1..=100)"
+        ));
+    }
+    let t0 = std::time::Instant::now();
+    let options = model_args.options(slices);
+    let mut model = MeshModel::new(&p, options).map_err(|e| e.to_string())?;
+    let build_s = t0.elapsed().as_secs_f64();
+    let geo = model.geometry().clone();
+    let pitch = geo.pinion.angular_pitch();
+    let curve = static_curve(&mut model, torque, 0.0, pitch, points_per_pitch, pitches)
+        .map_err(|e| e.to_string())?;
+    let fl = mods::face_loads(&mut model, &curve, pitch, points_per_pitch, pitches)?;
+    let rb = geo.pinion.rb;
+    let stiffness = curve.mean_stiffness(rb);
+    if let Some(dir) = plot {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        // The same files as the paper run's static stage.
+        paper::figure_static_te(dir, &curve)?;
+        let rows = pressure_waterfall(&mut model, torque, 0, -1.5 * pitch, 1.5 * pitch, 20)
+            .map_err(|e| e.to_string())?;
+        paper::figure_7(dir, &rows)?;
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    let points: Vec<_> = curve
+        .points
+        .iter()
+        .zip(&fl.points)
+        .map(|(e, &(k, w_max, w_mean))| {
+            json!({
+                "phi_p_rad": e.phi_p, "ste_um": e.te * 1e6, "n_pairs": e.outputs.n_pairs,
+                "p_max_pa": e.outputs.p_max, "tip_contact": e.outputs.tip_contact,
+                "contact_length_m": e.outputs.contact_length,
+                "k_h_beta": k, "line_load_max_n_per_mm": w_max,
+                "line_load_mean_n_per_mm": w_mean,
+            })
+        })
+        .collect();
+    let out = json!({
+        "torque_nm": torque,
+        "slices": slices,
+        "ste_max_um": curve.max() * 1e6,
+        "ste_min_um": curve.min() * 1e6,
+        "ste_mean_um": curve.mean() * 1e6,
+        "ste_peak_to_peak_um": (curve.max() - curve.min()) * 1e6,
+        "mesh_stiffness_mean_n_per_um": stiffness * 1e-6,
+        "tip_rounding_contact": curve.tip_rounding_contact(),
+        "k_h_beta_max": fl.k_h_beta_max,
+        "k_h_beta_cycle": fl.k_h_beta_cycle,
+        "k_h_beta_iso": fl.k_h_beta_iso,
+        "f_beta_y_um": fl.f_beta_y_m * 1e6,
+        "c_gamma_n_per_mm_per_um": fl.c_gamma_n_per_mm_um,
+        "model_build_s": build_s,
+        "seconds": seconds,
+        "points": points,
+    });
+    if common.json {
+        println!("{out}");
+    } else {
+        println!(
+            "Static transmission error, M = {torque} N·m, {} points over {pitches} pitch(es), \
+             {slices} slices",
+            curve.points.len()
+        );
+        println!(
+            "  STE max {:.3} µm, min {:.3} µm, mean {:.3} µm (paper: max 30.5 µm)",
+            curve.max() * 1e6,
+            curve.min() * 1e6,
+            curve.mean() * 1e6
+        );
+        println!("  mean mesh stiffness {:.2} N/µm along the line of action", stiffness * 1e-6);
+        println!("  tip-rounding contact: {}", curve.tip_rounding_contact());
+        println!(
+            "  K_Hβ max {:.4}, of the cycle-averaged line load {:.4}; ISO 6336-1 method C {:.4} \
+             (F_βy = {:.2} µm, c_γ = {:.2} N/(mm·µm))",
+            fl.k_h_beta_max,
+            fl.k_h_beta_cycle,
+            fl.k_h_beta_iso,
+            fl.f_beta_y_m * 1e6,
+            fl.c_gamma_n_per_mm_um
+        );
+        println!(
+            "  {:>10} {:>10} {:>6} {:>10} {:>8} {:>12}",
+            "phi_p_rad", "ste_um", "pairs", "p_max_MPa", "K_Hβ", "w_max_N/mm"
+        );
+        for (e, (k, w_max, _)) in curve.points.iter().zip(&fl.points) {
+            println!(
+                "  {:10.5} {:10.4} {:6} {:10.1} {:8.4} {:12.2}",
+                e.phi_p,
+                e.te * 1e6,
+                e.outputs.n_pairs,
+                e.outputs.p_max * 1e-6,
+                k,
+                w_max
+            );
+        }
+        println!("  ({seconds:.2} s, of which {build_s:.2} s building the model)");
+    }
+    Ok(())
+}

@@ -1,0 +1,166 @@
+//! `helical-gear`: command-line front end of the helical_gear_mesh library.
+//!
+//! Every subcommand takes `--params FILE` (JSON in the schema of [`GearPair`]; default: the
+//! paper's Table 1) and `--json` (one JSON object on stdout; human-readable text otherwise).
+//! JSON keys are snake_case with units in the name.
+
+use std::process::ExitCode;
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+use cli::compliance::DensityArg;
+use cli::{Common, bench, compliance, contact, dynamics, geometry, mods, paper, statics};
+use helical_gear_mesh::GearPair;
+
+#[derive(Parser)]
+#[command(name = "helical-gear", version, about = "Andersson–Vedmar helical-gear mesh model")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Derived geometry: contact ratios, radii, centre distance, inertias.
+    Geometry {
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Per-slice table of the instant line of contact at a pinion angle and transmission error.
+    Contact {
+        #[command(flatten)]
+        common: Common,
+        /// Pinion hub angle φp, rad.
+        #[arg(long, allow_hyphen_values = true)]
+        phi_p: f64,
+        /// Transmission error TE = φp·g_p + φg·g_g, m (sets φg).
+        #[arg(long, allow_hyphen_values = true)]
+        te: f64,
+        /// Number of axial slices.
+        #[arg(long, default_value_t = 20)]
+        slices: usize,
+        /// List the back-flank contacts (through the backlash) instead of the driving flanks.
+        #[arg(long)]
+        back: bool,
+    },
+    /// FE compliance data of both gears (embedded, disk cache or computed), fit quality and
+    /// the tooth-pair stiffness at the pitch point.
+    Compliance {
+        #[command(flatten)]
+        common: Common,
+        /// Compute the data afresh (FE and fit; never the embedded or cached data) and write
+        /// them to FILE, e.g. `resources/compliance_table1.json`.
+        #[arg(long, value_name = "FILE")]
+        write_cache: Option<std::path::PathBuf>,
+        /// FE mesh density; other than `default` the data are always computed.
+        #[arg(long, value_enum, default_value_t = DensityArg::Default)]
+        density: DensityArg,
+    },
+    /// Print the default parameters (Table 1) as JSON, a template for `--params`.
+    Params,
+    /// Static transmission error over the mesh cycle (Eq. 16) and the pressure waterfall.
+    Static {
+        #[command(flatten)]
+        common: Common,
+        /// Driving torque M on the pinion, N·m (default: the parameters' `drive.torque_nm`).
+        #[arg(long)]
+        torque: Option<f64>,
+        /// Pinion angles per pinion pitch.
+        #[arg(long, default_value_t = 20)]
+        points_per_pitch: usize,
+        /// Number of pinion pitches.
+        #[arg(long, default_value_t = 1)]
+        pitches: usize,
+        /// Total slices over the simultaneous contact lines (the paper's 200).
+        #[arg(long, default_value_t = 200)]
+        slices: usize,
+        /// Write the STE curve and the pressure waterfall (Fig. 7) as CSV and PNG into DIR.
+        #[arg(long, value_name = "DIR")]
+        plot: Option<std::path::PathBuf>,
+        #[command(flatten)]
+        model: mods::ModelArgs,
+    },
+    /// Harris map: peak-to-peak static TE against torque for a set of modification variants.
+    Harris(mods::HarrisArgs),
+    /// Spectrum of the static TE over a hunting period, in orders of the pinion rotation.
+    Spectrum(mods::SpectrumArgs),
+    /// One trajectory of Eqs. 1–4 from the static equilibrium at a nominal speed: time, the
+    /// eight states, TE and the four mesh torques.
+    Simulate(dynamics::SimulateArgs),
+    /// Steady-state TE_max/STE_max over a range of pinion speeds, separation flags and the
+    /// located resonances.
+    Sweep(dynamics::SweepArgs),
+    /// The paper run: static TE and Fig. 7, the speed sweeps of Fig. 9, Figs. 10–13, the
+    /// resonances, separation, tip contact and a sensitivity study, into `--out DIR`.
+    Paper(paper::PaperArgs),
+    /// The work-precision benchmark: time per mesh evaluation against the torque error for
+    /// every fidelity and resolution, integrator steps against the TE error, the paper run's
+    /// wall time.
+    Bench(bench::BenchArgs),
+}
+
+/// Restores the default action of SIGPIPE, which the Rust runtime ignores: a reader that
+/// closes our stdout early (`helical-gear simulate … --csv | head -1`) then ends the program
+/// quietly, as it does for other command-line tools, instead of a `println!` panic about a
+/// broken pipe.
+fn restore_sigpipe() {
+    #[cfg(unix)]
+    {
+        unsafe extern "C" {
+            fn signal(signum: std::ffi::c_int, handler: usize) -> usize;
+        }
+        const SIGPIPE: std::ffi::c_int = 13; // the same number on Linux, macOS and the BSDs
+        const SIG_DFL: usize = 0;
+        // SAFETY: called first thing in main, before any thread exists; SIG_DFL is a valid
+        // action for SIGPIPE.
+        unsafe {
+            signal(SIGPIPE, SIG_DFL);
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    restore_sigpipe();
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Geometry { common } => geometry::geometry_cmd(common),
+        Command::Contact { common, phi_p, te, slices, back } => {
+            contact::contact_cmd(common, *phi_p, *te, *slices, *back)
+        }
+        Command::Static { common, torque, points_per_pitch, pitches, slices, plot, model } => {
+            statics::static_cmd(
+                common,
+                *torque,
+                *points_per_pitch,
+                *pitches,
+                *slices,
+                plot.as_deref(),
+                model,
+            )
+        }
+        Command::Harris(args) => mods::harris_cmd(args),
+        Command::Spectrum(args) => mods::spectrum_cmd(args),
+        Command::Simulate(args) => dynamics::simulate_cmd(args),
+        Command::Sweep(args) => dynamics::sweep_cmd(args),
+        Command::Compliance { common, write_cache, density } => {
+            compliance::compliance_cmd(common, write_cache.as_deref(), *density)
+        }
+        Command::Paper(args) => paper::paper_cmd(args),
+        Command::Bench(args) => bench::bench_cmd(args),
+        Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
+            Ok(s) => {
+                println!("{s}");
+                Ok(())
+            }
+            Err(e) => Err(e.to_string()),
+        },
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("helical-gear: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
