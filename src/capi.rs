@@ -54,7 +54,7 @@ use crate::dynamics::{
 };
 use crate::error::short_num;
 use crate::mesh::statics::EquilibriumSettings;
-use crate::mesh::{Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
+use crate::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState};
 use crate::params::GearPair;
 
 /// Result of a C API call.
@@ -122,7 +122,7 @@ impl From<MeshOutputs> for HgmOutputs {
 
 /// A mesh model (opaque to C).
 pub struct HgmModel {
-    model: MeshModel,
+    model: Mesh,
     last_error: CString,
 }
 
@@ -151,7 +151,7 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
 fn create(pair: Result<GearPair, String>) -> *mut HgmModel {
     let r = catch_unwind(|| {
         let pair = pair?;
-        MeshModel::new(&pair, MeshOptions::default()).map_err(|e| e.to_string())
+        Mesh::new(&pair, MeshOptions::default()).map_err(|e| e.to_string())
     });
     match r {
         Ok(Ok(model)) => {
@@ -202,8 +202,8 @@ trait Handle {
 }
 
 impl Handle for HgmModel {
-    type Inner = MeshModel;
-    fn parts(&mut self) -> (&mut MeshModel, &mut CString) {
+    type Inner = Mesh;
+    fn parts(&mut self) -> (&mut Mesh, &mut CString) {
         (&mut self.model, &mut self.last_error)
     }
 }
@@ -270,7 +270,7 @@ fn with_handle<H: Handle>(
 fn with_model(
     h: *mut HgmModel,
     what: &str,
-    f: impl FnOnce(&mut MeshModel) -> Result<(), (HgmStatus, String)>,
+    f: impl FnOnce(&mut Mesh) -> Result<(), (HgmStatus, String)>,
 ) -> HgmStatus {
     with_handle(h, what, f)
 }
@@ -478,7 +478,7 @@ pub struct HgmUnit {
 
 /// The payload of an [`HgmUnit`]: the unit and the text of its last snapshot.
 struct UnitHandle {
-    unit: DriveUnit<MeshModel>,
+    unit: DriveUnit<Mesh>,
     snapshot: CString,
 }
 
@@ -581,7 +581,7 @@ pub unsafe extern "C" fn hgm_unit_create(
         } else {
             UnitStepping::Dopri5 { rtol, atol }
         };
-        let mesh = MeshModel::new(&pair, MeshOptions { fidelity, ..MeshOptions::default() })
+        let mesh = Mesh::new(&pair, MeshOptions { fidelity, ..MeshOptions::default() })
             .map_err(|e| e.to_string())?;
         let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
         let unit = DriveUnit::new(kind, mesh, drive, stepping).map_err(|e| e.to_string())?;

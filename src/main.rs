@@ -20,7 +20,7 @@ use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData};
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
-use helical_gear_mesh::mesh::{MeshModel, pressure_waterfall, static_curve};
+use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
 use helical_gear_mesh::paper;
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde_json::json;
@@ -455,7 +455,7 @@ fn static_cmd(
     }
     let t0 = std::time::Instant::now();
     let options = model_args.options(slices);
-    let mut model = MeshModel::new(&p, options).map_err(|e| e.to_string())?;
+    let mut model = Mesh::new(&p, options).map_err(|e| e.to_string())?;
     let build_s = t0.elapsed().as_secs_f64();
     let geo = model.geometry().clone();
     let pitch = geo.pinion.angular_pitch();

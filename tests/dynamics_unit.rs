@@ -16,17 +16,17 @@ use helical_gear_mesh::dynamics::{
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
-    Fidelity, MeshError, MeshModel, MeshOptions, MeshOutputs, MeshState, MeshTorques,
+    Fidelity, Mesh, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques,
 };
 use helical_gear_mesh::params::GearPair;
 
 /// The Table 1 pair at table fidelity (built once) and its drivetrain.
-fn table_mesh() -> (MeshModel, Drivetrain) {
-    static MESH: OnceLock<(MeshModel, Drivetrain)> = OnceLock::new();
+fn table_mesh() -> (Mesh, Drivetrain) {
+    static MESH: OnceLock<(Mesh, Drivetrain)> = OnceLock::new();
     let (m, d) = MESH.get_or_init(|| {
         let pair = GearPair::paper_table1();
         let options = MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() };
-        let mesh = MeshModel::new(&pair, options).unwrap();
+        let mesh = Mesh::new(&pair, options).unwrap();
         (mesh, Drivetrain::from_pair(&pair).unwrap())
     });
     (m.clone(), *d)
@@ -36,7 +36,7 @@ fn rk4(n: u32) -> UnitStepping {
     UnitStepping::Rk4 { steps_per_mesh_period: n }
 }
 
-fn started(kind: UnitKind, stepping: UnitStepping, omega: f64) -> DriveUnit<MeshModel> {
+fn started(kind: UnitKind, stepping: UnitStepping, omega: f64) -> DriveUnit<Mesh> {
     let (mesh, drive) = table_mesh();
     let mut u = DriveUnit::new(kind, mesh, drive, stepping).unwrap();
     u.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
@@ -324,7 +324,7 @@ fn coupled_pair_snapshot_continues_bit_for_bit() {
     let mut a = fresh();
     a.start_static(0.0, 400.0, &EquilibriumSettings::default()).unwrap();
     let u0 = *a.inputs();
-    let run = |p: &mut DriveUnit<MeshModel>, k0: usize| -> Vec<f64> {
+    let run = |p: &mut DriveUnit<Mesh>, k0: usize| -> Vec<f64> {
         (k0..k0 + 12)
             .map(|k| {
                 if k % 2 == 0 {
@@ -417,7 +417,7 @@ fn cosimulation_error_table() {
 
 /// Runs `unit` over a fixed pattern of variable communication steps with Stage inputs moving
 /// like the shaft ends of the static start `u0` (at their rates), and returns the TE after each step.
-fn run_pattern(unit: &mut DriveUnit<MeshModel>, steps: usize, u0: UnitInputs) -> Vec<f64> {
+fn run_pattern(unit: &mut DriveUnit<Mesh>, steps: usize, u0: UnitInputs) -> Vec<f64> {
     let pattern = [3.1e-5, 1e-4, 7.7e-5, 2.3e-4, 1.3e-5];
     let mut te = Vec::new();
     for i in 0..steps {
@@ -438,7 +438,7 @@ fn bits(v: &[f64]) -> Vec<u64> {
 /// Snapshot in mid-run, then: the original continues; a clone continues; a fresh unit built
 /// from the same parameters restores the serialised snapshot and continues. All three agree
 /// bit for bit.
-fn check_snapshot(mesh: MeshModel, drive: Drivetrain, stepping: UnitStepping, steps: usize) {
+fn check_snapshot(mesh: Mesh, drive: Drivetrain, stepping: UnitStepping, steps: usize) {
     let omega = 400.0;
     let mut a = DriveUnit::new(UnitKind::Stage, mesh.clone(), drive, stepping).unwrap();
     a.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
@@ -477,7 +477,7 @@ fn snapshot_restore_continues_bit_for_bit_full_fidelity() {
     // continuation is history-free. Coarse slices keep the test short.
     let pair = GearPair::paper_table1();
     let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
-    let mesh = MeshModel::new(&pair, options).unwrap();
+    let mesh = Mesh::new(&pair, options).unwrap();
     let drive = Drivetrain::from_pair(&pair).unwrap();
     check_snapshot(mesh, drive, rk4(64), 6);
 }

@@ -486,7 +486,7 @@ fn unsupported_functions_are_errors() {
 #[test]
 fn modifications_string_parameter() {
     use helical_gear_mesh::GearPair;
-    use helical_gear_mesh::mesh::{MeshModel, MeshOptions, MeshState};
+    use helical_gear_mesh::mesh::{Mesh, MeshOptions, MeshState};
     let mut p = GearPair::paper_table1();
     p.modifications.pinion.pitch_deviations_m = vec![0.0; 30];
     p.modifications.pinion.pitch_deviations_m[0] = 3e-6;
@@ -500,8 +500,8 @@ fn modifications_string_parameter() {
     let f = Fmu::new();
     assert_eq!(set(&f, &json), fmi2Status::Ok);
     f.init();
-    let mut lib = MeshModel::new(&p, MeshOptions::default()).unwrap();
-    let mut perfect = MeshModel::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
+    let mut lib = Mesh::new(&p, MeshOptions::default()).unwrap();
+    let mut perfect = Mesh::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
     let mut differs = false;
     for k in 0..5 {
         let phi_p = -0.04 + 0.02 * k as f64;
