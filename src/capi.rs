@@ -24,6 +24,15 @@
 //! is not finite is never written with `HGM_STATUS_OK` (it is a `HGM_STATUS_MODEL_ERROR` naming
 //! it). Enum arguments are taken as `int32_t` and checked against their allowed values.
 //!
+//! # Warm start of the mesh handle
+//!
+//! An `HgmModel` keeps the load solver's warm start (the loads of its previous evaluation,
+//! [`crate::mesh::WarmStart`]): `hgm_evaluate` at full fidelity starts its Newton iteration
+//! from them, so its results depend on the handle's earlier calls at the level of the solver
+//! tolerance (gaps to 1e-15 m + 1e-12 of the largest approach). The handle has no saved
+//! state; a fresh handle starts cold. A unit (`HgmUnit`) carries its warm start in its state
+//! and its snapshot text (below), so a restored unit continues bit for bit.
+//!
 //! # Stateful units
 //!
 //! `HgmUnit` is a drive-line part with its own state and integrator
@@ -771,7 +780,7 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
 }
 
 /// The unit's snapshot (time, state, inputs, integrator hint) as JSON text with a format
-/// version and a 64-bit FNV-1a checksum (`{"format_version":1,"checksum":…,"snapshot":{…}}`),
+/// version and a 64-bit FNV-1a checksum (`{"format_version":2,"checksum":…,"snapshot":{…}}`),
 /// valid until the next call on this handle; NULL on failure. `hgm_unit_restore` continues
 /// from it bit for bit.
 ///

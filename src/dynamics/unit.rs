@@ -97,22 +97,30 @@
 //!
 //! # History, snapshots and bit-for-bit restarts
 //!
-//! The full-fidelity [`crate::mesh::Mesh`] warm-starts its load solver from the previous
-//! evaluation, so its results depend on the call history at the level of the solver
-//! tolerance. A unit therefore makes every [`DriveUnit::advance`] and [`DriveUnit::outputs`]
-//! start from a clean history: the first mesh evaluation of each is a cold one
-//! ([`MeshTorques::forget_history`]; the remembered evaluation is kept only when it is itself
-//! such a cold evaluation of the same state). Within an advance the warm start works as usual.
-//! The trajectory is then a function of (time, state, inputs, input time, step hint) alone —
-//! the [`UnitSnapshot`] — and continuing after [`DriveUnit::restore`] reproduces it bit for
-//! bit, in the same unit, a clone, or a fresh unit built from the same parameters after a
-//! serde round trip (serde_json with `float_roundtrip` keeps every f64 exactly). The cost is
-//! one cold load solve per communication step (measured in `tests/dynamics_unit.rs`,
-//! `full_fidelity_history_reset_cost`). Meshes without history (the table inside its range,
-//! the analytic meshes) are unaffected: for them a Drive unit stepped with RK4 at the step of
-//! [`super::simulate`] reproduces its trajectory bit for bit.
-//! [`DriveUnit::derivatives`] and [`DriveUnit::linearize`] keep the warm start (a Model
-//! Exchange master evaluates many nearby states).
+//! The full-fidelity mesh ([`crate::mesh::Mesh`]) warm-starts its load solver from the loads
+//! of the previous evaluation ([`crate::mesh::WarmStart`]), so its results depend on that warm
+//! start at the level of the solver tolerance. The warm start is therefore part of the unit's
+//! state: the unit holds it, every [`DriveUnit::advance`] starts the mesh from it
+//! ([`MeshTorques::set_warm_start`], which also drops the remembered evaluation) and, on
+//! success, keeps the warm start the advance ended with ([`MeshTorques::warm_start`]); a failed
+//! advance leaves it as it was. [`DriveUnit::outputs`] and [`DriveUnit::linearize`] evaluate
+//! from it without changing it, so reading the outputs between steps leaves the trajectory
+//! bit for bit as it is (`tests/dynamics_unit.rs`); [`DriveUnit::derivatives`] (Model
+//! Exchange) starts from it and keeps the new one, so that a Model Exchange master's nearby
+//! states stay warm-started. [`DriveUnit::start_static`] keeps the static solve's warm
+//! start; a new unit starts cold. The trajectory is then a function of (time, state, inputs,
+//! input time, step hint, hub reference, warm start) alone — the [`UnitSnapshot`] — and
+//! continuing after [`DriveUnit::restore`] reproduces it bit for bit, in the same unit, a
+//! clone, or a fresh unit built from the same parameters after a serde round trip
+//! (serde_json with `float_roundtrip` keeps every f64 exactly). A restored warm start is
+//! checked ([`crate::mesh::WarmStart::check`]). Meshes without history (the table inside its
+//! range, the analytic meshes) have an empty warm start: for them a Drive unit stepped with
+//! RK4 at the step of [`super::simulate`] reproduces its trajectory bit for bit.
+//!
+//! Carrying the warm start instead of restarting cold at every communication step (as
+//! earlier versions did) saves the cold solve's extra Newton iterations at the first
+//! evaluation of each step; the measured cost per step is in `full_fidelity_unit_speed`
+//! (`tests/dynamics_unit.rs`).
 
 use std::ops::ControlFlow;
 
@@ -1069,7 +1077,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         }
     }
 
-    /// The outputs at the current time and state (the mesh evaluated from a clean history, see
+    /// The outputs at the current time and state (the mesh evaluated from the unit's warm start, which it leaves unchanged; see
     /// the module doc). Errors: a mesh failure, with the current time.
     pub fn outputs(&mut self) -> Result<UnitOutputs, DynamicsError> {
         let n = self.n_states();

@@ -1,7 +1,10 @@
-//! The mesh model façade: from hub angles and rates to mesh torques (paper §5, Eqs. 12–15).
+//! The mesh model: from hub angles and rates to mesh torques (paper §5, Eqs. 12–15).
 //!
-//! [`MeshModel`] is built once from a validated [`GearPair`] and [`MeshOptions`]; each call of
-//! [`MeshModel::evaluate`] takes the state (φp, φg, φ̇p, φ̇g) and returns [`MeshOutputs`]:
+//! [`MeshModel`] is built once from a validated [`GearPair`] and [`MeshOptions`] and is
+//! immutable (`Send + Sync`, shared by `Arc`); each call of [`MeshModel::evaluate`] takes the
+//! state (φp, φg, φ̇p, φ̇g), a [`MeshWorkspace`] (scratch memory, one per caller) and a
+//! [`WarmStart`] (the previous loads) and returns [`MeshOutputs`]; the result depends on
+//! (model, state, warm start) only (see the `model` module docs):
 //!
 //! ```text
 //! state ─> contact (instant lines of contact, all tooth pairs, driving and back flanks)
@@ -15,14 +18,25 @@
 //! negative torques.
 //!
 //! [`MeshTorques`] is the one-method interface the dynamics and the FMU use; [`statics`] finds
-//! the static equilibrium for any implementation of it.
+//! the static equilibrium for any implementation of it. Its implementations here:
+//!
+//! * [`FullMesh`] — an `Arc<MeshModel>` with its own workspace and warm start (`model`);
+//! * [`TableMesh`] — the table over (phase, TE) built from a model, with a [`FullMesh`] for
+//!   the states outside it (`table`, which depends on `model`, never the other way);
+//! * [`Mesh`] — "a mesh at a fidelity", the one type the shells (FMUs, C API, Python, CLI)
+//!   build from [`MeshOptions::fidelity`]: one of the two. A clone shares model and table and
+//!   starts with a fresh workspace and a cold start.
+//!
+//! [`MeshTorques::warm_start`] and [`MeshTorques::set_warm_start`] let a caller keep the warm
+//! start as part of its own state (the dynamics units and their snapshots, the mesh FMU's
+//! state).
 //!
 //! [`MeshTorques::mesh_jacobian`] gives the outputs with their partial derivatives
 //! ([`MeshJacobian`]), computed from the model: at table fidelity the exact derivative of the
 //! table's interpolant ([`MeshTable::evaluate_jacobian`]), at full fidelity (and outside the
 //! table) the exact sensitivity of the load solution at its active set (the `model::jacobian`
 //! module documents every term; nothing is neglected). Both agree with central differences of
-//! [`MeshModel::evaluate`] to better than 1e-5 of the row (`tests/mesh_jacobian.rs`).
+//! [`Mesh::evaluate`] to better than 1e-5 of the row (`tests/mesh_jacobian.rs`).
 //!
 //! The model holds in a stated range of the state ([`validity`]: flank overlaps up to 0.2·m_n,
 //! i.e. −j_t − 0.2·m_n ≤ TE ≤ 0.2·m_n, and |φp| up to 2⁵³ pinion pitches). A state outside it,
@@ -123,7 +137,7 @@ pub enum ComplianceModel {
     Fitted,
 }
 
-/// Options of [`MeshModel`].
+/// Options of [`MeshModel`] (fidelity and table resolution: of [`Mesh`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshOptions {
     /// Evaluation fidelity.
@@ -143,7 +157,8 @@ pub struct MeshOptions {
     pub pressure: bool,
     /// Compute the damping torques M_D (Eq. 14).
     pub damping: bool,
-    /// Keep the per-slice detail ([`MeshModel::slices`]) of the last evaluation.
+    /// Keep the per-slice detail ([`Mesh::slices`]) of the last evaluation (the initial
+    /// setting of each workspace, [`MeshWorkspace::set_detail`]).
     pub detail: bool,
     /// Table resolution: points per mesh period along the phase.
     pub table_phase_points: usize,
@@ -347,7 +362,8 @@ impl MeshJacobian {
     pub const W_G: usize = 3;
 }
 
-/// Anything that gives the mesh torques for a state: the [`MeshModel`], or a stand-in in tests.
+/// Anything that gives the mesh torques for a state: [`Mesh`], [`FullMesh`], [`TableMesh`],
+/// or a stand-in in tests.
 pub trait MeshTorques {
     /// Mesh outputs for `state`.
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError>;

@@ -1,5 +1,30 @@
 //! [`MeshModel`]: one evaluation of the mesh (contact → compliance → load → torques).
 //!
+//! # Model, workspace, warm start
+//! An evaluation has three inputs besides the state, kept apart:
+//!
+//! * [`MeshModel`] — everything fixed once the pair and the options are: pair, geometry,
+//!   options, both gears' compliances (and their kernels at the slice positions), the local
+//!   contact, the slice positions ζ_k, the flank separation of the modifications, the validity
+//!   range and d_mesh. Immutable after construction and `Send + Sync` (a static assertion
+//!   below), so one model is shared by `Arc` between threads, sweeps and the table build; the
+//!   heavy parts are themselves behind `Arc`s. d_mesh stays a model field: the FMUs' tunable
+//!   `d_mesh` makes a copy with [`MeshModel::with_d_mesh`] (a few hundred bytes plus the slice
+//!   positions; nothing is rebuilt).
+//! * [`MeshWorkspace`] — scratch memory: contacts, slice data, the compliance matrix,
+//!   interpolation scratch, the load solver's buffers, and what the last evaluation leaves
+//!   for the caller to read (per-slice detail, per-pair sums of the table build, work
+//!   counters). One per caller (thread); it never changes a result.
+//! * [`WarmStart`] — the loads of the loaded slices of the previous evaluation with their keys
+//!   (flank side, tooth pair, slice): a small plain value (compare, copy, serialise), the only
+//!   history an evaluation sees.
+//!
+//! [`MeshModel::evaluate`] takes `&self`, the workspace and the warm start, and its result is
+//! a function of (model, state, warm start) alone; the warm start changes it only at the load
+//! solver's tolerance. [`FullMesh`] bundles an `Arc<MeshModel>` with one workspace and one
+//! warm start as a [`MeshTorques`]; the table fidelity ([`super::table::TableMesh`]) and the
+//! shells' [`super::Mesh`] build on it. This module knows nothing of the table.
+//!
 //! # Slices
 //! The face width is cut into `n_line` equal axial slices (centres ζ_k, width Δζ = b₀/n_line),
 //! the same for every tooth pair, with `n_line = ceil(slices / ceil(ε_α + ε_β))`: the paper's
@@ -23,7 +48,7 @@
 //! 3.8 MB per gear for Table 1 at 200 slices), which leaves per matrix entry one 4 × 4
 //! contraction (compiled for AVX2 where the CPU has it, with the same rounding as the portable
 //! code). This assembles the matrix 2–3 times faster than the general interpolation
-//! ([`MeshModel::use_slice_kernel`] switches between them; the benchmark reports both).
+//! ([`FullMesh::use_slice_kernel`] switches between them; the benchmark reports both).
 //!
 //! # Corner contacts
 //! Where the contact lies on the convex corner between involute and tip relief the transverse
@@ -43,9 +68,10 @@
 //!
 //! # No allocation in the steady path
 //! Every buffer (contacts, slice data, compliance matrix, interpolation scratch, load-solver
-//! workspace, warm-start keys) lives in the model and is reused; after the first calls have
-//! grown them to the sizes a trajectory needs, evaluations do not touch the heap
-//! (`tests/mesh_alloc.rs` counts allocations). Clones start with empty buffers.
+//! workspace) lives in the [`MeshWorkspace`], the warm start's loads in the [`WarmStart`];
+//! both are reused. After the first calls have grown them to the sizes a trajectory needs,
+//! evaluations do not touch the heap (`tests/mesh_alloc.rs` counts allocations). A new
+//! workspace is sized for two contact lines per flank side.
 //!
 //! # Validity range
 //! Every evaluation (full or table, outputs or Jacobian) first checks the state against the
@@ -56,9 +82,14 @@
 //! outputs are bit for bit those without the check.
 //!
 //! # Warm start
-//! The loads of the previous call are kept with their keys (flank side, tooth pair, slice); a
-//! new call starts from them, which makes the active set of a nearby state exact after one
-//! Newton step in dynamic use.
+//! The loads of the previous call are kept with their keys (flank side, tooth pair, slice) in
+//! the caller's [`WarmStart`]; a new call starts from them (zero for a slice not listed),
+//! which makes the active set of a nearby state exact after one Newton step in dynamic use.
+//! Keys and loads are in the contact search's ascending (side, pair, slice) order, so one
+//! merge walk finds the matches. An unloaded state clears the warm start; a failed solve
+//! leaves it as it was. A warm start read from outside (a restored state) is checked
+//! ([`WarmStart::check`]: at most [`MAX_WARM_LOADS`] entries, keys ascending, loads finite
+//! and > 0).
 
 mod jacobian;
 
@@ -462,8 +493,8 @@ pub(crate) struct PairSum {
     pub tip: bool,
 }
 
-/// Work counters of the full evaluations of a [`MeshModel`] (since construction or the last
-/// [`MeshModel::reset_stats`]): what the load solves cost.
+/// Work counters of the full evaluations with a [`MeshWorkspace`] (since its creation or the last
+/// [`MeshWorkspace::reset_stats`]): what the load solves cost.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SolveStats {
     /// Load solves (full evaluations with at least one overlapping slice).

@@ -1,4 +1,4 @@
-//! Exact partial derivatives of the full mesh model ([`MeshModel::mesh_jacobian`] at full
+//! Exact partial derivatives of the full mesh model ([`MeshModel::jacobian`] at full
 //! fidelity): the sensitivity of the load solution of Eq. 12 to the hub angles, with the
 //! active set (the loaded slices) held fixed.
 //!
