@@ -1077,8 +1077,9 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         }
     }
 
-    /// The outputs at the current time and state (the mesh evaluated from the unit's warm start, which it leaves unchanged; see
-    /// the module doc). Errors: a mesh failure, with the current time.
+    /// The outputs at the current time and state (the mesh evaluated from the unit's warm
+    /// start, which it leaves unchanged; see the module doc). Errors: a mesh failure, with the
+    /// current time.
     pub fn outputs(&mut self) -> Result<UnitOutputs, DynamicsError> {
         let n = self.n_states();
         let t = self.t;
