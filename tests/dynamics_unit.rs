@@ -836,11 +836,16 @@ fn full_fidelity_unit_speed() {
                 u.outputs().unwrap();
             }
             let wall = t0.elapsed().as_secs_f64();
+            let st = u.mesh().stats();
             println!(
-                "{kind:?}, full, {}: {:.5}× real time ({wall:.2} s for {:.1e} s)",
+                "{kind:?}, full, {}: {:.5}× real time ({wall:.2} s for {:.1e} s); since the \
+                 start {} load solves, {} Newton iterations, {} factorisations",
                 if cold { "cold start per step" } else { "warm start carried" },
                 n as f64 * h / wall,
-                n as f64 * h
+                n as f64 * h,
+                st.solves,
+                st.iterations,
+                st.factorizations
             );
         }
     }
