@@ -401,7 +401,7 @@ HgmStatus hgm_unit_outputs(HgmUnit *u, HgmUnitOutputs *out);
 
 /**
  * The unit's snapshot (time, state, inputs, integrator hint) as JSON text with a format
- * version and a 64-bit FNV-1a checksum (`{"format_version":1,"checksum":…,"snapshot":{…}}`),
+ * version and a 64-bit FNV-1a checksum (`{"format_version":2,"checksum":…,"snapshot":{…}}`),
  * valid until the next call on this handle; NULL on failure. `hgm_unit_restore` continues
  * from it bit for bit.
  *

@@ -24,6 +24,15 @@
 //! is not finite is never written with `HGM_STATUS_OK` (it is a `HGM_STATUS_MODEL_ERROR` naming
 //! it). Enum arguments are taken as `int32_t` and checked against their allowed values.
 //!
+//! # Warm start of the mesh handle
+//!
+//! An `HgmModel` keeps the load solver's warm start (the loads of its previous evaluation,
+//! [`crate::mesh::WarmStart`]): `hgm_evaluate` at full fidelity starts its Newton iteration
+//! from them, so its results depend on the handle's earlier calls at the level of the solver
+//! tolerance (gaps to 1e-15 m + 1e-12 of the largest approach). The handle has no saved
+//! state; a fresh handle starts cold. A unit (`HgmUnit`) carries its warm start in its state
+//! and its snapshot text (below), so a restored unit continues bit for bit.
+//!
 //! # Stateful units
 //!
 //! `HgmUnit` is a drive-line part with its own state and integrator
@@ -54,7 +63,7 @@ use crate::dynamics::{
 };
 use crate::error::short_num;
 use crate::mesh::statics::EquilibriumSettings;
-use crate::mesh::{Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
+use crate::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState};
 use crate::params::GearPair;
 
 /// Result of a C API call.
@@ -122,7 +131,7 @@ impl From<MeshOutputs> for HgmOutputs {
 
 /// A mesh model (opaque to C).
 pub struct HgmModel {
-    model: MeshModel,
+    model: Mesh,
     last_error: CString,
 }
 
@@ -151,7 +160,7 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
 fn create(pair: Result<GearPair, String>) -> *mut HgmModel {
     let r = catch_unwind(|| {
         let pair = pair?;
-        MeshModel::new(&pair, MeshOptions::default()).map_err(|e| e.to_string())
+        Mesh::new(&pair, MeshOptions::default()).map_err(|e| e.to_string())
     });
     match r {
         Ok(Ok(model)) => {
@@ -202,8 +211,8 @@ trait Handle {
 }
 
 impl Handle for HgmModel {
-    type Inner = MeshModel;
-    fn parts(&mut self) -> (&mut MeshModel, &mut CString) {
+    type Inner = Mesh;
+    fn parts(&mut self) -> (&mut Mesh, &mut CString) {
         (&mut self.model, &mut self.last_error)
     }
 }
@@ -270,7 +279,7 @@ fn with_handle<H: Handle>(
 fn with_model(
     h: *mut HgmModel,
     what: &str,
-    f: impl FnOnce(&mut MeshModel) -> Result<(), (HgmStatus, String)>,
+    f: impl FnOnce(&mut Mesh) -> Result<(), (HgmStatus, String)>,
 ) -> HgmStatus {
     with_handle(h, what, f)
 }
@@ -478,7 +487,7 @@ pub struct HgmUnit {
 
 /// The payload of an [`HgmUnit`]: the unit and the text of its last snapshot.
 struct UnitHandle {
-    unit: DriveUnit<MeshModel>,
+    unit: DriveUnit<Mesh>,
     snapshot: CString,
 }
 
@@ -581,7 +590,7 @@ pub unsafe extern "C" fn hgm_unit_create(
         } else {
             UnitStepping::Dopri5 { rtol, atol }
         };
-        let mesh = MeshModel::new(&pair, MeshOptions { fidelity, ..MeshOptions::default() })
+        let mesh = Mesh::new(&pair, MeshOptions { fidelity, ..MeshOptions::default() })
             .map_err(|e| e.to_string())?;
         let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
         let unit = DriveUnit::new(kind, mesh, drive, stepping).map_err(|e| e.to_string())?;
@@ -771,7 +780,7 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
 }
 
 /// The unit's snapshot (time, state, inputs, integrator hint) as JSON text with a format
-/// version and a 64-bit FNV-1a checksum (`{"format_version":1,"checksum":…,"snapshot":{…}}`),
+/// version and a 64-bit FNV-1a checksum (`{"format_version":2,"checksum":…,"snapshot":{…}}`),
 /// valid until the next call on this handle; NULL on failure. `hgm_unit_restore` continues
 /// from it bit for bit.
 ///

@@ -16,17 +16,18 @@ use helical_gear_mesh::dynamics::{
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
-    Fidelity, MeshError, MeshModel, MeshOptions, MeshOutputs, MeshState, MeshTorques,
+    Fidelity, MAX_WARM_LOADS, Mesh, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques,
+    WarmLoad, WarmStart,
 };
 use helical_gear_mesh::params::GearPair;
 
 /// The Table 1 pair at table fidelity (built once) and its drivetrain.
-fn table_mesh() -> (MeshModel, Drivetrain) {
-    static MESH: OnceLock<(MeshModel, Drivetrain)> = OnceLock::new();
+fn table_mesh() -> (Mesh, Drivetrain) {
+    static MESH: OnceLock<(Mesh, Drivetrain)> = OnceLock::new();
     let (m, d) = MESH.get_or_init(|| {
         let pair = GearPair::paper_table1();
         let options = MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() };
-        let mesh = MeshModel::new(&pair, options).unwrap();
+        let mesh = Mesh::new(&pair, options).unwrap();
         (mesh, Drivetrain::from_pair(&pair).unwrap())
     });
     (m.clone(), *d)
@@ -36,7 +37,7 @@ fn rk4(n: u32) -> UnitStepping {
     UnitStepping::Rk4 { steps_per_mesh_period: n }
 }
 
-fn started(kind: UnitKind, stepping: UnitStepping, omega: f64) -> DriveUnit<MeshModel> {
+fn started(kind: UnitKind, stepping: UnitStepping, omega: f64) -> DriveUnit<Mesh> {
     let (mesh, drive) = table_mesh();
     let mut u = DriveUnit::new(kind, mesh, drive, stepping).unwrap();
     u.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
@@ -324,7 +325,7 @@ fn coupled_pair_snapshot_continues_bit_for_bit() {
     let mut a = fresh();
     a.start_static(0.0, 400.0, &EquilibriumSettings::default()).unwrap();
     let u0 = *a.inputs();
-    let run = |p: &mut DriveUnit<MeshModel>, k0: usize| -> Vec<f64> {
+    let run = |p: &mut DriveUnit<Mesh>, k0: usize| -> Vec<f64> {
         (k0..k0 + 12)
             .map(|k| {
                 if k % 2 == 0 {
@@ -417,7 +418,7 @@ fn cosimulation_error_table() {
 
 /// Runs `unit` over a fixed pattern of variable communication steps with Stage inputs moving
 /// like the shaft ends of the static start `u0` (at their rates), and returns the TE after each step.
-fn run_pattern(unit: &mut DriveUnit<MeshModel>, steps: usize, u0: UnitInputs) -> Vec<f64> {
+fn run_pattern(unit: &mut DriveUnit<Mesh>, steps: usize, u0: UnitInputs) -> Vec<f64> {
     let pattern = [3.1e-5, 1e-4, 7.7e-5, 2.3e-4, 1.3e-5];
     let mut te = Vec::new();
     for i in 0..steps {
@@ -438,7 +439,7 @@ fn bits(v: &[f64]) -> Vec<u64> {
 /// Snapshot in mid-run, then: the original continues; a clone continues; a fresh unit built
 /// from the same parameters restores the serialised snapshot and continues. All three agree
 /// bit for bit.
-fn check_snapshot(mesh: MeshModel, drive: Drivetrain, stepping: UnitStepping, steps: usize) {
+fn check_snapshot(mesh: Mesh, drive: Drivetrain, stepping: UnitStepping, steps: usize) {
     let omega = 400.0;
     let mut a = DriveUnit::new(UnitKind::Stage, mesh.clone(), drive, stepping).unwrap();
     a.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
@@ -473,11 +474,12 @@ fn snapshot_restore_continues_bit_for_bit_table() {
 
 #[test]
 fn snapshot_restore_continues_bit_for_bit_full_fidelity() {
-    // The full model warm-starts its load solver; the unit starts each advance cold, so the
-    // continuation is history-free. Coarse slices keep the test short.
+    // The full model warm-starts its load solver; the warm start is part of the unit's state
+    // and of its snapshot, so the continuation depends on the snapshot only. Coarse slices
+    // keep the test short.
     let pair = GearPair::paper_table1();
     let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
-    let mesh = MeshModel::new(&pair, options).unwrap();
+    let mesh = Mesh::new(&pair, options).unwrap();
     let drive = Drivetrain::from_pair(&pair).unwrap();
     check_snapshot(mesh, drive, rk4(64), 6);
 }
@@ -747,5 +749,104 @@ fn drive_unit_speed() {
             "N = {steps}: {:.1} simulated s per wall s, TE error {e:.1e}",
             n as f64 * h / wall
         );
+    }
+}
+
+/// The warm start is part of the state, nothing else of the call history is: at full
+/// fidelity, reading the outputs between steps (which evaluates the mesh) leaves the
+/// trajectory bit for bit as it is without, and a snapshot carries a non-empty warm start.
+#[test]
+fn full_fidelity_outputs_between_steps_leave_the_trajectory_unchanged() {
+    let pair = GearPair::paper_table1();
+    let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
+    let mesh = Mesh::new(&pair, options).unwrap();
+    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let run = |read: bool| -> (Vec<u64>, UnitSnapshot) {
+        let mut u = DriveUnit::new(UnitKind::Drive, mesh.clone(), drive, rk4(64)).unwrap();
+        u.start_static(0.0, 400.0, &EquilibriumSettings::default()).unwrap();
+        let mut y = Vec::new();
+        for _ in 0..4 {
+            if read {
+                u.outputs().unwrap();
+            }
+            u.advance(1e-4).unwrap();
+            y.extend(u.state().iter().map(|v| v.to_bits()));
+        }
+        (y, u.snapshot())
+    };
+    let (quiet, snap_quiet) = run(false);
+    let (read, snap_read) = run(true);
+    assert_eq!(quiet, read);
+    assert_eq!(snap_quiet, snap_read);
+    assert!(!snap_quiet.warm_start.is_empty(), "a loaded mesh leaves a warm start");
+}
+
+/// A snapshot's warm start comes from outside: out-of-order keys and zero or
+/// negative loads are refused by name, and a refused restore changes nothing.
+#[test]
+fn snapshot_with_a_bad_warm_start_is_refused() {
+    let (drive, gp, gg) = table1_radii();
+    let mesh = ConstantStiffnessMesh::new(2e8, 100.0, gp, gg, Clearance::Separating).unwrap();
+    let mut u = DriveUnit::new(UnitKind::Pair, mesh, drive, rk4(64)).unwrap();
+    let snap = u.snapshot();
+    let load = |pair: i64, q: f64| WarmLoad { back: false, pair, slice: 3, q };
+    for (loads, name) in [
+        (vec![load(1, 0.0)], "warm start load"),
+        (vec![load(1, -1.0)], "warm start load"),
+        (vec![load(2, 1.0), load(1, 1.0)], "warm start order"),
+    ] {
+        let mut bad = snap.clone();
+        bad.warm_start = serde_json::from_value(serde_json::json!({ "loads": loads })).unwrap();
+        let e = u.restore(&bad).unwrap_err().to_string();
+        assert!(e.contains(name), "{e}");
+        assert_eq!(u.snapshot(), snap, "a refused restore changes nothing");
+    }
+    assert!(WarmStart::from_loads(vec![load(1, 1.0); MAX_WARM_LOADS + 1]).is_err());
+    let mut b = Vec::new();
+    WarmStart::from_loads(vec![load(1, 2.5), load(2, 1.0)]).unwrap().to_bytes(&mut b);
+    assert_eq!(WarmStart::from_bytes(&b).unwrap().loads().len(), 2);
+    // A count beyond the bound is refused before anything is reserved.
+    b[..4].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(WarmStart::from_bytes(&b).unwrap_err().contains("at most"));
+}
+
+/// Full-fidelity units, Table 1 at 532 rad/s, RK4 128 sub-steps per mesh period, H = 1e-4 s,
+/// 20 steps after the static start: real-time factor with the warm start carried from step to
+/// step, and with every step started cold (the warm start emptied through the snapshot).
+/// `cargo test --release --test dynamics_unit full_fidelity_unit_speed -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn full_fidelity_unit_speed() {
+    let pair = GearPair::paper_table1();
+    let mesh = Mesh::new(&pair, MeshOptions::default()).unwrap();
+    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let (omega, h, n) = (532.0, 1e-4, 20);
+    for kind in [UnitKind::Drive, UnitKind::Pair] {
+        for cold in [true, false] {
+            let mut u = DriveUnit::new(kind, mesh.clone(), drive, rk4(128)).unwrap();
+            u.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
+            let t0 = std::time::Instant::now();
+            for _ in 0..n {
+                if cold {
+                    let mut s = u.snapshot();
+                    s.warm_start = WarmStart::default();
+                    u.restore(&s).unwrap();
+                }
+                u.advance(h).unwrap();
+                u.outputs().unwrap();
+            }
+            let wall = t0.elapsed().as_secs_f64();
+            let st = u.mesh().stats();
+            println!(
+                "{kind:?}, full, {}: {:.5}× real time ({wall:.2} s for {:.1e} s); since the \
+                 start {} load solves, {} Newton iterations, {} factorisations",
+                if cold { "cold start per step" } else { "warm start carried" },
+                n as f64 * h / wall,
+                n as f64 * h,
+                st.solves,
+                st.iterations,
+                st.factorizations
+            );
+        }
     }
 }

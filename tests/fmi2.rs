@@ -321,6 +321,40 @@ fn fmu_state_round_trips_exactly() {
     }
 }
 
+/// The mesh element's FMU state carries its load solver's warm start: after a serialised
+/// state is restored in another instance, the next evaluation at a new input equals, bit for
+/// bit, the original's at the same input.
+#[test]
+fn serialised_state_carries_the_warm_start() {
+    let f = Fmu::initialised();
+    set_loaded(&f);
+    f.get(&OUTS).unwrap();
+    let bytes = unsafe {
+        let mut s: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(f.0, &mut s), fmi2Status::Ok);
+        let mut n = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(f.0, s, &mut n), fmi2Status::Ok);
+        let mut bytes = vec![0 as fmi2Byte; n];
+        assert_eq!(fmi2SerializeFMUstate(f.0, s, bytes.as_mut_ptr(), n), fmi2Status::Ok);
+        assert_eq!(fmi2FreeFMUstate(f.0, &mut s), fmi2Status::Ok);
+        bytes
+    };
+    let next = |fmu: &Fmu| {
+        assert_eq!(fmu.set(&["phi_g"], &[-0.00608]), fmi2Status::Ok);
+        fmu.get(&OUTS).unwrap().iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    };
+    let original = next(&f);
+    let g = Fmu::new();
+    unsafe {
+        let mut s2: fmi2FMUstate = null_mut();
+        let st = fmi2DeSerializeFMUstate(g.0, bytes.as_ptr(), bytes.len(), &mut s2);
+        assert_eq!(st, fmi2Status::Ok);
+        assert_eq!(fmi2SetFMUstate(g.0, s2), fmi2Status::Ok);
+        assert_eq!(fmi2FreeFMUstate(g.0, &mut s2), fmi2Status::Ok);
+    }
+    assert_eq!(next(&g), original);
+}
+
 #[test]
 fn restore_from_the_error_state() {
     let f = Fmu::initialised();
@@ -486,7 +520,7 @@ fn unsupported_functions_are_errors() {
 #[test]
 fn modifications_string_parameter() {
     use helical_gear_mesh::GearPair;
-    use helical_gear_mesh::mesh::{MeshModel, MeshOptions, MeshState};
+    use helical_gear_mesh::mesh::{Mesh, MeshOptions, MeshState};
     let mut p = GearPair::paper_table1();
     p.modifications.pinion.pitch_deviations_m = vec![0.0; 30];
     p.modifications.pinion.pitch_deviations_m[0] = 3e-6;
@@ -500,8 +534,8 @@ fn modifications_string_parameter() {
     let f = Fmu::new();
     assert_eq!(set(&f, &json), fmi2Status::Ok);
     f.init();
-    let mut lib = MeshModel::new(&p, MeshOptions::default()).unwrap();
-    let mut perfect = MeshModel::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
+    let mut lib = Mesh::new(&p, MeshOptions::default()).unwrap();
+    let mut perfect = Mesh::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
     let mut differs = false;
     for k in 0..5 {
         let phi_p = -0.04 + 0.02 * k as f64;

@@ -11,9 +11,8 @@ use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::dynamics::mesh_stiffness;
 use helical_gear_mesh::geometry::Member;
 use helical_gear_mesh::mesh::{
-    ComplianceModel, EquilibriumSettings, Fidelity, GearCompliance, MeshError, MeshModel,
-    MeshOptions, MeshState, compute_compliance, equilibrium, static_curve,
-    tip_contact_threshold_curve,
+    ComplianceModel, EquilibriumSettings, Fidelity, GearCompliance, Mesh, MeshError, MeshOptions,
+    MeshState, compute_compliance, equilibrium, static_curve, tip_contact_threshold_curve,
 };
 
 fn coarse() -> &'static (GearCompliance, GearCompliance) {
@@ -28,12 +27,12 @@ fn coarse() -> &'static (GearCompliance, GearCompliance) {
     })
 }
 
-fn model(options: MeshOptions) -> MeshModel {
+fn model(options: MeshOptions) -> Mesh {
     let (p, g) = coarse().clone();
-    MeshModel::with_compliance(&GearPair::paper_table1(), options, p, g).expect("model")
+    Mesh::with_compliance(&GearPair::paper_table1(), options, p, g).expect("model")
 }
 
-fn state(m: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
     MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
 }
 
@@ -50,7 +49,7 @@ fn uniform_compliance_oracle() {
     let options = MeshOptions { local_contact: false, detail: true, ..MeshOptions::default() };
     let pair = GearPair::paper_table1();
     let w = |k| GearCompliance::Winkler { compliance: k, depth_h: 6e-4 };
-    let mut m = MeshModel::with_compliance(&pair, options, w(kp), w(kg)).expect("model");
+    let mut m = Mesh::with_compliance(&pair, options, w(kp), w(kg)).expect("model");
     let geo = m.geometry().clone();
     let ct = geo.base_helix_angle.cos();
     let dz = pair.normal_module_m * geo.b0() / m.slices_per_line() as f64;
@@ -117,7 +116,7 @@ fn separation_and_back_flanks() {
 }
 
 /// Maximum change of M_F,p between consecutive phases of a scan over one pitch at fixed TE.
-fn max_step(m: &mut MeshModel, te: f64, steps: usize) -> f64 {
+fn max_step(m: &mut Mesh, te: f64, steps: usize) -> f64 {
     let mut prev: Option<f64> = None;
     let mut worst: f64 = 0.0;
     for k in 0..=steps {
@@ -348,7 +347,7 @@ fn rim_fixed_compliance_gives_a_stiffer_mesh() {
     };
     let options = MeshOptions { slices: 100, ..MeshOptions::default() };
     let mut rim =
-        MeshModel::with_compliance(&pair, options, interp(Member::Pinion), interp(Member::Gear))
+        Mesh::with_compliance(&pair, options, interp(Member::Pinion), interp(Member::Gear))
             .expect("rim model");
     let mut bore = model(options);
     let torque = pair.drive.torque_nm;
@@ -378,7 +377,7 @@ fn tip_contact_threshold_brackets_the_onset() {
     let curve = tip_contact_threshold_curve(&m, 0.0, pitch(), 4, 6.0 * ste, 60).expect("curve");
     let (phi, t) = curve.min().expect("tip contact within 6 × STE max");
     assert!(t > ste, "threshold {t} vs STE max {ste}");
-    let tip = |m: &mut MeshModel, te: f64| m.evaluate_full(&state(m, phi, te)).unwrap().tip_contact;
+    let tip = |m: &mut Mesh, te: f64| m.evaluate_full(&state(m, phi, te)).unwrap().tip_contact;
     assert!(tip(&mut m, t));
     assert!(!tip(&mut m, t - 5e-9));
     for (p, te) in curve.phi_p.iter().zip(&curve.te) {
@@ -413,7 +412,7 @@ fn overload_design() -> &'static (GearPair, GearCompliance, GearCompliance) {
 fn cold_solves_under_heavy_overload_follow_the_loaded_path() {
     let (pair, cp, cg) = overload_design().clone();
     let options = MeshOptions { slices: 40, ..MeshOptions::default() };
-    let mut path = MeshModel::with_compliance(&pair, options, cp, cg).unwrap();
+    let mut path = Mesh::with_compliance(&pair, options, cp, cg).unwrap();
     let mut cold = path.clone();
     for phi in [-0.045637, -0.032725, 0.0] {
         path.forget_warm_start();
@@ -451,14 +450,10 @@ fn table_ends_where_the_model_stops_holding() {
         table_te_points: 12,
         ..MeshOptions::default()
     };
-    let mut full = MeshModel::with_compliance(&pair, base, cp.clone(), cg.clone()).unwrap();
-    let mut table = MeshModel::with_compliance(
-        &pair,
-        MeshOptions { fidelity: Fidelity::Table, ..base },
-        cp,
-        cg,
-    )
-    .expect("the table builds up to the model's range");
+    let mut full = Mesh::with_compliance(&pair, base, cp.clone(), cg.clone()).unwrap();
+    let mut table =
+        Mesh::with_compliance(&pair, MeshOptions { fidelity: Fidelity::Table, ..base }, cp, cg)
+            .expect("the table builds up to the model's range");
     let t = table.table().expect("table");
     let (_, hi) = t.te_range();
     let cuts = t.truncations().to_vec();

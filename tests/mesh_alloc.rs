@@ -1,4 +1,4 @@
-//! The steady path of `MeshModel::evaluate` does not allocate: after a warm-up over the same
+//! The steady path of `Mesh::evaluate` does not allocate: after a warm-up over the same
 //! kind of states, evaluations along a trajectory make no heap allocation (counted by a global
 //! allocator wrapper; this file holds a single test so that no other test allocates meanwhile).
 
@@ -7,9 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
-use helical_gear_mesh::mesh::{
-    ComplianceModel, MeshModel, MeshOptions, MeshState, compute_compliance,
-};
+use helical_gear_mesh::mesh::{ComplianceModel, Mesh, MeshOptions, MeshState, compute_compliance};
 
 struct Counting;
 
@@ -38,7 +36,7 @@ fn steady_evaluations_do_not_allocate() {
     let (p, g) =
         compute_compliance(&pair, &GearMeshDensity::coarse(), ComplianceModel::Interpolated)
             .expect("compliance");
-    let mut m = MeshModel::with_compliance(&pair, MeshOptions::default(), p, g).expect("model");
+    let mut m = Mesh::with_compliance(&pair, MeshOptions::default(), p, g).expect("model");
     let geo = m.geometry().clone();
     let pitch = geo.pinion.angular_pitch();
     let state = |k: usize| {
@@ -71,7 +69,7 @@ fn steady_evaluations_do_not_allocate() {
         table_te_points: 12,
         ..MeshOptions::default()
     };
-    let mut t = MeshModel::new(&dev, opts).expect("table with deviations");
+    let mut t = Mesh::new(&dev, opts).expect("table with deviations");
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     let mut sum = 0.0;
     for k in 0..400 {

@@ -1,4 +1,4 @@
-//! The exact mesh Jacobian (`MeshTorques::mesh_jacobian` of `MeshModel`) against central
+//! The exact mesh Jacobian (`MeshTorques::mesh_jacobian` of `Mesh`) against central
 //! differences of `evaluate`, at full and at table fidelity, light, nominal and overload,
 //! several phases, with damping; the plane-of-action identity; table against full.
 //!
@@ -10,12 +10,12 @@
 
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, Fidelity, MeshError, MeshJacobian, MeshModel, MeshOptions, MeshOutputs,
+    EquilibriumSettings, Fidelity, Mesh, MeshError, MeshJacobian, MeshOptions, MeshOutputs,
     MeshState, MeshTorques, equilibrium,
 };
 
-fn model(options: MeshOptions) -> MeshModel {
-    MeshModel::new(&GearPair::paper_table1(), options).expect("model")
+fn model(options: MeshOptions) -> Mesh {
+    Mesh::new(&GearPair::paper_table1(), options).expect("model")
 }
 
 fn pitch() -> f64 {
@@ -24,7 +24,7 @@ fn pitch() -> f64 {
 
 /// A running state with pinion angle `phi_p`, transmission error `te` and a TE rate of
 /// 1 mm/s on top of 300 rad/s, so that the damping torques are non-zero.
-fn state(m: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
     let geo = m.geometry();
     let w_p = 300.0;
     let w_g = (1e-3 - w_p * geo.pinion.rb) / geo.gear.rb;
@@ -36,7 +36,7 @@ fn torques(o: &MeshOutputs) -> [f64; 4] {
 }
 
 /// Loaded slices (pair, back flank, ζ) of the last evaluation (needs `detail`).
-fn loaded(m: &MeshModel) -> Vec<(i64, bool, u64)> {
+fn loaded(m: &Mesh) -> Vec<(i64, bool, u64)> {
     m.slices()
         .iter()
         .filter(|s| s.q_n_per_m > 0.0)
@@ -46,7 +46,7 @@ fn loaded(m: &MeshModel) -> Vec<(i64, bool, u64)> {
 
 /// Central differences of the four torques with respect to the four state components;
 /// `None` when the loaded set differs at ±step (full fidelity with detail only).
-fn central(m: &mut MeshModel, s: &MeshState, check_set: bool) -> Option<[[f64; 4]; 4]> {
+fn central(m: &mut Mesh, s: &MeshState, check_set: bool) -> Option<[[f64; 4]; 4]> {
     m.evaluate(s).expect("centre");
     let base = if check_set { loaded(m) } else { Vec::new() };
     let mut d = [[0.0; 4]; 4];
@@ -99,7 +99,7 @@ fn disagreement(exact: &MeshJacobian, fd: &[[f64; 4]; 4], out: &MeshOutputs) -> 
 }
 
 /// Static TE at the nominal torque (100 N·m) and phase `phi_p`.
-fn nominal_te(m: &mut MeshModel, phi_p: f64) -> f64 {
+fn nominal_te(m: &mut Mesh, phi_p: f64) -> f64 {
     let torque = GearPair::paper_table1().drive.torque_nm;
     equilibrium(m, phi_p, torque, 1e-5, &EquilibriumSettings::default()).expect("equilibrium").te
 }
@@ -247,7 +247,7 @@ fn jacobian_cost() {
         let mut m = model(MeshOptions { fidelity, ..MeshOptions::default() });
         let states: Vec<MeshState> =
             (0..64).map(|k| state(&m, pitch() * k as f64 / 64.0, 30e-6)).collect();
-        let time = |m: &mut MeshModel, jac: bool| {
+        let time = |m: &mut Mesh, jac: bool| {
             let mut best = f64::INFINITY;
             for _ in 0..5 {
                 let t0 = std::time::Instant::now();
@@ -310,8 +310,7 @@ fn profile_modified_pair_matches_central_differences() {
     };
     p.modifications.mesh_misalignment_m = 4e-6;
     let mut m =
-        MeshModel::new(&p, MeshOptions { slices: 50, detail: true, ..MeshOptions::default() })
-            .unwrap();
+        Mesh::new(&p, MeshOptions { slices: 50, detail: true, ..MeshOptions::default() }).unwrap();
     let te_nom = nominal_te(&mut m, 0.1 * pitch());
     let (mut checked, mut worst) = (0, 0.0f64);
     for (load, te) in [0.3, 1.0, 3.0].iter().map(|l| l * te_nom).enumerate() {
@@ -346,7 +345,7 @@ fn table_with_tooth_deviations_matches_central_differences() {
         table_te_points: 12,
         ..MeshOptions::default()
     };
-    let mut m = MeshModel::new(&p, opts).unwrap();
+    let mut m = Mesh::new(&p, opts).unwrap();
     assert!(m.table().is_some_and(|t| t.has_tooth_deviations()));
     let te_nom = nominal_te(&mut m, 0.1 * pitch());
     let jt = m.geometry().backlash_te;

@@ -3,8 +3,8 @@
 
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, MeshModel, MeshOptions, MeshState, equilibrium, face_load,
-    k_h_beta_crowned, k_h_beta_iso,
+    EquilibriumSettings, Mesh, MeshOptions, MeshState, equilibrium, face_load, k_h_beta_crowned,
+    k_h_beta_iso,
 };
 use helical_gear_mesh::modifications::{Modifications, ReliefShape, TipRelief};
 
@@ -31,7 +31,7 @@ fn spur() -> GearPair {
     p
 }
 
-fn state(m: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
     MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
 }
 
@@ -56,8 +56,8 @@ fn zero_modifications_are_bit_for_bit() {
     let back = GearPair::from_json(&serde_json::to_string(&zero).unwrap()).unwrap();
     assert_eq!(back, zero);
     let options = MeshOptions { slices: 100, ..MeshOptions::default() };
-    let mut a = MeshModel::new(&base, options).unwrap();
-    let mut b = MeshModel::new(&zero, options).unwrap();
+    let mut a = Mesh::new(&base, options).unwrap();
+    let mut b = Mesh::new(&zero, options).unwrap();
     let pitch = a.geometry().pinion.angular_pitch();
     for k in 0..12 {
         let phi = pitch * (k as f64 / 4.0 - 1.3) + 40.0 * std::f64::consts::TAU;
@@ -81,7 +81,7 @@ fn bad_modifications_name_parameter_and_limit() {
         let e = p.validate().expect_err(key);
         assert_eq!(e.name, key, "{e}");
         assert!(e.allowed.contains(limit), "{e}");
-        assert!(MeshModel::new(&p, MeshOptions::default()).is_err());
+        assert!(Mesh::new(&p, MeshOptions::default()).is_err());
     };
     // A crowning that removes more than a tenth of the module (more than the tip thickness
     // can give).
@@ -136,7 +136,7 @@ fn misaligned_winkler_pair_matches_elastic_foundation() {
     let f = 20e-6;
     let mut p = spur();
     p.modifications.mesh_misalignment_m = f;
-    let mut m = MeshModel::new(&p, winkler_options(200)).unwrap();
+    let mut m = Mesh::new(&p, winkler_options(200)).unwrap();
     let b = p.face_width_m;
     for (te, full) in [(40e-6, true), (26e-6, true), (12e-6, false), (5e-6, false)] {
         let o = m.evaluate(&state(&m, PHI_SINGLE, te)).unwrap();
@@ -178,7 +178,7 @@ fn crowned_winkler_pair_matches_elastic_foundation() {
     p.modifications.pinion.lead_crowning_m = 6e-6;
     p.modifications.gear.lead_crowning_m = 4e-6;
     let c = 10e-6;
-    let mut m = MeshModel::new(&p, winkler_options(200)).unwrap();
+    let mut m = Mesh::new(&p, winkler_options(200)).unwrap();
     let b = p.face_width_m;
     for (te, full) in [(40e-6, true), (15e-6, true), (6e-6, false), (2e-6, false)] {
         let o = m.evaluate(&state(&m, PHI_SINGLE, te)).unwrap();
@@ -205,7 +205,7 @@ fn crowned_patch_shifts_under_misalignment() {
         p.modifications.pinion.lead_crowning_m = 10e-6;
         p.modifications.gear.lead_crowning_m = 10e-6;
         p.modifications.mesh_misalignment_m = f;
-        let mut m = MeshModel::new(&p, winkler_options(400)).unwrap();
+        let mut m = Mesh::new(&p, winkler_options(400)).unwrap();
         let eq =
             equilibrium(&mut m, PHI_SINGLE, torque, 5e-6, &EquilibriumSettings::default()).unwrap();
         m.evaluate(&state(&m, PHI_SINGLE, eq.te)).unwrap();
@@ -225,7 +225,7 @@ fn crowned_patch_shifts_under_misalignment() {
 }
 
 /// Static TE of `model` at `n` pinion angles per pitch over `pitches` pitches from `phi0`.
-fn ste(model: &mut MeshModel, torque: f64, phi0: f64, n: usize, pitches: usize) -> Vec<f64> {
+fn ste(model: &mut Mesh, torque: f64, phi0: f64, n: usize, pitches: usize) -> Vec<f64> {
     let pitch = model.geometry().pinion.angular_pitch();
     helical_gear_mesh::mesh::static_curve(model, torque, phi0, pitch, n, pitches)
         .unwrap()
@@ -248,11 +248,11 @@ fn single_pitch_deviation_pulse_integral() {
     let torque = 150.0;
     let n = 16;
     let base = GearPair::paper_table1();
-    let mut perfect = MeshModel::new(&base, winkler_options(100)).unwrap();
+    let mut perfect = Mesh::new(&base, winkler_options(100)).unwrap();
     let mut dev = base.clone();
     dev.modifications.pinion.pitch_deviations_m = vec![0.0; base.z_p as usize];
     dev.modifications.pinion.pitch_deviations_m[0] = e;
-    let mut deviated = MeshModel::new(&dev, winkler_options(100)).unwrap();
+    let mut deviated = Mesh::new(&dev, winkler_options(100)).unwrap();
     let pitch = perfect.geometry().pinion.angular_pitch();
     let one = ste(&mut perfect, torque, -4.0 * pitch, n, 1);
     let window = ste(&mut deviated, torque, -4.0 * pitch, n, 8);
@@ -275,7 +275,7 @@ fn pinion_deviations_give_pinion_orders_only() {
     let base = GearPair::paper_table1();
     let spectrum = |mods: helical_gear_mesh::Modifications| {
         let p = GearPair { modifications: mods, ..base.clone() };
-        let mut m = MeshModel::new(&p, winkler_options(60)).unwrap();
+        let mut m = Mesh::new(&p, winkler_options(60)).unwrap();
         amplitude_spectrum(&ste(&mut m, 100.0, 0.0, 4, 2 * base.z_p as usize))
     };
     let mut pin = Modifications::default();
@@ -363,11 +363,11 @@ fn tooth_deviations_on_the_table_match_full_fidelity() {
         table_te_points: 24,
         ..full_opts
     };
-    let mut t = MeshModel::new(&p, table_opts).unwrap();
+    let mut t = Mesh::new(&p, table_opts).unwrap();
     assert!(t.table().is_some_and(|t| t.has_tooth_deviations()));
-    let mut f = MeshModel::new(&p, full_opts).unwrap();
-    let mut ideal_t = MeshModel::new(&GearPair::paper_table1(), table_opts).unwrap();
-    let mut ideal_f = MeshModel::new(&GearPair::paper_table1(), full_opts).unwrap();
+    let mut f = Mesh::new(&p, full_opts).unwrap();
+    let mut ideal_t = Mesh::new(&GearPair::paper_table1(), table_opts).unwrap();
+    let mut ideal_f = Mesh::new(&GearPair::paper_table1(), full_opts).unwrap();
     let pitch = t.geometry().pinion.angular_pitch();
     let nominal = p.drive.torque_nm;
     // Largest |ΔM_F,p| / nominal torque, with and without the deviations, per TE level.
@@ -412,7 +412,7 @@ fn one_pair_deviation_is_exact_on_uncoupled_pairs() {
     p.modifications.pinion.pitch_deviations_m = vec![0.0; 30];
     p.modifications.pinion.pitch_deviations_m[0] = 4e-6;
     let w = MeshOptions { detail: false, ..winkler_options(60) };
-    let mut f = MeshModel::new(&p, w).unwrap();
+    let mut f = Mesh::new(&p, w).unwrap();
     let pitch = f.geometry().pinion.angular_pitch();
     let mut error = |np: usize, nt: usize| {
         let topts = MeshOptions {
@@ -421,7 +421,7 @@ fn one_pair_deviation_is_exact_on_uncoupled_pairs() {
             table_te_points: nt,
             ..w
         };
-        let mut t = MeshModel::new(&p, topts).unwrap();
+        let mut t = Mesh::new(&p, topts).unwrap();
         let mut worst = 0.0f64;
         for k in 0..40 {
             let phi = pitch * (-3.0 + 6.0 * k as f64 / 40.0 + 0.0123) + 30.0 * pitch * 7.0;
@@ -490,7 +490,7 @@ fn dynamic_spectrum_with_pinion_deviations_has_pinion_orders_only() {
         table_te_points: 12,
         ..MeshOptions::default()
     };
-    let mesh = MeshModel::new(&p, options).unwrap();
+    let mesh = Mesh::new(&p, options).unwrap();
     let mut dynm = GearDynamics::new(mesh, Drivetrain::from_pair(&p).unwrap()).unwrap();
     let rel_tol = 1e-3;
     let opts = SteadyRunOptions {
@@ -534,8 +534,8 @@ fn c_api_takes_modifications_in_the_json() {
     let json = CString::new(serde_json::to_string(&p).unwrap()).unwrap();
     let h = unsafe { hgm_create_from_json(json.as_ptr()) };
     assert!(!h.is_null());
-    let mut lib = MeshModel::new(&p, MeshOptions::default()).unwrap();
-    let mut perfect = MeshModel::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
+    let mut lib = Mesh::new(&p, MeshOptions::default()).unwrap();
+    let mut perfect = Mesh::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
     let mut differs = false;
     for k in 0..6 {
         let s = state(&lib, -0.05 + 0.02 * k as f64, 25e-6);

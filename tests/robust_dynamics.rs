@@ -12,11 +12,11 @@ use helical_gear_mesh::dynamics::{
     UnitKind, UnitStepping, default_rk4_step, fastest_mode, simulate, stable_rk4_step, sweep,
 };
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
-use helical_gear_mesh::mesh::{Fidelity, MeshModel, MeshOptions, MeshTorques};
+use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions, MeshTorques};
 
 /// Table 1 at a coarse table fidelity (fast to build) and its drivetrain.
-fn table_mesh() -> (MeshModel, Drivetrain) {
-    static MESH: OnceLock<(MeshModel, Drivetrain)> = OnceLock::new();
+fn table_mesh() -> (Mesh, Drivetrain) {
+    static MESH: OnceLock<(Mesh, Drivetrain)> = OnceLock::new();
     let (m, d) = MESH.get_or_init(|| {
         let pair = GearPair::paper_table1();
         let options = MeshOptions {
@@ -27,7 +27,7 @@ fn table_mesh() -> (MeshModel, Drivetrain) {
             pressure: false,
             ..MeshOptions::default()
         };
-        (MeshModel::new(&pair, options).unwrap(), Drivetrain::from_pair(&pair).unwrap())
+        (Mesh::new(&pair, options).unwrap(), Drivetrain::from_pair(&pair).unwrap())
     });
     (m.clone(), *d)
 }
@@ -231,6 +231,6 @@ fn table_size_4096_is_refused() {
         table_te_points: 4096,
         ..MeshOptions::default()
     };
-    let e = MeshModel::new(&pair, options).unwrap_err().to_string();
+    let e = Mesh::new(&pair, options).unwrap_err().to_string();
     assert!(e.contains("table_phase_points") && e.contains("65536"), "{e}");
 }

@@ -346,7 +346,7 @@ fn flipped_bits_in_a_unit_snapshot_are_refused_or_harmless() {
     assert!(u.restore(&bad).is_err());
     assert_eq!(u.snapshot(), snap, "a refused restore changes nothing");
     // Another format version.
-    let other = text.replacen("\"format_version\":1", "\"format_version\":2", 1);
+    let other = text.replacen("\"format_version\":2", "\"format_version\":3", 1);
     assert!(UnitSnapshot::from_text(&other).unwrap_err().contains("format version"));
 }
 
@@ -358,7 +358,7 @@ fn c_api_unit_snapshot_with_altered_value_is_refused() {
     }
     unsafe {
         let text = CStr::from_ptr(hgm_unit_snapshot(u)).to_string_lossy().into_owned();
-        assert!(text.starts_with("{\"format_version\":1,\"checksum\":"), "{text}");
+        assert!(text.starts_with("{\"format_version\":2,\"checksum\":"), "{text}");
         let altered = text.replacen("\"time\":0.0", "\"time\":1.0", 1);
         assert_ne!(altered, text);
         let c = CString::new(altered).unwrap();

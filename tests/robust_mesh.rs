@@ -17,7 +17,7 @@ use helical_gear_mesh::fmi2::types::*;
 use helical_gear_mesh::fmi2::variables::{by_name, guid};
 use helical_gear_mesh::mesh::validity::MAX_OVERLAP_MN;
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, Fidelity, MeshError, MeshModel, MeshOptions, MeshState, MeshTorques,
+    EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshState, MeshTorques,
     equilibrium,
 };
 use helical_gear_mesh::numeric::{MAX_PITCHES, Pitch, two_prod};
@@ -32,11 +32,11 @@ fn options(fidelity: Fidelity) -> MeshOptions {
     }
 }
 
-fn model(fidelity: Fidelity) -> MeshModel {
-    MeshModel::new(&GearPair::paper_table1(), options(fidelity)).expect("Table 1 model")
+fn model(fidelity: Fidelity) -> Mesh {
+    Mesh::new(&GearPair::paper_table1(), options(fidelity)).expect("Table 1 model")
 }
 
-fn state(m: &MeshModel, phi_p: f64, te: f64) -> MeshState {
+fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
     MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 100.0, w_g: -63.83 }
 }
 
@@ -249,7 +249,7 @@ fn angles_up_to_2_pow_53_pitches_reduce_exactly() {
 /// stepping φp by ulps and taking φg nearest to TE = 20 µm, until the exact TE lands in the
 /// window (g_p/g_g = 30/47 puts the reachable TEs on a lattice of ulp(φg)·g_g/47, 357 µm at
 /// 2⁵³ pitches).
-fn loaded_huge_state(m: &MeshModel, phi_p: f64) -> MeshState {
+fn loaded_huge_state(m: &Mesh, phi_p: f64) -> MeshState {
     let geo = m.geometry();
     let mut p = phi_p;
     for _ in 0..100_000 {

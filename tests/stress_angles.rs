@@ -10,7 +10,7 @@
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::capi::{HgmOutputs, HgmStatus, hgm_create_default, hgm_evaluate, hgm_free};
 use helical_gear_mesh::geometry::PairGeometry;
-use helical_gear_mesh::mesh::{MeshModel, MeshOptions, MeshOutputs, MeshState};
+use helical_gear_mesh::mesh::{Mesh, MeshOptions, MeshOutputs, MeshState};
 
 /// ⌊2¹²⁸/(2π)⌋: the hex digits of 2/π (0.A2F9836E4E441529FC2757D1F534DDC0…) shifted by two.
 const INV_TWO_PI_128: u128 = 0x28be_60db_9391_054a_7f09_d5f4_7d4d_3770;
@@ -148,7 +148,7 @@ fn assert_same(big: &MeshOutputs, small: &MeshOutputs, what: &str) {
 #[test]
 fn mesh_outputs_at_1e12_rad_equal_the_exact_small_angle_state() {
     let geo = geometry();
-    let mut model = MeshModel::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
+    let mut model = Mesh::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
     let mut worst_new: f64 = 0.0;
     let mut worst_old: f64 = 0.0;
     for (big, small) in huge_states(&geo) {
@@ -179,7 +179,7 @@ fn table_fidelity_and_dynamics_te_at_1e12_rad() {
         table_te_points: 12,
         ..MeshOptions::default()
     };
-    let mut model = MeshModel::new(&GearPair::paper_table1(), options).unwrap();
+    let mut model = Mesh::new(&GearPair::paper_table1(), options).unwrap();
     for (big, small) in huge_states(&geo) {
         let ob = model.evaluate(&big).unwrap();
         let os = model.evaluate(&small).unwrap();
@@ -197,7 +197,7 @@ fn whole_turns_agree_within_the_input_rounding() {
     let geo = geometry();
     let (gp, gg) = (geo.pinion.rb, geo.gear.rb);
     let (zp, zg) = (geo.pinion.z as f64, geo.gear.z as f64);
-    let mut model = MeshModel::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
+    let mut model = Mesh::new(&GearPair::paper_table1(), MeshOptions::default()).unwrap();
     let ulp = |x: f64| f64::from_bits(x.abs().to_bits() + 1) - x.abs();
     // Defect of the base radii per pitch, to double precision from the exact reference.
     let pitch_p = helical_gear_mesh::numeric::Pitch::of_teeth(geo.pinion.z);

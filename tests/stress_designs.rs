@@ -14,7 +14,7 @@ use helical_gear_mesh::GearPair;
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::mesh::{
-    ComplianceModel, EquilibriumSettings, GearCompliance, MeshError, MeshModel, MeshOptions,
+    ComplianceModel, EquilibriumSettings, GearCompliance, Mesh, MeshError, MeshOptions,
     MeshOutputs, MeshState, compute_compliance, equilibrium, winkler_compliances,
 };
 
@@ -87,7 +87,7 @@ fn close(a: f64, b: f64, rel: f64, abs: f64) -> bool {
 /// Checks the invariants on one model at a few phases; returns the number of phases where
 /// the force balance in the plane of action was checked and whether the tip rounding (or tip
 /// edge) carried load at any of them.
-fn check_invariants(model: &mut MeshModel, torque: f64, what: &str) -> (usize, bool) {
+fn check_invariants(model: &mut Mesh, torque: f64, what: &str) -> (usize, bool) {
     let geo = model.geometry().clone();
     let pitch = geo.pinion.angular_pitch();
     let (gp, gg) = (geo.pinion.rb, geo.gear.rb);
@@ -170,7 +170,7 @@ fn random_valid_designs_keep_the_invariants() {
     while valid < 150 {
         let pair = random_design(&mut rng);
         let (cp, cg) = winkler(&pair);
-        match MeshModel::with_compliance(&pair, options(), cp, cg) {
+        match Mesh::with_compliance(&pair, options(), cp, cg) {
             Err(MeshError::Param(e)) => {
                 rejected += 1;
                 assert!(!e.name.is_empty() && !e.allowed.is_empty(), "{e:?}");
@@ -229,7 +229,7 @@ fn invalid_designs_name_the_parameter() {
         let mut pair = GearPair::paper_table1();
         mutate(&mut pair);
         let (cp, cg) = winkler(&GearPair::paper_table1());
-        let err = match MeshModel::with_compliance(&pair, options(), cp, cg) {
+        let err = match Mesh::with_compliance(&pair, options(), cp, cg) {
             Err(e) => e,
             Ok(_) => panic!("{name}: accepted"),
         };
@@ -257,7 +257,7 @@ fn random_designs_with_fe_compliance() {
         let (cp, cg) =
             compute_compliance(&pair, &GearMeshDensity::coarse(), ComplianceModel::Interpolated)
                 .expect("FE compliance");
-        let mut model = MeshModel::with_compliance(&pair, options(), cp, cg).expect("model");
+        let mut model = Mesh::with_compliance(&pair, options(), cp, cg).expect("model");
         let geo = model.geometry().clone();
         let torque = random_torque(&mut rng, &geo, &pair)
             .min(2.0 * 300e3 * pair.face_width_m * geo.pinion.rb);

@@ -19,7 +19,7 @@ use helical_gear_mesh::dynamics::{
     PeriodicStiffnessMesh, Stepping, simulate,
 };
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
-use helical_gear_mesh::mesh::{Fidelity, MeshModel, MeshOptions};
+use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions};
 
 const K0: f64 = 1.2e8;
 const A: f64 = 0.1;
@@ -240,7 +240,7 @@ fn kicked_real_mesh(runs: &[(f64, f64)], t_end: f64) {
         ..MeshOptions::default()
     };
     let t0 = std::time::Instant::now();
-    let mesh = MeshModel::new(&pair, options).unwrap();
+    let mesh = Mesh::new(&pair, options).unwrap();
     let drive = Drivetrain::from_pair(&pair).unwrap();
     let (mut tip, mut sep, mut back, mut recontact) = (0, 0, 0, 0);
     for d_mesh in [100.0, 200.0] {

@@ -52,7 +52,7 @@ use helical_gear_mesh::dynamics::model::{Drivetrain, GearDynamics};
 use helical_gear_mesh::dynamics::simulate::{Stepping, simulate};
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
-    ComplianceModel, Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState,
+    ComplianceModel, Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState,
 };
 use helical_gear_mesh::params::GearPair;
 
@@ -204,7 +204,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
     let (n_phase, min_pass_s) = if q { (6, 0.02) } else { (64, 1.0) };
 
     let mut reference =
-        MeshModel::new(pair, MeshOptions { slices: reference_slices, ..base }).map_err(err)?;
+        Mesh::new(pair, MeshOptions { slices: reference_slices, ..base }).map_err(err)?;
     let states = bench_states(&reference, n_phase);
     say(&format!("reference: {reference_slices} slices, {} states", states.len()));
     let ref_out = states
@@ -227,8 +227,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
         ("full fitted", ComplianceModel::Fitted, fitted_slices),
     ] {
         for &slices in list {
-            let mut m =
-                MeshModel::new(pair, MeshOptions { slices, compliance, ..base }).map_err(err)?;
+            let mut m = Mesh::new(pair, MeshOptions { slices, compliance, ..base }).map_err(err)?;
             let (us, out) = time_full(&mut m, &states, min_pass_s)?;
             let st = m.stats();
             let per = |x: usize| Some(x as f64 / st.solves.max(1) as f64);
@@ -282,7 +281,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
             ..base
         };
         let t0 = Instant::now();
-        let mut m = MeshModel::new(pair, o).map_err(err)?;
+        let mut m = Mesh::new(pair, o).map_err(err)?;
         let build_s = t0.elapsed().as_secs_f64();
         let (us, out) = time_eval(&mut m, &states, min_pass_s)?;
         let e = rel_err(&out);
@@ -320,7 +319,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
         ),
     ];
     for (k, (name, o)) in cases.into_iter().enumerate() {
-        let mut m = MeshModel::new(pair, o).map_err(err)?;
+        let mut m = Mesh::new(pair, o).map_err(err)?;
         let (us, out) = time_full(&mut m, &states, min_pass_s)?;
         if k == 0 {
             default_us = us;
@@ -382,7 +381,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
 
 /// The benchmark states: three TE levels, each a sweep of `n_phase` phases over one pitch (a
 /// warm-started sequence like a trajectory's).
-fn bench_states(m: &MeshModel, n_phase: usize) -> Vec<MeshState> {
+fn bench_states(m: &Mesh, n_phase: usize) -> Vec<MeshState> {
     let geo = m.geometry();
     let pitch = geo.pinion.angular_pitch();
     let w_p = 300.0;
@@ -398,19 +397,19 @@ fn bench_states(m: &MeshModel, n_phase: usize) -> Vec<MeshState> {
     v
 }
 
-/// µs per [`MeshModel::evaluate_full`] (fastest pass of several lasting together at least
+/// µs per [`Mesh::evaluate_full`] (fastest pass of several lasting together at least
 /// `min_s`), and the outputs of the first pass.
 fn time_full(
-    m: &mut MeshModel,
+    m: &mut Mesh,
     states: &[MeshState],
     min_s: f64,
 ) -> Result<(f64, Vec<MeshOutputs>), String> {
     time_with(m, states, min_s, |m, s| m.evaluate_full(s))
 }
 
-/// µs per [`MeshModel::evaluate`] (the configured fidelity), as [`time_full`].
+/// µs per [`Mesh::evaluate`] (the configured fidelity), as [`time_full`].
 fn time_eval(
-    m: &mut MeshModel,
+    m: &mut Mesh,
     states: &[MeshState],
     min_s: f64,
 ) -> Result<(f64, Vec<MeshOutputs>), String> {
@@ -418,10 +417,10 @@ fn time_eval(
 }
 
 fn time_with(
-    m: &mut MeshModel,
+    m: &mut Mesh,
     states: &[MeshState],
     min_s: f64,
-    f: impl Fn(&mut MeshModel, &MeshState) -> Result<MeshOutputs, helical_gear_mesh::mesh::MeshError>,
+    f: impl Fn(&mut Mesh, &MeshState) -> Result<MeshOutputs, helical_gear_mesh::mesh::MeshError>,
 ) -> Result<(f64, Vec<MeshOutputs>), String> {
     let out = states.iter().map(|s| f(m, s)).collect::<Result<Vec<_>, _>>();
     let out = out.map_err(|e| e.to_string())?;
@@ -443,7 +442,7 @@ fn time_with(
 /// The dynamics cases on the table mesh `table` (see the module docs).
 fn dynamics_cases(
     pair: &GearPair,
-    table: MeshModel,
+    table: Mesh,
     quick: bool,
     say: &dyn Fn(&str),
 ) -> Result<Vec<DynamicsCase>, String> {
@@ -578,26 +577,25 @@ pub struct DriveUnitCase {
 /// The drive-line unit rows (see the module docs).
 fn drive_unit_cases(
     pair: &GearPair,
-    table: &MeshModel,
+    table: &Mesh,
     quick: bool,
     say: &dyn Fn(&str),
 ) -> Result<Vec<DriveUnitCase>, String> {
     use helical_gear_mesh::dynamics::unit::{DriveUnit, UnitKind, UnitStepping};
     let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
     let (omega, h) = (532.0, 1e-4);
-    let run =
-        |mesh: MeshModel, stepping: UnitStepping, n: usize| -> Result<(Vec<f64>, f64), String> {
-            let e = |e: helical_gear_mesh::dynamics::DynamicsError| e.to_string();
-            let mut u = DriveUnit::new(UnitKind::Drive, mesh, drive, stepping).map_err(e)?;
-            u.start_static(0.0, omega, &EquilibriumSettings::default()).map_err(e)?;
-            let mut te = Vec::with_capacity(n);
-            let t = Instant::now();
-            for _ in 0..n {
-                u.advance(h).map_err(e)?;
-                te.push(u.outputs().map_err(e)?.mesh.te);
-            }
-            Ok((te, t.elapsed().as_secs_f64()))
-        };
+    let run = |mesh: Mesh, stepping: UnitStepping, n: usize| -> Result<(Vec<f64>, f64), String> {
+        let e = |e: helical_gear_mesh::dynamics::DynamicsError| e.to_string();
+        let mut u = DriveUnit::new(UnitKind::Drive, mesh, drive, stepping).map_err(e)?;
+        u.start_static(0.0, omega, &EquilibriumSettings::default()).map_err(e)?;
+        let mut te = Vec::with_capacity(n);
+        let t = Instant::now();
+        for _ in 0..n {
+            u.advance(h).map_err(e)?;
+            te.push(u.outputs().map_err(e)?.mesh.te);
+        }
+        Ok((te, t.elapsed().as_secs_f64()))
+    };
     let n = if quick { 100 } else { 10_000 };
     say("drive-line units: reference (1024 sub-steps per mesh period)");
     let rk4 = |steps| UnitStepping::Rk4 { steps_per_mesh_period: steps };
@@ -628,7 +626,7 @@ fn drive_unit_cases(
             te_rel_err: Some(err),
         });
     }
-    let full = MeshModel::new(pair, MeshOptions::default()).map_err(|e| e.to_string())?;
+    let full = Mesh::new(pair, MeshOptions::default()).map_err(|e| e.to_string())?;
     let n_full = if quick { 2 } else { 20 };
     let (_, wall) = run(full, rk4(128), n_full)?;
     say(&format!("drive-line unit, full: {:.5}× real time", n_full as f64 * h / wall));
@@ -657,10 +655,9 @@ fn hunting_case(
     let slices = if quick { 50 } else { 200 };
     let o = MeshOptions { fidelity: Fidelity::Table, slices, ..MeshOptions::default() };
     let t0 = Instant::now();
-    let table = MeshModel::new(&p, o).map_err(err)?;
+    let table = Mesh::new(&p, o).map_err(err)?;
     let build_s = t0.elapsed().as_secs_f64();
-    let mut full =
-        MeshModel::new(&p, MeshOptions { slices, ..MeshOptions::default() }).map_err(err)?;
+    let mut full = Mesh::new(&p, MeshOptions { slices, ..MeshOptions::default() }).map_err(err)?;
     let meshes = if quick {
         30
     } else {

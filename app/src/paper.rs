@@ -55,7 +55,7 @@ use helical_gear_mesh::dynamics::{
 };
 use helical_gear_mesh::geometry::Member;
 use helical_gear_mesh::mesh::{
-    Fidelity, GearCompliance, MeshModel, MeshOptions, MeshState, TipThreshold, pressure_waterfall,
+    Fidelity, GearCompliance, Mesh, MeshOptions, MeshState, TipThreshold, pressure_waterfall,
     static_curve, tip_contact_threshold_curve,
 };
 
@@ -421,7 +421,7 @@ fn grid(lo: f64, hi: f64, n: usize) -> Vec<f64> {
 struct Ctx<'a> {
     opts: &'a PaperOptions,
     drive: Drivetrain,
-    table: MeshModel,
+    table: Mesh,
 }
 
 impl Ctx<'_> {
@@ -440,7 +440,7 @@ impl Ctx<'_> {
     #[allow(clippy::too_many_arguments)]
     fn run_sweep(
         &self,
-        mesh: &MeshModel,
+        mesh: &Mesh,
         drive: &Drivetrain,
         d: f64,
         reading: DampingReading,
@@ -462,7 +462,7 @@ impl Ctx<'_> {
 /// A steady trajectory at `omega_p` sampled over `periods` mesh periods, `per_period` samples
 /// per period: (t, state) pairs, t from the start of the sampled stretch.
 fn steady_samples(
-    mesh: &MeshModel,
+    mesh: &Mesh,
     drive: &Drivetrain,
     omega_p: f64,
     max_step: Option<f64>,
@@ -519,7 +519,7 @@ pub fn run_paper(pair: &GearPair, out: &Path, opts: &PaperOptions) -> Result<Pap
     // Stage 1: static analysis (full fidelity).
     let full_opts = MeshOptions { slices: opts.slices, ..MeshOptions::default() };
     let build = |o: MeshOptions, p: &GearCompliance, g: &GearCompliance| {
-        MeshModel::with_compliance(pair, o, p.clone(), g.clone()).map_err(mesh_err)
+        Mesh::with_compliance(pair, o, p.clone(), g.clone()).map_err(mesh_err)
     };
     let mut full = build(full_opts, &cp, &cg)?;
     let geo = full.geometry().clone();
@@ -822,7 +822,7 @@ fn sensitivity(
 
     // (b) neighbour coupling off.
     let o = MeshOptions { neighbour_coupling: false, ..*ctx.table.options() };
-    let nc = MeshModel::with_compliance(pair, o, cp.clone(), cg.clone()).map_err(mesh_err)?;
+    let nc = Mesh::with_compliance(pair, o, cp.clone(), cg.clone()).map_err(mesh_err)?;
     let mut nc_probe = nc.clone();
     let k_nc = mesh_stiffness(&mut nc_probe, 0.0, ctx.drive.torque).map_err(mesh_err)?;
     let wl = w_lin(&ctx.drive, k_nc);
@@ -959,9 +959,9 @@ fn rim_fixed_case(
     );
     let table_opts = *ctx.table.options();
     let table =
-        MeshModel::with_compliance(pair, table_opts, cp.clone(), cg.clone()).map_err(mesh_err)?;
+        Mesh::with_compliance(pair, table_opts, cp.clone(), cg.clone()).map_err(mesh_err)?;
     let full_opts = MeshOptions { fidelity: Fidelity::Full, ..table_opts };
-    let full = MeshModel::with_compliance(pair, full_opts, cp, cg).map_err(mesh_err)?;
+    let full = Mesh::with_compliance(pair, full_opts, cp, cg).map_err(mesh_err)?;
     let mut probe = table.clone();
     let k = mesh_stiffness(&mut probe, 0.0, ctx.drive.torque).map_err(mesh_err)?;
     let wl = linear_mesh_speed(table.geometry(), &ctx.drive, k);

@@ -101,7 +101,7 @@ fn simulate_and_sweep_reject_bad_arguments_before_building_the_model() {
 #[ignore]
 fn simulate_json_is_the_library_rk4_trajectory() {
     use helical_gear_mesh::dynamics::{Drivetrain, GearDynamics, Stepping, simulate};
-    use helical_gear_mesh::mesh::{EquilibriumSettings, MeshModel, MeshOptions};
+    use helical_gear_mesh::mesh::{EquilibriumSettings, Mesh, MeshOptions};
 
     let (omega, dt, t_end) = (600.0, 1e-5, 2e-4);
     let (ok, stdout, stderr) =
@@ -124,7 +124,7 @@ fn simulate_json_is_the_library_rk4_trajectory() {
     }
 
     let pair = helical_gear_mesh::GearPair::paper_table1();
-    let mesh = MeshModel::new(&pair, MeshOptions::default()).unwrap();
+    let mesh = Mesh::new(&pair, MeshOptions::default()).unwrap();
     let drive = Drivetrain::from_pair(&pair).unwrap();
     let mut model = GearDynamics::new(mesh, drive).unwrap();
     let y0 = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap().y;

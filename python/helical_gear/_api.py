@@ -220,7 +220,10 @@ class MeshModel:
     def evaluate(self, phi_p, phi_g, w_p=0.0, w_g=0.0) -> dict[str, np.ndarray]:
         """Mesh outputs at the states (φp, φg, φ̇p, φ̇g) (rad, rad/s); the four arguments are
         broadcast against each other (numpy rules) and evaluated in C order, each exactly as
-        the library's ``MeshModel::evaluate``. Returns a dict of arrays of the broadcast shape:
+        the library's ``Mesh::evaluate`` (the first state from a cold start, each next one
+        warm-started from the one before: a call's results depend on its arguments only).
+        Calls from several threads on one model run in parallel. Returns a dict of arrays of
+        the broadcast shape:
         ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m), ``TE`` (m), ``F_n`` (N),
         ``contact_length`` (m), ``p_max`` (Pa), ``n_pairs``, ``tip_contact``, ``separated``,
         ``back_contact``."""

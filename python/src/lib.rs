@@ -17,7 +17,7 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use helical_gear_app::paper::{PaperOptions, run_paper};
 use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData, ComplianceKey};
@@ -30,7 +30,7 @@ use helical_gear_mesh::dynamics::{
     default_rk4_step, simulate, sweep,
 };
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, Fidelity, MeshError, MeshModel as RustMeshModel, MeshOptions, MeshState,
+    EquilibriumSettings, Fidelity, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
     static_curve,
 };
 use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
@@ -383,16 +383,13 @@ impl Compliance {
     }
 }
 
-/// The mesh model of a pair (the library's `MeshModel`), behind a mutex so that calls from
-/// several Python threads serialise.
+/// The mesh model of a pair (the library's `Mesh` at a fidelity), never evaluated itself:
+/// every call works on a copy that shares the immutable model and table (`Arc`) and has its
+/// own workspace and a cold warm start. Calls from several Python threads run in parallel
+/// (the GIL is released), and each call's results depend on its arguments only.
 #[pyclass(module = "helical_gear._native", frozen)]
 struct MeshModel {
-    model: Mutex<RustMeshModel>,
-}
-
-fn lock(m: &Mutex<RustMeshModel>) -> Res<std::sync::MutexGuard<'_, RustMeshModel>> {
-    m.lock()
-        .map_err(|_| Failure::Internal("the mesh model was poisoned by an earlier panic".into()))
+    model: RustMesh,
 }
 
 fn array<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
@@ -428,16 +425,17 @@ impl MeshModel {
                 ..MeshOptions::default()
             };
             let model = match data {
-                Some(d) => RustMeshModel::from_data(&p, options, &d)?,
-                None => RustMeshModel::new(&p, options)?,
+                Some(d) => RustMesh::from_data(&p, options, &d)?,
+                None => RustMesh::new(&p, options)?,
             };
-            Ok(Self { model: Mutex::new(model) })
+            Ok(Self { model })
         })
     }
 
     /// Evaluates the mesh at every state (φp, φg, φ̇p, φ̇g) of four equally long float64 arrays
-    /// (rad, rad/s), in order, exactly as the library's `MeshModel::evaluate` does one after
-    /// another; returns a dict of arrays keyed like the FMU outputs.
+    /// (rad, rad/s), in order, exactly as the library's `Mesh::evaluate` does one after
+    /// another from a cold start (each state warm-started from the one before; the first
+    /// cold); returns a dict of arrays keyed like the FMU outputs.
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
@@ -466,7 +464,7 @@ impl MeshModel {
             })
             .collect();
         let out = run(py, || {
-            let mut m = lock(&self.model)?;
+            let mut m = self.model.clone();
             let mut cols: [Vec<f64>; 8] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut flags: [Vec<bool>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut pairs = Vec::with_capacity(n);
@@ -537,10 +535,10 @@ impl MeshModel {
                      {pitches} (allowed 1 … 100)"
                 )));
             }
-            let mut m = lock(&self.model)?;
+            let mut m = self.model.clone();
             let geo = m.geometry().clone();
             let pitch = geo.pinion.angular_pitch();
-            let c = static_curve(&mut *m, torque, 0.0, pitch, points_per_pitch, pitches)?;
+            let c = static_curve(&mut m, torque, 0.0, pitch, points_per_pitch, pitches)?;
             let pts = &c.points;
             to_json_text(&json!({
                 "torque_nm": torque,
@@ -600,7 +598,7 @@ impl MeshModel {
             let pair = parse_pair(pair_json)?;
             let drive = Drivetrain::from_pair(&pair)?;
             let t_m = drive.mesh_period(w_p);
-            let mut mesh = lock(&self.model)?.clone();
+            let mut mesh = self.model.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
             let mut model = GearDynamics::new(mesh, drive)?;
             let stepping = match method {
@@ -683,7 +681,7 @@ impl MeshModel {
         run(py, || {
             let pair = parse_pair(pair_json)?;
             let drive = Drivetrain::from_pair(&pair)?;
-            let mut mesh = lock(&self.model)?.clone();
+            let mut mesh = self.model.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
             let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
             let opts = SweepOptions {
@@ -732,7 +730,7 @@ impl MeshModel {
 
     /// Seconds spent building the table (0 for the full fidelity).
     fn table_build_seconds(&self, py: Python<'_>) -> PyResult<f64> {
-        run(py, || Ok(lock(&self.model)?.table().map_or(0.0, |t| t.build_seconds())))
+        run(py, || Ok(self.model.table().map_or(0.0, |t| t.build_seconds())))
     }
 }
 

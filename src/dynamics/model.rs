@@ -60,7 +60,7 @@ use super::steady::SteadyError;
 use crate::error::ParamError;
 use crate::geometry::PairGeometry;
 use crate::mesh::statics::{EquilibriumSettings, equilibrium};
-use crate::mesh::{MeshError, MeshOutputs, MeshState, MeshTorques};
+use crate::mesh::{MeshError, MeshOutputs, MeshState, MeshTorques, WarmStart};
 use crate::params::GearPair;
 
 /// Index of φ₁ (driving mass angle, rad) in the state vector.
@@ -357,37 +357,18 @@ pub struct StaticStart {
 /// A [`MeshError`] in the right-hand side is returned as [`OdeError::Rhs`] with the error as
 /// its source; [`DynamicsError`]'s `From<OdeError>` turns it back into
 /// [`DynamicsError::Mesh`].
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GearDynamics<M> {
     mesh: M,
     drive: Drivetrain,
     g_p: f64,
     g_g: f64,
-    /// The last evaluation: key (bits of φp, φg, φ̇p, φ̇g), outputs, whether it was the first
-    /// evaluation after [`Self::forget_history`] (a "cold" one, free of earlier calls), and
-    /// whether the outputs are complete (the right-hand side asks only for the torques,
-    /// [`MeshTorques::torques`]).
-    cache: Option<([u64; 4], MeshOutputs, bool, bool)>,
-    /// True between [`Self::forget_history`] and the next actual mesh evaluation.
-    cold: bool,
+    /// The last evaluation: key (bits of φp, φg, φ̇p, φ̇g), outputs, and whether the outputs
+    /// are complete (the right-hand side asks only for the torques,
+    /// [`MeshTorques::torques`]). Dropped whenever the mesh's warm start is set from outside
+    /// ([`Self::set_warm_start`]) or the mesh is changed.
+    cache: Option<([u64; 4], MeshOutputs, bool)>,
     evaluations: usize,
-}
-
-impl<M: Clone> Clone for GearDynamics<M> {
-    /// A copy; the remembered evaluation is copied but no longer counts as the first one after
-    /// a history reset (the clone's mesh may not carry the original's history), so that
-    /// [`Self::forget_history`] treats both alike.
-    fn clone(&self) -> Self {
-        Self {
-            mesh: self.mesh.clone(),
-            drive: self.drive,
-            g_p: self.g_p,
-            g_g: self.g_g,
-            cache: self.cache.map(|(k, o, _, c)| (k, o, false, c)),
-            cold: self.cold,
-            evaluations: self.evaluations,
-        }
-    }
 }
 
 impl<M: MeshTorques> GearDynamics<M> {
@@ -400,7 +381,7 @@ impl<M: MeshTorques> GearDynamics<M> {
                 return Err(invalid(name, v, "finite and > 0 (mesh base radius, m)"));
             }
         }
-        Ok(Self { mesh, drive, g_p, g_g, cache: None, cold: false, evaluations: 0 })
+        Ok(Self { mesh, drive, g_p, g_g, cache: None, evaluations: 0 })
     }
 
     /// The drivetrain parameters.
@@ -416,7 +397,6 @@ impl<M: MeshTorques> GearDynamics<M> {
     /// The mesh model, mutable (forgets the remembered evaluation).
     pub fn mesh_mut(&mut self) -> &mut M {
         self.cache = None;
-        self.cold = false;
         &mut self.mesh
     }
 
@@ -483,7 +463,7 @@ impl<M: MeshTorques> GearDynamics<M> {
         complete: bool,
     ) -> Result<MeshOutputs, MeshError> {
         let key = [phi_p.to_bits(), phi_g.to_bits(), w_p.to_bits(), w_g.to_bits()];
-        if let Some((k, o, _, c)) = &self.cache
+        if let Some((k, o, c)) = &self.cache
             && *k == key
             && (*c || !complete)
         {
@@ -491,28 +471,23 @@ impl<M: MeshTorques> GearDynamics<M> {
         }
         let state = MeshState { phi_p, phi_g, w_p, w_g };
         self.evaluations += 1;
-        let cold = std::mem::replace(&mut self.cold, false);
         let (o, c) =
             if complete { (self.mesh.mesh(&state)?, true) } else { self.mesh.torques(&state)? };
-        self.cache = Some((key, o, cold, c));
+        self.cache = Some((key, o, c));
         Ok(o)
     }
 
-    /// Makes the next mesh evaluation, which must be at (`phi_p`, `phi_g`, `w_p`, `w_g`),
-    /// independent of earlier calls: the mesh forgets its history
-    /// ([`MeshTorques::forget_history`], e.g. the load solver's warm start) and the remembered
-    /// evaluation is dropped, unless that evaluation is itself the first one after such a reset
-    /// and at exactly this state (then it is what a fresh evaluation would give, and is kept).
-    pub(crate) fn forget_history(&mut self, phi_p: f64, phi_g: f64, w_p: f64, w_g: f64) {
-        let key = [phi_p.to_bits(), phi_g.to_bits(), w_p.to_bits(), w_g.to_bits()];
-        if let Some((k, _, true, _)) = &self.cache
-            && *k == key
-        {
-            return;
-        }
+    /// Makes the mesh start its next evaluation from `warm` ([`MeshTorques::set_warm_start`])
+    /// and drops the remembered evaluation (made from another warm start), so that the next
+    /// results depend on (state, `warm`) only.
+    pub(crate) fn set_warm_start(&mut self, warm: &WarmStart) {
         self.cache = None;
-        self.mesh.forget_history();
-        self.cold = true;
+        self.mesh.set_warm_start(warm);
+    }
+
+    /// Copies the mesh's warm start into `out` ([`MeshTorques::warm_start`]).
+    pub(crate) fn warm_start(&self, out: &mut WarmStart) {
+        self.mesh.warm_start(out);
     }
 
     /// Sets the driving torque M (N·m, finite; the caller checks) of Eqs. 1 and 4.
@@ -540,7 +515,6 @@ impl<M: MeshTorques> GearDynamics<M> {
         let eq = equilibrium(&mut self.mesh, phi_p0, d.torque, guess, settings)
             .map_err(|source| DynamicsError::Mesh { t: None, source })?;
         self.cache = None;
-        self.cold = false;
         let w_g = d.gear_speed(omega_p);
         let y = [
             phi_p0 + d.torque / d.c1,

@@ -6,8 +6,11 @@
 //!   ([`crate::mesh::statics::equilibrium`]); its maximum STE_max normalises the sweep (a
 //!   finer curve gives a slightly larger maximum: [`SweepOptions::static_points`]).
 //! * [`sweep`]: one [`run_to_steady`] per speed, on a rayon pool; every worker owns its own
-//!   clone of the mesh model (models may keep warm-start state), results come back in the
-//!   order of the speeds given. For each speed: TE_max/STE_max over the steady window and
+//!   clone of the mesh (for [`crate::mesh::Mesh`]: the shared `Arc` of the immutable model and
+//!   table, the worker's own workspace), and every run starts the load solver cold
+//!   ([`MeshTorques::set_warm_start`] with an empty warm start), so a speed's result does not
+//!   depend on the worker or on the runs before it; results come back in the order of the
+//!   speeds given. For each speed: TE_max/STE_max over the steady window and
 //!   the separation, tip-contact and back-contact flags of that window.
 //! * Resonances: the interior local maxima of TE_max/STE_max over the speed grid whose
 //!   topographic prominence (height above the higher of the two lowest points that separate it
@@ -41,7 +44,7 @@ use super::simulate::{
     run_to_steady,
 };
 use crate::mesh::statics::{StaticCurve, static_curve};
-use crate::mesh::{MeshError, MeshTorques};
+use crate::mesh::{MeshError, MeshTorques, WarmStart};
 
 /// STE(φp) at `points` (≥ 2) equally spaced pinion angles φp_i = i·2π/(z_p·points) over one
 /// mesh period, under driving torque `torque` (N·m, > 0): [`static_curve`] (each angle's
@@ -359,6 +362,10 @@ where
      -> Result<SweepPoint, DynamicsError> {
         let model =
             model.as_mut().ok_or_else(|| invalid("model", w, "a model that can be built"))?;
+        // Every run from a cold start: the thread's model (shared mesh model, the thread's
+        // workspace) carries nothing from its earlier runs, so the results do not depend on
+        // which thread ran which speed.
+        model.set_warm_start(&WarmStart::default());
         let r = run_to_steady(model, w, &run)
             .map_err(|e| DynamicsError::AtSpeed { omega_p: w, source: Box::new(e) })?;
         let p = SweepPoint::from_response(&r, ste_max);

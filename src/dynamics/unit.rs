@@ -97,22 +97,30 @@
 //!
 //! # History, snapshots and bit-for-bit restarts
 //!
-//! The full-fidelity [`crate::mesh::MeshModel`] warm-starts its load solver from the previous
-//! evaluation, so its results depend on the call history at the level of the solver
-//! tolerance. A unit therefore makes every [`DriveUnit::advance`] and [`DriveUnit::outputs`]
-//! start from a clean history: the first mesh evaluation of each is a cold one
-//! ([`MeshTorques::forget_history`]; the remembered evaluation is kept only when it is itself
-//! such a cold evaluation of the same state). Within an advance the warm start works as usual.
-//! The trajectory is then a function of (time, state, inputs, input time, step hint) alone —
-//! the [`UnitSnapshot`] — and continuing after [`DriveUnit::restore`] reproduces it bit for
-//! bit, in the same unit, a clone, or a fresh unit built from the same parameters after a
-//! serde round trip (serde_json with `float_roundtrip` keeps every f64 exactly). The cost is
-//! one cold load solve per communication step (measured in `tests/dynamics_unit.rs`,
-//! `full_fidelity_history_reset_cost`). Meshes without history (the table inside its range,
-//! the analytic meshes) are unaffected: for them a Drive unit stepped with RK4 at the step of
-//! [`super::simulate`] reproduces its trajectory bit for bit.
-//! [`DriveUnit::derivatives`] and [`DriveUnit::linearize`] keep the warm start (a Model
-//! Exchange master evaluates many nearby states).
+//! The full-fidelity mesh ([`crate::mesh::Mesh`]) warm-starts its load solver from the loads
+//! of the previous evaluation ([`crate::mesh::WarmStart`]), so its results depend on that warm
+//! start at the level of the solver tolerance. The warm start is therefore part of the unit's
+//! state: the unit holds it, every [`DriveUnit::advance`] starts the mesh from it
+//! ([`MeshTorques::set_warm_start`], which also drops the remembered evaluation) and, on
+//! success, keeps the warm start the advance ended with ([`MeshTorques::warm_start`]); a failed
+//! advance leaves it as it was. [`DriveUnit::outputs`] and [`DriveUnit::linearize`] evaluate
+//! from it without changing it, so reading the outputs between steps leaves the trajectory
+//! bit for bit as it is (`tests/dynamics_unit.rs`); [`DriveUnit::derivatives`] (Model
+//! Exchange) starts from it and keeps the new one, so that a Model Exchange master's nearby
+//! states stay warm-started. [`DriveUnit::start_static`] keeps the static solve's warm
+//! start; a new unit starts cold. The trajectory is then a function of (time, state, inputs,
+//! input time, step hint, hub reference, warm start) alone — the [`UnitSnapshot`] — and
+//! continuing after [`DriveUnit::restore`] reproduces it bit for bit, in the same unit, a
+//! clone, or a fresh unit built from the same parameters after a serde round trip
+//! (serde_json with `float_roundtrip` keeps every f64 exactly). A restored warm start is
+//! checked ([`crate::mesh::WarmStart::check`]). Meshes without history (the table inside its
+//! range, the analytic meshes) have an empty warm start: for them a Drive unit stepped with
+//! RK4 at the step of [`super::simulate`] reproduces its trajectory bit for bit.
+//!
+//! Carrying the warm start instead of restarting cold at every communication step (as
+//! earlier versions did) saves the cold solve's extra Newton iterations at the first
+//! evaluation of each step; the measured cost per step is in `full_fidelity_unit_speed`
+//! (`tests/dynamics_unit.rs`).
 
 use std::ops::ControlFlow;
 
@@ -124,7 +132,7 @@ use super::model::{
 };
 use super::relative::{InRelative, RelativeCoordinates};
 use crate::mesh::statics::EquilibriumSettings;
-use crate::mesh::{MeshJacobian, MeshOutputs, MeshState, MeshTorques};
+use crate::mesh::{MeshJacobian, MeshOutputs, MeshState, MeshTorques, WarmStart};
 
 pub use super::limits::STEPS_PER_FAST_PERIOD;
 
@@ -478,10 +486,14 @@ pub struct UnitSnapshot {
     /// taken since the inputs were set).
     #[serde(default)]
     pub hub_ref: Option<HubReference>,
+    /// The warm start of the mesh's load solver the next advance starts from (empty for
+    /// meshes without one; see the module doc).
+    #[serde(default)]
+    pub warm_start: WarmStart,
 }
 
 /// Format version of [`UnitSnapshot::to_text`]; a text of another version is refused.
-pub const SNAPSHOT_FORMAT_VERSION: u32 = 1;
+pub const SNAPSHOT_FORMAT_VERSION: u32 = 2;
 
 /// The envelope of a snapshot's text: format version, 64-bit FNV-1a checksum (16 hex digits)
 /// of the snapshot's compact JSON, the snapshot.
@@ -611,11 +623,6 @@ impl<M: MeshTorques> UnitSystem<M> {
         [y[i], y[j], y[k], y[l]]
     }
 
-    fn forget_history(&mut self, y: &[f64]) {
-        let [pp, pg, wp, wg] = self.hub(y);
-        self.model.forget_history(pp, pg, wp, wg);
-    }
-
     /// Mesh outputs at `y`, as an [`OdeError`] at time `t` on failure.
     fn mesh(&mut self, t: f64, y: &[f64]) -> Result<MeshOutputs, OdeError> {
         let [pp, pg, wp, wg] = self.hub(y);
@@ -679,6 +686,8 @@ pub struct DriveUnit<M> {
     /// Mesh stiffness at the static equilibrium under the nominal torque, N/m.
     k_mesh: f64,
     dydt: [f64; N_STATES],
+    /// The mesh's warm start at the current state: part of the state (snapshots carry it).
+    warm: WarmStart,
 }
 
 /// Largest eigenvalue ω of K v = ω² J v for two inertias `j` and a symmetric stiffness `k`.
@@ -773,6 +782,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             step_hint: None,
             omega_fast,
             k_mesh: k,
+            warm: WarmStart::default(),
             dydt: [0.0; N_STATES],
         })
     }
@@ -955,6 +965,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         }
         self.t = t0;
         self.step_hint = None;
+        self.sys.model.warm_start(&mut self.warm);
         self.set_inputs(u)?;
         Ok(start)
     }
@@ -1013,7 +1024,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         };
         let y0 = self.y;
         self.sys.extrapolate = true;
-        self.sys.forget_history(&self.y[..n]);
+        self.sys.model.set_warm_start(&self.warm);
         if let Err(e) = self.take_hub_reference() {
             return Err(e.into());
         }
@@ -1056,6 +1067,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         match result {
             Ok(()) => {
                 self.t = t1;
+                self.sys.model.warm_start(&mut self.warm);
                 Ok(())
             }
             Err(e) => {
@@ -1065,13 +1077,14 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         }
     }
 
-    /// The outputs at the current time and state (the mesh evaluated from a clean history, see
-    /// the module doc). Errors: a mesh failure, with the current time.
+    /// The outputs at the current time and state (the mesh evaluated from the unit's warm
+    /// start, which it leaves unchanged; see the module doc). Errors: a mesh failure, with the
+    /// current time.
     pub fn outputs(&mut self) -> Result<UnitOutputs, DynamicsError> {
         let n = self.n_states();
         let t = self.t;
         self.sys.extrapolate = true;
-        self.sys.forget_history(&self.y[..n]);
+        self.sys.model.set_warm_start(&self.warm);
         let mut dydt = self.dydt;
         self.sys.rhs(t, &self.y[..n], &mut dydt[..n]).map_err(DynamicsError::from)?;
         let o = self.sys.mesh(t, &self.y[..n]).map_err(DynamicsError::from)?;
@@ -1136,9 +1149,11 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             return Err(invalid("state component", *v, "finite"));
         }
         self.sys.extrapolate = false;
+        self.sys.model.set_warm_start(&self.warm);
         let r = self.sys.rhs(t, y, dydt);
         self.sys.extrapolate = true;
         r?;
+        self.sys.model.warm_start(&mut self.warm);
         if let Some(v) = dydt.iter().find(|v| !v.is_finite()) {
             return Err(invalid("derivative component", *v, "finite"));
         }
@@ -1158,6 +1173,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let t = self.t;
         let hub = self.sys.hub(&self.y);
         let state = MeshState { phi_p: hub[0], phi_g: hub[1], w_p: hub[2], w_g: hub[3] };
+        self.sys.model.set_warm_start(&self.warm);
         let (_, jac) = self
             .sys
             .model
@@ -1291,6 +1307,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             input_time: self.sys.input_time,
             step_hint: self.step_hint,
             hub_ref: self.sys.hub_ref,
+            warm_start: self.warm.clone(),
         }
     }
 
@@ -1331,8 +1348,10 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         {
             return Err(invalid("snapshot step_hint", h, "finite and > 0 (s)"));
         }
+        s.warm_start.check().map_err(DynamicsError::Param)?;
         self.t = s.time;
         self.y[..n].copy_from_slice(&s.state);
+        self.warm.copy_from(&s.warm_start);
         self.sys.inputs = s.inputs;
         self.sys.input_time = s.input_time;
         self.sys.hub_ref = s.hub_ref;

@@ -1068,8 +1068,10 @@ pub(crate) fn log_to(
 // Layout (little endian): magic `HGMSTATE`, format version u32, GUID (u32 length + bytes),
 // state-machine state u8 (its bit position), time f64, start time f64, stop time (u8 flag +
 // f64), then every parameter and input in table order (Real f64, Integer i32, Boolean u8);
-// stateful models then write the engine's state (u32 length, 0 before the start, + bytes);
-// last the cached outputs (u8 flag, then the twelve mesh-output fields; stateful models
+// then the engine's state (u32 length, 0 before the start or when it has none, + bytes: a
+// unit's snapshot text, warm start included; the mesh element's load-solver warm start,
+// `mesh::WarmStart::to_bytes`, so that a restored element evaluates bit for bit as the
+// original); last the cached outputs (u8 flag, then the twelve mesh-output fields; stateful models
 // always write 0: their outputs follow from the state). The engine itself (the mesh model) is
 // not serialised: it is rebuilt from the parameters (or cloned from the instance's last build
 // with the same parameters). The last 8 bytes are the 64-bit FNV-1a checksum
@@ -1079,7 +1081,7 @@ pub(crate) fn log_to(
 // stated ranges (`Variable::check_input`), finite cached outputs.
 
 const MAGIC: &[u8; 8] = b"HGMSTATE";
-const FORMAT_VERSION: u32 = 4;
+const FORMAT_VERSION: u32 = 5;
 
 fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     let mut b = Vec::with_capacity(512);
@@ -1113,14 +1115,12 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
         b.extend_from_slice(&x.to_le_bytes());
     }
     b.push(u8::from(d.inputs.fresh));
-    if model.stateful {
-        let state = match &d.built {
-            Some(built) if built.started => built.engine.save(),
-            _ => Vec::new(),
-        };
-        b.extend_from_slice(&(state.len() as u32).to_le_bytes());
-        b.extend_from_slice(&state);
-    }
+    let state = match &d.built {
+        Some(built) if built.started => built.engine.save(),
+        _ => Vec::new(),
+    };
+    b.extend_from_slice(&(state.len() as u32).to_le_bytes());
+    b.extend_from_slice(&state);
     match &d.outputs {
         Some(o) if !model.stateful => {
             b.push(1);
@@ -1291,13 +1291,11 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         }
     }
     let mut engine_state = None;
-    if model.stateful {
-        let n = r.u32()? as usize;
-        let s = r.b.get(r.at..r.at + n).ok_or("serialised state truncated in the model state")?;
-        r.at += n;
-        if n > 0 {
-            engine_state = Some(s.to_vec());
-        }
+    let n = r.u32()? as usize;
+    let s = r.b.get(r.at..r.at + n).ok_or("serialised state truncated in the model state")?;
+    r.at += n;
+    if n > 0 {
+        engine_state = Some(s.to_vec());
     }
     if r.bool()? {
         if model.stateful {

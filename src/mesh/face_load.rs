@@ -1,7 +1,7 @@
 //! Load distribution across the face width and the face load factor K_Hβ.
 //!
 //! # Line load
-//! From the per-slice loads of the last evaluation ([`MeshModel::slices`], so
+//! From the per-slice loads of the last evaluation ([`Mesh::slices`], so
 //! [`super::MeshOptions::detail`] must be on): slice i carries the force q_i·w_i over the
 //! axial width m_n·Δζ, w_i = m_n·Δζ/cos θ, i.e. the normal load per unit face width
 //! q_i/cos θ (N/m). The line load at axial slice k is that sum over all tooth pairs in contact
@@ -30,7 +30,7 @@
 //! (K_Hβ ≤ 1.5) and K_Hβ = (3/2)·√(C/δ) with δ = (3F_m·√C/(2c_γβ·b))^(2/3) otherwise
 //! ([`k_h_beta_crowned`]).
 
-use super::MeshModel;
+use super::Mesh;
 use crate::geometry::PairGeometry;
 
 /// Line load across the face width at one evaluation.
@@ -62,7 +62,7 @@ impl FaceLoad {
 
 /// The line load of the last evaluation of `model` (its per-slice detail must be on; driving
 /// flanks only).
-pub fn face_load(model: &MeshModel) -> FaceLoad {
+pub fn face_load(model: &Mesh) -> FaceLoad {
     let geo: &PairGeometry = model.geometry();
     let n = model.slices_per_line();
     let b0 = geo.b0();

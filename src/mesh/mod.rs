@@ -1,7 +1,10 @@
-//! The mesh model façade: from hub angles and rates to mesh torques (paper §5, Eqs. 12–15).
+//! The mesh model: from hub angles and rates to mesh torques (paper §5, Eqs. 12–15).
 //!
-//! [`MeshModel`] is built once from a validated [`GearPair`] and [`MeshOptions`]; each call of
-//! [`MeshModel::evaluate`] takes the state (φp, φg, φ̇p, φ̇g) and returns [`MeshOutputs`]:
+//! [`MeshModel`] is built once from a validated [`GearPair`] and [`MeshOptions`] and is
+//! immutable (`Send + Sync`, shared by `Arc`); each call of [`MeshModel::evaluate`] takes the
+//! state (φp, φg, φ̇p, φ̇g), a [`MeshWorkspace`] (scratch memory, one per caller) and a
+//! [`WarmStart`] (the previous loads) and returns [`MeshOutputs`]; the result depends on
+//! (model, state, warm start) only (see the `model` module docs):
 //!
 //! ```text
 //! state ─> contact (instant lines of contact, all tooth pairs, driving and back flanks)
@@ -15,14 +18,25 @@
 //! negative torques.
 //!
 //! [`MeshTorques`] is the one-method interface the dynamics and the FMU use; [`statics`] finds
-//! the static equilibrium for any implementation of it.
+//! the static equilibrium for any implementation of it. Its implementations here:
+//!
+//! * [`FullMesh`] — an `Arc<MeshModel>` with its own workspace and warm start (`model`);
+//! * [`TableMesh`] — the table over (phase, TE) built from a model, with a [`FullMesh`] for
+//!   the states outside it (`table`, which depends on `model`, never the other way);
+//! * [`Mesh`] — "a mesh at a fidelity", the one type the shells (FMUs, C API, Python, CLI)
+//!   build from [`MeshOptions::fidelity`]: one of the two. A clone shares model and table and
+//!   starts with a fresh workspace and a cold start.
+//!
+//! [`MeshTorques::warm_start`] and [`MeshTorques::set_warm_start`] let a caller keep the warm
+//! start as part of its own state (the dynamics units and their snapshots, the mesh FMU's
+//! state).
 //!
 //! [`MeshTorques::mesh_jacobian`] gives the outputs with their partial derivatives
 //! ([`MeshJacobian`]), computed from the model: at table fidelity the exact derivative of the
 //! table's interpolant ([`MeshTable::evaluate_jacobian`]), at full fidelity (and outside the
 //! table) the exact sensitivity of the load solution at its active set (the `model::jacobian`
 //! module documents every term; nothing is neglected). Both agree with central differences of
-//! [`MeshModel::evaluate`] to better than 1e-5 of the row (`tests/mesh_jacobian.rs`).
+//! [`Mesh::evaluate`] to better than 1e-5 of the row (`tests/mesh_jacobian.rs`).
 //!
 //! The model holds in a stated range of the state ([`validity`]: flank overlaps up to 0.2·m_n,
 //! i.e. −j_t − 0.2·m_n ≤ TE ≤ 0.2·m_n, and |φp| up to 2⁵³ pinion pitches). A state outside it,
@@ -49,12 +63,15 @@ use crate::load::LoadError;
 use crate::params::GearPair;
 
 pub use face_load::{FaceLoad, face_load, k_h_beta_crowned, k_h_beta_iso};
-pub use model::{GearCompliance, MeshModel, SolveStats};
+pub use model::{
+    FullMesh, GearCompliance, MAX_WARM_LOADS, MeshModel, MeshWorkspace, SolveStats, WarmLoad,
+    WarmStart,
+};
 pub use statics::{
     Equilibrium, EquilibriumSettings, StaticCurve, TipThreshold, WaterfallRow, equilibrium,
     pressure_waterfall, static_curve, tip_contact_threshold, tip_contact_threshold_curve,
 };
-pub use table::{MeshTable, TableTruncation};
+pub use table::{MeshTable, TableMesh, TableTruncation};
 pub use validity::ValidityRange;
 
 /// The kinematic state of the two gears.
@@ -120,7 +137,7 @@ pub enum ComplianceModel {
     Fitted,
 }
 
-/// Options of [`MeshModel`].
+/// Options of [`MeshModel`] (fidelity and table resolution: of [`Mesh`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshOptions {
     /// Evaluation fidelity.
@@ -140,7 +157,8 @@ pub struct MeshOptions {
     pub pressure: bool,
     /// Compute the damping torques M_D (Eq. 14).
     pub damping: bool,
-    /// Keep the per-slice detail ([`MeshModel::slices`]) of the last evaluation.
+    /// Keep the per-slice detail ([`Mesh::slices`]) of the last evaluation (the initial
+    /// setting of each workspace, [`MeshWorkspace::set_detail`]).
     pub detail: bool,
     /// Table resolution: points per mesh period along the phase.
     pub table_phase_points: usize,
@@ -344,7 +362,8 @@ impl MeshJacobian {
     pub const W_G: usize = 3;
 }
 
-/// Anything that gives the mesh torques for a state: the [`MeshModel`], or a stand-in in tests.
+/// Anything that gives the mesh torques for a state: [`Mesh`], [`FullMesh`], [`TableMesh`],
+/// or a stand-in in tests.
 pub trait MeshTorques {
     /// Mesh outputs for `state`.
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError>;
@@ -382,14 +401,285 @@ pub trait MeshTorques {
     /// warm start of an iterative load solver), so that the next call gives bit for bit what a
     /// fresh clone would give. Stateless implementations keep the default, which does nothing.
     fn forget_history(&mut self) {}
+
+    /// Copies the warm start the next evaluation would start from into `out` (reusing its
+    /// memory); implementations without one leave `out` empty (the default). With
+    /// [`Self::set_warm_start`] a caller keeps the warm start as part of its own state.
+    fn warm_start(&self, out: &mut WarmStart) {
+        out.clear();
+    }
+
+    /// Makes the next evaluation start from `warm` (as if the previous one had left it);
+    /// implementations without one ignore it (the default).
+    fn set_warm_start(&mut self, warm: &WarmStart) {
+        let _ = warm;
+    }
 }
 
-impl MeshModel {
-    /// Builds the model of `pair` with `options`: validates the pair and the options, obtains
+/// A mesh at a fidelity: the shells' one type for "the mesh model of this pair with these
+/// options" ([`MeshOptions::fidelity`]). Either the full model ([`FullMesh`]) or its table
+/// ([`TableMesh`], which falls back to the full model outside its range); both hold the
+/// shared immutable [`MeshModel`] (an `Arc`), their own [`MeshWorkspace`] and [`WarmStart`].
+/// A clone shares model and table and starts with a fresh workspace and a cold start.
+#[derive(Debug, Clone)]
+pub enum Mesh {
+    /// Contact search and load solve at every call.
+    Full(FullMesh),
+    /// Interpolation in the table, the full model outside it.
+    Table(TableMesh),
+}
+
+impl Mesh {
+    /// Builds the mesh of `pair` with `options`: validates the pair and the options, obtains
     /// the FE compliance of both gears ([`ComplianceData::for_pair`] with the default
     /// [`CacheOptions`]: the embedded Table 1 data when the compliance parameters match, else a
     /// disk cache under `HELICAL_GEAR_CACHE_DIR`, else a fresh FE run of a few seconds) and, for
     /// [`Fidelity::Table`], builds the table.
+    pub fn new(pair: &GearPair, options: MeshOptions) -> Result<Self, MeshError> {
+        Self::with_cache(pair, options, &CacheOptions::default())
+    }
+
+    /// [`Mesh::new`] with explicit cache settings (e.g. progress on stderr).
+    pub fn with_cache(
+        pair: &GearPair,
+        options: MeshOptions,
+        cache: &CacheOptions,
+    ) -> Result<Self, MeshError> {
+        PairGeometry::new(pair)?;
+        Self::check_options(&options)?;
+        Self::from_model(Arc::new(MeshModel::with_cache(pair, options, cache)?))
+    }
+
+    /// Builds the mesh from compliance data of this pair in the representation chosen by
+    /// [`MeshOptions::compliance`].
+    pub fn from_data(
+        pair: &GearPair,
+        options: MeshOptions,
+        data: &ComplianceData,
+    ) -> Result<Self, MeshError> {
+        if data.matches(pair) {
+            Self::check_options(&options)?;
+        }
+        Self::from_model(Arc::new(MeshModel::from_data(pair, options, data)?))
+    }
+
+    /// Builds the mesh from the given global compliances of pinion and gear
+    /// ([`MeshModel::with_compliance`]), with the table of [`Fidelity::Table`].
+    pub fn with_compliance(
+        pair: &GearPair,
+        options: MeshOptions,
+        pinion: GearCompliance,
+        gear: GearCompliance,
+    ) -> Result<Self, MeshError> {
+        Self::check_options(&options)?;
+        Self::from_model(Arc::new(MeshModel::with_compliance(pair, options, pinion, gear)?))
+    }
+
+    fn check_options(options: &MeshOptions) -> Result<(), MeshError> {
+        model::check_options(options)?;
+        table::check_table_size(options.table_phase_points, options.table_te_points)?;
+        Ok(())
+    }
+
+    /// The mesh of a built model at the model's fidelity. With [`Fidelity::Table`] the table
+    /// is built here (see [`table`]; tooth deviations are added on it per tooth pair) unless
+    /// the modifications that repeat on every tooth add material ([`crate::modifications`]):
+    /// the table starts at TE = 0, so such a mesh evaluates at full fidelity
+    /// ([`Mesh::table`] is then `None`).
+    pub fn from_model(model: Arc<MeshModel>) -> Result<Self, MeshError> {
+        let o = model.options();
+        table::check_table_size(o.table_phase_points, o.table_te_points)?;
+        // The table needs the part of the modifications that repeats on every tooth to remove
+        // material only (no contact below TE = 0); otherwise the mesh stays at full fidelity.
+        // Tooth-by-tooth deviations are added per tooth pair on a per-pair table
+        // ([`table`], "Tooth deviations").
+        let full_sep = model.separation().cloned();
+        let deviations = full_sep.clone().filter(|s| s.has_tooth_deviations());
+        let table_ok = match &deviations {
+            Some(s) => s.periodic_part().min_bound() >= 0.0,
+            None => full_sep.as_ref().is_none_or(|s| s.min_bound() >= 0.0),
+        };
+        if o.fidelity == Fidelity::Table && table_ok {
+            let base = match &deviations {
+                Some(s) => Arc::new(model.with_separation(Some(Arc::new(s.periodic_part())))),
+                None => model.clone(),
+            };
+            let table = MeshTable::build(&base, deviations)?;
+            return Ok(Mesh::Table(TableMesh::new(Arc::new(table), FullMesh::new(model))));
+        }
+        Ok(Mesh::Full(FullMesh::new(model)))
+    }
+
+    /// The full model with its workspace and warm start (the table's fallback).
+    pub fn full(&self) -> &FullMesh {
+        match self {
+            Mesh::Full(f) => f,
+            Mesh::Table(t) => t.full(),
+        }
+    }
+
+    /// The full model with its workspace and warm start, mutable.
+    pub fn full_mut(&mut self) -> &mut FullMesh {
+        match self {
+            Mesh::Full(f) => f,
+            Mesh::Table(t) => t.full_mut(),
+        }
+    }
+
+    /// The shared immutable model.
+    pub fn model(&self) -> &Arc<MeshModel> {
+        self.full().model()
+    }
+
+    /// The table of [`Fidelity::Table`], if built.
+    pub fn table(&self) -> Option<&MeshTable> {
+        match self {
+            Mesh::Full(_) => None,
+            Mesh::Table(t) => Some(t.table()),
+        }
+    }
+
+    /// The gear-pair parameters.
+    pub fn pair(&self) -> &GearPair {
+        self.model().pair()
+    }
+
+    /// The validated geometry.
+    pub fn geometry(&self) -> &PairGeometry {
+        self.model().geometry()
+    }
+
+    /// The options the model was built with ([`Mesh::detail`] says whether the detail is on
+    /// now).
+    pub fn options(&self) -> &MeshOptions {
+        self.model().options()
+    }
+
+    /// Axial slices per contact line.
+    pub fn slices_per_line(&self) -> usize {
+        self.model().slices_per_line()
+    }
+
+    /// The range of states in which the model holds ([`validity`]).
+    pub fn validity(&self) -> &ValidityRange {
+        self.model().validity()
+    }
+
+    /// Checks `state` against the validity range ([`MeshModel::check_state`]).
+    pub fn check_state(&self, state: &MeshState) -> Result<(), MeshError> {
+        self.model().check_state(state)
+    }
+
+    /// Mesh damping d_mesh of Eq. 14, N·s/m.
+    pub fn d_mesh(&self) -> f64 {
+        self.model().d_mesh()
+    }
+
+    /// Sets d_mesh, N·s/m, in [0, [`crate::params::D_MESH_MAX_N_S_PER_M`]] (the model is
+    /// copied, its heavy parts shared; the table does not depend on d_mesh: the damping
+    /// torques are computed from its interpolated contact extent).
+    pub fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), MeshError> {
+        self.full_mut().set_d_mesh(d_mesh)
+    }
+
+    /// True while the per-slice detail ([`Mesh::slices`]) is kept.
+    pub fn detail(&self) -> bool {
+        self.full().workspace().keep_detail()
+    }
+
+    /// Turns the per-slice detail ([`Mesh::slices`]) on or off.
+    pub fn set_detail(&mut self, on: bool) {
+        self.full_mut().workspace_mut().set_detail(on);
+    }
+
+    /// Switches the ζ-precomputed compliance kernel on or off ([`FullMesh::use_slice_kernel`]).
+    pub fn use_slice_kernel(&mut self, on: bool) -> bool {
+        self.full_mut().use_slice_kernel(on)
+    }
+
+    /// Work counters of the full evaluations so far.
+    pub fn stats(&self) -> SolveStats {
+        self.full().workspace().stats()
+    }
+
+    /// Sets the work counters to zero.
+    pub fn reset_stats(&mut self) {
+        self.full_mut().workspace_mut().reset_stats();
+    }
+
+    /// Per-slice detail of the last full evaluation (empty unless the detail is on).
+    pub fn slices(&self) -> &[SliceDetail] {
+        self.full().workspace().slices()
+    }
+
+    /// Drops the warm start: the next full evaluation starts cold and gives bit for bit what
+    /// a fresh mesh would give.
+    pub fn forget_warm_start(&mut self) {
+        self.full_mut().forget_history();
+    }
+
+    /// Evaluates the mesh at `state` with the configured fidelity.
+    pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        match self {
+            Mesh::Full(f) => f.evaluate(state),
+            Mesh::Table(t) => t.evaluate(state),
+        }
+    }
+
+    /// Evaluates the mesh at `state` by the full contact search and load solve, whatever the
+    /// fidelity ([`MeshModel::evaluate`]).
+    pub fn evaluate_full(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        self.full_mut().evaluate(state)
+    }
+}
+
+impl MeshTorques for Mesh {
+    fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        self.evaluate(state)
+    }
+
+    fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
+        match self {
+            Mesh::Full(f) => f.torques(state),
+            Mesh::Table(t) => t.torques(state),
+        }
+    }
+
+    fn base_radii(&self) -> (f64, f64) {
+        self.full().base_radii()
+    }
+
+    fn te_range(&self) -> (f64, f64) {
+        self.full().te_range()
+    }
+
+    fn mesh_jacobian(
+        &mut self,
+        state: &MeshState,
+    ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
+        match self {
+            Mesh::Full(f) => f.mesh_jacobian(state),
+            Mesh::Table(t) => t.mesh_jacobian(state),
+        }
+    }
+
+    fn forget_history(&mut self) {
+        self.full_mut().forget_history();
+    }
+
+    fn warm_start(&self, out: &mut WarmStart) {
+        self.full().warm_start(out);
+    }
+
+    fn set_warm_start(&mut self, warm: &WarmStart) {
+        self.full_mut().set_warm_start(warm);
+    }
+}
+
+impl MeshModel {
+    /// Builds the model of `pair` with `options` (the table options are not the model's, see
+    /// [`Mesh`]): validates the pair and the options and obtains the FE compliance of both
+    /// gears as [`Mesh::new`] does.
     pub fn new(pair: &GearPair, options: MeshOptions) -> Result<Self, MeshError> {
         Self::with_cache(pair, options, &CacheOptions::default())
     }
@@ -401,6 +691,7 @@ impl MeshModel {
         cache: &CacheOptions,
     ) -> Result<Self, MeshError> {
         PairGeometry::new(pair)?;
+        model::check_options(&options)?;
         if let Some(c) = options.winkler_c_prime {
             let (p, g) = winkler_compliances(pair, c)?;
             return Self::with_compliance(pair, options, p, g);

@@ -1,5 +1,30 @@
 //! [`MeshModel`]: one evaluation of the mesh (contact → compliance → load → torques).
 //!
+//! # Model, workspace, warm start
+//! An evaluation has three inputs besides the state, kept apart:
+//!
+//! * [`MeshModel`] — everything fixed once the pair and the options are: pair, geometry,
+//!   options, both gears' compliances (and their kernels at the slice positions), the local
+//!   contact, the slice positions ζ_k, the flank separation of the modifications, the validity
+//!   range and d_mesh. Immutable after construction and `Send + Sync` (a static assertion
+//!   below), so one model is shared by `Arc` between threads, sweeps and the table build; the
+//!   heavy parts are themselves behind `Arc`s. d_mesh stays a model field: the FMUs' tunable
+//!   `d_mesh` makes a copy with [`MeshModel::with_d_mesh`] (a few hundred bytes plus the slice
+//!   positions; nothing is rebuilt).
+//! * [`MeshWorkspace`] — scratch memory: contacts, slice data, the compliance matrix,
+//!   interpolation scratch, the load solver's buffers, and what the last evaluation leaves
+//!   for the caller to read (per-slice detail, per-pair sums of the table build, work
+//!   counters). One per caller (thread); it never changes a result.
+//! * [`WarmStart`] — the loads of the loaded slices of the previous evaluation with their keys
+//!   (flank side, tooth pair, slice): a small plain value (compare, copy, serialise), the only
+//!   history an evaluation sees.
+//!
+//! [`MeshModel::evaluate`] takes `&self`, the workspace and the warm start, and its result is
+//! a function of (model, state, warm start) alone; the warm start changes it only at the load
+//! solver's tolerance. [`FullMesh`] bundles an `Arc<MeshModel>` with one workspace and one
+//! warm start as a [`MeshTorques`]; the table fidelity ([`super::table::TableMesh`]) and the
+//! shells' [`super::Mesh`] build on it. This module knows nothing of the table.
+//!
 //! # Slices
 //! The face width is cut into `n_line` equal axial slices (centres ζ_k, width Δζ = b₀/n_line),
 //! the same for every tooth pair, with `n_line = ceil(slices / ceil(ε_α + ε_β))`: the paper's
@@ -23,7 +48,7 @@
 //! 3.8 MB per gear for Table 1 at 200 slices), which leaves per matrix entry one 4 × 4
 //! contraction (compiled for AVX2 where the CPU has it, with the same rounding as the portable
 //! code). This assembles the matrix 2–3 times faster than the general interpolation
-//! ([`MeshModel::use_slice_kernel`] switches between them; the benchmark reports both).
+//! ([`FullMesh::use_slice_kernel`] switches between them; the benchmark reports both).
 //!
 //! # Corner contacts
 //! Where the contact lies on the convex corner between involute and tip relief the transverse
@@ -43,9 +68,10 @@
 //!
 //! # No allocation in the steady path
 //! Every buffer (contacts, slice data, compliance matrix, interpolation scratch, load-solver
-//! workspace, warm-start keys) lives in the model and is reused; after the first calls have
-//! grown them to the sizes a trajectory needs, evaluations do not touch the heap
-//! (`tests/mesh_alloc.rs` counts allocations). Clones start with empty buffers.
+//! workspace) lives in the [`MeshWorkspace`], the warm start's loads in the [`WarmStart`];
+//! both are reused. After the first calls have grown them to the sizes a trajectory needs,
+//! evaluations do not touch the heap (`tests/mesh_alloc.rs` counts allocations). A new
+//! workspace is sized for two contact lines per flank side.
 //!
 //! # Validity range
 //! Every evaluation (full or table, outputs or Jacobian) first checks the state against the
@@ -56,18 +82,25 @@
 //! outputs are bit for bit those without the check.
 //!
 //! # Warm start
-//! The loads of the previous call are kept with their keys (flank side, tooth pair, slice); a
-//! new call starts from them, which makes the active set of a nearby state exact after one
-//! Newton step in dynamic use.
+//! The loads of the previous call are kept with their keys (flank side, tooth pair, slice) in
+//! the caller's [`WarmStart`]; a new call starts from them (zero for a slice not listed),
+//! which makes the active set of a nearby state exact after one Newton step in dynamic use.
+//! Keys and loads are in the contact search's ascending (side, pair, slice) order, so one
+//! merge walk finds the matches. An unloaded state clears the warm start; a failed solve
+//! leaves it as it was. A warm start read from outside (a restored state) is checked
+//! ([`WarmStart::check`]: at most [`MAX_WARM_LOADS`] entries, keys ascending, loads finite
+//! and > 0).
 
 mod jacobian;
+
+pub(crate) use jacobian::damping_rows;
 
 use std::sync::Arc;
 
 use faer::Mat;
 
 use super::validity::ValidityRange;
-use super::{Fidelity, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
+use super::{MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
 use crate::compliance::fitted::FittedInfluence;
 use crate::compliance::hertz::LocalContact;
 use crate::compliance::interpolated::{
@@ -173,7 +206,13 @@ struct Slice {
     k: usize,
 }
 
-/// The mesh model of a gear pair (see the module docs of [`crate::mesh`] and of this file).
+/// The mesh model of a gear pair: everything that is fixed once the pair and the options are
+/// (see the module docs of [`crate::mesh`] and of this file). Immutable, `Send + Sync`: share
+/// it by [`Arc`] between threads and evaluate it with [`MeshModel::evaluate`], each caller with
+/// its own [`MeshWorkspace`] and [`WarmStart`]. The heavy parts (geometry, FE compliances,
+/// slice kernels, separation) are behind `Arc`s, so a clone (e.g. [`MeshModel::with_d_mesh`])
+/// copies a few hundred bytes plus the slice positions.
+#[derive(Clone)]
 pub struct MeshModel {
     pair: GearPair,
     geo: Arc<PairGeometry>,
@@ -184,13 +223,31 @@ pub struct MeshModel {
     /// the compliance is [`GearCompliance::Interpolated`] on a grid that allows it.
     slice_comp: Option<Arc<[SliceInfluence; 2]>>,
     local: LocalContact,
+    /// Mesh damping d_mesh of Eq. 14, N·s/m (a model field: [`MeshModel::with_d_mesh`]).
     d_mesh: f64,
     /// The validity range of the state (`super::validity`).
     validity: ValidityRange,
     zetas: Vec<f64>,
     dzeta: f64,
     cos_theta: f64,
-    // Workspace (reused between calls).
+    /// Flank modifications and deviations ([`crate::modifications`]); `None` without any.
+    separation: Option<Arc<Separation>>,
+}
+
+// The model is shared between threads by `Arc` (Python, sweeps, the table build).
+const _: () = {
+    const fn shareable<T: Send + Sync>() {}
+    shareable::<MeshModel>();
+};
+
+/// The scratch memory of full evaluations of one [`MeshModel`]: contacts, slice data, the
+/// compliance matrix, interpolation scratch and the load solver's buffers, plus what the last
+/// evaluation leaves for the caller (per-slice detail, per-pair sums, work counters). Allocated
+/// once ([`MeshWorkspace::new`]), grown to the sizes a trajectory needs, then reused: the
+/// steady path does not touch the heap. Its contents never change a result: only the model,
+/// the state and the [`WarmStart`] do.
+#[derive(Debug)]
+pub struct MeshWorkspace {
     contacts: Vec<ContactPoint>,
     slices: Vec<Slice>,
     approach: Vec<f64>,
@@ -204,19 +261,224 @@ pub struct MeshModel {
     cmat: Mat<f64>,
     start: Vec<f64>,
     solver: LoadSolver,
-    prev_keys: Vec<(bool, i64, usize)>,
-    prev_q: Vec<f64>,
     detail: Vec<SliceDetail>,
     runs: Vec<(usize, usize)>,
     ws: MatrixWorkspace,
-    table: Option<Arc<super::table::MeshTable>>,
     stats: SolveStats,
-    /// Flank modifications and deviations ([`crate::modifications`]); `None` without any.
-    separation: Option<Arc<Separation>>,
+    /// Keep the per-slice detail of the last evaluation ([`MeshOptions::detail`]).
+    keep_detail: bool,
+    /// Assemble with the ζ-precomputed kernel when the model has one.
+    slice_kernel: bool,
     /// Record the driving-flank outputs per tooth pair in `pair_sums` (table build).
     record_pairs: bool,
     /// Per loaded driving-flank tooth pair of the last full evaluation (when `record_pairs`).
     pair_sums: Vec<PairSum>,
+}
+
+impl MeshWorkspace {
+    /// A workspace for `model`, its buffers sized for two contact lines per flank side; the
+    /// detail as [`MeshOptions::detail`], the slice kernel on.
+    pub fn new(model: &MeshModel) -> Self {
+        let n_line = model.zetas.len();
+        let cap = 4 * n_line;
+        Self {
+            contacts: Vec::with_capacity(cap),
+            slices: Vec::with_capacity(cap),
+            approach: Vec::with_capacity(cap),
+            line_length: Vec::with_capacity(cap),
+            rho: Vec::with_capacity(cap),
+            obs_p: Vec::with_capacity(cap),
+            obs_g: Vec::with_capacity(cap),
+            sw_p: Vec::with_capacity(cap),
+            sw_g: Vec::with_capacity(cap),
+            partial: Vec::new(),
+            cmat: Mat::zeros(0, 0),
+            start: Vec::with_capacity(cap),
+            solver: LoadSolver::with_settings(2 * n_line, LOAD_SETTINGS),
+            detail: Vec::with_capacity(cap),
+            runs: Vec::with_capacity(8),
+            ws: MatrixWorkspace::default(),
+            stats: SolveStats::default(),
+            keep_detail: model.options.detail,
+            slice_kernel: true,
+            record_pairs: false,
+            pair_sums: Vec::with_capacity(8),
+        }
+    }
+
+    /// Per-slice detail of the last evaluation (empty unless the detail is on).
+    pub fn slices(&self) -> &[SliceDetail] {
+        &self.detail
+    }
+
+    /// True while the per-slice detail is kept.
+    pub fn keep_detail(&self) -> bool {
+        self.keep_detail
+    }
+
+    /// Turns the per-slice detail on or off (off also clears it).
+    pub fn set_detail(&mut self, on: bool) {
+        self.keep_detail = on;
+        if !on {
+            self.detail.clear();
+        }
+    }
+
+    /// Work counters of the evaluations with this workspace so far.
+    pub fn stats(&self) -> SolveStats {
+        self.stats
+    }
+
+    /// Sets the work counters to zero.
+    pub fn reset_stats(&mut self) {
+        self.stats = SolveStats::default();
+    }
+}
+
+/// Most entries of a [`WarmStart`]: the loaded slices of any model (at most 4000 slices over
+/// the simultaneous contact lines, at most twice as many pairs in contact as lines, on either
+/// flank side) stay below 2¹⁶. A warm start read from outside is refused beyond it.
+pub const MAX_WARM_LOADS: usize = 65_536;
+
+/// The load of one slice kept for the next evaluation: the slice's key (flank side, absolute
+/// tooth pair, axial slice index) and its load intensity q (N/m, > 0).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct WarmLoad {
+    /// True on the back flanks.
+    pub back: bool,
+    /// Absolute tooth-pair number ([`crate::contact::ContactPoint::pair`]).
+    pub pair: i64,
+    /// Axial slice index, 0 … slices per line − 1.
+    pub slice: u32,
+    /// Load intensity q, N/m.
+    pub q: f64,
+}
+
+impl WarmLoad {
+    fn key(&self) -> (bool, i64, u32) {
+        (self.back, self.pair, self.slice)
+    }
+}
+
+/// The warm start of the load solver: the loaded slices of the previous evaluation with their
+/// loads, in ascending (side, pair, slice) order. A plain value (compare, copy, serialise it);
+/// the next full evaluation starts its Newton iteration from these loads (zero for slices not
+/// listed). Empty: a cold start. The result of an evaluation is a function of (model, state,
+/// warm start) alone; the warm start changes it only at the solver tolerance.
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct WarmStart {
+    loads: Vec<WarmLoad>,
+}
+
+impl WarmStart {
+    /// A cold start (no loads).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The kept loads, in ascending (side, pair, slice) order.
+    pub fn loads(&self) -> &[WarmLoad] {
+        &self.loads
+    }
+
+    /// True for a cold start.
+    pub fn is_empty(&self) -> bool {
+        self.loads.is_empty()
+    }
+
+    /// Forgets the loads (a cold start next), keeping the memory.
+    pub fn clear(&mut self) {
+        self.loads.clear();
+    }
+
+    /// Makes `self` equal to `other`, reusing the memory (no allocation once grown).
+    pub fn copy_from(&mut self, other: &WarmStart) {
+        self.loads.clear();
+        self.loads.extend_from_slice(&other.loads);
+    }
+
+    /// A warm start from loads given from outside (a deserialised state), checked: at most
+    /// [`MAX_WARM_LOADS`] entries (checked before anything is reserved by the caller), keys
+    /// strictly ascending, |pair| ≤ 2⁵³, loads finite and > 0. The error names the value and
+    /// its limit.
+    pub fn from_loads(loads: Vec<WarmLoad>) -> Result<Self, ParamError> {
+        let w = Self { loads };
+        w.check()?;
+        Ok(w)
+    }
+
+    /// Checks the contents as [`WarmStart::from_loads`] does.
+    pub fn check(&self) -> Result<(), ParamError> {
+        if self.loads.len() > MAX_WARM_LOADS {
+            return Err(ParamError::new(
+                "warm start length",
+                self.loads.len() as f64,
+                format!("<= {MAX_WARM_LOADS} loaded slices"),
+            ));
+        }
+        for (i, w) in self.loads.iter().enumerate() {
+            if !(w.q.is_finite() && w.q > 0.0) {
+                return Err(ParamError::new("warm start load", w.q, "finite and > 0 (N/m)"));
+            }
+            if w.pair.unsigned_abs() > 1 << 53 {
+                return Err(ParamError::new("warm start pair", w.pair as f64, "|pair| <= 2^53"));
+            }
+            if i > 0 && self.loads[i - 1].key() >= w.key() {
+                return Err(ParamError::new(
+                    "warm start order",
+                    i as f64,
+                    "keys (side, pair, slice) strictly ascending",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Bytes of the binary form: u32 count, then per load u8 side, i64 pair, u32 slice,
+    /// f64 q (little endian).
+    pub fn to_bytes(&self, out: &mut Vec<u8>) {
+        out.extend_from_slice(&(self.loads.len() as u32).to_le_bytes());
+        for w in &self.loads {
+            out.push(u8::from(w.back));
+            out.extend_from_slice(&w.pair.to_le_bytes());
+            out.extend_from_slice(&w.slice.to_le_bytes());
+            out.extend_from_slice(&w.q.to_le_bytes());
+        }
+    }
+
+    /// Reads the binary form of [`WarmStart::to_bytes`] from the whole of `b`, checked as
+    /// [`WarmStart::from_loads`] (the count against [`MAX_WARM_LOADS`] and the length of `b`
+    /// before anything is reserved).
+    pub fn from_bytes(b: &[u8]) -> Result<Self, String> {
+        const ENTRY: usize = 1 + 8 + 4 + 8;
+        let n = b.get(..4).ok_or("warm start truncated: no count")?;
+        let n = u32::from_le_bytes(n.try_into().expect("4 bytes")) as usize;
+        if n > MAX_WARM_LOADS {
+            return Err(format!("warm start of {n} loads: at most {MAX_WARM_LOADS}"));
+        }
+        if b.len() != 4 + n * ENTRY {
+            return Err(format!(
+                "warm start of {n} loads takes {} bytes, given {}",
+                4 + n * ENTRY,
+                b.len()
+            ));
+        }
+        let mut loads = Vec::with_capacity(n);
+        for e in b[4..].chunks_exact(ENTRY) {
+            let back = match e[0] {
+                0 => false,
+                1 => true,
+                x => return Err(format!("warm start: side byte {x} (0 or 1)")),
+            };
+            loads.push(WarmLoad {
+                back,
+                pair: i64::from_le_bytes(e[1..9].try_into().expect("8 bytes")),
+                slice: u32::from_le_bytes(e[9..13].try_into().expect("4 bytes")),
+                q: f64::from_le_bytes(e[13..21].try_into().expect("8 bytes")),
+            });
+        }
+        Self::from_loads(loads).map_err(|e| e.to_string())
+    }
 }
 
 /// The driving-flank outputs of one tooth pair of a full evaluation (for the per-pair table
@@ -231,8 +493,8 @@ pub(crate) struct PairSum {
     pub tip: bool,
 }
 
-/// Work counters of the full evaluations of a [`MeshModel`] (since construction or the last
-/// [`MeshModel::reset_stats`]): what the load solves cost.
+/// Work counters of the full evaluations with a [`MeshWorkspace`] (since its creation or the last
+/// [`MeshWorkspace::reset_stats`]): what the load solves cost.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SolveStats {
     /// Load solves (full evaluations with at least one overlapping slice).
@@ -257,48 +519,6 @@ impl SolveStats {
     }
 }
 
-impl Clone for MeshModel {
-    fn clone(&self) -> Self {
-        Self {
-            pair: self.pair.clone(),
-            geo: self.geo.clone(),
-            options: self.options,
-            comp_p: self.comp_p.clone(),
-            comp_g: self.comp_g.clone(),
-            slice_comp: self.slice_comp.clone(),
-            local: self.local,
-            d_mesh: self.d_mesh,
-            validity: self.validity,
-            zetas: self.zetas.clone(),
-            dzeta: self.dzeta,
-            cos_theta: self.cos_theta,
-            contacts: Vec::with_capacity(self.contacts.capacity()),
-            slices: Vec::with_capacity(self.slices.capacity()),
-            approach: Vec::new(),
-            line_length: Vec::new(),
-            rho: Vec::new(),
-            obs_p: Vec::new(),
-            obs_g: Vec::new(),
-            sw_p: Vec::new(),
-            sw_g: Vec::new(),
-            partial: Vec::new(),
-            cmat: Mat::zeros(0, 0),
-            start: Vec::new(),
-            solver: LoadSolver::with_settings(self.solver.capacity(), LOAD_SETTINGS),
-            prev_keys: Vec::new(),
-            prev_q: Vec::new(),
-            detail: Vec::new(),
-            runs: Vec::new(),
-            ws: MatrixWorkspace::default(),
-            table: self.table.clone(),
-            stats: SolveStats::default(),
-            separation: self.separation.clone(),
-            record_pairs: self.record_pairs,
-            pair_sums: Vec::new(),
-        }
-    }
-}
-
 impl std::fmt::Debug for MeshModel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("MeshModel")
@@ -308,20 +528,19 @@ impl std::fmt::Debug for MeshModel {
     }
 }
 
-fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
+/// Checks the options the model itself uses: `slices` in 10 … 4000.
+pub(crate) fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
     if !(10..=4000).contains(&o.slices) {
         return Err(ParamError::new("slices", o.slices as f64, "10 … 4000"));
     }
-    super::table::check_table_size(o.table_phase_points, o.table_te_points)
+    Ok(())
 }
 
 impl MeshModel {
     /// Builds the model of `pair` with `options` and the given global compliances of pinion and
-    /// gear (both must use the same depth h). Validates the pair (geometry) and the options;
-    /// with [`Fidelity::Table`] the table is built here (see [`super::table`]; tooth
-    /// deviations are added on it per tooth pair) unless the modifications that repeat on
-    /// every tooth add material ([`crate::modifications`]): the table starts at TE = 0, so such
-    /// a model evaluates at full fidelity ([`MeshModel::table`] is then `None`).
+    /// gear (both must use the same depth h). Validates the pair (geometry) and the options the
+    /// model uses. The fidelity and the table options are not the model's: a table is built
+    /// over a model by [`super::Mesh`] ([`super::table::TableMesh`]).
     pub fn with_compliance(
         pair: &GearPair,
         options: MeshOptions,
@@ -340,9 +559,9 @@ impl MeshModel {
         let zetas: Vec<f64> = (0..n_line).map(|i| (i as f64 + 0.5) * dzeta).collect();
         let slice_comp = slice_kernel(&pinion, &gear, &zetas);
         let cos_theta = geo.base_helix_angle.cos();
-        let cap = 4 * n_line;
         let validity = ValidityRange::of(&geo);
-        let mut model = Self {
+        let separation = Separation::new(&geo).map(Arc::new);
+        Ok(Self {
             pair: pair.clone(),
             geo: Arc::new(geo),
             options,
@@ -355,51 +574,19 @@ impl MeshModel {
             zetas,
             dzeta,
             cos_theta,
-            contacts: Vec::with_capacity(cap),
-            slices: Vec::with_capacity(cap),
-            approach: Vec::with_capacity(cap),
-            line_length: Vec::with_capacity(cap),
-            rho: Vec::with_capacity(cap),
-            obs_p: Vec::with_capacity(cap),
-            obs_g: Vec::with_capacity(cap),
-            sw_p: Vec::with_capacity(cap),
-            sw_g: Vec::with_capacity(cap),
-            partial: Vec::new(),
-            cmat: Mat::zeros(0, 0),
-            start: Vec::with_capacity(cap),
-            solver: LoadSolver::with_settings(2 * n_line, LOAD_SETTINGS),
-            prev_keys: Vec::with_capacity(cap),
-            prev_q: Vec::with_capacity(cap),
-            detail: Vec::with_capacity(cap),
-            runs: Vec::with_capacity(8),
-            ws: MatrixWorkspace::default(),
-            table: None,
-            stats: SolveStats::default(),
-            separation: None,
-            record_pairs: false,
-            pair_sums: Vec::with_capacity(8),
-        };
-        model.separation = Separation::new(&model.geo).map(Arc::new);
-        // The table needs the part of the modifications that repeats on every tooth to remove
-        // material only (no contact below TE = 0); otherwise the model stays at full fidelity.
-        // Tooth-by-tooth deviations are added per tooth pair on a per-pair table
-        // ([`super::table`], "Tooth deviations").
-        let full_sep = model.separation.clone();
-        let deviations = full_sep.clone().filter(|s| s.has_tooth_deviations());
-        let periodic = match &deviations {
-            Some(s) => Some(Arc::new(s.periodic_part())),
-            None => full_sep.clone(),
-        };
-        let table_ok = periodic.as_ref().is_none_or(|s| s.min_bound() >= 0.0);
-        if options.fidelity == Fidelity::Table && table_ok {
-            model.separation = periodic;
-            model.record_pairs = deviations.is_some();
-            let table = super::table::MeshTable::build(&mut model, deviations);
-            model.separation = full_sep;
-            model.record_pairs = false;
-            model.table = Some(Arc::new(table?));
-        }
-        Ok(model)
+            separation,
+        })
+    }
+
+    /// The same model with another separation (the table build uses the periodic part of the
+    /// modifications).
+    pub(crate) fn with_separation(&self, separation: Option<Arc<Separation>>) -> Self {
+        Self { separation, ..self.clone() }
+    }
+
+    /// Flank modifications and deviations as a separation; `None` without any.
+    pub(crate) fn separation(&self) -> Option<&Arc<Separation>> {
+        self.separation.as_ref()
     }
 
     /// The gear-pair parameters.
@@ -422,9 +609,10 @@ impl MeshModel {
         self.zetas.len()
     }
 
-    /// The table of [`Fidelity::Table`], if built.
-    pub fn table(&self) -> Option<&super::table::MeshTable> {
-        self.table.as_deref()
+    /// True when the ζ-precomputed compliance kernel ([`SliceInfluence`]) exists for this
+    /// model (interpolated compliance on a grid with at least four nodes per axis).
+    pub fn has_slice_kernel(&self) -> bool {
+        self.slice_comp.is_some()
     }
 
     /// The range of states in which the model holds (`super::validity`); evaluations outside
@@ -477,79 +665,24 @@ impl MeshModel {
         self.d_mesh
     }
 
-    /// Sets d_mesh, N·s/m, in [0, [`crate::params::D_MESH_MAX_N_S_PER_M`]].
-    pub fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), MeshError> {
+    /// The same model with d_mesh (N·s/m, in [0, [`crate::params::D_MESH_MAX_N_S_PER_M`]]):
+    /// a cheap copy (the heavy parts are shared), for the FMUs' tunable `d_mesh`.
+    pub fn with_d_mesh(&self, d_mesh: f64) -> Result<Self, MeshError> {
         crate::params::check_d_mesh(d_mesh)?;
-        self.d_mesh = d_mesh;
-        Ok(())
+        Ok(Self { d_mesh, ..self.clone() })
     }
 
-    /// Turns the per-slice detail ([`MeshModel::slices`]) on or off.
-    pub fn set_detail(&mut self, on: bool) {
-        self.options.detail = on;
-        if !on {
-            self.detail.clear();
-        }
-    }
-
-    /// Switches the ζ-precomputed compliance kernel ([`SliceInfluence`]) on or off; off, the
-    /// compliance matrix is assembled by the general interpolation
-    /// ([`InterpolatedInfluence::add_matrix`]), which gives the same values up to rounding at
-    /// two to three times the cost. For benchmarks and cross-checks; on by default whenever
-    /// the compliance is interpolated on a grid with at least four nodes per axis. Returns
-    /// whether the kernel is now in use.
-    pub fn use_slice_kernel(&mut self, on: bool) -> bool {
-        if !on {
-            self.slice_comp = None;
-        } else if self.slice_comp.is_none() {
-            self.slice_comp = slice_kernel(&self.comp_p, &self.comp_g, &self.zetas);
-        }
-        self.slice_comp.is_some()
-    }
-
-    /// Work counters of the full evaluations so far.
-    pub fn stats(&self) -> SolveStats {
-        self.stats
-    }
-
-    /// Sets the work counters to zero.
-    pub fn reset_stats(&mut self) {
-        self.stats = SolveStats::default();
-    }
-
-    /// Per-slice detail of the last evaluation (empty unless [`MeshOptions::detail`]).
-    pub fn slices(&self) -> &[SliceDetail] {
-        &self.detail
-    }
-
-    /// The per-tooth-pair driving-flank outputs of the last full evaluation (recorded only
-    /// while a per-pair table is built).
-    pub(crate) fn pair_sums(&self) -> &[PairSum] {
-        &self.pair_sums
-    }
-
-    /// Drops the warm start (the loads of the previous call): the next full evaluation starts
-    /// cold and gives bit for bit what a fresh clone of the model would give.
-    pub fn forget_warm_start(&mut self) {
-        self.prev_keys.clear();
-        self.prev_q.clear();
-    }
-
-    /// Evaluates the mesh at `state` with the configured fidelity (see the module docs).
-    pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
-        // `evaluate_full` checks the state itself; the table is asked only for a checked one.
-        if let Some(table) = &self.table {
-            self.check_state(state)?;
-            if let Some(o) = table.evaluate(self, state) {
-                return Ok(o);
-            }
-        }
-        self.evaluate_full(state)
-    }
-
-    /// Evaluates the mesh at `state` by the full contact search and load solve, whatever the
-    /// fidelity (the state checked against the validity range as by [`Self::check_state`]).
-    pub fn evaluate_full(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+    /// Evaluates the mesh at `state` by the full contact search and load solve (the state
+    /// checked against the validity range as by [`Self::check_state`]), with the scratch
+    /// memory `ws` and the warm start `warm`, which it replaces by this evaluation's loads
+    /// (cleared on an unloaded state; left as it was on an error). The outputs depend on
+    /// (model, state, `warm`) only.
+    pub fn evaluate(
+        &self,
+        state: &MeshState,
+        ws: &mut MeshWorkspace,
+        warm: &mut WarmStart,
+    ) -> Result<MeshOutputs, MeshError> {
         check_state(state)?;
         self.check_angle(state.phi_p)?;
         let geo = self.geo.clone();
@@ -557,7 +690,7 @@ impl MeshModel {
         let red = cs.reduce(state.phi_p, state.phi_g);
         let te = red.te;
         self.check_te(te, state.phi_p)?;
-        self.slices.clear();
+        ws.slices.clear();
         let nl = self.zetas.len();
         // Drive flanks only when TE > 0 and back flanks only below −backlash: the actual
         // flanks lie inside the full involutes, whose overlap is TE (resp. −TE − backlash).
@@ -569,70 +702,70 @@ impl MeshModel {
             if !active {
                 continue;
             }
-            cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut self.contacts);
-            for c in &self.contacts {
+            cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut ws.contacts);
+            for c in &ws.contacts {
                 let mut c = *c;
                 if let Some(sep) = &self.separation {
                     c.overlap_m -= sep.of_contact(&c);
                 }
                 if c.overlap_m > 0.0 {
                     let k = ((c.zeta / self.dzeta) as usize).min(nl - 1);
-                    self.slices.push(Slice { contact: c, k });
+                    ws.slices.push(Slice { contact: c, k });
                 }
             }
         }
-        let n = self.slices.len();
+        let n = ws.slices.len();
         let mut out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
-        if self.options.detail {
-            self.detail.clear();
+        if ws.keep_detail {
+            ws.detail.clear();
         }
-        self.pair_sums.clear();
+        ws.pair_sums.clear();
         if n == 0 {
-            self.prev_keys.clear();
-            self.prev_q.clear();
+            warm.loads.clear();
             return Ok(out);
         }
 
         // Slice data.
+        let kernel = if ws.slice_kernel { self.slice_comp.as_deref() } else { None };
         let mn = self.pair.normal_module_m;
         let ct = self.cos_theta;
         let b0 = geo.b0();
-        self.approach.clear();
-        self.line_length.clear();
-        self.rho.clear();
-        self.obs_p.clear();
-        self.obs_g.clear();
-        for s in &self.slices {
+        ws.approach.clear();
+        ws.line_length.clear();
+        ws.rho.clear();
+        ws.obs_p.clear();
+        ws.obs_g.clear();
+        for s in &ws.slices {
             let c = &s.contact;
-            self.approach.push(c.overlap_m * ct);
-            self.line_length.push(mn * self.dzeta / ct);
+            ws.approach.push(c.overlap_m * ct);
+            ws.line_length.push(mn * self.dzeta / ct);
             let rp = flank_radius(&geo, true, c);
             let rg = flank_radius(&geo, false, c);
-            self.rho.push(1.0 / (1.0 / rp + 1.0 / rg) / ct);
+            ws.rho.push(1.0 / (1.0 / rp + 1.0 / rg) / ct);
             let z = if c.side == FlankSide::Back { b0 - c.zeta } else { c.zeta };
-            self.obs_p.push(FlankCoord { eta_star: c.eta_star_p, tau: c.tau_p, zeta: z });
-            self.obs_g.push(FlankCoord { eta_star: c.eta_star_g, tau: c.tau_g, zeta: z });
+            ws.obs_p.push(FlankCoord { eta_star: c.eta_star_p, tau: c.tau_p, zeta: z });
+            ws.obs_g.push(FlankCoord { eta_star: c.eta_star_g, tau: c.tau_g, zeta: z });
         }
-        if let Some(sc) = &self.slice_comp {
+        if let Some(sc) = kernel {
             // Back flanks: ζ → b₀ − ζ is slice n_line − 1 − k (the slice centres are symmetric).
-            self.sw_p.clear();
-            self.sw_g.clear();
-            for (i, s) in self.slices.iter().enumerate() {
+            ws.sw_p.clear();
+            ws.sw_g.clear();
+            for (i, s) in ws.slices.iter().enumerate() {
                 let kc = if s.contact.side == FlankSide::Back { nl - 1 - s.k } else { s.k };
-                self.sw_p.push(sc[0].weights(self.obs_p[i], kc));
-                self.sw_g.push(sc[1].weights(self.obs_g[i], kc));
+                ws.sw_p.push(sc[0].weights(ws.obs_p[i], kc));
+                ws.sw_g.push(sc[1].weights(ws.obs_g[i], kc));
             }
         }
 
         // Compliance matrix, block by block (runs of equal side and pair).
-        self.cmat.resize_with(n, n, |_, _| 0.0);
-        self.cmat.fill(0.0);
-        runs(&self.slices, &mut self.runs);
-        for ra in 0..self.runs.len() {
-            let (a0, a1) = self.runs[ra];
-            for rb in 0..self.runs.len() {
-                let (b0r, b1r) = self.runs[rb];
-                let (ca, cb) = (&self.slices[a0].contact, &self.slices[b0r].contact);
+        ws.cmat.resize_with(n, n, |_, _| 0.0);
+        ws.cmat.fill(0.0);
+        runs(&ws.slices, &mut ws.runs);
+        for ra in 0..ws.runs.len() {
+            let (a0, a1) = ws.runs[ra];
+            for rb in 0..ws.runs.len() {
+                let (b0r, b1r) = ws.runs[rb];
+                let (ca, cb) = (&ws.slices[a0].contact, &ws.slices[b0r].contact);
                 if ca.side != cb.side {
                     continue;
                 }
@@ -643,40 +776,40 @@ impl MeshModel {
                 let mirror = if ca.side == FlankSide::Back { -1 } else { 1 };
                 let same = a0 == b0r;
                 let w = mn * self.dzeta / ct;
-                if let Some(sc) = &self.slice_comp {
+                if let Some(sc) = kernel {
                     for (gear, sw, offset) in
-                        [(&sc[0], &self.sw_p, mirror * d), (&sc[1], &self.sw_g, -mirror * d)]
+                        [(&sc[0], &ws.sw_p, mirror * d), (&sc[1], &ws.sw_g, -mirror * d)]
                     {
                         gear.add_block(
                             &sw[a0..a1],
                             &sw[b0r..b1r],
                             offset,
-                            &mut self.partial,
-                            &mut self.cmat,
+                            &mut ws.partial,
+                            &mut ws.cmat,
                             (a0, b0r),
                         );
                     }
                     continue;
                 }
                 self.comp_p.add_block(
-                    &self.obs_p[a0..a1],
-                    &self.obs_p[b0r..b1r],
+                    &ws.obs_p[a0..a1],
+                    &ws.obs_p[b0r..b1r],
                     mirror * d,
                     same,
                     w,
-                    &mut self.ws,
-                    &mut self.cmat,
+                    &mut ws.ws,
+                    &mut ws.cmat,
                     a0,
                     b0r,
                 );
                 self.comp_g.add_block(
-                    &self.obs_g[a0..a1],
-                    &self.obs_g[b0r..b1r],
+                    &ws.obs_g[a0..a1],
+                    &ws.obs_g[b0r..b1r],
                     -mirror * d,
                     same,
                     w,
-                    &mut self.ws,
-                    &mut self.cmat,
+                    &mut ws.ws,
+                    &mut ws.cmat,
                     a0,
                     b0r,
                 );
@@ -686,53 +819,52 @@ impl MeshModel {
         // Warm start from the previous loads with the same keys. Slices and kept keys are both
         // in ascending (side, pair, slice) order (the contact search's order), so one merge
         // walk finds the matches.
-        self.start.clear();
+        ws.start.clear();
         let mut any = false;
         let mut cursor = 0;
-        for s in &self.slices {
-            let key = (s.contact.side == FlankSide::Back, s.contact.pair, s.k);
-            while cursor < self.prev_keys.len() && self.prev_keys[cursor] < key {
+        for s in &ws.slices {
+            let key = (s.contact.side == FlankSide::Back, s.contact.pair, s.k as u32);
+            while cursor < warm.loads.len() && warm.loads[cursor].key() < key {
                 cursor += 1;
             }
-            let q = match self.prev_keys.get(cursor) {
-                Some(k) if *k == key => self.prev_q[cursor],
+            let q = match warm.loads.get(cursor) {
+                Some(w) if w.key() == key => w.q,
                 _ => 0.0,
             };
             any |= q > 0.0;
-            self.start.push(q);
+            ws.start.push(q);
         }
-        let hertz = HertzLocal::new(&self.local, &self.rho)?;
+        let hertz = HertzLocal::new(&self.local, &ws.rho)?;
         let problem = LoadProblem {
-            approach: &self.approach,
-            line_length: &self.line_length,
-            compliance: self.cmat.as_ref(),
+            approach: &ws.approach,
+            line_length: &ws.line_length,
+            compliance: ws.cmat.as_ref(),
             local: if self.options.local_contact { Some(&hertz) } else { None },
         };
-        let start = if any { Start::From(&self.start) } else { Start::Cold };
-        let report = match self.solver.solve(&problem, start) {
+        let start = if any { Start::From(&ws.start) } else { Start::Cold };
+        let report = match ws.solver.solve(&problem, start) {
             Ok(r) => r,
             Err(e) => {
                 let range = (self.validity.te_min, self.validity.te_max);
-                return Err(load_failure(e, &geo, te, red.phi_p, range, &self.slices));
+                return Err(load_failure(e, &geo, te, red.phi_p, range, &ws.slices));
             }
         };
-        self.stats.add(&report, n);
-        let q = self.solver.load();
+        ws.stats.add(&report, n);
+        let q = ws.solver.load();
 
         // Outputs.
         let axial = mn * self.dzeta;
         let mut pairs: [(bool, i64); 8] = [(false, 0); 8];
         let mut n_pairs = 0usize;
         let mut extent = 0.0;
-        self.prev_keys.clear();
-        self.prev_q.clear();
-        for (i, s) in self.slices.iter().enumerate() {
+        warm.loads.clear();
+        for (i, s) in ws.slices.iter().enumerate() {
             let c = &s.contact;
             if q[i] > 0.0 {
                 out.m_f_p += c.arm_p_m * q[i] * axial;
                 out.m_f_g += c.arm_g_m * q[i] * axial;
-                out.f_n += q[i] * self.line_length[i];
-                out.contact_length += self.line_length[i];
+                out.f_n += q[i] * ws.line_length[i];
+                out.contact_length += ws.line_length[i];
                 extent += self.dzeta;
                 let key = (c.side == FlankSide::Back, c.pair);
                 if !pairs[..n_pairs].contains(&key) && n_pairs < pairs.len() {
@@ -742,35 +874,39 @@ impl MeshModel {
                 out.tip_contact |= on_tip(c);
                 out.back_contact |= c.side == FlankSide::Back;
                 if self.options.pressure {
-                    let p = self.local.max_pressure(q[i], self.rho[i]).unwrap_or(0.0);
+                    let p = self.local.max_pressure(q[i], ws.rho[i]).unwrap_or(0.0);
                     out.p_max = out.p_max.max(p);
                 }
-                self.prev_keys.push((c.side == FlankSide::Back, c.pair, s.k));
-                self.prev_q.push(q[i]);
-                if self.record_pairs && c.side == FlankSide::Drive {
+                warm.loads.push(WarmLoad {
+                    back: c.side == FlankSide::Back,
+                    pair: c.pair,
+                    slice: s.k as u32,
+                    q: q[i],
+                });
+                if ws.record_pairs && c.side == FlankSide::Drive {
                     // Slices come in ascending (side, pair, slice) order: pairs are contiguous.
-                    if self.pair_sums.last().is_none_or(|p| p.pair != c.pair) {
-                        self.pair_sums.push(PairSum { pair: c.pair, values: [0.0; 5], tip: false });
+                    if ws.pair_sums.last().is_none_or(|p| p.pair != c.pair) {
+                        ws.pair_sums.push(PairSum { pair: c.pair, values: [0.0; 5], tip: false });
                     }
-                    let ps = self.pair_sums.last_mut().expect("pushed above");
+                    let ps = ws.pair_sums.last_mut().expect("pushed above");
                     ps.values[0] += c.arm_p_m * q[i] * axial;
                     ps.values[1] += c.arm_g_m * q[i] * axial;
-                    ps.values[2] += q[i] * self.line_length[i];
+                    ps.values[2] += q[i] * ws.line_length[i];
                     ps.values[3] += self.dzeta;
                     if self.options.pressure {
-                        let p = self.local.max_pressure(q[i], self.rho[i]).unwrap_or(0.0);
+                        let p = self.local.max_pressure(q[i], ws.rho[i]).unwrap_or(0.0);
                         ps.values[4] = ps.values[4].max(p * p);
                     }
                     ps.tip |= on_tip(c);
                 }
             }
-            if self.options.detail {
+            if ws.keep_detail {
                 let pressure = if self.options.pressure && q[i] > 0.0 {
-                    self.local.max_pressure(q[i], self.rho[i]).unwrap_or(0.0)
+                    self.local.max_pressure(q[i], ws.rho[i]).unwrap_or(0.0)
                 } else {
                     0.0
                 };
-                self.detail.push(SliceDetail {
+                ws.detail.push(SliceDetail {
                     zeta: c.zeta,
                     pair: c.pair,
                     back: c.side == FlankSide::Back,
@@ -811,50 +947,131 @@ impl MeshModel {
     }
 }
 
-impl MeshTorques for MeshModel {
+/// A [`MeshModel`] at full fidelity with its own [`MeshWorkspace`] and [`WarmStart`]: the
+/// shared model plus what one caller needs to evaluate it, as a [`MeshTorques`]. Each
+/// evaluation starts from the loads of the previous one (see [`WarmStart`]); a clone shares
+/// the model and starts with a fresh workspace and a cold start.
+#[derive(Debug)]
+pub struct FullMesh {
+    model: Arc<MeshModel>,
+    ws: MeshWorkspace,
+    warm: WarmStart,
+}
+
+impl Clone for FullMesh {
+    fn clone(&self) -> Self {
+        let mut f = Self::new(self.model.clone());
+        f.ws.keep_detail = self.ws.keep_detail;
+        f.ws.slice_kernel = self.ws.slice_kernel;
+        f
+    }
+}
+
+impl FullMesh {
+    /// The model with a new workspace and a cold start.
+    pub fn new(model: Arc<MeshModel>) -> Self {
+        let ws = MeshWorkspace::new(&model);
+        Self { model, ws, warm: WarmStart::default() }
+    }
+
+    /// The shared model.
+    pub fn model(&self) -> &Arc<MeshModel> {
+        &self.model
+    }
+
+    /// The workspace (detail, per-pair sums and work counters of the last evaluations).
+    pub fn workspace(&self) -> &MeshWorkspace {
+        &self.ws
+    }
+
+    /// The workspace, mutable (detail and counters switched there).
+    pub fn workspace_mut(&mut self) -> &mut MeshWorkspace {
+        &mut self.ws
+    }
+
+    /// The warm start the next evaluation starts from.
+    pub fn warm(&self) -> &WarmStart {
+        &self.warm
+    }
+
+    /// Replaces the warm start (copied, no allocation once grown).
+    pub fn set_warm(&mut self, warm: &WarmStart) {
+        self.warm.copy_from(warm);
+    }
+
+    /// Full evaluation at `state` ([`MeshModel::evaluate`]).
+    pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        self.model.evaluate(state, &mut self.ws, &mut self.warm)
+    }
+
+    /// Full evaluation with the exact partial derivatives ([`MeshModel::jacobian`]).
+    pub fn jacobian(
+        &mut self,
+        state: &MeshState,
+    ) -> Result<(MeshOutputs, super::MeshJacobian), MeshError> {
+        self.model.jacobian(state, &mut self.ws, &mut self.warm)
+    }
+
+    /// Sets d_mesh, N·s/m ([`MeshModel::with_d_mesh`]; the model is copied when shared).
+    pub fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), MeshError> {
+        self.model = Arc::new(self.model.with_d_mesh(d_mesh)?);
+        Ok(())
+    }
+
+    /// Switches the ζ-precomputed compliance kernel ([`SliceInfluence`]) on or off; off, the
+    /// compliance matrix is assembled by the general interpolation
+    /// ([`InterpolatedInfluence::add_matrix`]), which gives the same values up to rounding at
+    /// two to three times the cost. For benchmarks and cross-checks; on by default whenever
+    /// the model has the kernel. Returns whether the kernel is now in use.
+    pub fn use_slice_kernel(&mut self, on: bool) -> bool {
+        self.ws.slice_kernel = on;
+        on && self.model.has_slice_kernel()
+    }
+
+    /// The per-tooth-pair driving-flank outputs of the last evaluation (recorded only when
+    /// switched on by the table build).
+    pub(crate) fn pair_sums(&self) -> &[PairSum] {
+        &self.ws.pair_sums
+    }
+
+    /// Records the per-pair sums (table build).
+    pub(crate) fn record_pairs(&mut self, on: bool) {
+        self.ws.record_pairs = on;
+    }
+}
+
+impl MeshTorques for FullMesh {
     fn forget_history(&mut self) {
-        self.forget_warm_start();
+        self.warm.clear();
+    }
+
+    fn warm_start(&self, out: &mut WarmStart) {
+        out.copy_from(&self.warm);
+    }
+
+    fn set_warm_start(&mut self, warm: &WarmStart) {
+        self.warm.copy_from(warm);
     }
 
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         self.evaluate(state)
     }
 
-    /// At table fidelity (periodic table, inside its range) only the torques, TE and the
-    /// contact extent the damping needs are interpolated (3 of the 5 node values, no flags,
-    /// no pressure): about 10 % of a drive-line run's time; everything else is complete.
-    fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
-        if let Some(table) = &self.table {
-            self.check_state(state)?;
-            if let Some(r) = table.evaluate_torques(self, state) {
-                return Ok(r);
-            }
-        }
-        Ok((self.evaluate_full(state)?, true))
-    }
-
     fn base_radii(&self) -> (f64, f64) {
-        (self.geo.pinion.rb, self.geo.gear.rb)
+        (self.model.geo.pinion.rb, self.model.geo.gear.rb)
     }
 
     fn te_range(&self) -> (f64, f64) {
-        (self.validity.te_min, self.validity.te_max)
+        (self.model.validity.te_min, self.model.validity.te_max)
     }
 
-    /// Exact partial derivatives: at table fidelity those of the table's interpolant
-    /// ([`super::table::MeshTable::evaluate_jacobian`]), else (and outside the table) those of
-    /// the full model from the load solution's sensitivity (see the `jacobian` module docs).
+    /// Exact partial derivatives from the load solution's sensitivity (see the `jacobian`
+    /// module docs).
     fn mesh_jacobian(
         &mut self,
         state: &MeshState,
     ) -> Result<(MeshOutputs, super::MeshJacobian), MeshError> {
-        self.check_state(state)?;
-        if let Some(table) = &self.table {
-            if let Some(r) = table.evaluate_jacobian(self, state) {
-                return Ok(r);
-            }
-        }
-        self.jacobian_full(state)
+        self.jacobian(state)
     }
 }
 

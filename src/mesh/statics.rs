@@ -324,7 +324,7 @@ pub struct WaterfallRow {
 /// `points_per_pitch` pinion angles per pitch from `phi_from` to `phi_to` (rad). Rows where the
 /// pair carries no load are kept (all zeros) so that the rows are uniform in φp.
 pub fn pressure_waterfall(
-    model: &mut super::MeshModel,
+    model: &mut super::Mesh,
     torque: f64,
     pair: i64,
     phi_from: f64,
@@ -336,7 +336,7 @@ pub fn pressure_waterfall(
     let nl = model.slices_per_line();
     let b0 = model.geometry().b0();
     let zeta: Vec<f64> = (0..nl).map(|k| (k as f64 + 0.5) * b0 / nl as f64).collect();
-    let detail_before = model.options().detail;
+    let detail_before = model.detail();
     model.set_detail(true);
     let mut rows = Vec::with_capacity(n + 1);
     let mut guess = 1e-5;
@@ -415,7 +415,7 @@ impl TipThreshold {
 /// reached (more TE, more overlap at the tip); a window narrower than one scan step can be
 /// missed. The scan ends at the model's validity range if `te_max` lies beyond it.
 pub fn tip_contact_threshold(
-    model: &mut super::MeshModel,
+    model: &mut super::Mesh,
     phi_p: f64,
     te_max: f64,
     steps: usize,
@@ -452,7 +452,7 @@ pub fn tip_contact_threshold(
 /// `phi_start` (rad), in parallel (one model clone per angle); TE scanned up to `te_max` (m) in
 /// `steps` steps and bisected to 1 nm.
 pub fn tip_contact_threshold_curve(
-    model: &super::MeshModel,
+    model: &super::Mesh,
     phi_start: f64,
     pinion_pitch: f64,
     points: usize,

@@ -41,7 +41,7 @@ use helical_gear_mesh::fmi2::models::MODELS;
 use helical_gear_mesh::fmi2::types::*;
 use helical_gear_mesh::fmi2::variables::{Causality, VarType, Variable, group};
 use helical_gear_mesh::geometry::PairGeometry;
-use helical_gear_mesh::mesh::{Fidelity, MeshModel, MeshOptions, MeshOutputs, MeshState};
+use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState};
 use helical_gear_mesh::params::GearPair;
 
 /// Largest communication or unit step the harness asks for, s (about one mesh period of
@@ -288,8 +288,8 @@ pub fn gear_pair_json(data: &[u8]) {
 // ---------------------------------------------------------------------------------------------
 
 /// The Table 1 model of the mesh target: table fidelity, 40 slices, an 8 × 8 table.
-pub fn table1_coarse() -> &'static Mutex<MeshModel> {
-    static M: OnceLock<Mutex<MeshModel>> = OnceLock::new();
+pub fn table1_coarse() -> &'static Mutex<Mesh> {
+    static M: OnceLock<Mutex<Mesh>> = OnceLock::new();
     M.get_or_init(|| {
         let options = MeshOptions {
             fidelity: Fidelity::Table,
@@ -298,7 +298,7 @@ pub fn table1_coarse() -> &'static Mutex<MeshModel> {
             table_te_points: 8,
             ..MeshOptions::default()
         };
-        Mutex::new(MeshModel::new(&GearPair::paper_table1(), options).expect("Table 1 model"))
+        Mutex::new(Mesh::new(&GearPair::paper_table1(), options).expect("Table 1 model"))
     })
 }
 

@@ -217,6 +217,33 @@ def test_long_calls_release_the_gil():
     assert len(inside) >= 10, (duration, len(stamps), len(inside))
 
 
+def test_two_threads_on_one_shared_model_give_the_results_of_one_thread():
+    import threading
+
+    # One model shared by two threads (no lock around it: each call has its own workspace and
+    # starts cold), each evaluating loaded full-fidelity states at the same time; both results
+    # equal, bit for bit, those of the same call on one thread.
+    model = hg.MeshModel(slices=60)
+    phi = np.linspace(0.0, 0.2, 40)
+    phi_g = -phi * 30 / 47 + 3e-4
+    args = (phi, phi_g, 300.0, -191.0)
+    alone = model.evaluate(*args)
+    results = [None, None]
+
+    def work(k):
+        results[k] = model.evaluate(*args)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert np.all(alone["F_n"] > 0.0)
+    for r in results:
+        for key, a in alone.items():
+            assert np.asarray(r[key]).tobytes() == np.asarray(a).tobytes(), key
+
+
 def test_results_plot_and_tabulate():
     import matplotlib
 

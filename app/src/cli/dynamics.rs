@@ -23,7 +23,7 @@ use helical_gear_mesh::dynamics::{
     sweep,
 };
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, Fidelity, MeshError, MeshModel, MeshOptions, MeshTorques,
+    EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshTorques,
 };
 use serde_json::{Value, json};
 
@@ -142,13 +142,13 @@ pub struct SweepArgs {
     threads: Option<usize>,
 }
 
-/// The mesh model the dynamics run with: the full Andersson–Vedmar [`MeshModel`] of `pair`
+/// The mesh model the dynamics run with: the full Andersson–Vedmar [`Mesh`] of `pair`
 /// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity`.
 fn build_mesh(
     pair: &GearPair,
     fidelity: CliFidelity,
 ) -> Result<impl MeshTorques + Clone + Send + use<>, MeshError> {
-    MeshModel::new(pair, MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() })
+    Mesh::new(pair, MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() })
 }
 
 /// Parameters with `--d-mesh` applied, the drivetrain, and the mesh model (building it may

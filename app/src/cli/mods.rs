@@ -9,7 +9,7 @@ use helical_gear_app::plot::PlotError;
 use helical_gear_app::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
-    ComplianceModel, MeshModel, MeshOptions, MeshState, StaticCurve, face_load, k_h_beta_iso,
+    ComplianceModel, Mesh, MeshOptions, MeshState, StaticCurve, face_load, k_h_beta_iso,
     static_curve,
 };
 use helical_gear_mesh::modifications::Modifications;
@@ -85,7 +85,7 @@ pub struct FaceLoads {
 /// Line loads at every point of `curve` (re-evaluated on `model` with detail) and K_Hβ beside
 /// ISO 6336-1. The ISO stiffness comes from the same static run without modifications.
 pub fn face_loads(
-    model: &mut MeshModel,
+    model: &mut Mesh,
     curve: &StaticCurve,
     pitch: f64,
     points_per_pitch: usize,
@@ -114,7 +114,7 @@ pub fn face_loads(
         curve.mean_stiffness(rb)
     } else {
         let aligned = GearPair { modifications: Modifications::default(), ..pair.clone() };
-        let mut m = MeshModel::new(&aligned, *model.options()).map_err(|e| e.to_string())?;
+        let mut m = Mesh::new(&aligned, *model.options()).map_err(|e| e.to_string())?;
         static_curve(&mut m, curve.torque, 0.0, pitch, points_per_pitch, pitches)
             .map_err(|e| e.to_string())?
             .mean_stiffness(rb)
@@ -213,7 +213,7 @@ pub fn harris_cmd(a: &HarrisArgs) -> Result<(), String> {
         let pair = GearPair { modifications, ..base.clone() };
         let mut options = a.model.options(a.slices);
         options.detail = false;
-        let mut m = MeshModel::new(&pair, options).map_err(|e| format!("{}: {e}", v.name))?;
+        let mut m = Mesh::new(&pair, options).map_err(|e| format!("{}: {e}", v.name))?;
         let pitch = m.geometry().pinion.angular_pitch();
         let mut ptp = Vec::with_capacity(torques.len());
         for &t in &torques {
@@ -338,7 +338,7 @@ fn dynamic_te(
     options.detail = false;
     options.fidelity = helical_gear_mesh::mesh::Fidelity::Table;
     eprintln!("spectrum: building the table");
-    let mesh = MeshModel::new(pair, options).map_err(|e| e.to_string())?;
+    let mesh = Mesh::new(pair, options).map_err(|e| e.to_string())?;
     let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
     let mut dynm = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
     let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
@@ -394,7 +394,7 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     }
     let mut options = a.model.options(a.slices);
     options.detail = false;
-    let mut m = MeshModel::new(&pair, options).map_err(|e| e.to_string())?;
+    let mut m = Mesh::new(&pair, options).map_err(|e| e.to_string())?;
     let pitch = m.geometry().pinion.angular_pitch();
     let meshes = hunting as usize;
     let revs = meshes as f64 / pair.z_p as f64;

@@ -2,7 +2,7 @@
 //! load distribution and, with `--plot`, the pressure waterfall (Fig. 7).
 
 use helical_gear_app::paper;
-use helical_gear_mesh::mesh::{MeshModel, pressure_waterfall, static_curve};
+use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
 use serde_json::json;
 
 use super::{Common, load_params, mods};
@@ -32,7 +32,7 @@ pub fn static_cmd(
     }
     let t0 = std::time::Instant::now();
     let options = model_args.options(slices);
-    let mut model = MeshModel::new(&p, options).map_err(|e| e.to_string())?;
+    let mut model = Mesh::new(&p, options).map_err(|e| e.to_string())?;
     let build_s = t0.elapsed().as_secs_f64();
     let geo = model.geometry().clone();
     let pitch = geo.pinion.angular_pitch();

@@ -10,7 +10,7 @@ use crate::fmi2::variables::{
     Access, CALCULATED, Causality, Derived, GEAR_PARAMS, Inputs, MESH_OPTIONS, MESH_OUTPUTS, NONE,
     Outputs, Settings, Variability, Variable, concat, total_len,
 };
-use crate::mesh::{MeshError, MeshModel, MeshState, MeshTorques};
+use crate::mesh::{Mesh, MeshError, MeshState, MeshTorques, WarmStart};
 
 use Variable as V;
 
@@ -131,8 +131,8 @@ pub(crate) fn mesh_error_text(e: &MeshError) -> String {
 }
 
 /// Builds the mesh model for `s` and the calculated parameters.
-pub(crate) fn build_mesh(s: &Settings) -> Result<(MeshModel, Derived), String> {
-    let model = MeshModel::new(&s.pair, s.options).map_err(|e| mesh_error_text(&e))?;
+pub(crate) fn build_mesh(s: &Settings) -> Result<(Mesh, Derived), String> {
+    let model = Mesh::new(&s.pair, s.options).map_err(|e| mesh_error_text(&e))?;
     let geometry = model.geometry();
     let derived = Derived {
         base_radius_p: geometry.pinion.rb,
@@ -148,9 +148,20 @@ fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
     Ok((Box::new(MeshEngine(model)), derived))
 }
 
-/// The mesh model as an [`Engine`] without state.
-#[derive(Clone)]
-struct MeshEngine(MeshModel);
+/// The mesh model as an [`Engine`] without dynamic state. Its load solver's warm start (the
+/// loads of the previous evaluation, [`WarmStart`]) is carried in FMU states (copied with
+/// `fmi2GetFMUstate`, serialised by `fmi2SerializeFMUstate`), so that a restored element
+/// evaluates bit for bit as the original would have.
+struct MeshEngine(Mesh);
+
+impl Clone for MeshEngine {
+    /// A copy sharing the model, with a fresh workspace and the same warm start.
+    fn clone(&self) -> Self {
+        let mut m = self.0.clone();
+        m.full_mut().set_warm(self.0.full().warm());
+        Self(m)
+    }
+}
 
 /// The state for an error message, SI units.
 fn state_text(s: &MeshState) -> String {
@@ -185,11 +196,20 @@ impl Engine for MeshEngine {
         Ok(())
     }
 
+    /// The warm start ([`WarmStart::to_bytes`]); nothing for a cold start.
     fn save(&self) -> Vec<u8> {
-        Vec::new()
+        let w = self.0.full().warm();
+        let mut b = Vec::new();
+        if !w.is_empty() {
+            w.to_bytes(&mut b);
+        }
+        b
     }
 
-    fn load(&mut self, _: &[u8]) -> Result<(), String> {
+    /// The warm start of [`Self::save`], checked ([`WarmStart::from_bytes`]).
+    fn load(&mut self, bytes: &[u8]) -> Result<(), String> {
+        let w = WarmStart::from_bytes(bytes).map_err(|e| format!("serialised state: {e}"))?;
+        self.0.full_mut().set_warm(&w);
         Ok(())
     }
 

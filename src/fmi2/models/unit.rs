@@ -42,7 +42,7 @@ use crate::fmi2::variables::{
     UNIT_OPTIONS, Variability, Variable, concat, group, total_len, with_depends,
 };
 use crate::mesh::statics::EquilibriumSettings;
-use crate::mesh::{Fidelity, MeshModel};
+use crate::mesh::{Fidelity, Mesh};
 
 /// Mesh outputs of a stateful model: functions of the state only.
 const STATE_ONLY: Depends =
@@ -801,7 +801,7 @@ const DRIVE_DERS: [&str; 8] = [
 /// that an importer's tolerances act on them).
 #[derive(Clone)]
 struct UnitEngine {
-    unit: DriveUnit<MeshModel>,
+    unit: DriveUnit<Mesh>,
     rel: RelativeCoordinates,
     /// Nominal magnitudes of the relative coordinates.
     nominals: [f64; 8],

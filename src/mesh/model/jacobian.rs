@@ -1,4 +1,4 @@
-//! Exact partial derivatives of the full mesh model ([`MeshModel::mesh_jacobian`] at full
+//! Exact partial derivatives of the full mesh model ([`MeshModel::jacobian`] at full
 //! fidelity): the sensitivity of the load solution of Eq. 12 to the hub angles, with the
 //! active set (the loaded slices) held fixed.
 //!
@@ -63,7 +63,7 @@
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 
-use super::{GearCompliance, MeshModel, Slice};
+use super::{GearCompliance, MeshModel, MeshWorkspace, Slice, WarmStart};
 use crate::compliance::FlankCoord;
 use crate::compliance::interpolated::{SliceInfluence, SliceWeights};
 use crate::contact::{ContactPoint, ContactSolver, FlankSide, ReducedAngles};
@@ -194,22 +194,26 @@ fn for_each_block(
 }
 
 impl MeshModel {
-    /// Full evaluation with the exact partial derivatives of the outputs (module docs).
-    pub(super) fn jacobian_full(
-        &mut self,
+    /// Full evaluation ([`MeshModel::evaluate`], same arguments) with the exact partial
+    /// derivatives of the outputs (module docs).
+    pub fn jacobian(
+        &self,
         state: &MeshState,
+        ws: &mut MeshWorkspace,
+        warm: &mut WarmStart,
     ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
-        let out = self.evaluate_full(state)?;
+        let out = self.evaluate(state, ws, warm)?;
         let mut jac = MeshJacobian::default();
-        let n = self.slices.len();
-        let q: Vec<f64> = if n == 0 { Vec::new() } else { self.solver.load()[..n].to_vec() };
+        let n = ws.slices.len();
+        let q: Vec<f64> = if n == 0 { Vec::new() } else { ws.solver.load()[..n].to_vec() };
         let active: Vec<usize> = (0..n).filter(|&i| q[i] > 0.0).collect();
         let extent = active.len() as f64 * self.dzeta;
-        super::super::table::damping_rows(self, state, extent, [0.0, 0.0], &mut jac);
+        damping_rows(self, state, extent, [0.0, 0.0], &mut jac);
         if active.is_empty() {
             return Ok((out, jac));
         }
-        let sc = match (&self.slice_comp, &self.comp_p, &self.comp_g) {
+        let kernel = if ws.slice_kernel { self.slice_comp.as_ref() } else { None };
+        let sc = match (kernel, &self.comp_p, &self.comp_g) {
             (Some(sc), _, _) => Some(sc.clone()),
             (None, GearCompliance::Winkler { .. }, GearCompliance::Winkler { .. }) => None,
             _ => {
@@ -226,7 +230,7 @@ impl MeshModel {
         let ct = self.cos_theta;
 
         // Per-slice geometric rates.
-        let rates: Vec<SliceRates> = self
+        let rates: Vec<SliceRates> = ws
             .slices
             .iter()
             .enumerate()
@@ -234,19 +238,19 @@ impl MeshModel {
                 let c = &s.contact;
                 let pr = match &sc {
                     Some(sc) => {
-                        [sc[0].profile_rates(self.obs_p[i]), sc[1].profile_rates(self.obs_g[i])]
+                        [sc[0].profile_rates(ws.obs_p[i]), sc[1].profile_rates(ws.obs_g[i])]
                     }
                     None => [(0.0, 0.0); 2],
                 };
                 let angles = cs.tooth_angles(c.side, &red, c.pair, c.zeta);
-                contact_rates(&geo, c, angles, [self.obs_p[i], self.obs_g[i]], pr, ct)
+                contact_rates(&geo, c, angles, [ws.obs_p[i], ws.obs_g[i]], pr, ct)
             })
             .collect();
 
         // Right-hand sides: ∂d − (∂C·w q) − ∂u_c/∂ρ·∂ρ, per angle direction.
         let mut rhs = Mat::<f64>::zeros(n, 2);
         for i in 0..n {
-            let c = &self.slices[i].contact;
+            let c = &ws.slices[i].contact;
             rhs[(i, 0)] = c.arm_p_m * ct;
             rhs[(i, 1)] = c.arm_g_m * ct;
             // Profile modifications: the separation moves with the contact's roll position.
@@ -260,20 +264,20 @@ impl MeshModel {
             }
         }
         if let Some(sc) = &sc {
-            let wq: Vec<f64> = (0..n).map(|j| self.line_length[j] * q[j]).collect();
-            for (g, sw) in [(0usize, &self.sw_p), (1, &self.sw_g)] {
-                let dsw: Vec<SliceWeights> = self
+            let wq: Vec<f64> = (0..n).map(|j| ws.line_length[j] * q[j]).collect();
+            for (g, sw) in [(0usize, &ws.sw_p), (1, &ws.sw_g)] {
+                let dsw: Vec<SliceWeights> = ws
                     .slices
                     .iter()
                     .enumerate()
                     .map(|(i, s)| {
                         let kc = if s.contact.side == FlankSide::Back { nl - 1 - s.k } else { s.k };
-                        let o = if g == 0 { self.obs_p[i] } else { self.obs_g[i] };
+                        let o = if g == 0 { ws.obs_p[i] } else { ws.obs_g[i] };
                         sc[g].weights_dp(o, kc)
                     })
                     .collect();
                 let (d_obs, d_load) =
-                    derivative_blocks(&sc[g], g, &self.slices, &self.runs, self, sw, &dsw, n);
+                    derivative_blocks(&sc[g], g, &ws.slices, &ws.runs, self, sw, &dsw, n);
                 for j in 0..2 {
                     let dp =
                         |i: usize| if g == 0 { rates[i].prof_p[j] } else { rates[i].prof_g[j] };
@@ -289,10 +293,10 @@ impl MeshModel {
         }
         if self.options.local_contact {
             for &i in &active {
-                let d = self.local.deformation(q[i], self.rho[i]).map_err(|e| {
+                let d = self.local.deformation(q[i], ws.rho[i]).map_err(|e| {
                     MeshError::Load(crate::load::LoadError::Hertz { slice: i, source: e })
                 })?;
-                let du_drho = -(d.total - q[i] * d.d_total_dq) / self.rho[i];
+                let du_drho = -(d.total - q[i] * d.d_total_dq) / ws.rho[i];
                 for j in 0..2 {
                     rhs[(i, j)] -= du_drho * rates[i].rho[j];
                 }
@@ -303,9 +307,9 @@ impl MeshModel {
         let m = active.len();
         let kmat = Mat::<f64>::from_fn(m, m, |a, b| {
             let (i, k) = (active[a], active[b]);
-            let mut v = self.cmat[(i, k)] * self.line_length[k];
+            let mut v = ws.cmat[(i, k)] * ws.line_length[k];
             if a == b && self.options.local_contact {
-                v += self.local.deformation(q[i], self.rho[i]).map_or(0.0, |d| d.d_total_dq);
+                v += self.local.deformation(q[i], ws.rho[i]).map_or(0.0, |d| d.d_total_dq);
             }
             v
         });
@@ -316,7 +320,7 @@ impl MeshModel {
         for j in 0..2 {
             let (mut dp, mut dg) = (0.0, 0.0);
             for (a, &i) in active.iter().enumerate() {
-                let c = &self.slices[i].contact;
+                let c = &ws.slices[i].contact;
                 dp += (rates[i].arm_p[j] * q[i] + c.arm_p_m * dq[(a, j)]) * axial;
                 dg += (rates[i].arm_g[j] * q[i] + c.arm_g_m * dq[(a, j)]) * axial;
             }
@@ -354,4 +358,28 @@ fn derivative_blocks(
         sc.add_block(&sw[a0..a1], &dsw[b0..b1], off, &mut partial, &mut d_load, (a0, b0));
     });
     (d_obs, d_load)
+}
+
+/// Fills the damping rows of `jac` for Eq. 14 as [`MeshModel::damping_for`] computes it, with
+/// loaded extent `extent` (units of m_n, > 0) and its derivatives `d_extent` with respect to
+/// (φp, φg) (per rad).
+pub(crate) fn damping_rows(
+    model: &MeshModel,
+    state: &MeshState,
+    extent: f64,
+    d_extent: [f64; 2],
+    jac: &mut MeshJacobian,
+) {
+    if !model.options().damping || extent <= 0.0 {
+        return;
+    }
+    let (rb_p, rb_g) = (model.geometry().pinion.rb, model.geometry().gear.rb);
+    let d = model.d_mesh();
+    let rate = state.w_p * rb_p + state.w_g * rb_g;
+    for (row, rb_k) in [(MeshJacobian::M_D_P, rb_p), (MeshJacobian::M_D_G, rb_g)] {
+        jac.d[row][MeshJacobian::W_P] = d * rb_p * extent * rb_k;
+        jac.d[row][MeshJacobian::W_G] = d * rb_g * extent * rb_k;
+        jac.d[row][MeshJacobian::PHI_P] = d * rate * d_extent[0] * rb_k;
+        jac.d[row][MeshJacobian::PHI_G] = d * rate * d_extent[1] * rb_k;
+    }
 }

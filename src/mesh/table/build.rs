@@ -4,25 +4,33 @@
 
 use std::sync::Arc;
 
-use super::super::model::{MeshModel, PairSum};
+use super::super::model::{FullMesh, MeshModel, PairSum};
 use super::super::statics::{EquilibriumSettings, equilibrium};
 use super::super::{MeshError, MeshState};
 use super::{MeshTable, NV, PairTable, TableTruncation, TeAxis};
 use crate::modifications::Separation;
 
 impl MeshTable {
-    /// Builds the table from the full model of `model` (see the module docs). With
-    /// `deviations` (the pair's separation with tooth-by-tooth deviations; `model` then holds
-    /// its periodic part and records per-pair outputs) the driving-flank values are also kept
-    /// per tooth pair and evaluation shifts each pair by its deviation. Errors: a full
-    /// evaluation fails, or the nominal static TE cannot be found.
+    /// Builds the table from the full model `model` (see the module docs), each thread of the
+    /// build with its own workspace and a cold start. With `deviations` (the pair's
+    /// separation with tooth-by-tooth deviations; `model` then holds its periodic part) the
+    /// driving-flank values are also kept per tooth pair and evaluation shifts each pair by
+    /// its deviation. Errors: a full evaluation fails, or the nominal static TE cannot be
+    /// found.
     pub fn build(
-        model: &mut MeshModel,
+        model: &Arc<MeshModel>,
         deviations: Option<Arc<Separation>>,
     ) -> Result<Self, MeshError> {
         let t0 = std::time::Instant::now();
-        let opts = *model.options();
-        let geo = model.geometry().clone();
+        let record = deviations.is_some();
+        let new_full = || {
+            let mut f = FullMesh::new(model.clone());
+            f.record_pairs(record);
+            f
+        };
+        let model = &mut new_full();
+        let opts = *model.model().options();
+        let geo = model.model().geometry().clone();
         let zp = geo.params.z_p as f64;
         let pitch = 2.0 * std::f64::consts::PI / zp;
         let np = opts.table_phase_points;
@@ -55,7 +63,7 @@ impl MeshTable {
             let handles: Vec<_> = rows
                 .chunks(chunk)
                 .map(|rs| {
-                    let mut m = model.clone();
+                    let mut m = new_full();
                     let (d, b) = (&drive, &back);
                     s.spawn(move || {
                         let mut out = Vec::with_capacity(rs.len());
@@ -158,7 +166,7 @@ impl MeshTable {
     #[allow(clippy::type_complexity)]
     fn self_check(
         &self,
-        model: &mut MeshModel,
+        model: &mut FullMesh,
         torque: f64,
     ) -> Result<Result<(f64, usize), (f64, MeshError)>, MeshError> {
         let mut worst: f64 = 0.0;
@@ -169,14 +177,14 @@ impl MeshTable {
             let it = (k * 104_729) % (nd - 1);
             let phi_p = self.phase_lo + self.phase_h * (ip as f64 + 0.5);
             let te = 0.5 * (self.drive.node_te(it.max(1)) + self.drive.node_te(it + 1));
-            let state = state_at(model, phi_p, te);
-            let full = match model.evaluate_full(&state) {
+            let state = state_at(model.model(), phi_p, te);
+            let full = match model.evaluate(&state) {
                 Ok(o) => o,
                 Err(e @ MeshError::OutOfRange { .. }) => return Ok(Err((te, e))),
                 Err(e) => return Err(e),
             };
             if full.m_f_p.abs() > 0.01 * torque {
-                if let Some(t) = self.evaluate(model, &state) {
+                if let Some(t) = self.evaluate(model.model(), &state) {
                     worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
                     checked += 1;
                 }
@@ -212,7 +220,7 @@ fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
 /// axis and the per-pair samples (phase row, TE node, pair outputs) of the kept nodes.
 #[allow(clippy::too_many_arguments)]
 fn assemble(
-    model: &mut MeshModel,
+    model: &mut FullMesh,
     proto: &TeAxis,
     rows: Vec<(usize, AxisRow)>,
     (phase_lo, phase_h): (f64, f64),
@@ -244,7 +252,7 @@ fn assemble(
         let mut beyond = None;
         for ip in 0..np {
             let phi_p = phase_lo + phase_h * (ip as f64 + 0.5);
-            match model.evaluate_full(&state_at(model, phi_p, te)) {
+            match model.evaluate(&state_at(model.model(), phi_p, te)) {
                 Ok(_) => {}
                 Err(e @ MeshError::OutOfRange { .. }) => {
                     beyond = Some(e);
@@ -276,14 +284,14 @@ fn assemble(
 
 /// Full-model samples of one phase row along one TE axis (see [`AxisRow`]): the row ends early
 /// at the first node (after node 0) out of the model's range.
-fn sample_row(model: &mut MeshModel, phi_p: f64, axis: &TeAxis) -> Result<AxisRow, MeshError> {
+fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow, MeshError> {
     let mut values = Vec::with_capacity(axis.n * NV);
     let mut flags = Vec::with_capacity(axis.n);
     let mut pairs = Vec::new();
-    let per_extent = model.length_per_extent();
+    let per_extent = model.model().length_per_extent();
     for it in 0..axis.n {
         let te = axis.node_te(it);
-        let o = match model.evaluate_full(&state_at(model, phi_p, te)) {
+        let o = match model.evaluate(&state_at(model.model(), phi_p, te)) {
             Ok(o) => o,
             // Beyond the model's range: the row ends at the last node that was well posed.
             Err(e @ MeshError::OutOfRange { .. }) if it > 0 => {
