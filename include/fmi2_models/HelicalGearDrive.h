@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{50fc3358-695f-886e-88ec-71089c23b1fe}"
+#define HelicalGearDrive_GUID "{b4419a60-89b8-8019-86d9-04d75383bfa4}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */

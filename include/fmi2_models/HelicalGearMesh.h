@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{b9eb97d7-1b4d-854a-995f-d32b08635fdd}"
+#define HelicalGearMesh_GUID "{0d3c73b7-1065-8e38-bed1-cd95bbf09b6d}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{50135a3d-73dd-8e69-b40c-88b9b1f8cbce}"
+#define HelicalGearPair_GUID "{2f23f5db-e699-8ff8-8cff-2c47195e2c50}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{103b994b-8bbe-8e48-98de-7b88998c3c1f}"
+#define HelicalGearStage_GUID "{b70bb971-ec6c-8049-804a-32b0521e4699}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */

@@ -27,7 +27,7 @@ use crate::dynamics::HubCoupling;
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
 
 pub use super::models::mesh::{MODEL_IDENTIFIER, VARIABLES, by_name, by_vr, guid};
-use crate::params::GearPair;
+use crate::params::{self as P, Bounds, GearPair};
 
 /// Everything the parameters of an instance set: the gear pair, the mesh options and the
 /// options of the stateful models (unused by `HelicalGearMesh`).
@@ -104,7 +104,53 @@ impl Default for UnitOptions {
     }
 }
 
+use crate::dynamics::unit as U;
 pub use crate::dynamics::unit::{MAX_ANGLE_RAD, MAX_SPEED_RAD_S, MAX_TORQUE_NM};
+
+/// Nominal pinion speed of the static-equilibrium start `w_p_start`: within ±1e5 rad/s (the
+/// units' speed limit [`MAX_SPEED_RAD_S`]).
+pub const W_P_START_RAD_S: Bounds<f64> = Bounds::new(-MAX_SPEED_RAD_S, MAX_SPEED_RAD_S, "rad/s");
+/// Explicit start angle (φ1, φp, φg, φ2): within ±1e15 rad ([`MAX_ANGLE_RAD`], the inputs'
+/// limit; the mesh model's own range, |TE| up to 0.2·m_n, is checked when the state is set).
+pub const START_ANGLE_RAD: Bounds<f64> = Bounds::new(-MAX_ANGLE_RAD, MAX_ANGLE_RAD, "rad");
+/// Explicit start speed (φ̇1, φ̇p, φ̇g, φ̇2): within ±1e5 rad/s ([`MAX_SPEED_RAD_S`]).
+pub const START_SPEED_RAD_S: Bounds<f64> = Bounds::new(-MAX_SPEED_RAD_S, MAX_SPEED_RAD_S, "rad/s");
+/// The bounds of [`UnitOptions::start`], by index (four angles, then four speeds).
+pub const START_BOUNDS: [Bounds<f64>; 8] = [
+    START_ANGLE_RAD,
+    START_ANGLE_RAD,
+    START_ANGLE_RAD,
+    START_ANGLE_RAD,
+    START_SPEED_RAD_S,
+    START_SPEED_RAD_S,
+    START_SPEED_RAD_S,
+    START_SPEED_RAD_S,
+];
+
+/// Names of [`UnitOptions::start`]'s entries as FMI parameters.
+pub const START_NAMES: [&str; 8] =
+    ["phi_1_0", "phi_p_0", "phi_g_0", "phi_2_0", "w_1_0", "w_p_0", "w_g_0", "w_2_0"];
+
+impl UnitOptions {
+    /// Checks every option against its [`Bounds`] ([`W_P_START_RAD_S`],
+    /// [`crate::dynamics::unit::RK4_STEPS_PER_MESH_PERIOD`], [`crate::dynamics::unit::RTOL`],
+    /// [`crate::dynamics::unit::ATOL`], [`START_BOUNDS`], the hub coupling's), whichever integrator and start is
+    /// chosen; the error names the FMI parameter, the value and the range.
+    pub fn check(&self) -> Result<(), crate::error::ParamError> {
+        W_P_START_RAD_S.check("w_p_start", self.w_p_start)?;
+        let n = i64::from(self.rk4_steps_per_mesh_period);
+        U::RK4_STEPS_PER_MESH_PERIOD.check_int("rk4_steps_per_mesh_period", n)?;
+        U::RTOL.check("rtol", self.rtol)?;
+        U::ATOL.check("atol", self.atol)?;
+        for ((b, name), x) in START_BOUNDS.iter().zip(START_NAMES).zip(self.start) {
+            b.check(name, x)?;
+        }
+        match self.hub_coupling.validate() {
+            Err(crate::dynamics::DynamicsError::Param(e)) => Err(e),
+            _ => Ok(()),
+        }
+    }
+}
 
 /// The input values of an instance (every model reads only its own inputs). Each input is
 /// checked against its range when set or restored ([`Variable::check_input`]).
@@ -310,7 +356,8 @@ impl VarType {
 ///
 /// Integer setters return `Err(allowed)` with the allowed range in words when the value cannot
 /// be represented (e.g. a negative number of teeth); all other range checks happen when the
-/// model is built (`fmi2ExitInitializationMode`) and name the parameter.
+/// model is built (`fmi2ExitInitializationMode`) against the library's [`Bounds`] (the same
+/// constants as the variable's `min`/`max`) and name the parameter.
 #[derive(Clone, Copy)]
 pub enum Access {
     /// Real parameter stored in [`Settings`].
@@ -390,10 +437,12 @@ pub struct Variable {
     pub display_unit: Option<&'static str>,
     /// Physical quantity, Real only.
     pub quantity: Option<&'static str>,
-    /// Smallest allowed value (Integer options).
-    pub min: Option<i32>,
-    /// Largest allowed value (Integer options).
-    pub max: Option<i32>,
+    /// Smallest accepted value of a Real or Integer parameter (`min` in
+    /// `modelDescription.xml`): the `min` of the library's [`Bounds`] that the parameter's
+    /// check uses, so the XML, the C header and the check cannot disagree.
+    pub min: Option<f64>,
+    /// Largest accepted value of a Real or Integer parameter (`max`), see `min`.
+    pub max: Option<f64>,
     /// Parameter group (parameters only, see [`group`]).
     pub group: u32,
     /// Dependencies (outputs and calculated parameters only).
@@ -508,11 +557,13 @@ pub(crate) const NONE: Variable = Variable {
 
 /// A Real `fixed` parameter stored in [`Settings::pair`].
 macro_rules! real_param {
-    ($name:literal, $vr:expr, $group:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal,
-     $($field:ident).+) => {
+    ($name:literal, $vr:expr, $group:expr, $bounds:expr, $unit:expr, $disp:expr, $q:expr,
+     $desc:literal, $($field:ident).+) => {
         Variable {
             name: $name,
             vr: $vr,
+            min: Some($bounds.min),
+            max: Some($bounds.max),
             causality: Causality::Parameter,
             variability: Variability::Fixed,
             description: $desc,
@@ -803,6 +854,8 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         name: "z_p",
         vr: 100,
         description: "Number of pinion teeth",
+        min: Some(P::Z_P.min as f64),
+        max: Some(P::Z_P.max as f64),
         group: group::GEOMETRY,
         access: Access::IntParam(
             |s| u32_to_i32(s.pair.z_p),
@@ -817,6 +870,8 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         name: "z_g",
         vr: 101,
         description: "Number of gear teeth",
+        min: Some(P::Z_G.min as f64),
+        max: Some(P::Z_G.max as f64),
         group: group::GEOMETRY,
         access: Access::IntParam(
             |s| u32_to_i32(s.pair.z_g),
@@ -831,6 +886,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "normal_module_m",
         102,
         group::GEOMETRY,
+        P::NORMAL_MODULE_M,
         M,
         MM,
         LENGTH,
@@ -841,6 +897,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "pressure_angle_rad",
         103,
         group::GEOMETRY,
+        P::PRESSURE_ANGLE_RAD,
         RAD,
         DEG,
         ANGLE,
@@ -851,6 +908,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "helix_angle_rad",
         104,
         group::GEOMETRY,
+        P::HELIX_ANGLE_RAD,
         RAD,
         DEG,
         ANGLE,
@@ -861,6 +919,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "face_width_m",
         105,
         group::GEOMETRY,
+        P::FACE_WIDTH_M,
         M,
         MM,
         LENGTH,
@@ -871,6 +930,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "profile_shift_p",
         106,
         group::GEOMETRY,
+        P::PROFILE_SHIFT,
         None,
         None,
         None,
@@ -881,6 +941,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "profile_shift_g",
         107,
         group::GEOMETRY,
+        P::PROFILE_SHIFT,
         None,
         None,
         None,
@@ -891,6 +952,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "addendum_mn",
         108,
         group::GEOMETRY,
+        P::ADDENDUM_MN,
         None,
         None,
         None,
@@ -901,6 +963,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "dedendum_mn",
         109,
         group::GEOMETRY,
+        P::DEDENDUM_MN,
         None,
         None,
         None,
@@ -911,6 +974,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "rack_fillet_radius_mn",
         110,
         group::GEOMETRY,
+        P::RACK_FILLET_RADIUS_MN,
         None,
         None,
         None,
@@ -921,6 +985,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "tip_relief_depth_mn",
         111,
         group::GEOMETRY,
+        P::TIP_RELIEF_DEPTH_MN,
         None,
         None,
         None,
@@ -932,6 +997,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "tip_relief_height_mn",
         112,
         group::GEOMETRY,
+        P::TIP_RELIEF_HEIGHT_MN,
         None,
         None,
         None,
@@ -942,6 +1008,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "tip_rounding_radius_mn",
         113,
         group::GEOMETRY,
+        P::TIP_ROUNDING_RADIUS_MN,
         None,
         None,
         None,
@@ -952,6 +1019,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "normal_backlash_mn",
         114,
         group::GEOMETRY,
+        P::NORMAL_BACKLASH_MN,
         None,
         None,
         None,
@@ -962,6 +1030,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "bore_diameter_m",
         115,
         group::GEOMETRY,
+        P::BORE_DIAMETER_M,
         M,
         MM,
         LENGTH,
@@ -972,6 +1041,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_p.youngs_modulus_pa",
         116,
         group::ELASTIC,
+        P::YOUNGS_MODULUS_PA,
         PA,
         Some("GPa"),
         Some("Pressure"),
@@ -982,6 +1052,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_p.poisson_ratio",
         117,
         group::ELASTIC,
+        P::POISSON_RATIO,
         None,
         None,
         None,
@@ -992,6 +1063,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_p.density_kg_m3",
         118,
         group::DENSITY,
+        P::DENSITY_KG_M3,
         Some("kg/m3"),
         None,
         Some("Density"),
@@ -1002,6 +1074,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_g.youngs_modulus_pa",
         119,
         group::ELASTIC,
+        P::YOUNGS_MODULUS_PA,
         PA,
         Some("GPa"),
         Some("Pressure"),
@@ -1012,6 +1085,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_g.poisson_ratio",
         120,
         group::ELASTIC,
+        P::POISSON_RATIO,
         None,
         None,
         None,
@@ -1022,6 +1096,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_g.density_kg_m3",
         121,
         group::DENSITY,
+        P::DENSITY_KG_M3,
         Some("kg/m3"),
         None,
         Some("Density"),
@@ -1036,6 +1111,8 @@ pub const GEAR_PARAMS: [Variable; 31] = [
                       d_mesh_n_s_per_m); tunable between communication points",
         unit: Some("N.s/m"),
         quantity: Some("TranslationalDampingConstant"),
+        min: Some(P::D_MESH_N_S_PER_M.min),
+        max: Some(P::D_MESH_N_S_PER_M.max),
         group: group::DAMPING,
         access: Access::RealParam(|s| s.pair.d_mesh_n_s_per_m, |s, v| s.pair.d_mesh_n_s_per_m = v),
         ..NONE
@@ -1044,6 +1121,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "drive.torque_nm",
         123,
         group::DRIVE,
+        P::DRIVE_TORQUE_NM,
         NM,
         None,
         TORQUE,
@@ -1055,6 +1133,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "drive.j1_kgm2",
         124,
         group::DRIVE,
+        P::DRIVE_INERTIA_KGM2,
         Some("kg.m2"),
         None,
         Some("MomentOfInertia"),
@@ -1065,6 +1144,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "drive.j2_kgm2",
         125,
         group::DRIVE,
+        P::DRIVE_INERTIA_KGM2,
         Some("kg.m2"),
         None,
         Some("MomentOfInertia"),
@@ -1075,6 +1155,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "drive.c1_nm_per_rad",
         126,
         group::DRIVE,
+        P::DRIVE_STIFFNESS_NM_PER_RAD,
         Some("N.m/rad"),
         None,
         Some("RotationalSpringConstant"),
@@ -1085,6 +1166,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "drive.c2_nm_per_rad",
         127,
         group::DRIVE,
+        P::DRIVE_STIFFNESS_NM_PER_RAD,
         Some("N.m/rad"),
         None,
         Some("RotationalSpringConstant"),
@@ -1095,6 +1177,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "drive.d1_nms_per_rad",
         128,
         group::DRIVE,
+        P::DRIVE_DAMPING_NMS_PER_RAD,
         Some("N.m.s/rad"),
         None,
         Some("RotationalDampingConstant"),
@@ -1105,6 +1188,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "drive.d2_nms_per_rad",
         129,
         group::DRIVE,
+        P::DRIVE_DAMPING_NMS_PER_RAD,
         Some("N.m.s/rad"),
         None,
         Some("RotationalDampingConstant"),
@@ -1152,8 +1236,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         description: "Evaluation fidelity: 0 = full contact search and load solve at every \
                       call, 1 = interpolation in a (mesh phase, TE) table built at \
                       initialisation (outside the table: full)",
-        min: Some(0),
-        max: Some(1),
+        min: Some(0.0),
+        max: Some(1.0),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| match s.options.fidelity {
@@ -1176,7 +1260,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         vr: 201,
         description: "Total number of slices over all simultaneous contact lines (the paper's \
                       200)",
-        min: Some(1),
+        min: Some(crate::mesh::model::SLICES.min as f64),
+        max: Some(crate::mesh::model::SLICES.max as f64),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| usize_to_i32(s.options.slices),
@@ -1192,8 +1277,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         vr: 202,
         description: "Global tooth compliance: 0 = interpolated FE influence grid, 1 = fitted \
                       influence function of Eqs. 5-8",
-        min: Some(0),
-        max: Some(1),
+        min: Some(0.0),
+        max: Some(1.0),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| match s.options.compliance {
@@ -1235,7 +1320,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         name: "table_phase_points",
         vr: 205,
         description: "Table fidelity: points per mesh period along the phase",
-        min: Some(2),
+        min: Some(crate::mesh::table::TABLE_POINTS.min as f64),
+        max: Some(crate::mesh::table::TABLE_POINTS.max as f64),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| usize_to_i32(s.options.table_phase_points),
@@ -1250,7 +1336,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         name: "table_te_points",
         vr: 206,
         description: "Table fidelity: points along TE",
-        min: Some(2),
+        min: Some(crate::mesh::table::TABLE_POINTS.min as f64),
+        max: Some(crate::mesh::table::TABLE_POINTS.max as f64),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| usize_to_i32(s.options.table_te_points),
@@ -1273,6 +1360,8 @@ macro_rules! start_param {
             unit: $unit,
             display_unit: $disp,
             quantity: $q,
+            min: Some(START_BOUNDS[$i].min),
+            max: Some(START_BOUNDS[$i].max),
             group: group::UNIT,
             access: Access::RealParam(|s| s.unit.start[$i], |s, v| s.unit.start[$i] = v),
             ..NONE
@@ -1290,6 +1379,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         unit: Some("rad/s"),
         display_unit: Some("rpm"),
         quantity: Some("AngularVelocity"),
+        min: Some(W_P_START_RAD_S.min),
+        max: Some(W_P_START_RAD_S.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.w_p_start, |s, v| s.unit.w_p_start = v),
         ..NONE
@@ -1300,8 +1391,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         description: "Integrator inside a communication step: 0 = classical RK4 on a grid of \
                       rk4_steps_per_mesh_period sub-steps per mesh period, 1 = adaptive \
                       Dormand-Prince 5(4) with rtol and atol",
-        min: Some(0),
-        max: Some(1),
+        min: Some(0.0),
+        max: Some(1.0),
         group: group::UNIT,
         access: Access::IntParam(
             |s| match s.unit.integrator {
@@ -1324,7 +1415,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         vr: 302,
         description: "RK4: sub-steps per mesh period at the current pinion speed (each \
                       communication step is cut into equal sub-steps no longer than that)",
-        min: Some(1),
+        min: Some(U::RK4_STEPS_PER_MESH_PERIOD.min as f64),
+        max: Some(U::RK4_STEPS_PER_MESH_PERIOD.max as f64),
         group: group::UNIT,
         access: Access::IntParam(
             |s| u32_to_i32(s.unit.rk4_steps_per_mesh_period),
@@ -1341,6 +1433,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         description: "DOPRI5: relative tolerance, applied to the state in relative \
                       coordinates (phi_p, TE, the shaft twists and their rates), so that it \
                       bounds the error of TE rather than that of the absolute angles",
+        min: Some(U::RTOL.min),
+        max: Some(U::RTOL.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.rtol, |s, v| s.unit.rtol = v),
         ..NONE
@@ -1350,6 +1444,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         vr: 304,
         description: "DOPRI5: absolute tolerance, one number for every component of the \
                       relative state (rad, m, rad/s, m/s)",
+        min: Some(U::ATOL.min),
+        max: Some(U::ATOL.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.atol, |s, v| s.unit.atol = v),
         ..NONE
@@ -1608,7 +1704,7 @@ mod tests {
                 Access::IntParam(get, set) => {
                     let start: i32 = v.start().unwrap().parse().unwrap();
                     assert_eq!(start, get(&s));
-                    let other = if v.max == Some(1) { 1 - start } else { start + 1 };
+                    let other = if v.max == Some(1.0) { 1 - start } else { start + 1 };
                     set(&mut s, other).unwrap();
                     assert_eq!(get(&s), other, "{}", v.name);
                     assert!(set(&mut s, -1).is_err(), "{}", v.name);

@@ -401,6 +401,7 @@ impl MeshModel {
         cache: &CacheOptions,
     ) -> Result<Self, MeshError> {
         PairGeometry::new(pair)?;
+        model::check_options(&options)?;
         if let Some(c) = options.winkler_c_prime {
             let (p, g) = winkler_compliances(pair, c)?;
             return Self::with_compliance(pair, options, p, g);
