@@ -32,6 +32,7 @@ pub mod load;
 pub mod mesh;
 pub mod modifications;
 pub mod numeric;
+pub mod options;
 pub mod paper;
 pub mod params;
 pub mod plot;

@@ -32,6 +32,7 @@ use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, MeshError, MeshModel as RustMeshModel, MeshOptions, MeshState,
     static_curve,
 };
+use helical_gear_mesh::options::Integrator;
 use helical_gear_mesh::paper::{PaperOptions, run_paper};
 use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -215,13 +216,7 @@ fn density_name(d: &GearMeshDensity) -> &'static str {
 }
 
 fn fidelity(name: &str) -> Res<Fidelity> {
-    match name {
-        "full" => Ok(Fidelity::Full),
-        "table" => Ok(Fidelity::Table),
-        other => {
-            Err(Failure::Param(format!("fidelity = {other:?}: allowed \"full\" or \"table\"")))
-        }
-    }
+    name.parse::<Fidelity>().map_err(Failure::Param)
 }
 
 /// The Table 1 gear pair of the paper as JSON.
@@ -603,8 +598,10 @@ impl MeshModel {
             let mut mesh = lock(&self.model)?.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
             let mut model = GearDynamics::new(mesh, drive)?;
+            let method =
+                method.parse::<Integrator>().map_err(|e| Failure::Param(format!("method: {e}")))?;
             let stepping = match method {
-                "rk4" => {
+                Integrator::Rk4 => {
                     let dt = match dt {
                         Some(dt) => {
                             let n = (t_end / dt).round();
@@ -621,16 +618,11 @@ impl MeshModel {
                     };
                     Stepping::Rk4 { dt }
                 }
-                "dopri5" => {
+                Integrator::Dopri5 => {
                     let mut options = Dopri5Options::with_tolerances(rtol, atol);
                     options.h_max = t_m.is_finite().then_some(t_m);
                     options.max_steps = MAX_TRAJECTORY_SAMPLES;
                     Stepping::Dopri5 { options, output_dt: dt }
-                }
-                other => {
-                    return Err(Failure::Param(format!(
-                        "method = {other:?}: allowed \"rk4\" or \"dopri5\""
-                    )));
                 }
             };
             let start = model

@@ -149,12 +149,12 @@ pub const TIME_RESOLUTION: f64 = 1e-3;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum UnitKind {
     /// J_p, J_g and the mesh. States (φp, φg, φ̇p, φ̇g). Inputs tau_p, tau_g.
-    Pair,
+    Pair = 0,
     /// Pair plus the shafts c1/d1, c2/d2. States (φp, φg, φ̇p, φ̇g). Inputs phi_1, w_1, phi_2,
     /// w_2.
-    Stage,
+    Stage = 1,
     /// The whole 4-DOF model of Eqs. 1–4. States in the order of dynamics::model (8). Input M.
-    Drive,
+    Drive = 2,
 }
 
 impl UnitKind {

@@ -25,6 +25,7 @@
 
 use crate::dynamics::HubCoupling;
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
+use crate::options::OptionEnum;
 
 pub use super::models::mesh::{MODEL_IDENTIFIER, VARIABLES, by_name, by_vr, guid};
 use crate::params::{self as P, Bounds, GearPair};
@@ -53,13 +54,24 @@ impl Default for Settings {
     }
 }
 
-/// Integrator of a stateful model inside a communication step.
+/// Integrator of a stateful model inside a communication step (codes and names:
+/// [`crate::options`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Integrator {
     /// Classical RK4 on a grid tied to the mesh period (`rk4_steps_per_mesh_period`).
-    Rk4,
+    Rk4 = 0,
     /// Adaptive Dormand–Prince 5(4) with `rtol`, `atol`.
-    Dopri5,
+    Dopri5 = 1,
+}
+
+/// The allowed codes of an option in words (`0 (full) or 1 (table)`), for the Integer setters'
+/// `&'static str` error: one string per option type, made once.
+fn allowed<T: OptionEnum>() -> &'static str {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static CELLS: OnceLock<Mutex<HashMap<&'static str, &'static str>>> = OnceLock::new();
+    let mut map = CELLS.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
+    map.entry(T::OPTION).or_insert_with(|| Box::leak(T::allowed().into_boxed_str()))
 }
 
 /// Start and integration options of the stateful models (`HelicalGearPair`,
@@ -1240,16 +1252,9 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         max: Some(1.0),
         group: group::OPTIONS,
         access: Access::IntParam(
-            |s| match s.options.fidelity {
-                Fidelity::Full => 0,
-                Fidelity::Table => 1,
-            },
+            |s| s.options.fidelity.code(),
             |s, v| {
-                s.options.fidelity = match v {
-                    0 => Fidelity::Full,
-                    1 => Fidelity::Table,
-                    _ => return Err("0 (full) or 1 (table)"),
-                };
+                s.options.fidelity = Fidelity::from_code(v).map_err(|_| allowed::<Fidelity>())?;
                 Ok(())
             },
         ),
@@ -1281,16 +1286,10 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         max: Some(1.0),
         group: group::OPTIONS,
         access: Access::IntParam(
-            |s| match s.options.compliance {
-                ComplianceModel::Interpolated => 0,
-                ComplianceModel::Fitted => 1,
-            },
+            |s| s.options.compliance.code(),
             |s, v| {
-                s.options.compliance = match v {
-                    0 => ComplianceModel::Interpolated,
-                    1 => ComplianceModel::Fitted,
-                    _ => return Err("0 (interpolated) or 1 (fitted)"),
-                };
+                s.options.compliance =
+                    ComplianceModel::from_code(v).map_err(|_| allowed::<ComplianceModel>())?;
                 Ok(())
             },
         ),
@@ -1395,16 +1394,10 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         max: Some(1.0),
         group: group::UNIT,
         access: Access::IntParam(
-            |s| match s.unit.integrator {
-                Integrator::Rk4 => 0,
-                Integrator::Dopri5 => 1,
-            },
+            |s| s.unit.integrator.code(),
             |s, v| {
-                s.unit.integrator = match v {
-                    0 => Integrator::Rk4,
-                    1 => Integrator::Dopri5,
-                    _ => return Err("0 (RK4) or 1 (DOPRI5)"),
-                };
+                s.unit.integrator =
+                    Integrator::from_code(v).map_err(|_| allowed::<Integrator>())?;
                 Ok(())
             },
         ),
