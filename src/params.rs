@@ -35,9 +35,10 @@ use serde::{Deserialize, Serialize};
 use crate::error::ParamError;
 use crate::modifications::Modifications;
 
-/// Elastic and mass properties of one gear's material.
+/// Elastic and mass properties of one gear's material. In JSON every key is optional (missing
+/// keys: [`Material::steel`]); unknown keys are an error.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Material {
     /// Young's modulus E, Pa (> 0).
     pub youngs_modulus_pa: f64,
@@ -45,6 +46,13 @@ pub struct Material {
     pub poisson_ratio: f64,
     /// Density, kg/m³ (> 0).
     pub density_kg_m3: f64,
+}
+
+impl Default for Material {
+    /// [`Material::steel`].
+    fn default() -> Self {
+        Self::steel()
+    }
 }
 
 impl Material {
@@ -57,9 +65,10 @@ impl Material {
 /// The parts connected to the gear set (paper Fig. 1 and Eqs. 1–4).
 ///
 /// Sign convention: the driving torque `torque_nm` acts on the driving inertia J₁ in the positive
-/// rotational sense; the braking torque `torque_nm·z_g/z_p` acts on J₂ (Eq. 4).
+/// rotational sense; the braking torque `torque_nm·z_g/z_p` acts on J₂ (Eq. 4). In JSON every
+/// key is optional (missing keys: [`DriveLine::paper_table1`]); unknown keys are an error.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct DriveLine {
     /// Driving torque M on the pinion side, N·m.
     pub torque_nm: f64,
@@ -75,6 +84,13 @@ pub struct DriveLine {
     pub d1_nms_per_rad: f64,
     /// Viscous damping d₂ of the gear shaft, N·m·s/rad.
     pub d2_nms_per_rad: f64,
+}
+
+impl Default for DriveLine {
+    /// [`DriveLine::paper_table1`].
+    fn default() -> Self {
+        Self::paper_table1()
+    }
 }
 
 impl DriveLine {
@@ -96,8 +112,13 @@ impl DriveLine {
 /// All data of one helical gear pair (the JSON schema of `--params FILE`).
 ///
 /// Angles in rad, lengths in m, basic-rack quantities in units of m_n (keys ending `_mn`).
+///
+/// In JSON every key is optional: a missing key takes its value from Table 1
+/// ([`GearPair::paper_table1`]; inside `material_p`, `material_g` and `drive` key by key), so
+/// `{"helix_angle_rad": 0.2}` is Table 1 with β = 0.2 rad. Unknown keys are an error naming
+/// the key. This is the one filling rule of every interface (CLI `--params`, Python, the C API).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct GearPair {
     /// Number of pinion teeth z_p.
     pub z_p: u32,
@@ -112,10 +133,8 @@ pub struct GearPair {
     /// Face width b, m (both gears).
     pub face_width_m: f64,
     /// Profile shift coefficient x_p of the pinion.
-    #[serde(default)]
     pub profile_shift_p: f64,
     /// Profile shift coefficient x_g of the gear.
-    #[serde(default)]
     pub profile_shift_g: f64,
     /// Addendum coefficient h_aP/m_n of the basic rack; the tip radius is r + (x + h_aP/m_n)·m_n.
     pub addendum_mn: f64,
@@ -143,8 +162,8 @@ pub struct GearPair {
     /// The shafts and masses on both sides (Eqs. 1–4).
     pub drive: DriveLine,
     /// Flank modifications, misalignment and tooth deviations ([`crate::modifications`]);
-    /// optional in JSON, all zero by default, and left out when serialised at the default.
-    #[serde(default, skip_serializing_if = "Modifications::is_default")]
+    /// all zero by default, and left out when serialised at the default.
+    #[serde(skip_serializing_if = "Modifications::is_default")]
     pub modifications: Modifications,
 }
 
@@ -219,7 +238,8 @@ impl GearPair {
         ]
     }
 
-    /// Reads a gear pair from JSON text (the schema of this struct; unknown keys are an error).
+    /// Reads a gear pair from JSON text (the schema of this struct: missing keys from Table 1,
+    /// unknown keys an error naming the key).
     pub fn from_json(text: &str) -> Result<Self, String> {
         serde_json::from_str(text).map_err(|e| format!("gear-pair JSON: {e}"))
     }

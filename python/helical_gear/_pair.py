@@ -130,7 +130,7 @@ def _merge(base: dict, updates: Mapping[str, Any]) -> dict:
                 _set_path(out, f"{k}.{sk}", sv)
             continue
         try:
-            default = _get_path(out, k)
+            default = _get_path(_default(), k)  # for the type only (30.0 -> 30 for z_p)
         except (KeyError, TypeError):
             default = None
         _set_path(out, k, _coerce(default, v))
@@ -172,8 +172,8 @@ class GearPair:
     __slots__ = ("_json", "_data")
 
     def __init__(self, **kw: Any):
-        data = _merge(_default(), kw) if kw else _default()
-        self._init(json.dumps(data))
+        # Only the given keys: the library fills the rest from Table 1.
+        self._init(json.dumps(_merge({}, kw)))
 
     def _init(self, text: str) -> None:
         norm = _native.normalize_pair(text)
