@@ -23,6 +23,7 @@ use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData, Complian
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::dynamics::model::STATE_NAMES;
+use helical_gear_mesh::dynamics::steady::steady_max_periods;
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, DynamicsError, GearDynamics,
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions,
@@ -681,7 +682,7 @@ impl MeshModel {
             let opts = SweepOptions {
                 run: SteadyRunOptions {
                     method: SteadyMethod::Rk4 { steps_per_period },
-                    max_periods: if period > 1 { max_periods.max(3 * period) } else { max_periods },
+                    max_periods: steady_max_periods(max_periods, period),
                     period_meshes: period,
                     keep_window: false,
                     ..SteadyRunOptions::default()
