@@ -11,8 +11,10 @@
 //! that table.
 //!
 //! The same physical quantity has the same name and value reference in every model: the
-//! gear-pair parameters ([`GEAR_PARAMS`], 100–130; 130 is the String `modifications`), the mesh options ([`MESH_OPTIONS`],
-//! 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
+//! gear-pair parameters ([`GEAR_PARAMS`], 100–122 and 130, the String `modifications`), the
+//! drive line's ([`DRIVE_TORQUE`], [`DRIVE_INERTIAS`], [`DRIVE_SHAFTS`], 123–129; each model
+//! lists only those it uses: the mesh element none, the Pair the torque of its static start,
+//! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
 //! ([`MESH_OUTPUTS`], 10–21) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
@@ -405,7 +407,7 @@ pub mod group {
     pub const DENSITY: u32 = 4;
     /// Mesh damping `d_mesh`.
     pub const DAMPING: u32 = 8;
-    /// Drive-line data (not used by the mesh element; carried for the master).
+    /// Drive-line data (listed only by the stateful models that use them).
     pub const DRIVE: u32 = 16;
     /// Model options that change the elastic solution (fidelity, slices, compliance model,
     /// neighbour coupling, table resolution).
@@ -860,8 +862,10 @@ pub const CALCULATED: [Variable; 4] = [
     },
 ];
 
-/// The gear-pair parameters (value references 100–130; JSON keys of `GearPair`).
-pub const GEAR_PARAMS: [Variable; 31] = [
+/// The gear-pair parameters of the mesh (value references 100–122 and 130; JSON keys of
+/// `GearPair`); the drive line's (123–129) are [`DRIVE_TORQUE`], [`DRIVE_INERTIAS`] and
+/// [`DRIVE_SHAFTS`], listed only by the models that use them.
+pub const GEAR_PARAMS: [Variable; 24] = [
     Variable {
         name: "z_p",
         vr: 100,
@@ -1129,84 +1133,6 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         access: Access::RealParam(|s| s.pair.d_mesh_n_s_per_m, |s, v| s.pair.d_mesh_n_s_per_m = v),
         ..NONE
     },
-    real_param!(
-        "drive.torque_nm",
-        123,
-        group::DRIVE,
-        P::DRIVE_TORQUE_NM,
-        NM,
-        None,
-        TORQUE,
-        "Driving torque M on J_1 (positive sense), N.m; the load on J_2 is M*z_g/z_p (Eq. 4). \
-         Not used by the mesh element; for the master's drive-line model",
-        drive.torque_nm
-    ),
-    real_param!(
-        "drive.j1_kgm2",
-        124,
-        group::DRIVE,
-        P::DRIVE_INERTIA_KGM2,
-        Some("kg.m2"),
-        None,
-        Some("MomentOfInertia"),
-        "Inertia J_1 of the driving mass, kg.m2 (for the master)",
-        drive.j1_kgm2
-    ),
-    real_param!(
-        "drive.j2_kgm2",
-        125,
-        group::DRIVE,
-        P::DRIVE_INERTIA_KGM2,
-        Some("kg.m2"),
-        None,
-        Some("MomentOfInertia"),
-        "Inertia J_2 of the driven mass, kg.m2 (for the master)",
-        drive.j2_kgm2
-    ),
-    real_param!(
-        "drive.c1_nm_per_rad",
-        126,
-        group::DRIVE,
-        P::DRIVE_STIFFNESS_NM_PER_RAD,
-        Some("N.m/rad"),
-        None,
-        Some("RotationalSpringConstant"),
-        "Torsional stiffness c_1 of the pinion shaft, N.m/rad (for the master)",
-        drive.c1_nm_per_rad
-    ),
-    real_param!(
-        "drive.c2_nm_per_rad",
-        127,
-        group::DRIVE,
-        P::DRIVE_STIFFNESS_NM_PER_RAD,
-        Some("N.m/rad"),
-        None,
-        Some("RotationalSpringConstant"),
-        "Torsional stiffness c_2 of the gear shaft, N.m/rad (for the master)",
-        drive.c2_nm_per_rad
-    ),
-    real_param!(
-        "drive.d1_nms_per_rad",
-        128,
-        group::DRIVE,
-        P::DRIVE_DAMPING_NMS_PER_RAD,
-        Some("N.m.s/rad"),
-        None,
-        Some("RotationalDampingConstant"),
-        "Viscous damping d_1 of the pinion shaft, N.m.s/rad (for the master)",
-        drive.d1_nms_per_rad
-    ),
-    real_param!(
-        "drive.d2_nms_per_rad",
-        129,
-        group::DRIVE,
-        P::DRIVE_DAMPING_NMS_PER_RAD,
-        Some("N.m.s/rad"),
-        None,
-        Some("RotationalDampingConstant"),
-        "Viscous damping d_2 of the gear shaft, N.m.s/rad (for the master)",
-        drive.d2_nms_per_rad
-    ),
     Variable {
         name: "modifications",
         vr: 130,
@@ -1217,6 +1143,96 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         access: Access::StringParam(modifications_json, set_modifications_json),
         ..NONE
     },
+];
+
+/// The drive line's nominal torque (value reference 123): the load of the static start of
+/// every stateful model.
+pub const DRIVE_TORQUE: [Variable; 1] = [real_param!(
+    "drive.torque_nm",
+    123,
+    group::DRIVE,
+    P::DRIVE_TORQUE_NM,
+    NM,
+    None,
+    TORQUE,
+    "Driving torque M on J_1 (positive sense), N.m; the load on J_2 is M*z_g/z_p (Eq. 4); \
+     the nominal load of the static-equilibrium start",
+    drive.torque_nm
+)];
+
+/// The drive line's outer inertias J1, J2 (value references 124–125): `HelicalGearDrive` only.
+pub const DRIVE_INERTIAS: [Variable; 2] = [
+    real_param!(
+        "drive.j1_kgm2",
+        124,
+        group::DRIVE,
+        P::DRIVE_INERTIA_KGM2,
+        Some("kg.m2"),
+        None,
+        Some("MomentOfInertia"),
+        "Inertia J_1 of the driving mass, kg.m2",
+        drive.j1_kgm2
+    ),
+    real_param!(
+        "drive.j2_kgm2",
+        125,
+        group::DRIVE,
+        P::DRIVE_INERTIA_KGM2,
+        Some("kg.m2"),
+        None,
+        Some("MomentOfInertia"),
+        "Inertia J_2 of the driven mass, kg.m2",
+        drive.j2_kgm2
+    ),
+];
+
+/// The drive line's shafts c1, c2, d1, d2 (value references 126–129): `HelicalGearStage` and
+/// `HelicalGearDrive`.
+pub const DRIVE_SHAFTS: [Variable; 4] = [
+    real_param!(
+        "drive.c1_nm_per_rad",
+        126,
+        group::DRIVE,
+        P::DRIVE_STIFFNESS_NM_PER_RAD,
+        Some("N.m/rad"),
+        None,
+        Some("RotationalSpringConstant"),
+        "Torsional stiffness c_1 of the pinion shaft, N.m/rad",
+        drive.c1_nm_per_rad
+    ),
+    real_param!(
+        "drive.c2_nm_per_rad",
+        127,
+        group::DRIVE,
+        P::DRIVE_STIFFNESS_NM_PER_RAD,
+        Some("N.m/rad"),
+        None,
+        Some("RotationalSpringConstant"),
+        "Torsional stiffness c_2 of the gear shaft, N.m/rad",
+        drive.c2_nm_per_rad
+    ),
+    real_param!(
+        "drive.d1_nms_per_rad",
+        128,
+        group::DRIVE,
+        P::DRIVE_DAMPING_NMS_PER_RAD,
+        Some("N.m.s/rad"),
+        None,
+        Some("RotationalDampingConstant"),
+        "Viscous damping d_1 of the pinion shaft, N.m.s/rad",
+        drive.d1_nms_per_rad
+    ),
+    real_param!(
+        "drive.d2_nms_per_rad",
+        129,
+        group::DRIVE,
+        P::DRIVE_DAMPING_NMS_PER_RAD,
+        Some("N.m.s/rad"),
+        None,
+        Some("RotationalDampingConstant"),
+        "Viscous damping d_2 of the gear shaft, N.m.s/rad",
+        drive.d2_nms_per_rad
+    ),
 ];
 
 /// The `modifications` parameter's text: the JSON of the pair's modifications (`{}` for none;
@@ -1664,6 +1680,8 @@ mod tests {
         }
     }
 
+    /// Every `GearPair` field is a parameter of `HelicalGearDrive`, and every one but the
+    /// drive line's of `HelicalGearMesh` (which lists none of `drive.*`).
     #[test]
     fn every_gear_pair_field_is_a_parameter() {
         let json = serde_json::to_value(GearPair::paper_table1()).unwrap();
@@ -1674,11 +1692,13 @@ mod tests {
                 None => keys.push(k.clone()),
             }
         }
+        let drive = super::super::models::unit::DRIVE.variables;
         for k in &keys {
-            assert!(
-                VARIABLES.iter().any(|v| v.causality == Causality::Parameter && v.json_key() == k),
-                "GearPair field {k} has no FMI parameter"
-            );
+            let is_param = |vars: &[Variable]| {
+                vars.iter().any(|v| v.causality == Causality::Parameter && v.json_key() == k)
+            };
+            assert!(is_param(drive), "GearPair field {k} has no FMI parameter");
+            assert_eq!(is_param(VARIABLES), !k.starts_with("drive."), "{k} in the mesh element");
         }
     }
 

@@ -86,11 +86,14 @@ class Slave:
         self.s.freeInstance()
 
 
+# The outer inertias of Table 1 (the Stage does not list J1, J2: it does not use them).
+J1 = J2 = 0.62
+
+
 def drive(s):
-    j1, j2, c1, c2, d1, d2, m = s.get("drive.j1_kgm2", "drive.j2_kgm2", "drive.c1_nm_per_rad",
-                                      "drive.c2_nm_per_rad", "drive.d1_nms_per_rad",
-                                      "drive.d2_nms_per_rad", "drive.torque_nm")
-    return dict(j1=j1, j2=j2, c1=c1, c2=c2, d1=d1, d2=d2, m=m, load=m * Z_G / Z_P)
+    c1, c2, d1, d2, m = s.get("drive.c1_nm_per_rad", "drive.c2_nm_per_rad",
+                              "drive.d1_nms_per_rad", "drive.d2_nms_per_rad", "drive.torque_nm")
+    return dict(j1=J1, j2=J2, c1=c1, c2=c2, d1=d1, d2=d2, m=m, load=m * Z_G / Z_P)
 
 
 def stage_cut(tmp, w, h, n):

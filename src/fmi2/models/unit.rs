@@ -37,9 +37,10 @@ use crate::dynamics::unit::{
 use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
 use crate::fmi2::variables::{
-    ANGLE, Access, CALCULATED, Causality, DEG, Depends, Derived, GEAR_PARAMS, Inputs, Integrator,
-    MESH_OPTIONS, MESH_OUTPUTS, NM, NONE, Outputs, RAD, START_OUTER, START_PAIR, Settings, TORQUE,
-    UNIT_OPTIONS, Variability, Variable, concat, group, total_len, with_depends,
+    ANGLE, Access, CALCULATED, Causality, DEG, DRIVE_INERTIAS, DRIVE_SHAFTS, DRIVE_TORQUE, Depends,
+    Derived, GEAR_PARAMS, Inputs, Integrator, MESH_OPTIONS, MESH_OUTPUTS, NM, NONE, Outputs, RAD,
+    START_OUTER, START_PAIR, Settings, TORQUE, UNIT_OPTIONS, Variability, Variable, concat, group,
+    total_len, with_depends,
 };
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, MeshModel};
@@ -581,6 +582,7 @@ const PAIR_PARTS: &[&[Variable]] = &[
     &UNIT_MESH_OUTPUTS,
     &CALCULATED,
     &GEAR_PARAMS,
+    &DRIVE_TORQUE,
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &PAIR_COUPLING,
@@ -593,6 +595,8 @@ const STAGE_PARTS: &[&[Variable]] = &[
     &UNIT_MESH_OUTPUTS,
     &CALCULATED,
     &GEAR_PARAMS,
+    &DRIVE_TORQUE,
+    &DRIVE_SHAFTS,
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &START_PAIR,
@@ -604,6 +608,9 @@ const DRIVE_PARTS: &[&[Variable]] = &[
     &UNIT_MESH_OUTPUTS,
     &CALCULATED,
     &GEAR_PARAMS,
+    &DRIVE_TORQUE,
+    &DRIVE_INERTIAS,
+    &DRIVE_SHAFTS,
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &START_PAIR,
