@@ -413,7 +413,7 @@ pub const PRESSURE_ANGLE_RAD: Bounds<f64> =
 /// Helix angle β: 0 (spur) up to the largest double below 45° (beyond, the transverse
 /// quantities of a helical gear with this rack degenerate), rad.
 pub const HELIX_ANGLE_RAD: Bounds<f64> =
-    Bounds::new(0.0, std::f64::consts::FRAC_PI_4.next_down(), "rad");
+    Bounds::new(0.0, f64::from_bits(std::f64::consts::FRAC_PI_4.to_bits() - 1), "rad");
 /// Face width b: 1 µm … 10 m, m.
 pub const FACE_WIDTH_M: Bounds<f64> = Bounds::new(1e-6, 10.0, "m");
 /// Profile shift coefficients x_p, x_g: −1.5 … 1.5 (beyond, the tooth is pointed or undercut

@@ -186,6 +186,17 @@ fn accomplice(m: &ModelInfo, v: &Variable) -> Option<&'static str> {
     }
 }
 
+/// The next `f64` above a finite `x`.
+fn next_up(x: f64) -> f64 {
+    if x == 0.0 {
+        f64::from_bits(1)
+    } else if x > 0.0 {
+        f64::from_bits(x.to_bits() + 1)
+    } else {
+        f64::from_bits(x.to_bits() - 1)
+    }
+}
+
 fn combined(model: &str, name: &str, is_max: bool) -> Option<&'static str> {
     COMBINED
         .iter()
@@ -214,8 +225,8 @@ fn xml_bounds_are_exactly_what_the_library_accepts() {
                 let past = match (int, is_max) {
                     (true, false) => bound - 1.0,
                     (true, true) => bound + 1.0,
-                    (false, false) => bound.next_down(),
-                    (false, true) => bound.next_up(),
+                    (false, false) => -next_up(-bound),
+                    (false, true) => next_up(bound),
                 };
                 let what = format!(
                     "{}: {name} = {bound} ({})",
