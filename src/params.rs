@@ -451,6 +451,44 @@ pub const DRIVE_STIFFNESS_NM_PER_RAD: Bounds<f64> = Bounds::new(1e-9, 1e15, "N.m
 /// Shaft damping d₁, d₂: 0 … 1e12 N·m·s/rad.
 pub const DRIVE_DAMPING_NMS_PER_RAD: Bounds<f64> = Bounds::new(0.0, 1e12, "N.m.s/rad");
 
+/// Every numeric key of the gear-pair JSON with its range: (key, nested keys joined by a dot;
+/// min; max; unit), integers as `f64`. The list Python exposes as `helical_gear.BOUNDS`.
+pub fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
+    let z = |b: Bounds<i64>| Bounds::new(b.min as f64, b.max as f64, b.unit);
+    let mut v: Vec<(String, Bounds<f64>)> = vec![
+        ("z_p".into(), z(Z_P)),
+        ("z_g".into(), z(Z_G)),
+        ("normal_module_m".into(), NORMAL_MODULE_M),
+        ("pressure_angle_rad".into(), PRESSURE_ANGLE_RAD),
+        ("helix_angle_rad".into(), HELIX_ANGLE_RAD),
+        ("face_width_m".into(), FACE_WIDTH_M),
+        ("profile_shift_p".into(), PROFILE_SHIFT),
+        ("profile_shift_g".into(), PROFILE_SHIFT),
+        ("addendum_mn".into(), ADDENDUM_MN),
+        ("dedendum_mn".into(), DEDENDUM_MN),
+        ("rack_fillet_radius_mn".into(), RACK_FILLET_RADIUS_MN),
+        ("tip_relief_depth_mn".into(), TIP_RELIEF_DEPTH_MN),
+        ("tip_relief_height_mn".into(), TIP_RELIEF_HEIGHT_MN),
+        ("tip_rounding_radius_mn".into(), TIP_ROUNDING_RADIUS_MN),
+        ("normal_backlash_mn".into(), NORMAL_BACKLASH_MN),
+        ("bore_diameter_m".into(), BORE_DIAMETER_M),
+    ];
+    for g in ["material_p", "material_g"] {
+        v.push((format!("{g}.youngs_modulus_pa"), YOUNGS_MODULUS_PA));
+        v.push((format!("{g}.poisson_ratio"), POISSON_RATIO));
+        v.push((format!("{g}.density_kg_m3"), DENSITY_KG_M3));
+    }
+    v.push(("d_mesh_n_s_per_m".into(), D_MESH_N_S_PER_M));
+    v.push(("drive.torque_nm".into(), DRIVE_TORQUE_NM));
+    v.push(("drive.j1_kgm2".into(), DRIVE_INERTIA_KGM2));
+    v.push(("drive.j2_kgm2".into(), DRIVE_INERTIA_KGM2));
+    v.push(("drive.c1_nm_per_rad".into(), DRIVE_STIFFNESS_NM_PER_RAD));
+    v.push(("drive.c2_nm_per_rad".into(), DRIVE_STIFFNESS_NM_PER_RAD));
+    v.push(("drive.d1_nms_per_rad".into(), DRIVE_DAMPING_NMS_PER_RAD));
+    v.push(("drive.d2_nms_per_rad".into(), DRIVE_DAMPING_NMS_PER_RAD));
+    v.into_iter().map(|(k, b)| (k, b.min, b.max, b.unit)).collect()
+}
+
 /// Largest mesh damping coefficient d_mesh (Eq. 14), N·s/m: the range of the JSON key
 /// `d_mesh_n_s_per_m` (FMI parameter `d_mesh`) is [`D_MESH_N_S_PER_M`].
 pub const D_MESH_MAX_N_S_PER_M: f64 = 1e9;

@@ -148,6 +148,14 @@ def _flatten(d: Mapping, prefix: str = "") -> dict:
     return out
 
 
+BOUNDS: Mapping[str, tuple[float, float, str]] = MappingProxyType(
+    {k: (lo, hi, unit) for k, lo, hi, unit in _native.parameter_bounds()}
+)
+"""Inclusive range of every numeric gear-pair key (dotted for nested keys): ``(min, max, unit)``,
+the library's own bounds, the same as the FMUs' ``min``/``max``. A value inside may still be
+refused in combination with others (undercut, pointed tooth, contact ratio …)."""
+
+
 _DEFAULT: dict | None = None
 
 

@@ -220,6 +220,13 @@ fn fidelity(name: &str) -> Res<Fidelity> {
     name.parse::<Fidelity>().map_err(Failure::Param)
 }
 
+/// The range of every numeric gear-pair key: a list of (key, min, max, unit), the library's own
+/// bounds (the same as the FMUs' `min`/`max`).
+#[pyfunction]
+fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
+    helical_gear_mesh::params::parameter_bounds()
+}
+
 /// The Table 1 gear pair of the paper as JSON.
 #[pyfunction]
 fn default_pair_json(py: Python<'_>) -> PyResult<String> {
@@ -772,6 +779,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Compliance>()?;
     m.add_class::<MeshModel>()?;
     m.add_function(wrap_pyfunction!(default_pair_json, m)?)?;
+    m.add_function(wrap_pyfunction!(parameter_bounds, m)?)?;
     m.add_function(wrap_pyfunction!(normalize_pair, m)?)?;
     m.add_function(wrap_pyfunction!(assumptions, m)?)?;
     m.add_function(wrap_pyfunction!(geometry_json, m)?)?;

@@ -1702,6 +1702,29 @@ mod tests {
         }
     }
 
+    /// The list Python exposes (`params::parameter_bounds`) has every gear-pair parameter of
+    /// `HelicalGearDrive` with that variable's `min`/`max`.
+    #[test]
+    fn parameter_bounds_are_the_variables_min_max() {
+        let drive = super::super::models::unit::DRIVE.variables;
+        let list = crate::params::parameter_bounds();
+        for (k, lo, hi, _) in &list {
+            let v = drive.iter().find(|v| v.json_key() == k).unwrap_or_else(|| panic!("{k}"));
+            assert_eq!((v.min, v.max), (Some(*lo), Some(*hi)), "{k}");
+        }
+        let numeric = |v: &&Variable| {
+            v.group
+                & (group::GEOMETRY
+                    | group::ELASTIC
+                    | group::DENSITY
+                    | group::DAMPING
+                    | group::DRIVE)
+                != 0
+                && matches!(v.var_type(), VarType::Real | VarType::Integer)
+        };
+        assert_eq!(drive.iter().filter(numeric).count(), list.len());
+    }
+
     #[test]
     fn start_values_round_trip_and_setters_hit_their_field() {
         for v in VARIABLES {
