@@ -30,7 +30,8 @@ typedef enum {
 
 /**
  * Which part of the drive line a unit holds (see `HgmUnit`): the values of `hgm_unit_create`'s
- * `kind` argument, which takes an `int32_t` and refuses any other value.
+ * `kind` argument, which takes an `int32_t` and refuses any other value (the codes of
+ * [`crate::options`]).
  */
 typedef enum {
   /**
@@ -49,17 +50,18 @@ typedef enum {
 
 /**
  * Mesh evaluation of a unit: the values of `hgm_unit_create`'s `fidelity` argument, which
- * takes an `int32_t` and refuses any other value.
+ * takes an `int32_t` and refuses any other value. The codes are those of the FMUs' `fidelity`
+ * parameter ([`crate::options`]; before this encoding was shared, `TABLE` was 0 and `FULL` 1).
  */
 typedef enum {
   /**
-   * Interpolation in a table built at creation (a few seconds), full model outside it.
-   */
-  HGM_FIDELITY_TABLE = 0,
-  /**
    * Contact search and load solve at every evaluation.
    */
-  HGM_FIDELITY_FULL = 1,
+  HGM_FIDELITY_FULL = 0,
+  /**
+   * Interpolation in a table built at creation (a few seconds), full model outside it.
+   */
+  HGM_FIDELITY_TABLE = 1,
 } HgmFidelity;
 
 /**
@@ -330,7 +332,7 @@ void hgm_free(HgmModel *h);
  * The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
  * `kind` and `fidelity` are integers (a C enum may hold any value): `kind` one of
  * `HGM_UNIT_KIND_PAIR` (0), `HGM_UNIT_KIND_STAGE` (1), `HGM_UNIT_KIND_DRIVE` (2), `fidelity`
- * one of `HGM_FIDELITY_TABLE` (0), `HGM_FIDELITY_FULL` (1); another value gives NULL with a
+ * one of `HGM_FIDELITY_FULL` (0), `HGM_FIDELITY_TABLE` (1); another value gives NULL with a
  * message naming the argument and its allowed values.
  * Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
  *

@@ -64,7 +64,17 @@ use crate::dynamics::{
 use crate::error::short_num;
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState};
+use crate::options::OptionEnum;
 use crate::params::GearPair;
+
+// The C constants are the codes of the one encoding (crate::options), checked at compile time.
+const _: () = {
+    assert!(HgmFidelity::Full as i32 == Fidelity::Full as i32);
+    assert!(HgmFidelity::Table as i32 == Fidelity::Table as i32);
+    assert!(HgmUnitKind::Pair as i32 == UnitKind::Pair as i32);
+    assert!(HgmUnitKind::Stage as i32 == UnitKind::Stage as i32);
+    assert!(HgmUnitKind::Drive as i32 == UnitKind::Drive as i32);
+};
 
 /// Result of a C API call.
 #[repr(C)]
@@ -380,7 +390,8 @@ pub unsafe extern "C" fn hgm_free(h: *mut HgmModel) {
 // ---------------------------------------------------------------------------------------------
 
 /// Which part of the drive line a unit holds (see `HgmUnit`): the values of `hgm_unit_create`'s
-/// `kind` argument, which takes an `int32_t` and refuses any other value.
+/// `kind` argument, which takes an `int32_t` and refuses any other value (the codes of
+/// [`crate::options`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HgmUnitKind {
@@ -393,14 +404,15 @@ pub enum HgmUnitKind {
 }
 
 /// Mesh evaluation of a unit: the values of `hgm_unit_create`'s `fidelity` argument, which
-/// takes an `int32_t` and refuses any other value.
+/// takes an `int32_t` and refuses any other value. The codes are those of the FMUs' `fidelity`
+/// parameter ([`crate::options`]; before this encoding was shared, `TABLE` was 0 and `FULL` 1).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HgmFidelity {
-    /// Interpolation in a table built at creation (a few seconds), full model outside it.
-    Table = 0,
     /// Contact search and load solve at every evaluation.
-    Full = 1,
+    Full = 0,
+    /// Interpolation in a table built at creation (a few seconds), full model outside it.
+    Table = 1,
 }
 
 /// Inputs of a unit (SI); each kind reads only its own fields, held over a step.
@@ -540,7 +552,7 @@ fn invalid_arg(msg: impl Into<String>) -> (HgmStatus, String) {
 /// The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
 /// `kind` and `fidelity` are integers (a C enum may hold any value): `kind` one of
 /// `HGM_UNIT_KIND_PAIR` (0), `HGM_UNIT_KIND_STAGE` (1), `HGM_UNIT_KIND_DRIVE` (2), `fidelity`
-/// one of `HGM_FIDELITY_TABLE` (0), `HGM_FIDELITY_FULL` (1); another value gives NULL with a
+/// one of `HGM_FIDELITY_FULL` (0), `HGM_FIDELITY_TABLE` (1); another value gives NULL with a
 /// message naming the argument and its allowed values.
 /// Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
 ///
@@ -565,26 +577,11 @@ pub unsafe extern "C" fn hgm_unit_create(
                 .map_err(|e| format!("hgm_unit_create: `json` is not UTF-8: {e}"))?;
             GearPair::from_json(text)?
         };
-        let fidelity = match fidelity {
-            x if x == HgmFidelity::Table as i32 => Fidelity::Table,
-            x if x == HgmFidelity::Full as i32 => Fidelity::Full,
-            x => {
-                return Err(format!(
-                    "`fidelity` = {x}: allowed HGM_FIDELITY_TABLE (0) or HGM_FIDELITY_FULL (1)"
-                ));
-            }
-        };
-        let kind = match kind {
-            x if x == HgmUnitKind::Pair as i32 => UnitKind::Pair,
-            x if x == HgmUnitKind::Stage as i32 => UnitKind::Stage,
-            x if x == HgmUnitKind::Drive as i32 => UnitKind::Drive,
-            x => {
-                return Err(format!(
-                    "`kind` = {x}: allowed HGM_UNIT_KIND_PAIR (0), HGM_UNIT_KIND_STAGE (1) or \
-                     HGM_UNIT_KIND_DRIVE (2)"
-                ));
-            }
-        };
+        let fidelity = Fidelity::from_code(fidelity)
+            .map_err(|e| format!("{e} (HGM_FIDELITY_FULL, HGM_FIDELITY_TABLE)"))?;
+        let kind = UnitKind::from_code(kind).map_err(|e| {
+            format!("{e} (HGM_UNIT_KIND_PAIR, HGM_UNIT_KIND_STAGE, HGM_UNIT_KIND_DRIVE)")
+        })?;
         let stepping = if steps_per_mesh_period > 0 {
             UnitStepping::Rk4 { steps_per_mesh_period }
         } else {

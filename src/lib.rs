@@ -31,6 +31,7 @@ pub mod load;
 pub mod mesh;
 pub mod modifications;
 pub mod numeric;
+pub mod options;
 pub mod params;
 
 pub use error::ParamError;

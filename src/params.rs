@@ -20,15 +20,25 @@
 //! A [`GearPair`] read from JSON is only data; [`crate::geometry::PairGeometry::new`] validates it
 //! (every rule returns a [`ParamError`] naming the key, the value and the allowed range) and
 //! derives the geometry. [`GearPair::validate`] runs the same checks.
+//!
+//! Ranges: every numeric parameter has one inclusive range, a [`Bounds`] `pub const` beside the
+//! check that enforces it ([`GearPair::check_params`], [`DriveLine::check`], [`check_d_mesh`]);
+//! the FMI variable tables write the same constants as `min`/`max` into `modelDescription.xml`.
+//! Where the paper's data only require `> 0` or "finite", the bounds are finite physical limits
+//! (each constant's doc says why). A value inside its range may still be refused in combination
+//! with others — undercut, pointed tooth, tip interference, overlapping root fillets, contact
+//! ratio below 1, a bore outside the root circle: [`crate::geometry::PairGeometry::new`] checks
+//! those and the error names the parameter to change and the limit the combination implies.
 
 use serde::{Deserialize, Serialize};
 
 use crate::error::ParamError;
 use crate::modifications::Modifications;
 
-/// Elastic and mass properties of one gear's material.
+/// Elastic and mass properties of one gear's material. In JSON every key is optional (missing
+/// keys: [`Material::steel`]); unknown keys are an error.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Material {
     /// Young's modulus E, Pa (> 0).
     pub youngs_modulus_pa: f64,
@@ -36,6 +46,13 @@ pub struct Material {
     pub poisson_ratio: f64,
     /// Density, kg/m³ (> 0).
     pub density_kg_m3: f64,
+}
+
+impl Default for Material {
+    /// [`Material::steel`].
+    fn default() -> Self {
+        Self::steel()
+    }
 }
 
 impl Material {
@@ -48,9 +65,10 @@ impl Material {
 /// The parts connected to the gear set (paper Fig. 1 and Eqs. 1–4).
 ///
 /// Sign convention: the driving torque `torque_nm` acts on the driving inertia J₁ in the positive
-/// rotational sense; the braking torque `torque_nm·z_g/z_p` acts on J₂ (Eq. 4).
+/// rotational sense; the braking torque `torque_nm·z_g/z_p` acts on J₂ (Eq. 4). In JSON every
+/// key is optional (missing keys: [`DriveLine::paper_table1`]); unknown keys are an error.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct DriveLine {
     /// Driving torque M on the pinion side, N·m.
     pub torque_nm: f64,
@@ -66,6 +84,13 @@ pub struct DriveLine {
     pub d1_nms_per_rad: f64,
     /// Viscous damping d₂ of the gear shaft, N·m·s/rad.
     pub d2_nms_per_rad: f64,
+}
+
+impl Default for DriveLine {
+    /// [`DriveLine::paper_table1`].
+    fn default() -> Self {
+        Self::paper_table1()
+    }
 }
 
 impl DriveLine {
@@ -87,8 +112,13 @@ impl DriveLine {
 /// All data of one helical gear pair (the JSON schema of `--params FILE`).
 ///
 /// Angles in rad, lengths in m, basic-rack quantities in units of m_n (keys ending `_mn`).
+///
+/// In JSON every key is optional: a missing key takes its value from Table 1
+/// ([`GearPair::paper_table1`]; inside `material_p`, `material_g` and `drive` key by key), so
+/// `{"helix_angle_rad": 0.2}` is Table 1 with β = 0.2 rad. Unknown keys are an error naming
+/// the key. This is the one filling rule of every interface (CLI `--params`, Python, the C API).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct GearPair {
     /// Number of pinion teeth z_p.
     pub z_p: u32,
@@ -103,10 +133,8 @@ pub struct GearPair {
     /// Face width b, m (both gears).
     pub face_width_m: f64,
     /// Profile shift coefficient x_p of the pinion.
-    #[serde(default)]
     pub profile_shift_p: f64,
     /// Profile shift coefficient x_g of the gear.
-    #[serde(default)]
     pub profile_shift_g: f64,
     /// Addendum coefficient h_aP/m_n of the basic rack; the tip radius is r + (x + h_aP/m_n)·m_n.
     pub addendum_mn: f64,
@@ -134,8 +162,8 @@ pub struct GearPair {
     /// The shafts and masses on both sides (Eqs. 1–4).
     pub drive: DriveLine,
     /// Flank modifications, misalignment and tooth deviations ([`crate::modifications`]);
-    /// optional in JSON, all zero by default, and left out when serialised at the default.
-    #[serde(default, skip_serializing_if = "Modifications::is_default")]
+    /// all zero by default, and left out when serialised at the default.
+    #[serde(skip_serializing_if = "Modifications::is_default")]
     pub modifications: Modifications,
 }
 
@@ -210,7 +238,8 @@ impl GearPair {
         ]
     }
 
-    /// Reads a gear pair from JSON text (the schema of this struct; unknown keys are an error).
+    /// Reads a gear pair from JSON text (the schema of this struct: missing keys from Table 1,
+    /// unknown keys an error naming the key).
     pub fn from_json(text: &str) -> Result<Self, String> {
         serde_json::from_str(text).map_err(|e| format!("gear-pair JSON: {e}"))
     }
@@ -221,27 +250,23 @@ impl GearPair {
         crate::geometry::PairGeometry::new(self).map(|_| ())
     }
 
-    /// Checks the plain ranges of the scalar parameters (no geometry needed). Called first by
-    /// [`crate::geometry::PairGeometry::new`].
-    pub(crate) fn check_ranges(&self) -> Result<(), ParamError> {
-        let deg = std::f64::consts::PI / 180.0;
-        check_finite_range("normal_module_m", self.normal_module_m, 1e-5, 1.0, "in [1e-5, 1] m")?;
-        check_finite_range(
-            "pressure_angle_rad",
-            self.pressure_angle_rad,
-            10.0 * deg,
-            35.0 * deg,
-            "in [10°, 35°] = [0.1745, 0.6109] rad",
-        )?;
-        let beta = self.helix_angle_rad;
-        if !beta.is_finite() || !(0.0..45.0 * deg).contains(&beta) {
-            return Err(ParamError::new("helix_angle_rad", beta, "in [0, 45°) = [0, 0.7854) rad"));
-        }
-        check_finite_range("face_width_m", self.face_width_m, 1e-6, 10.0, "in (0, 10] m")?;
-        check_finite_range("profile_shift_p", self.profile_shift_p, -1.5, 1.5, "in [-1.5, 1.5]")?;
-        check_finite_range("profile_shift_g", self.profile_shift_g, -1.5, 1.5, "in [-1.5, 1.5]")?;
-        check_finite_range("addendum_mn", self.addendum_mn, 0.3, 2.0, "in [0.3, 2.0]")?;
-        check_finite_range("dedendum_mn", self.dedendum_mn, 0.3, 2.5, "in [0.3, 2.5]")?;
+    /// Checks every scalar parameter against its [`Bounds`] (the `pub const`s below, which the
+    /// FMI variable tables, the C header and Python read) and the two rules between parameters
+    /// that need no geometry (dedendum above addendum; a relief zone no higher than the rack
+    /// tooth, and of positive height when there is relief). Called first by
+    /// [`crate::geometry::PairGeometry::new`]; the combined geometric validity (undercut,
+    /// pointed tooth, tip interference, contact ratio, bore inside the root) is checked there.
+    pub fn check_params(&self) -> Result<(), ParamError> {
+        Z_P.check_int("z_p", i64::from(self.z_p))?;
+        Z_G.check_int("z_g", i64::from(self.z_g))?;
+        NORMAL_MODULE_M.check("normal_module_m", self.normal_module_m)?;
+        PRESSURE_ANGLE_RAD.check("pressure_angle_rad", self.pressure_angle_rad)?;
+        HELIX_ANGLE_RAD.check("helix_angle_rad", self.helix_angle_rad)?;
+        FACE_WIDTH_M.check("face_width_m", self.face_width_m)?;
+        PROFILE_SHIFT.check("profile_shift_p", self.profile_shift_p)?;
+        PROFILE_SHIFT.check("profile_shift_g", self.profile_shift_g)?;
+        ADDENDUM_MN.check("addendum_mn", self.addendum_mn)?;
+        DEDENDUM_MN.check("dedendum_mn", self.dedendum_mn)?;
         if self.dedendum_mn <= self.addendum_mn {
             return Err(ParamError::new(
                 "dedendum_mn",
@@ -249,104 +274,231 @@ impl GearPair {
                 format!("> addendum_mn = {} (tip clearance)", self.addendum_mn),
             ));
         }
-        check_finite_range(
-            "rack_fillet_radius_mn",
-            self.rack_fillet_radius_mn,
-            0.0,
-            1.0,
-            "in [0, 1]",
-        )?;
-        check_finite_range(
-            "tip_relief_depth_mn",
-            self.tip_relief_depth_mn,
-            0.0,
-            0.2,
-            "in [0, 0.2]",
-        )?;
-        if self.tip_relief_depth_mn > 0.0 {
-            check_finite_range(
+        RACK_FILLET_RADIUS_MN.check("rack_fillet_radius_mn", self.rack_fillet_radius_mn)?;
+        TIP_RELIEF_DEPTH_MN.check("tip_relief_depth_mn", self.tip_relief_depth_mn)?;
+        TIP_RELIEF_HEIGHT_MN.check("tip_relief_height_mn", self.tip_relief_height_mn)?;
+        let tooth = self.addendum_mn + self.dedendum_mn;
+        let h = self.tip_relief_height_mn;
+        if self.tip_relief_depth_mn > 0.0 && !(h >= 1e-3 && h <= tooth) {
+            return Err(ParamError::new(
                 "tip_relief_height_mn",
-                self.tip_relief_height_mn,
-                1e-3,
-                self.addendum_mn + self.dedendum_mn,
-                format!(
-                    "in (0, addendum_mn + dedendum_mn = {}]",
-                    self.addendum_mn + self.dedendum_mn
-                ),
-            )?;
-        } else {
-            check_finite_range(
-                "tip_relief_height_mn",
-                self.tip_relief_height_mn,
-                0.0,
-                self.addendum_mn + self.dedendum_mn,
-                "finite and >= 0",
-            )?;
+                h,
+                format!("in [1e-3, addendum_mn + dedendum_mn = {tooth}] when there is relief"),
+            ));
         }
-        check_finite_range(
-            "tip_rounding_radius_mn",
-            self.tip_rounding_radius_mn,
-            0.0,
-            0.5,
-            "in [0, 0.5]",
-        )?;
-        check_finite_range("normal_backlash_mn", self.normal_backlash_mn, 0.0, 0.5, "in [0, 0.5]")?;
-        check_finite_range("bore_diameter_m", self.bore_diameter_m, 1e-6, 100.0, "> 0")?;
+        if h > tooth {
+            return Err(ParamError::new(
+                "tip_relief_height_mn",
+                h,
+                format!("<= addendum_mn + dedendum_mn = {tooth}"),
+            ));
+        }
+        TIP_ROUNDING_RADIUS_MN.check("tip_rounding_radius_mn", self.tip_rounding_radius_mn)?;
+        NORMAL_BACKLASH_MN.check("normal_backlash_mn", self.normal_backlash_mn)?;
+        BORE_DIAMETER_M.check("bore_diameter_m", self.bore_diameter_m)?;
         for (key, m) in [("material_p", &self.material_p), ("material_g", &self.material_g)] {
-            check_finite_range(
-                &format!("{key}.youngs_modulus_pa"),
-                m.youngs_modulus_pa,
-                1e6,
-                1e13,
-                "in [1e6, 1e13] Pa",
-            )?;
-            let nu = m.poisson_ratio;
-            if !nu.is_finite() || nu <= 0.0 || nu >= 0.5 {
-                return Err(ParamError::new(&format!("{key}.poisson_ratio"), nu, "in (0, 0.5)"));
-            }
-            check_finite_range(
-                &format!("{key}.density_kg_m3"),
-                m.density_kg_m3,
-                1.0,
-                1e5,
-                "in [1, 1e5] kg/m³",
-            )?;
+            YOUNGS_MODULUS_PA.check(&format!("{key}.youngs_modulus_pa"), m.youngs_modulus_pa)?;
+            POISSON_RATIO.check(&format!("{key}.poisson_ratio"), m.poisson_ratio)?;
+            DENSITY_KG_M3.check(&format!("{key}.density_kg_m3"), m.density_kg_m3)?;
         }
         check_d_mesh(self.d_mesh_n_s_per_m)?;
-        let d = &self.drive;
-        check_finite_range("drive.torque_nm", d.torque_nm, -1e9, 1e9, "finite, |M| <= 1e9 N·m")?;
-        check_finite_range("drive.j1_kgm2", d.j1_kgm2, 1e-12, 1e9, "> 0")?;
-        check_finite_range("drive.j2_kgm2", d.j2_kgm2, 1e-12, 1e9, "> 0")?;
-        check_finite_range("drive.c1_nm_per_rad", d.c1_nm_per_rad, 1e-9, 1e15, "> 0")?;
-        check_finite_range("drive.c2_nm_per_rad", d.c2_nm_per_rad, 1e-9, 1e15, "> 0")?;
-        check_finite_range("drive.d1_nms_per_rad", d.d1_nms_per_rad, 0.0, 1e12, ">= 0")?;
-        check_finite_range("drive.d2_nms_per_rad", d.d2_nms_per_rad, 0.0, 1e12, ">= 0")?;
-        Ok(())
+        self.drive.check()
     }
 }
 
-/// `Ok` when `value` is finite and in `[lo, hi]`, else a [`ParamError`] with `allowed`.
+impl DriveLine {
+    /// Checks every drive-line value against its [`Bounds`] ([`DRIVE_TORQUE_NM`],
+    /// [`DRIVE_INERTIA_KGM2`], [`DRIVE_STIFFNESS_NM_PER_RAD`], [`DRIVE_DAMPING_NMS_PER_RAD`]);
+    /// the error names the key as `drive.<field>`.
+    pub fn check(&self) -> Result<(), ParamError> {
+        DRIVE_TORQUE_NM.check("drive.torque_nm", self.torque_nm)?;
+        DRIVE_INERTIA_KGM2.check("drive.j1_kgm2", self.j1_kgm2)?;
+        DRIVE_INERTIA_KGM2.check("drive.j2_kgm2", self.j2_kgm2)?;
+        DRIVE_STIFFNESS_NM_PER_RAD.check("drive.c1_nm_per_rad", self.c1_nm_per_rad)?;
+        DRIVE_STIFFNESS_NM_PER_RAD.check("drive.c2_nm_per_rad", self.c2_nm_per_rad)?;
+        DRIVE_DAMPING_NMS_PER_RAD.check("drive.d1_nms_per_rad", self.d1_nms_per_rad)?;
+        DRIVE_DAMPING_NMS_PER_RAD.check("drive.d2_nms_per_rad", self.d2_nms_per_rad)
+    }
+}
+
+/// The inclusive range `[min, max]` of one numeric parameter, in `unit`: declared once as a
+/// `pub const` beside the check that enforces it ([`Bounds::check`]), and read by the FMI
+/// variable tables (`min`/`max` of `modelDescription.xml`), the C header and Python. A value
+/// is accepted exactly when it is finite (integers: any) and `min <= value <= max`; the error
+/// names the key, the value and the range.
+///
+/// The bounds of one parameter hold with any values of the others; combinations (undercut,
+/// pointed tooth, tip interference, contact ratio, the table's node count …) are checked where
+/// the combination is known and are an error at initialisation with a message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds<T> {
+    /// Smallest accepted value, in `unit`.
+    pub min: T,
+    /// Largest accepted value, in `unit`.
+    pub max: T,
+    /// Unit of `min`, `max` and the value (SI; `""` for dimensionless, `"m_n"` for values in
+    /// units of the normal module).
+    pub unit: &'static str,
+}
+
+impl<T: Copy> Bounds<T> {
+    /// The range `[min, max]` in `unit`.
+    pub const fn new(min: T, max: T, unit: &'static str) -> Self {
+        Self { min, max, unit }
+    }
+}
+
+/// A bound as written in messages: plain for 1e-3 <= |x| < 1e6, otherwise exponent form, at
+/// most 7 significant digits (e.g. `0.35`, `1e-5`, `7.853982e-1`).
+fn fmt_bound(x: f64) -> String {
+    let s =
+        if x == 0.0 || (1e-3..1e6).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") };
+    if s.len() > 12 { format!("{x:.6e}") } else { s }
+}
+
+fn fmt_allowed(min: String, max: String, unit: &str) -> String {
+    let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    format!("in [{min}, {max}]{u}")
+}
+
+impl Bounds<f64> {
+    /// The range in words for an error message, e.g. `in [1e-5, 1] m`.
+    pub fn allowed(&self) -> String {
+        fmt_allowed(fmt_bound(self.min), fmt_bound(self.max), self.unit)
+    }
+
+    /// True when `value` is finite and in `[min, max]`.
+    pub fn contains(&self, value: f64) -> bool {
+        value.is_finite() && value >= self.min && value <= self.max
+    }
+
+    /// `Ok` when [`Bounds::contains`] `value`, else a [`ParamError`] naming `name`, the value
+    /// and the range.
+    pub fn check(&self, name: &str, value: f64) -> Result<(), ParamError> {
+        if self.contains(value) {
+            Ok(())
+        } else {
+            Err(ParamError::new(name, value, self.allowed()))
+        }
+    }
+}
+
+impl Bounds<i64> {
+    /// The range in words for an error message, e.g. `in [5, 100000]`.
+    pub fn allowed(&self) -> String {
+        fmt_allowed(self.min.to_string(), self.max.to_string(), self.unit)
+    }
+
+    /// `Ok` when `value` is in `[min, max]`, else a [`ParamError`] naming `name`, the value
+    /// and the range.
+    pub fn check_int(&self, name: &str, value: i64) -> Result<(), ParamError> {
+        if (self.min..=self.max).contains(&value) {
+            Ok(())
+        } else {
+            Err(ParamError::new(name, value as f64, self.allowed()))
+        }
+    }
+}
+
+/// Number of teeth z_p, z_g: 5 … 100 000 (fewer than 5 teeth cannot mesh continuously; the
+/// undercut limit of the given rack and shift, usually higher, is checked with the geometry).
+pub const Z_P: Bounds<i64> = Bounds::new(5, 100_000, "");
+/// See [`Z_P`].
+pub const Z_G: Bounds<i64> = Z_P;
+/// Normal module m_n: 10 µm (instrument gears) … 1 m, m.
+pub const NORMAL_MODULE_M: Bounds<f64> = Bounds::new(1e-5, 1.0, "m");
+/// Normal pressure angle α_n: 10° … 35° (the range of standard and special racks), rad.
+pub const PRESSURE_ANGLE_RAD: Bounds<f64> =
+    Bounds::new(10.0 * std::f64::consts::PI / 180.0, 35.0 * std::f64::consts::PI / 180.0, "rad");
+/// Helix angle β: 0 (spur) up to the largest double below 45° (beyond, the transverse
+/// quantities of a helical gear with this rack degenerate), rad.
+pub const HELIX_ANGLE_RAD: Bounds<f64> =
+    Bounds::new(0.0, f64::from_bits(std::f64::consts::FRAC_PI_4.to_bits() - 1), "rad");
+/// Face width b: 1 µm … 10 m, m.
+pub const FACE_WIDTH_M: Bounds<f64> = Bounds::new(1e-6, 10.0, "m");
+/// Profile shift coefficients x_p, x_g: −1.5 … 1.5 (beyond, the tooth is pointed or undercut
+/// for any practical rack).
+pub const PROFILE_SHIFT: Bounds<f64> = Bounds::new(-1.5, 1.5, "");
+/// Addendum of the basic rack h_aP/m_n: 0.3 … 2.0, in m_n.
+pub const ADDENDUM_MN: Bounds<f64> = Bounds::new(0.3, 2.0, "m_n");
+/// Dedendum of the basic rack h_fP/m_n: 0.3 … 2.5, in m_n (and above the addendum).
+pub const DEDENDUM_MN: Bounds<f64> = Bounds::new(0.3, 2.5, "m_n");
+/// Root fillet radius of the basic rack ρ_fP/m_n: 0 … 1, in m_n.
+pub const RACK_FILLET_RADIUS_MN: Bounds<f64> = Bounds::new(0.0, 1.0, "m_n");
+/// Tip relief depth δ/m_n: 0 (none) … 0.2, in m_n.
+pub const TIP_RELIEF_DEPTH_MN: Bounds<f64> = Bounds::new(0.0, 0.2, "m_n");
+/// Height H/m_n of the relief zone: 0 … 4.5 (the largest addendum plus dedendum), in m_n; with
+/// relief also in [1e-3, addendum_mn + dedendum_mn].
+pub const TIP_RELIEF_HEIGHT_MN: Bounds<f64> = Bounds::new(0.0, 4.5, "m_n");
+/// Tip rounding radius/m_n: 0 (sharp edge) … 0.5, in m_n.
+pub const TIP_ROUNDING_RADIUS_MN: Bounds<f64> = Bounds::new(0.0, 0.5, "m_n");
+/// Normal backlash j_n/m_n: 0 … 0.5, in m_n.
+pub const NORMAL_BACKLASH_MN: Bounds<f64> = Bounds::new(0.0, 0.5, "m_n");
+/// Hub bore diameter: 1 µm … 100 m, m (and inside the root circle, checked with the geometry).
+pub const BORE_DIAMETER_M: Bounds<f64> = Bounds::new(1e-6, 100.0, "m");
+/// Young's modulus E: 1 MPa (elastomers) … 10 TPa (above diamond), Pa.
+pub const YOUNGS_MODULUS_PA: Bounds<f64> = Bounds::new(1e6, 1e13, "Pa");
+/// Poisson's ratio ν: 0.001 … 0.499 (ν = 0.5, incompressible, makes the FE solid lock).
+pub const POISSON_RATIO: Bounds<f64> = Bounds::new(1e-3, 0.499, "");
+/// Density: 1 … 100 000 kg/m³.
+pub const DENSITY_KG_M3: Bounds<f64> = Bounds::new(1.0, 1e5, "kg/m3");
+/// Driving torque M: |M| <= 1e9 N·m (the units' inputs have the same limit).
+pub const DRIVE_TORQUE_NM: Bounds<f64> = Bounds::new(-1e9, 1e9, "N.m");
+/// Inertias J₁, J₂: 1e-12 … 1e9 kg·m² (positive: the equations divide by them).
+pub const DRIVE_INERTIA_KGM2: Bounds<f64> = Bounds::new(1e-12, 1e9, "kg.m2");
+/// Shaft stiffnesses c₁, c₂: 1e-9 … 1e15 N·m/rad (positive: a shaft must connect).
+pub const DRIVE_STIFFNESS_NM_PER_RAD: Bounds<f64> = Bounds::new(1e-9, 1e15, "N.m/rad");
+/// Shaft damping d₁, d₂: 0 … 1e12 N·m·s/rad.
+pub const DRIVE_DAMPING_NMS_PER_RAD: Bounds<f64> = Bounds::new(0.0, 1e12, "N.m.s/rad");
+
+/// Every numeric key of the gear-pair JSON with its range: (key, nested keys joined by a dot;
+/// min; max; unit), integers as `f64`. The list Python exposes as `helical_gear.BOUNDS`.
+pub fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
+    let z = |b: Bounds<i64>| Bounds::new(b.min as f64, b.max as f64, b.unit);
+    let mut v: Vec<(String, Bounds<f64>)> = vec![
+        ("z_p".into(), z(Z_P)),
+        ("z_g".into(), z(Z_G)),
+        ("normal_module_m".into(), NORMAL_MODULE_M),
+        ("pressure_angle_rad".into(), PRESSURE_ANGLE_RAD),
+        ("helix_angle_rad".into(), HELIX_ANGLE_RAD),
+        ("face_width_m".into(), FACE_WIDTH_M),
+        ("profile_shift_p".into(), PROFILE_SHIFT),
+        ("profile_shift_g".into(), PROFILE_SHIFT),
+        ("addendum_mn".into(), ADDENDUM_MN),
+        ("dedendum_mn".into(), DEDENDUM_MN),
+        ("rack_fillet_radius_mn".into(), RACK_FILLET_RADIUS_MN),
+        ("tip_relief_depth_mn".into(), TIP_RELIEF_DEPTH_MN),
+        ("tip_relief_height_mn".into(), TIP_RELIEF_HEIGHT_MN),
+        ("tip_rounding_radius_mn".into(), TIP_ROUNDING_RADIUS_MN),
+        ("normal_backlash_mn".into(), NORMAL_BACKLASH_MN),
+        ("bore_diameter_m".into(), BORE_DIAMETER_M),
+    ];
+    for g in ["material_p", "material_g"] {
+        v.push((format!("{g}.youngs_modulus_pa"), YOUNGS_MODULUS_PA));
+        v.push((format!("{g}.poisson_ratio"), POISSON_RATIO));
+        v.push((format!("{g}.density_kg_m3"), DENSITY_KG_M3));
+    }
+    v.push(("d_mesh_n_s_per_m".into(), D_MESH_N_S_PER_M));
+    v.push(("drive.torque_nm".into(), DRIVE_TORQUE_NM));
+    v.push(("drive.j1_kgm2".into(), DRIVE_INERTIA_KGM2));
+    v.push(("drive.j2_kgm2".into(), DRIVE_INERTIA_KGM2));
+    v.push(("drive.c1_nm_per_rad".into(), DRIVE_STIFFNESS_NM_PER_RAD));
+    v.push(("drive.c2_nm_per_rad".into(), DRIVE_STIFFNESS_NM_PER_RAD));
+    v.push(("drive.d1_nms_per_rad".into(), DRIVE_DAMPING_NMS_PER_RAD));
+    v.push(("drive.d2_nms_per_rad".into(), DRIVE_DAMPING_NMS_PER_RAD));
+    v.into_iter().map(|(k, b)| (k, b.min, b.max, b.unit)).collect()
+}
+
 /// Largest mesh damping coefficient d_mesh (Eq. 14), N·s/m: the range of the JSON key
-/// `d_mesh_n_s_per_m` (FMI parameter `d_mesh`) is [0, D_MESH_MAX_N_S_PER_M].
+/// `d_mesh_n_s_per_m` (FMI parameter `d_mesh`) is [`D_MESH_N_S_PER_M`].
 pub const D_MESH_MAX_N_S_PER_M: f64 = 1e9;
 
-/// Checks a mesh damping coefficient against its range [0, [`D_MESH_MAX_N_S_PER_M`]] N·s/m:
-/// the one check behind the pair's validation and every later change of the tunable damping
-/// (FMU `d_mesh`, C API `hgm_set_d_mesh`, Python).
-pub fn check_d_mesh(d_mesh: f64) -> Result<(), ParamError> {
-    check_finite_range("d_mesh_n_s_per_m", d_mesh, 0.0, D_MESH_MAX_N_S_PER_M, "in [0, 1e9] N·s/m")
-}
+/// Mesh damping coefficient d_mesh (Eq. 14): 0 … 1e9 N·s/m.
+pub const D_MESH_N_S_PER_M: Bounds<f64> = Bounds::new(0.0, D_MESH_MAX_N_S_PER_M, "N.s/m");
 
-pub(crate) fn check_finite_range(
-    name: &str,
-    value: f64,
-    lo: f64,
-    hi: f64,
-    allowed: impl Into<String>,
-) -> Result<(), ParamError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(ParamError::new(name, value, allowed))
-    }
+/// Checks a mesh damping coefficient against [`D_MESH_N_S_PER_M`]: the one check behind the
+/// pair's validation and every later change of the tunable damping (FMU `d_mesh`, C API
+/// `hgm_set_d_mesh`, Python).
+pub fn check_d_mesh(d_mesh: f64) -> Result<(), ParamError> {
+    D_MESH_N_S_PER_M.check("d_mesh_n_s_per_m", d_mesh)
 }

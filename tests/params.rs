@@ -210,3 +210,24 @@ fn no_input_panics() {
     }
     assert!(ok > 100, "only {ok} valid sets: the fuzz covers too little of the valid range");
 }
+
+/// A partial gear-pair JSON takes every missing key from Table 1 (also inside the materials and
+/// the drive line), and an unknown key is still an error naming it.
+#[test]
+fn partial_json_takes_missing_keys_from_table1() {
+    let p = GearPair::from_json(r#"{"helix_angle_rad": 0.2}"#).unwrap();
+    assert_eq!(p, GearPair { helix_angle_rad: 0.2, ..GearPair::paper_table1() });
+    assert_eq!(GearPair::from_json("{}").unwrap(), GearPair::paper_table1());
+    let p = GearPair::from_json(
+        r#"{"material_g": {"poisson_ratio": 0.29}, "drive": {"torque_nm": 50}}"#,
+    )
+    .unwrap();
+    let mut q = GearPair::paper_table1();
+    q.material_g.poisson_ratio = 0.29;
+    q.drive.torque_nm = 50.0;
+    assert_eq!(p, q);
+    let e = GearPair::from_json(r#"{"helix_angle": 0.2}"#).unwrap_err();
+    assert!(e.contains("unknown field `helix_angle`"), "{e}");
+    let e = GearPair::from_json(r#"{"drive": {"torque": 1}}"#).unwrap_err();
+    assert!(e.contains("unknown field `torque`"), "{e}");
+}

@@ -352,7 +352,7 @@ fn flipped_bits_in_a_unit_snapshot_are_refused_or_harmless() {
 
 #[test]
 fn c_api_unit_snapshot_with_altered_value_is_refused() {
-    let u = unsafe { hgm_unit_create(2, null(), 1, 128, 0.0, 0.0) };
+    let u = unsafe { hgm_unit_create(2, null(), HgmFidelity::Full as i32, 128, 0.0, 0.0) };
     if u.is_null() {
         panic!("{}", unsafe { CStr::from_ptr(hgm_unit_last_error(null())) }.to_string_lossy());
     }

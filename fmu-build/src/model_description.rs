@@ -199,6 +199,10 @@ struct RealAttrs {
     unit: Option<&'static str>,
     #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
     display_unit: Option<&'static str>,
+    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+    min: Option<String>,
+    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+    max: Option<String>,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
     start: Option<String>,
     #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
@@ -355,12 +359,14 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
                     quantity: v.quantity,
                     unit: v.unit,
                     display_unit: v.display_unit,
+                    min: v.min.map(format_real),
+                    max: v.max.map(format_real),
                     start: model.start(v),
                     derivative: v.derivative_of.map(|n| index_of(model, n)),
                 }),
                 VarType::Integer => TypeElement::Integer(IntegerAttrs {
-                    min: v.min,
-                    max: v.max,
+                    min: v.min.map(|x| x as i32),
+                    max: v.max.map(|x| x as i32),
                     start: model.start(v),
                 }),
                 VarType::Boolean => TypeElement::Boolean(BooleanAttrs { start: model.start(v) }),

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{50fc3358-695f-886e-88ec-71089c23b1fe}"
+#define HelicalGearDrive_GUID "{d86c3947-8692-8d09-8404-3a4bf4c1c900}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -56,6 +56,7 @@ typedef enum {
     HelicalGearDrive_vr_material_g_poisson_ratio = 120, /* parameter Real  */
     HelicalGearDrive_vr_material_g_density_kg_m3 = 121, /* parameter Real kg/m3 */
     HelicalGearDrive_vr_d_mesh = 122, /* parameter Real N.s/m */
+    HelicalGearDrive_vr_modifications = 130, /* parameter String  */
     HelicalGearDrive_vr_drive_torque_nm = 123, /* parameter Real N.m */
     HelicalGearDrive_vr_drive_j1_kgm2 = 124, /* parameter Real kg.m2 */
     HelicalGearDrive_vr_drive_j2_kgm2 = 125, /* parameter Real kg.m2 */
@@ -63,7 +64,6 @@ typedef enum {
     HelicalGearDrive_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearDrive_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearDrive_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
-    HelicalGearDrive_vr_modifications = 130, /* parameter String  */
     HelicalGearDrive_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearDrive_vr_slices = 201, /* parameter Integer  */
     HelicalGearDrive_vr_compliance_model = 202, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{b9eb97d7-1b4d-854a-995f-d32b08635fdd}"
+#define HelicalGearMesh_GUID "{5f3f1276-176f-8aea-aa47-7bc7c01bf6aa}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -49,13 +49,6 @@ typedef enum {
     HelicalGearMesh_vr_material_g_poisson_ratio = 120, /* parameter Real  */
     HelicalGearMesh_vr_material_g_density_kg_m3 = 121, /* parameter Real kg/m3 */
     HelicalGearMesh_vr_d_mesh = 122, /* parameter Real N.s/m */
-    HelicalGearMesh_vr_drive_torque_nm = 123, /* parameter Real N.m */
-    HelicalGearMesh_vr_drive_j1_kgm2 = 124, /* parameter Real kg.m2 */
-    HelicalGearMesh_vr_drive_j2_kgm2 = 125, /* parameter Real kg.m2 */
-    HelicalGearMesh_vr_drive_c1_nm_per_rad = 126, /* parameter Real N.m/rad */
-    HelicalGearMesh_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
-    HelicalGearMesh_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
-    HelicalGearMesh_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
     HelicalGearMesh_vr_modifications = 130, /* parameter String  */
     HelicalGearMesh_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearMesh_vr_slices = 201, /* parameter Integer  */

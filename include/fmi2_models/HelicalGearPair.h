@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{50135a3d-73dd-8e69-b40c-88b9b1f8cbce}"
+#define HelicalGearPair_GUID "{2e9d8d07-e1f8-8067-b1ef-c6cce1450a52}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -53,14 +53,8 @@ typedef enum {
     HelicalGearPair_vr_material_g_poisson_ratio = 120, /* parameter Real  */
     HelicalGearPair_vr_material_g_density_kg_m3 = 121, /* parameter Real kg/m3 */
     HelicalGearPair_vr_d_mesh = 122, /* parameter Real N.s/m */
-    HelicalGearPair_vr_drive_torque_nm = 123, /* parameter Real N.m */
-    HelicalGearPair_vr_drive_j1_kgm2 = 124, /* parameter Real kg.m2 */
-    HelicalGearPair_vr_drive_j2_kgm2 = 125, /* parameter Real kg.m2 */
-    HelicalGearPair_vr_drive_c1_nm_per_rad = 126, /* parameter Real N.m/rad */
-    HelicalGearPair_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
-    HelicalGearPair_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
-    HelicalGearPair_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
     HelicalGearPair_vr_modifications = 130, /* parameter String  */
+    HelicalGearPair_vr_drive_torque_nm = 123, /* parameter Real N.m */
     HelicalGearPair_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearPair_vr_slices = 201, /* parameter Integer  */
     HelicalGearPair_vr_compliance_model = 202, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{103b994b-8bbe-8e48-98de-7b88998c3c1f}"
+#define HelicalGearStage_GUID "{9c0c212d-685e-859b-b9b1-b50f32877945}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -57,14 +57,12 @@ typedef enum {
     HelicalGearStage_vr_material_g_poisson_ratio = 120, /* parameter Real  */
     HelicalGearStage_vr_material_g_density_kg_m3 = 121, /* parameter Real kg/m3 */
     HelicalGearStage_vr_d_mesh = 122, /* parameter Real N.s/m */
+    HelicalGearStage_vr_modifications = 130, /* parameter String  */
     HelicalGearStage_vr_drive_torque_nm = 123, /* parameter Real N.m */
-    HelicalGearStage_vr_drive_j1_kgm2 = 124, /* parameter Real kg.m2 */
-    HelicalGearStage_vr_drive_j2_kgm2 = 125, /* parameter Real kg.m2 */
     HelicalGearStage_vr_drive_c1_nm_per_rad = 126, /* parameter Real N.m/rad */
     HelicalGearStage_vr_drive_c2_nm_per_rad = 127, /* parameter Real N.m/rad */
     HelicalGearStage_vr_drive_d1_nms_per_rad = 128, /* parameter Real N.m.s/rad */
     HelicalGearStage_vr_drive_d2_nms_per_rad = 129, /* parameter Real N.m.s/rad */
-    HelicalGearStage_vr_modifications = 130, /* parameter String  */
     HelicalGearStage_vr_fidelity = 200, /* parameter Integer  */
     HelicalGearStage_vr_slices = 201, /* parameter Integer  */
     HelicalGearStage_vr_compliance_model = 202, /* parameter Integer  */

@@ -20,7 +20,7 @@ from ._native import (
     ParameterError,
     SolverError,
 )
-from ._pair import ISO_SYMBOLS, GearPair, Group
+from ._pair import BOUNDS, ISO_SYMBOLS, GearPair, Group
 from ._api import (
     OUTPUT_NAMES,
     STATE_NAMES,
@@ -43,6 +43,7 @@ from . import study  # noqa: E402  (pandas, dask, tqdm are imported when a study
 __version__ = LIBRARY_VERSION
 
 __all__ = [
+    "BOUNDS",
     "Compliance",
     "ComplianceError",
     "GearMeshError",

@@ -130,7 +130,7 @@ def _merge(base: dict, updates: Mapping[str, Any]) -> dict:
                 _set_path(out, f"{k}.{sk}", sv)
             continue
         try:
-            default = _get_path(out, k)
+            default = _get_path(_default(), k)  # for the type only (30.0 -> 30 for z_p)
         except (KeyError, TypeError):
             default = None
         _set_path(out, k, _coerce(default, v))
@@ -146,6 +146,14 @@ def _flatten(d: Mapping, prefix: str = "") -> dict:
         else:
             out[key] = v
     return out
+
+
+BOUNDS: Mapping[str, tuple[float, float, str]] = MappingProxyType(
+    {k: (lo, hi, unit) for k, lo, hi, unit in _native.parameter_bounds()}
+)
+"""Inclusive range of every numeric gear-pair key (dotted for nested keys): ``(min, max, unit)``,
+the library's own bounds, the same as the FMUs' ``min``/``max``. A value inside may still be
+refused in combination with others (undercut, pointed tooth, contact ratio …)."""
 
 
 _DEFAULT: dict | None = None
@@ -172,8 +180,8 @@ class GearPair:
     __slots__ = ("_json", "_data")
 
     def __init__(self, **kw: Any):
-        data = _merge(_default(), kw) if kw else _default()
-        self._init(json.dumps(data))
+        # Only the given keys: the library fills the rest from Table 1.
+        self._init(json.dumps(_merge({}, kw)))
 
     def _init(self, text: str) -> None:
         norm = _native.normalize_pair(text)

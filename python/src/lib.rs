@@ -24,6 +24,7 @@ use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData, Complian
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::dynamics::model::STATE_NAMES;
+use helical_gear_mesh::dynamics::steady::steady_max_periods;
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, DynamicsError, GearDynamics,
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions,
@@ -33,6 +34,7 @@ use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
     static_curve,
 };
+use helical_gear_mesh::options::Integrator;
 use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
@@ -215,13 +217,14 @@ fn density_name(d: &GearMeshDensity) -> &'static str {
 }
 
 fn fidelity(name: &str) -> Res<Fidelity> {
-    match name {
-        "full" => Ok(Fidelity::Full),
-        "table" => Ok(Fidelity::Table),
-        other => {
-            Err(Failure::Param(format!("fidelity = {other:?}: allowed \"full\" or \"table\"")))
-        }
-    }
+    name.parse::<Fidelity>().map_err(Failure::Param)
+}
+
+/// The range of every numeric gear-pair key: a list of (key, min, max, unit), the library's own
+/// bounds (the same as the FMUs' `min`/`max`).
+#[pyfunction]
+fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
+    helical_gear_mesh::params::parameter_bounds()
 }
 
 /// The Table 1 gear pair of the paper as JSON.
@@ -601,8 +604,10 @@ impl MeshModel {
             let mut mesh = self.model.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
             let mut model = GearDynamics::new(mesh, drive)?;
+            let method =
+                method.parse::<Integrator>().map_err(|e| Failure::Param(format!("method: {e}")))?;
             let stepping = match method {
-                "rk4" => {
+                Integrator::Rk4 => {
                     let dt = match dt {
                         Some(dt) => {
                             let n = (t_end / dt).round();
@@ -619,16 +624,11 @@ impl MeshModel {
                     };
                     Stepping::Rk4 { dt }
                 }
-                "dopri5" => {
+                Integrator::Dopri5 => {
                     let mut options = Dopri5Options::with_tolerances(rtol, atol);
                     options.h_max = t_m.is_finite().then_some(t_m);
                     options.max_steps = MAX_TRAJECTORY_SAMPLES;
                     Stepping::Dopri5 { options, output_dt: dt }
-                }
-                other => {
-                    return Err(Failure::Param(format!(
-                        "method = {other:?}: allowed \"rk4\" or \"dopri5\""
-                    )));
                 }
             };
             let start = model
@@ -687,7 +687,7 @@ impl MeshModel {
             let opts = SweepOptions {
                 run: SteadyRunOptions {
                     method: SteadyMethod::Rk4 { steps_per_period },
-                    max_periods: if period > 1 { max_periods.max(3 * period) } else { max_periods },
+                    max_periods: steady_max_periods(max_periods, period),
                     period_meshes: period,
                     keep_window: false,
                     ..SteadyRunOptions::default()
@@ -777,6 +777,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Compliance>()?;
     m.add_class::<MeshModel>()?;
     m.add_function(wrap_pyfunction!(default_pair_json, m)?)?;
+    m.add_function(wrap_pyfunction!(parameter_bounds, m)?)?;
     m.add_function(wrap_pyfunction!(normalize_pair, m)?)?;
     m.add_function(wrap_pyfunction!(assumptions, m)?)?;
     m.add_function(wrap_pyfunction!(geometry_json, m)?)?;

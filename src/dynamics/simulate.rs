@@ -391,12 +391,14 @@ impl SteadyResponse {
 
 impl SteadyRunOptions {
     /// The defaults for `pair`: with tooth deviations ([`crate::modifications`]) the period
-    /// P = [`crate::modifications::Modifications::period_meshes`] and at least 3·P mesh
-    /// periods allowed; otherwise [`SteadyRunOptions::default`].
+    /// P = [`crate::modifications::Modifications::period_meshes`] and the cap of
+    /// [`super::steady::steady_max_periods`] (at least 3·P mesh periods); otherwise
+    /// [`SteadyRunOptions::default`].
     pub fn for_pair(pair: &crate::params::GearPair) -> Self {
         let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
         let d = Self::default();
-        Self { period_meshes: period, max_periods: d.max_periods.max(3 * period), ..d }
+        let max_periods = super::steady::steady_max_periods(d.max_periods, period);
+        Self { period_meshes: period, max_periods, ..d }
     }
 }
 

@@ -28,6 +28,24 @@
 
 use std::fmt;
 
+/// Excitation periods a run to the steady state may integrate at least when the excitation
+/// repeats only after P > 1 mesh periods (tooth deviations, [`crate::modifications`]): the
+/// detector compares TE one period P apart, so it needs 2·P periods before its first check,
+/// and one more P lets a transient of about one period decay first.
+pub const EXCITATION_PERIODS_PER_RUN: usize = 3;
+
+/// The cap of mesh periods of a run to the steady state for an excitation of period
+/// `period_meshes` = P mesh periods: `max_periods` when P ≤ 1, otherwise
+/// max(`max_periods`, [`EXCITATION_PERIODS_PER_RUN`]·P). The one rule behind
+/// [`super::SteadyRunOptions::for_pair`] (the paper), the speed sweeps of the CLI and Python.
+pub fn steady_max_periods(max_periods: usize, period_meshes: usize) -> usize {
+    if period_meshes > 1 {
+        max_periods.max(EXCITATION_PERIODS_PER_RUN.saturating_mul(period_meshes))
+    } else {
+        max_periods
+    }
+}
+
 /// Options of [`SteadyState`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SteadyOptions {
@@ -317,6 +335,18 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
+
+    /// The run-length rule: unchanged cap for a mesh-periodic excitation, at least 3·P for
+    /// P > 1, never lowered, no overflow.
+    #[test]
+    fn steady_max_periods_is_three_excitation_periods_at_least() {
+        assert_eq!(steady_max_periods(3000, 1), 3000);
+        assert_eq!(steady_max_periods(3000, 0), 3000);
+        assert_eq!(steady_max_periods(3000, 30), 3000);
+        assert_eq!(steady_max_periods(3000, 1410), 4230);
+        assert_eq!(steady_max_periods(10, 47), 141);
+        assert_eq!(steady_max_periods(5, usize::MAX), usize::MAX);
+    }
 
     /// Feeds x(t_i), t_i = i/N (mesh period T_m = 1), for `periods` periods; returns every status.
     fn run(

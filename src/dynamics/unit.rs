@@ -136,6 +136,18 @@ use crate::mesh::{MeshJacobian, MeshOutputs, MeshState, MeshTorques, WarmStart};
 
 pub use super::limits::STEPS_PER_FAST_PERIOD;
 
+use crate::params::Bounds;
+
+/// RK4 sub-steps per mesh period ([`UnitStepping::Rk4`]): 4 (the coarsest grid that still
+/// resolves the mesh frequency) … 65 536.
+pub const RK4_STEPS_PER_MESH_PERIOD: Bounds<i64> = Bounds::new(4, 65_536, "");
+/// DOPRI5 relative tolerance ([`UnitStepping::Dopri5`]): 1e-14 (a few units of the double
+/// rounding of the state) … 0.1 (beyond, no digit of TE is controlled).
+pub const RTOL: Bounds<f64> = Bounds::new(1e-14, 0.1, "");
+/// DOPRI5 absolute tolerance, one number for every component of the relative state (rad, m,
+/// rad/s, m/s): 1e-30 … 1.
+pub const ATOL: Bounds<f64> = Bounds::new(1e-30, 1.0, "");
+
 /// Largest relative difference between the step a unit's time actually advances by in double
 /// precision, (t + h) − t, and the step h asked for; beyond it [`DriveUnit::advance`] refuses
 /// the step (at h = 10⁻⁴ s from about t = 10⁹ s on; `t + h == t` from about 10¹⁷ s on).
@@ -145,12 +157,12 @@ pub const TIME_RESOLUTION: f64 = 1e-3;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum UnitKind {
     /// J_p, J_g and the mesh. States (φp, φg, φ̇p, φ̇g). Inputs tau_p, tau_g.
-    Pair,
+    Pair = 0,
     /// Pair plus the shafts c1/d1, c2/d2. States (φp, φg, φ̇p, φ̇g). Inputs phi_1, w_1, phi_2,
     /// w_2.
-    Stage,
+    Stage = 1,
     /// The whole 4-DOF model of Eqs. 1–4. States in the order of dynamics::model (8). Input M.
-    Drive,
+    Drive = 2,
 }
 
 impl UnitKind {
@@ -299,15 +311,26 @@ pub struct HubCoupling {
     pub d_g: f64,
 }
 
+/// Hub-coupling stiffness ([`HubCoupling::c_p`], `c_g`): 0 … 1e15 N·m/rad (the drive line's
+/// shaft-stiffness limit).
+pub const HUB_STIFFNESS_NM_PER_RAD: Bounds<f64> = Bounds::new(0.0, 1e15, "N.m/rad");
+/// Hub-coupling damping ([`HubCoupling::d_p`], `d_g`): 0 … 1e12 N·m·s/rad (the drive line's
+/// shaft-damping limit).
+pub const HUB_DAMPING_NMS_PER_RAD: Bounds<f64> = Bounds::new(0.0, 1e12, "N.m.s/rad");
+
 impl HubCoupling {
-    /// Errors: a component that is not finite and ≥ 0, named.
+    /// Errors: a component outside [`HUB_STIFFNESS_NM_PER_RAD`] or
+    /// [`HUB_DAMPING_NMS_PER_RAD`], named by its FMI parameter
+    /// (`hub_coupling.c_p_nm_per_rad` …).
     pub fn validate(&self) -> Result<(), DynamicsError> {
-        for (name, v) in
-            [("c_p", self.c_p), ("d_p", self.d_p), ("c_g", self.c_g), ("d_g", self.d_g)]
-        {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(invalid(name, v, "finite and >= 0 (hub coupling)"));
-            }
+        let (c, d) = (HUB_STIFFNESS_NM_PER_RAD, HUB_DAMPING_NMS_PER_RAD);
+        for (b, name, v) in [
+            (c, "hub_coupling.c_p_nm_per_rad", self.c_p),
+            (d, "hub_coupling.d_p_nms_per_rad", self.d_p),
+            (c, "hub_coupling.c_g_nm_per_rad", self.c_g),
+            (d, "hub_coupling.d_g_nms_per_rad", self.d_g),
+        ] {
+            b.check(name, v).map_err(DynamicsError::Param)?;
         }
         Ok(())
     }
@@ -724,22 +747,14 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         }
         let dopri = match stepping {
             UnitStepping::Rk4 { steps_per_mesh_period } => {
-                if steps_per_mesh_period < 4 {
-                    return Err(invalid(
-                        "steps_per_mesh_period",
-                        steps_per_mesh_period as f64,
-                        ">= 4",
-                    ));
-                }
+                RK4_STEPS_PER_MESH_PERIOD
+                    .check_int("steps_per_mesh_period", i64::from(steps_per_mesh_period))
+                    .map_err(DynamicsError::Param)?;
                 None
             }
             UnitStepping::Dopri5 { rtol, atol } => {
-                if !(rtol.is_finite() && rtol > 0.0) {
-                    return Err(invalid("rtol", rtol, "finite and > 0"));
-                }
-                if !(atol.is_finite() && atol > 0.0) {
-                    return Err(invalid("atol", atol, "finite and > 0"));
-                }
+                RTOL.check("rtol", rtol).map_err(DynamicsError::Param)?;
+                ATOL.check("atol", atol).map_err(DynamicsError::Param)?;
                 let opts = Dopri5Options::with_tolerances(rtol, atol);
                 Some(Dopri5::new(kind.n_states(), opts)?)
             }

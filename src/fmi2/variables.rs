@@ -11,8 +11,10 @@
 //! that table.
 //!
 //! The same physical quantity has the same name and value reference in every model: the
-//! gear-pair parameters ([`GEAR_PARAMS`], 100–130; 130 is the String `modifications`), the mesh options ([`MESH_OPTIONS`],
-//! 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
+//! gear-pair parameters ([`GEAR_PARAMS`], 100–122 and 130, the String `modifications`), the
+//! drive line's ([`DRIVE_TORQUE`], [`DRIVE_INERTIAS`], [`DRIVE_SHAFTS`], 123–129; each model
+//! lists only those it uses: the mesh element none, the Pair the torque of its static start,
+//! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
 //! ([`MESH_OUTPUTS`], 10–21) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
@@ -25,9 +27,10 @@
 
 use crate::dynamics::HubCoupling;
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
+use crate::options::OptionEnum;
 
 pub use super::models::mesh::{MODEL_IDENTIFIER, VARIABLES, by_name, by_vr, guid};
-use crate::params::GearPair;
+use crate::params::{self as P, Bounds, GearPair};
 
 /// Everything the parameters of an instance set: the gear pair, the mesh options and the
 /// options of the stateful models (unused by `HelicalGearMesh`).
@@ -53,13 +56,24 @@ impl Default for Settings {
     }
 }
 
-/// Integrator of a stateful model inside a communication step.
+/// Integrator of a stateful model inside a communication step (codes and names:
+/// [`crate::options`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Integrator {
     /// Classical RK4 on a grid tied to the mesh period (`rk4_steps_per_mesh_period`).
-    Rk4,
+    Rk4 = 0,
     /// Adaptive Dormand–Prince 5(4) with `rtol`, `atol`.
-    Dopri5,
+    Dopri5 = 1,
+}
+
+/// The allowed codes of an option in words (`0 (full) or 1 (table)`), for the Integer setters'
+/// `&'static str` error: one string per option type, made once.
+fn allowed<T: OptionEnum>() -> &'static str {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static CELLS: OnceLock<Mutex<HashMap<&'static str, &'static str>>> = OnceLock::new();
+    let mut map = CELLS.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
+    map.entry(T::OPTION).or_insert_with(|| Box::leak(T::allowed().into_boxed_str()))
 }
 
 /// Start and integration options of the stateful models (`HelicalGearPair`,
@@ -104,7 +118,53 @@ impl Default for UnitOptions {
     }
 }
 
+use crate::dynamics::unit as U;
 pub use crate::dynamics::unit::{MAX_ANGLE_RAD, MAX_SPEED_RAD_S, MAX_TORQUE_NM};
+
+/// Nominal pinion speed of the static-equilibrium start `w_p_start`: within ±1e5 rad/s (the
+/// units' speed limit [`MAX_SPEED_RAD_S`]).
+pub const W_P_START_RAD_S: Bounds<f64> = Bounds::new(-MAX_SPEED_RAD_S, MAX_SPEED_RAD_S, "rad/s");
+/// Explicit start angle (φ1, φp, φg, φ2): within ±1e15 rad ([`MAX_ANGLE_RAD`], the inputs'
+/// limit; the mesh model's own range, |TE| up to 0.2·m_n, is checked when the state is set).
+pub const START_ANGLE_RAD: Bounds<f64> = Bounds::new(-MAX_ANGLE_RAD, MAX_ANGLE_RAD, "rad");
+/// Explicit start speed (φ̇1, φ̇p, φ̇g, φ̇2): within ±1e5 rad/s ([`MAX_SPEED_RAD_S`]).
+pub const START_SPEED_RAD_S: Bounds<f64> = Bounds::new(-MAX_SPEED_RAD_S, MAX_SPEED_RAD_S, "rad/s");
+/// The bounds of [`UnitOptions::start`], by index (four angles, then four speeds).
+pub const START_BOUNDS: [Bounds<f64>; 8] = [
+    START_ANGLE_RAD,
+    START_ANGLE_RAD,
+    START_ANGLE_RAD,
+    START_ANGLE_RAD,
+    START_SPEED_RAD_S,
+    START_SPEED_RAD_S,
+    START_SPEED_RAD_S,
+    START_SPEED_RAD_S,
+];
+
+/// Names of [`UnitOptions::start`]'s entries as FMI parameters.
+pub const START_NAMES: [&str; 8] =
+    ["phi_1_0", "phi_p_0", "phi_g_0", "phi_2_0", "w_1_0", "w_p_0", "w_g_0", "w_2_0"];
+
+impl UnitOptions {
+    /// Checks every option against its [`Bounds`] ([`W_P_START_RAD_S`],
+    /// [`crate::dynamics::unit::RK4_STEPS_PER_MESH_PERIOD`], [`crate::dynamics::unit::RTOL`],
+    /// [`crate::dynamics::unit::ATOL`], [`START_BOUNDS`], the hub coupling's), whichever integrator and start is
+    /// chosen; the error names the FMI parameter, the value and the range.
+    pub fn check(&self) -> Result<(), crate::error::ParamError> {
+        W_P_START_RAD_S.check("w_p_start", self.w_p_start)?;
+        let n = i64::from(self.rk4_steps_per_mesh_period);
+        U::RK4_STEPS_PER_MESH_PERIOD.check_int("rk4_steps_per_mesh_period", n)?;
+        U::RTOL.check("rtol", self.rtol)?;
+        U::ATOL.check("atol", self.atol)?;
+        for ((b, name), x) in START_BOUNDS.iter().zip(START_NAMES).zip(self.start) {
+            b.check(name, x)?;
+        }
+        match self.hub_coupling.validate() {
+            Err(crate::dynamics::DynamicsError::Param(e)) => Err(e),
+            _ => Ok(()),
+        }
+    }
+}
 
 /// The input values of an instance (every model reads only its own inputs). Each input is
 /// checked against its range when set or restored ([`Variable::check_input`]).
@@ -310,7 +370,8 @@ impl VarType {
 ///
 /// Integer setters return `Err(allowed)` with the allowed range in words when the value cannot
 /// be represented (e.g. a negative number of teeth); all other range checks happen when the
-/// model is built (`fmi2ExitInitializationMode`) and name the parameter.
+/// model is built (`fmi2ExitInitializationMode`) against the library's [`Bounds`] (the same
+/// constants as the variable's `min`/`max`) and name the parameter.
 #[derive(Clone, Copy)]
 pub enum Access {
     /// Real parameter stored in [`Settings`].
@@ -346,7 +407,7 @@ pub mod group {
     pub const DENSITY: u32 = 4;
     /// Mesh damping `d_mesh`.
     pub const DAMPING: u32 = 8;
-    /// Drive-line data (not used by the mesh element; carried for the master).
+    /// Drive-line data (listed only by the stateful models that use them).
     pub const DRIVE: u32 = 16;
     /// Model options that change the elastic solution (fidelity, slices, compliance model,
     /// neighbour coupling, table resolution).
@@ -390,10 +451,12 @@ pub struct Variable {
     pub display_unit: Option<&'static str>,
     /// Physical quantity, Real only.
     pub quantity: Option<&'static str>,
-    /// Smallest allowed value (Integer options).
-    pub min: Option<i32>,
-    /// Largest allowed value (Integer options).
-    pub max: Option<i32>,
+    /// Smallest accepted value of a Real or Integer parameter (`min` in
+    /// `modelDescription.xml`): the `min` of the library's [`Bounds`] that the parameter's
+    /// check uses, so the XML, the C header and the check cannot disagree.
+    pub min: Option<f64>,
+    /// Largest accepted value of a Real or Integer parameter (`max`), see `min`.
+    pub max: Option<f64>,
     /// Parameter group (parameters only, see [`group`]).
     pub group: u32,
     /// Dependencies (outputs and calculated parameters only).
@@ -508,11 +571,13 @@ pub(crate) const NONE: Variable = Variable {
 
 /// A Real `fixed` parameter stored in [`Settings::pair`].
 macro_rules! real_param {
-    ($name:literal, $vr:expr, $group:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal,
-     $($field:ident).+) => {
+    ($name:literal, $vr:expr, $group:expr, $bounds:expr, $unit:expr, $disp:expr, $q:expr,
+     $desc:literal, $($field:ident).+) => {
         Variable {
             name: $name,
             vr: $vr,
+            min: Some($bounds.min),
+            max: Some($bounds.max),
             causality: Causality::Parameter,
             variability: Variability::Fixed,
             description: $desc,
@@ -797,12 +862,16 @@ pub const CALCULATED: [Variable; 4] = [
     },
 ];
 
-/// The gear-pair parameters (value references 100–130; JSON keys of `GearPair`).
-pub const GEAR_PARAMS: [Variable; 31] = [
+/// The gear-pair parameters of the mesh (value references 100–122 and 130; JSON keys of
+/// `GearPair`); the drive line's (123–129) are [`DRIVE_TORQUE`], [`DRIVE_INERTIAS`] and
+/// [`DRIVE_SHAFTS`], listed only by the models that use them.
+pub const GEAR_PARAMS: [Variable; 24] = [
     Variable {
         name: "z_p",
         vr: 100,
         description: "Number of pinion teeth",
+        min: Some(P::Z_P.min as f64),
+        max: Some(P::Z_P.max as f64),
         group: group::GEOMETRY,
         access: Access::IntParam(
             |s| u32_to_i32(s.pair.z_p),
@@ -817,6 +886,8 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         name: "z_g",
         vr: 101,
         description: "Number of gear teeth",
+        min: Some(P::Z_G.min as f64),
+        max: Some(P::Z_G.max as f64),
         group: group::GEOMETRY,
         access: Access::IntParam(
             |s| u32_to_i32(s.pair.z_g),
@@ -831,6 +902,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "normal_module_m",
         102,
         group::GEOMETRY,
+        P::NORMAL_MODULE_M,
         M,
         MM,
         LENGTH,
@@ -841,6 +913,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "pressure_angle_rad",
         103,
         group::GEOMETRY,
+        P::PRESSURE_ANGLE_RAD,
         RAD,
         DEG,
         ANGLE,
@@ -851,6 +924,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "helix_angle_rad",
         104,
         group::GEOMETRY,
+        P::HELIX_ANGLE_RAD,
         RAD,
         DEG,
         ANGLE,
@@ -861,6 +935,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "face_width_m",
         105,
         group::GEOMETRY,
+        P::FACE_WIDTH_M,
         M,
         MM,
         LENGTH,
@@ -871,6 +946,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "profile_shift_p",
         106,
         group::GEOMETRY,
+        P::PROFILE_SHIFT,
         None,
         None,
         None,
@@ -881,6 +957,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "profile_shift_g",
         107,
         group::GEOMETRY,
+        P::PROFILE_SHIFT,
         None,
         None,
         None,
@@ -891,6 +968,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "addendum_mn",
         108,
         group::GEOMETRY,
+        P::ADDENDUM_MN,
         None,
         None,
         None,
@@ -901,6 +979,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "dedendum_mn",
         109,
         group::GEOMETRY,
+        P::DEDENDUM_MN,
         None,
         None,
         None,
@@ -911,6 +990,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "rack_fillet_radius_mn",
         110,
         group::GEOMETRY,
+        P::RACK_FILLET_RADIUS_MN,
         None,
         None,
         None,
@@ -921,6 +1001,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "tip_relief_depth_mn",
         111,
         group::GEOMETRY,
+        P::TIP_RELIEF_DEPTH_MN,
         None,
         None,
         None,
@@ -932,6 +1013,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "tip_relief_height_mn",
         112,
         group::GEOMETRY,
+        P::TIP_RELIEF_HEIGHT_MN,
         None,
         None,
         None,
@@ -942,6 +1024,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "tip_rounding_radius_mn",
         113,
         group::GEOMETRY,
+        P::TIP_ROUNDING_RADIUS_MN,
         None,
         None,
         None,
@@ -952,6 +1035,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "normal_backlash_mn",
         114,
         group::GEOMETRY,
+        P::NORMAL_BACKLASH_MN,
         None,
         None,
         None,
@@ -962,6 +1046,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "bore_diameter_m",
         115,
         group::GEOMETRY,
+        P::BORE_DIAMETER_M,
         M,
         MM,
         LENGTH,
@@ -972,6 +1057,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_p.youngs_modulus_pa",
         116,
         group::ELASTIC,
+        P::YOUNGS_MODULUS_PA,
         PA,
         Some("GPa"),
         Some("Pressure"),
@@ -982,6 +1068,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_p.poisson_ratio",
         117,
         group::ELASTIC,
+        P::POISSON_RATIO,
         None,
         None,
         None,
@@ -992,6 +1079,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_p.density_kg_m3",
         118,
         group::DENSITY,
+        P::DENSITY_KG_M3,
         Some("kg/m3"),
         None,
         Some("Density"),
@@ -1002,6 +1090,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_g.youngs_modulus_pa",
         119,
         group::ELASTIC,
+        P::YOUNGS_MODULUS_PA,
         PA,
         Some("GPa"),
         Some("Pressure"),
@@ -1012,6 +1101,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_g.poisson_ratio",
         120,
         group::ELASTIC,
+        P::POISSON_RATIO,
         None,
         None,
         None,
@@ -1022,6 +1112,7 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         "material_g.density_kg_m3",
         121,
         group::DENSITY,
+        P::DENSITY_KG_M3,
         Some("kg/m3"),
         None,
         Some("Density"),
@@ -1036,81 +1127,12 @@ pub const GEAR_PARAMS: [Variable; 31] = [
                       d_mesh_n_s_per_m); tunable between communication points",
         unit: Some("N.s/m"),
         quantity: Some("TranslationalDampingConstant"),
+        min: Some(P::D_MESH_N_S_PER_M.min),
+        max: Some(P::D_MESH_N_S_PER_M.max),
         group: group::DAMPING,
         access: Access::RealParam(|s| s.pair.d_mesh_n_s_per_m, |s, v| s.pair.d_mesh_n_s_per_m = v),
         ..NONE
     },
-    real_param!(
-        "drive.torque_nm",
-        123,
-        group::DRIVE,
-        NM,
-        None,
-        TORQUE,
-        "Driving torque M on J_1 (positive sense), N.m; the load on J_2 is M*z_g/z_p (Eq. 4). \
-         Not used by the mesh element; for the master's drive-line model",
-        drive.torque_nm
-    ),
-    real_param!(
-        "drive.j1_kgm2",
-        124,
-        group::DRIVE,
-        Some("kg.m2"),
-        None,
-        Some("MomentOfInertia"),
-        "Inertia J_1 of the driving mass, kg.m2 (for the master)",
-        drive.j1_kgm2
-    ),
-    real_param!(
-        "drive.j2_kgm2",
-        125,
-        group::DRIVE,
-        Some("kg.m2"),
-        None,
-        Some("MomentOfInertia"),
-        "Inertia J_2 of the driven mass, kg.m2 (for the master)",
-        drive.j2_kgm2
-    ),
-    real_param!(
-        "drive.c1_nm_per_rad",
-        126,
-        group::DRIVE,
-        Some("N.m/rad"),
-        None,
-        Some("RotationalSpringConstant"),
-        "Torsional stiffness c_1 of the pinion shaft, N.m/rad (for the master)",
-        drive.c1_nm_per_rad
-    ),
-    real_param!(
-        "drive.c2_nm_per_rad",
-        127,
-        group::DRIVE,
-        Some("N.m/rad"),
-        None,
-        Some("RotationalSpringConstant"),
-        "Torsional stiffness c_2 of the gear shaft, N.m/rad (for the master)",
-        drive.c2_nm_per_rad
-    ),
-    real_param!(
-        "drive.d1_nms_per_rad",
-        128,
-        group::DRIVE,
-        Some("N.m.s/rad"),
-        None,
-        Some("RotationalDampingConstant"),
-        "Viscous damping d_1 of the pinion shaft, N.m.s/rad (for the master)",
-        drive.d1_nms_per_rad
-    ),
-    real_param!(
-        "drive.d2_nms_per_rad",
-        129,
-        group::DRIVE,
-        Some("N.m.s/rad"),
-        None,
-        Some("RotationalDampingConstant"),
-        "Viscous damping d_2 of the gear shaft, N.m.s/rad (for the master)",
-        drive.d2_nms_per_rad
-    ),
     Variable {
         name: "modifications",
         vr: 130,
@@ -1121,6 +1143,96 @@ pub const GEAR_PARAMS: [Variable; 31] = [
         access: Access::StringParam(modifications_json, set_modifications_json),
         ..NONE
     },
+];
+
+/// The drive line's nominal torque (value reference 123): the load of the static start of
+/// every stateful model.
+pub const DRIVE_TORQUE: [Variable; 1] = [real_param!(
+    "drive.torque_nm",
+    123,
+    group::DRIVE,
+    P::DRIVE_TORQUE_NM,
+    NM,
+    None,
+    TORQUE,
+    "Driving torque M on J_1 (positive sense), N.m; the load on J_2 is M*z_g/z_p (Eq. 4); \
+     the nominal load of the static-equilibrium start",
+    drive.torque_nm
+)];
+
+/// The drive line's outer inertias J1, J2 (value references 124–125): `HelicalGearDrive` only.
+pub const DRIVE_INERTIAS: [Variable; 2] = [
+    real_param!(
+        "drive.j1_kgm2",
+        124,
+        group::DRIVE,
+        P::DRIVE_INERTIA_KGM2,
+        Some("kg.m2"),
+        None,
+        Some("MomentOfInertia"),
+        "Inertia J_1 of the driving mass, kg.m2",
+        drive.j1_kgm2
+    ),
+    real_param!(
+        "drive.j2_kgm2",
+        125,
+        group::DRIVE,
+        P::DRIVE_INERTIA_KGM2,
+        Some("kg.m2"),
+        None,
+        Some("MomentOfInertia"),
+        "Inertia J_2 of the driven mass, kg.m2",
+        drive.j2_kgm2
+    ),
+];
+
+/// The drive line's shafts c1, c2, d1, d2 (value references 126–129): `HelicalGearStage` and
+/// `HelicalGearDrive`.
+pub const DRIVE_SHAFTS: [Variable; 4] = [
+    real_param!(
+        "drive.c1_nm_per_rad",
+        126,
+        group::DRIVE,
+        P::DRIVE_STIFFNESS_NM_PER_RAD,
+        Some("N.m/rad"),
+        None,
+        Some("RotationalSpringConstant"),
+        "Torsional stiffness c_1 of the pinion shaft, N.m/rad",
+        drive.c1_nm_per_rad
+    ),
+    real_param!(
+        "drive.c2_nm_per_rad",
+        127,
+        group::DRIVE,
+        P::DRIVE_STIFFNESS_NM_PER_RAD,
+        Some("N.m/rad"),
+        None,
+        Some("RotationalSpringConstant"),
+        "Torsional stiffness c_2 of the gear shaft, N.m/rad",
+        drive.c2_nm_per_rad
+    ),
+    real_param!(
+        "drive.d1_nms_per_rad",
+        128,
+        group::DRIVE,
+        P::DRIVE_DAMPING_NMS_PER_RAD,
+        Some("N.m.s/rad"),
+        None,
+        Some("RotationalDampingConstant"),
+        "Viscous damping d_1 of the pinion shaft, N.m.s/rad",
+        drive.d1_nms_per_rad
+    ),
+    real_param!(
+        "drive.d2_nms_per_rad",
+        129,
+        group::DRIVE,
+        P::DRIVE_DAMPING_NMS_PER_RAD,
+        Some("N.m.s/rad"),
+        None,
+        Some("RotationalDampingConstant"),
+        "Viscous damping d_2 of the gear shaft, N.m.s/rad",
+        drive.d2_nms_per_rad
+    ),
 ];
 
 /// The `modifications` parameter's text: the JSON of the pair's modifications (`{}` for none;
@@ -1152,20 +1264,13 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         description: "Evaluation fidelity: 0 = full contact search and load solve at every \
                       call, 1 = interpolation in a (mesh phase, TE) table built at \
                       initialisation (outside the table: full)",
-        min: Some(0),
-        max: Some(1),
+        min: Some(0.0),
+        max: Some(1.0),
         group: group::OPTIONS,
         access: Access::IntParam(
-            |s| match s.options.fidelity {
-                Fidelity::Full => 0,
-                Fidelity::Table => 1,
-            },
+            |s| s.options.fidelity.code(),
             |s, v| {
-                s.options.fidelity = match v {
-                    0 => Fidelity::Full,
-                    1 => Fidelity::Table,
-                    _ => return Err("0 (full) or 1 (table)"),
-                };
+                s.options.fidelity = Fidelity::from_code(v).map_err(|_| allowed::<Fidelity>())?;
                 Ok(())
             },
         ),
@@ -1176,7 +1281,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         vr: 201,
         description: "Total number of slices over all simultaneous contact lines (the paper's \
                       200)",
-        min: Some(1),
+        min: Some(crate::mesh::model::SLICES.min as f64),
+        max: Some(crate::mesh::model::SLICES.max as f64),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| usize_to_i32(s.options.slices),
@@ -1192,20 +1298,14 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         vr: 202,
         description: "Global tooth compliance: 0 = interpolated FE influence grid, 1 = fitted \
                       influence function of Eqs. 5-8",
-        min: Some(0),
-        max: Some(1),
+        min: Some(0.0),
+        max: Some(1.0),
         group: group::OPTIONS,
         access: Access::IntParam(
-            |s| match s.options.compliance {
-                ComplianceModel::Interpolated => 0,
-                ComplianceModel::Fitted => 1,
-            },
+            |s| s.options.compliance.code(),
             |s, v| {
-                s.options.compliance = match v {
-                    0 => ComplianceModel::Interpolated,
-                    1 => ComplianceModel::Fitted,
-                    _ => return Err("0 (interpolated) or 1 (fitted)"),
-                };
+                s.options.compliance =
+                    ComplianceModel::from_code(v).map_err(|_| allowed::<ComplianceModel>())?;
                 Ok(())
             },
         ),
@@ -1235,7 +1335,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         name: "table_phase_points",
         vr: 205,
         description: "Table fidelity: points per mesh period along the phase",
-        min: Some(2),
+        min: Some(crate::mesh::table::TABLE_POINTS.min as f64),
+        max: Some(crate::mesh::table::TABLE_POINTS.max as f64),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| usize_to_i32(s.options.table_phase_points),
@@ -1250,7 +1351,8 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         name: "table_te_points",
         vr: 206,
         description: "Table fidelity: points along TE",
-        min: Some(2),
+        min: Some(crate::mesh::table::TABLE_POINTS.min as f64),
+        max: Some(crate::mesh::table::TABLE_POINTS.max as f64),
         group: group::OPTIONS,
         access: Access::IntParam(
             |s| usize_to_i32(s.options.table_te_points),
@@ -1273,6 +1375,8 @@ macro_rules! start_param {
             unit: $unit,
             display_unit: $disp,
             quantity: $q,
+            min: Some(START_BOUNDS[$i].min),
+            max: Some(START_BOUNDS[$i].max),
             group: group::UNIT,
             access: Access::RealParam(|s| s.unit.start[$i], |s, v| s.unit.start[$i] = v),
             ..NONE
@@ -1290,6 +1394,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         unit: Some("rad/s"),
         display_unit: Some("rpm"),
         quantity: Some("AngularVelocity"),
+        min: Some(W_P_START_RAD_S.min),
+        max: Some(W_P_START_RAD_S.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.w_p_start, |s, v| s.unit.w_p_start = v),
         ..NONE
@@ -1300,20 +1406,14 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         description: "Integrator inside a communication step: 0 = classical RK4 on a grid of \
                       rk4_steps_per_mesh_period sub-steps per mesh period, 1 = adaptive \
                       Dormand-Prince 5(4) with rtol and atol",
-        min: Some(0),
-        max: Some(1),
+        min: Some(0.0),
+        max: Some(1.0),
         group: group::UNIT,
         access: Access::IntParam(
-            |s| match s.unit.integrator {
-                Integrator::Rk4 => 0,
-                Integrator::Dopri5 => 1,
-            },
+            |s| s.unit.integrator.code(),
             |s, v| {
-                s.unit.integrator = match v {
-                    0 => Integrator::Rk4,
-                    1 => Integrator::Dopri5,
-                    _ => return Err("0 (RK4) or 1 (DOPRI5)"),
-                };
+                s.unit.integrator =
+                    Integrator::from_code(v).map_err(|_| allowed::<Integrator>())?;
                 Ok(())
             },
         ),
@@ -1324,7 +1424,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         vr: 302,
         description: "RK4: sub-steps per mesh period at the current pinion speed (each \
                       communication step is cut into equal sub-steps no longer than that)",
-        min: Some(1),
+        min: Some(U::RK4_STEPS_PER_MESH_PERIOD.min as f64),
+        max: Some(U::RK4_STEPS_PER_MESH_PERIOD.max as f64),
         group: group::UNIT,
         access: Access::IntParam(
             |s| u32_to_i32(s.unit.rk4_steps_per_mesh_period),
@@ -1341,6 +1442,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         description: "DOPRI5: relative tolerance, applied to the state in relative \
                       coordinates (phi_p, TE, the shaft twists and their rates), so that it \
                       bounds the error of TE rather than that of the absolute angles",
+        min: Some(U::RTOL.min),
+        max: Some(U::RTOL.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.rtol, |s, v| s.unit.rtol = v),
         ..NONE
@@ -1350,6 +1453,8 @@ pub const UNIT_OPTIONS: [Variable; 6] = [
         vr: 304,
         description: "DOPRI5: absolute tolerance, one number for every component of the \
                       relative state (rad, m, rad/s, m/s)",
+        min: Some(U::ATOL.min),
+        max: Some(U::ATOL.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.atol, |s, v| s.unit.atol = v),
         ..NONE
@@ -1575,6 +1680,8 @@ mod tests {
         }
     }
 
+    /// Every `GearPair` field is a parameter of `HelicalGearDrive`, and every one but the
+    /// drive line's of `HelicalGearMesh` (which lists none of `drive.*`).
     #[test]
     fn every_gear_pair_field_is_a_parameter() {
         let json = serde_json::to_value(GearPair::paper_table1()).unwrap();
@@ -1585,12 +1692,37 @@ mod tests {
                 None => keys.push(k.clone()),
             }
         }
+        let drive = super::super::models::unit::DRIVE.variables;
         for k in &keys {
-            assert!(
-                VARIABLES.iter().any(|v| v.causality == Causality::Parameter && v.json_key() == k),
-                "GearPair field {k} has no FMI parameter"
-            );
+            let is_param = |vars: &[Variable]| {
+                vars.iter().any(|v| v.causality == Causality::Parameter && v.json_key() == k)
+            };
+            assert!(is_param(drive), "GearPair field {k} has no FMI parameter");
+            assert_eq!(is_param(VARIABLES), !k.starts_with("drive."), "{k} in the mesh element");
         }
+    }
+
+    /// The list Python exposes (`params::parameter_bounds`) has every gear-pair parameter of
+    /// `HelicalGearDrive` with that variable's `min`/`max`.
+    #[test]
+    fn parameter_bounds_are_the_variables_min_max() {
+        let drive = super::super::models::unit::DRIVE.variables;
+        let list = crate::params::parameter_bounds();
+        for (k, lo, hi, _) in &list {
+            let v = drive.iter().find(|v| v.json_key() == k).unwrap_or_else(|| panic!("{k}"));
+            assert_eq!((v.min, v.max), (Some(*lo), Some(*hi)), "{k}");
+        }
+        let numeric = |v: &&Variable| {
+            v.group
+                & (group::GEOMETRY
+                    | group::ELASTIC
+                    | group::DENSITY
+                    | group::DAMPING
+                    | group::DRIVE)
+                != 0
+                && matches!(v.var_type(), VarType::Real | VarType::Integer)
+        };
+        assert_eq!(drive.iter().filter(numeric).count(), list.len());
     }
 
     #[test]
@@ -1608,7 +1740,7 @@ mod tests {
                 Access::IntParam(get, set) => {
                     let start: i32 = v.start().unwrap().parse().unwrap();
                     assert_eq!(start, get(&s));
-                    let other = if v.max == Some(1) { 1 - start } else { start + 1 };
+                    let other = if v.max == Some(1.0) { 1 - start } else { start + 1 };
                     set(&mut s, other).unwrap();
                     assert_eq!(get(&s), other, "{}", v.name);
                     assert!(set(&mut s, -1).is_err(), "{}", v.name);

@@ -74,7 +74,7 @@ impl PairGeometry {
     /// ratio ε_α + ε_β ≥ 1; flank modifications and deviations within their limits
     /// ([`crate::modifications::Modifications::validate`]).
     pub fn new(p: &GearPair) -> Result<Self, ParamError> {
-        p.check_ranges()?;
+        p.check_params()?;
         let pinion = GearGeometry::new(p, Member::Pinion)?;
         let gear = GearGeometry::new(p, Member::Gear)?;
         let mn = p.normal_module_m;

@@ -121,10 +121,10 @@ pub struct MeshOutputs {
 pub enum Fidelity {
     /// Contact search and load solve at every call.
     #[default]
-    Full,
+    Full = 0,
     /// Interpolation in a table over (mesh phase, TE) built once from `Full`; points outside
     /// the table fall back to `Full`.
-    Table,
+    Table = 1,
 }
 
 /// Which representation of the FE influence data gives the global compliance.
@@ -132,9 +132,9 @@ pub enum Fidelity {
 pub enum ComplianceModel {
     /// Smooth interpolation of the FE influence grid.
     #[default]
-    Interpolated,
+    Interpolated = 0,
     /// The fitted influence function of Eqs. 5–8 (neighbour teeth interpolated).
-    Fitted,
+    Fitted = 1,
 }
 
 /// Options of [`MeshModel`] (fidelity and table resolution: of [`Mesh`]).

@@ -528,12 +528,15 @@ impl std::fmt::Debug for MeshModel {
     }
 }
 
-/// Checks the options the model itself uses: `slices` in 10 … 4000.
+/// Total number of slices [`MeshOptions::slices`]: 10 (a coarse line of 5 slices) … 4000
+/// (the dense load problem grows with its square).
+pub const SLICES: crate::params::Bounds<i64> = crate::params::Bounds::new(10, 4000, "");
+
+/// Checks the options the model itself uses ([`SLICES`]); the table's size is the table's
+/// own check (`mesh::table::check_table_size`), made beside this one before any compliance
+/// data are computed.
 pub(crate) fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
-    if !(10..=4000).contains(&o.slices) {
-        return Err(ParamError::new("slices", o.slices as f64, "10 … 4000"));
-    }
-    Ok(())
+    SLICES.check_int("slices", i64::try_from(o.slices).unwrap_or(i64::MAX))
 }
 
 impl MeshModel {

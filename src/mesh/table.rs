@@ -88,19 +88,20 @@ mod build;
 /// A 4096 × 4096 table (1.7·10⁷ nodes) would take hours and GB.
 pub const MAX_TABLE_NODES: usize = 65_536;
 
-/// Checks the table's size: each axis 8 … 4096 points and at most [`MAX_TABLE_NODES`] nodes
+/// Points of either table axis (`table_phase_points`, `table_te_points`): 8 … 4096, and at most
+/// [`MAX_TABLE_NODES`] nodes together (checked by [`check_table_size`]).
+pub const TABLE_POINTS: crate::params::Bounds<i64> = crate::params::Bounds::new(8, 4096, "");
+
+/// Checks the table's size: each axis [`TABLE_POINTS`] and at most [`MAX_TABLE_NODES`] nodes
 /// (phase × TE points). The error names the option, its value and the bound.
 pub fn check_table_size(
     phase_points: usize,
     te_points: usize,
 ) -> Result<(), crate::error::ParamError> {
     use crate::error::ParamError;
-    if !(8..=4096).contains(&phase_points) {
-        return Err(ParamError::new("table_phase_points", phase_points as f64, "8 … 4096"));
-    }
-    if !(8..=4096).contains(&te_points) {
-        return Err(ParamError::new("table_te_points", te_points as f64, "8 … 4096"));
-    }
+    let int = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
+    TABLE_POINTS.check_int("table_phase_points", int(phase_points))?;
+    TABLE_POINTS.check_int("table_te_points", int(te_points))?;
     let nodes = phase_points * te_points;
     if nodes > MAX_TABLE_NODES {
         return Err(ParamError::new(

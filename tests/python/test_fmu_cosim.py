@@ -86,11 +86,19 @@ class Slave:
         self.s.freeInstance()
 
 
+# The drive line of Table 1, for the values a model does not list (the Pair lists only
+# drive.torque_nm, the Stage also the shafts: each lists those it uses).
+TABLE1_DRIVE = {"drive.j1_kgm2": 0.62, "drive.j2_kgm2": 0.62, "drive.c1_nm_per_rad": 984.0,
+                "drive.c2_nm_per_rad": 984.0, "drive.d1_nms_per_rad": 0.04,
+                "drive.d2_nms_per_rad": 0.04}
+
+
 def drive(s):
-    j1, j2, c1, c2, d1, d2, m = s.get("drive.j1_kgm2", "drive.j2_kgm2", "drive.c1_nm_per_rad",
-                                      "drive.c2_nm_per_rad", "drive.d1_nms_per_rad",
-                                      "drive.d2_nms_per_rad", "drive.torque_nm")
-    return dict(j1=j1, j2=j2, c1=c1, c2=c2, d1=d1, d2=d2, m=m, load=m * Z_G / Z_P)
+    v = {k: (s.get(k)[0] if k in s.vr else x) for k, x in TABLE1_DRIVE.items()}
+    (m,) = s.get("drive.torque_nm")
+    return dict(j1=v["drive.j1_kgm2"], j2=v["drive.j2_kgm2"], c1=v["drive.c1_nm_per_rad"],
+                c2=v["drive.c2_nm_per_rad"], d1=v["drive.d1_nms_per_rad"],
+                d2=v["drive.d2_nms_per_rad"], m=m, load=m * Z_G / Z_P)
 
 
 def stage_cut(tmp, w, h, n):

@@ -70,11 +70,10 @@ class Master:
         self.inst = inst
         g = inst.slave.getReal
         v = inst.vr
-        (self.M, self.j1, self.j2, self.c1, self.c2, self.d1, self.d2, self.jp, self.jg) = g(
-            [v[n] for n in ("drive.torque_nm", "drive.j1_kgm2", "drive.j2_kgm2",
-                            "drive.c1_nm_per_rad", "drive.c2_nm_per_rad",
-                            "drive.d1_nms_per_rad", "drive.d2_nms_per_rad", "J_p", "J_g")]
-        )
+        # The master's own drive line: Table 1's (the mesh element lists none of drive.*).
+        (self.M, self.j1, self.j2, self.c1, self.c2, self.d1, self.d2) = (
+            100.0, 0.62, 0.62, 984.0, 984.0, 0.04, 0.04)
+        (self.jp, self.jg) = g([v[n] for n in ("J_p", "J_g")])
         z_p, z_g = inst.slave.getInteger([v["z_p"], v["z_g"]])
         self.brake = self.M * z_g / z_p
         self.inputs = [v["phi_p"], v["phi_g"], v["w_p"], v["w_g"]]

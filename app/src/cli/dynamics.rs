@@ -17,6 +17,7 @@ use clap::{Args, ValueEnum};
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::dynamics::model::STATE_NAMES;
 use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
+use helical_gear_mesh::dynamics::steady::steady_max_periods;
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_REFINE_RUNS,
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate,
@@ -362,7 +363,7 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     let opts = SweepOptions {
         run: SteadyRunOptions {
             method: SteadyMethod::Rk4 { steps_per_period: a.steps_per_period },
-            max_periods: if period > 1 { a.max_periods.max(3 * period) } else { a.max_periods },
+            max_periods: steady_max_periods(a.max_periods, period),
             period_meshes: period,
             keep_window: false,
             ..SteadyRunOptions::default()

@@ -242,7 +242,8 @@ mod tests {
 
     #[test]
     fn the_table_is_inputs_outputs_calculated_parameters_options() {
-        assert_eq!(VARIABLES.len(), 4 + 12 + 4 + 31 + 7);
+        // 24 gear-pair parameters: none of the drive line's seven (the element does not use them).
+        assert_eq!(VARIABLES.len(), 4 + 12 + 4 + 24 + 7);
         assert_eq!(VARIABLES[0].name, "phi_p");
         assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
         assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));

@@ -37,9 +37,10 @@ use crate::dynamics::unit::{
 use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
 use crate::fmi2::variables::{
-    ANGLE, Access, CALCULATED, Causality, DEG, Depends, Derived, GEAR_PARAMS, Inputs, Integrator,
-    MESH_OPTIONS, MESH_OUTPUTS, NM, NONE, Outputs, RAD, START_OUTER, START_PAIR, Settings, TORQUE,
-    UNIT_OPTIONS, Variability, Variable, concat, group, total_len, with_depends,
+    ANGLE, Access, CALCULATED, Causality, DEG, DRIVE_INERTIAS, DRIVE_SHAFTS, DRIVE_TORQUE, Depends,
+    Derived, GEAR_PARAMS, Inputs, Integrator, MESH_OPTIONS, MESH_OUTPUTS, NM, NONE, Outputs, RAD,
+    START_OUTER, START_PAIR, Settings, TORQUE, UNIT_OPTIONS, Variability, Variable, concat, group,
+    total_len, with_depends,
 };
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, Mesh};
@@ -531,6 +532,8 @@ const PAIR_COUPLING: [Variable; 4] = [
                       derivatives (fmi2SetRealInputDerivatives) the held tau_p is corrected by the \
                       hub's own motion within a step; 0 = plain hold",
         unit: Some("N.m/rad"),
+        min: Some(crate::dynamics::unit::HUB_STIFFNESS_NM_PER_RAD.min),
+        max: Some(crate::dynamics::unit::HUB_STIFFNESS_NM_PER_RAD.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.hub_coupling.c_p, |s, v| s.unit.hub_coupling.c_p = v),
         ..NONE
@@ -541,6 +544,8 @@ const PAIR_COUPLING: [Variable; 4] = [
         description: "Torsional damping of the master's connection at the pinion hub, \
                       -d(tau_p)/d(w_p), N.m.s/rad (the pinion shaft's d1); 0 = plain hold",
         unit: Some("N.m.s/rad"),
+        min: Some(crate::dynamics::unit::HUB_DAMPING_NMS_PER_RAD.min),
+        max: Some(crate::dynamics::unit::HUB_DAMPING_NMS_PER_RAD.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.hub_coupling.d_p, |s, v| s.unit.hub_coupling.d_p = v),
         ..NONE
@@ -551,6 +556,8 @@ const PAIR_COUPLING: [Variable; 4] = [
         description: "Torsional stiffness of the master's connection at the gear hub, \
                       -d(tau_g)/d(phi_g), N.m/rad (the gear shaft's c2); 0 = plain hold",
         unit: Some("N.m/rad"),
+        min: Some(crate::dynamics::unit::HUB_STIFFNESS_NM_PER_RAD.min),
+        max: Some(crate::dynamics::unit::HUB_STIFFNESS_NM_PER_RAD.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.hub_coupling.c_g, |s, v| s.unit.hub_coupling.c_g = v),
         ..NONE
@@ -561,6 +568,8 @@ const PAIR_COUPLING: [Variable; 4] = [
         description: "Torsional damping of the master's connection at the gear hub, \
                       -d(tau_g)/d(w_g), N.m.s/rad (the gear shaft's d2); 0 = plain hold",
         unit: Some("N.m.s/rad"),
+        min: Some(crate::dynamics::unit::HUB_DAMPING_NMS_PER_RAD.min),
+        max: Some(crate::dynamics::unit::HUB_DAMPING_NMS_PER_RAD.max),
         group: group::UNIT,
         access: Access::RealParam(|s| s.unit.hub_coupling.d_g, |s, v| s.unit.hub_coupling.d_g = v),
         ..NONE
@@ -573,6 +582,7 @@ const PAIR_PARTS: &[&[Variable]] = &[
     &UNIT_MESH_OUTPUTS,
     &CALCULATED,
     &GEAR_PARAMS,
+    &DRIVE_TORQUE,
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &PAIR_COUPLING,
@@ -585,6 +595,8 @@ const STAGE_PARTS: &[&[Variable]] = &[
     &UNIT_MESH_OUTPUTS,
     &CALCULATED,
     &GEAR_PARAMS,
+    &DRIVE_TORQUE,
+    &DRIVE_SHAFTS,
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &START_PAIR,
@@ -596,6 +608,9 @@ const DRIVE_PARTS: &[&[Variable]] = &[
     &UNIT_MESH_OUTPUTS,
     &CALCULATED,
     &GEAR_PARAMS,
+    &DRIVE_TORQUE,
+    &DRIVE_INERTIAS,
+    &DRIVE_SHAFTS,
     &MESH_OPTIONS,
     &UNIT_OPTIONS,
     &START_PAIR,
@@ -700,45 +715,16 @@ pub static DRIVE: ModelInfo = ModelInfo {
 
 fn build_unit(kind: UnitKind, s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
     let u = &s.unit;
+    u.check().map_err(|e| e.to_string())?;
     let stepping = match u.integrator {
-        Integrator::Rk4 => {
-            if u.rk4_steps_per_mesh_period < 4 {
-                return Err(format!(
-                    "invalid parameter `rk4_steps_per_mesh_period` = {}: allowed >= 4",
-                    u.rk4_steps_per_mesh_period
-                ));
-            }
-            UnitStepping::Rk4 { steps_per_mesh_period: u.rk4_steps_per_mesh_period }
-        }
-        Integrator::Dopri5 => {
-            for (name, x) in [("rtol", u.rtol), ("atol", u.atol)] {
-                if !(x.is_finite() && x > 0.0) {
-                    return Err(format!(
-                        "invalid parameter `{name}` = {x}: allowed finite and > 0"
-                    ));
-                }
-            }
-            UnitStepping::Dopri5 { rtol: u.rtol, atol: u.atol }
-        }
+        Integrator::Rk4 => UnitStepping::Rk4 { steps_per_mesh_period: u.rk4_steps_per_mesh_period },
+        Integrator::Dopri5 => UnitStepping::Dopri5 { rtol: u.rtol, atol: u.atol },
     };
-    if !u.w_p_start.is_finite() {
-        return Err(format!("invalid parameter `w_p_start` = {}: allowed finite", u.w_p_start));
-    }
     let (mesh, derived) = build_mesh(s)?;
     let drive = Drivetrain::from_pair(&s.pair).map_err(|e| e.to_string())?;
     let mut unit = DriveUnit::new(kind, mesh, drive, stepping)
         .map_err(|e| format!("{} unit: {e}", kind_name(kind)))?;
     let c = u.hub_coupling;
-    for (name, x) in [
-        ("hub_coupling.c_p_nm_per_rad", c.c_p),
-        ("hub_coupling.d_p_nms_per_rad", c.d_p),
-        ("hub_coupling.c_g_nm_per_rad", c.c_g),
-        ("hub_coupling.d_g_nms_per_rad", c.d_g),
-    ] {
-        if !(x.is_finite() && x >= 0.0) {
-            return Err(format!("invalid parameter `{name}` = {x}: allowed finite and >= 0"));
-        }
-    }
     if kind == UnitKind::Pair {
         unit.set_hub_coupling(c).map_err(|e| format!("pair unit: {e}"))?;
     }
