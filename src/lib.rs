@@ -32,6 +32,7 @@ pub mod mesh;
 pub mod modifications;
 pub mod numeric;
 pub mod params;
+pub mod results;
 
 pub use error::ParamError;
 pub use geometry::PairGeometry;
