@@ -33,6 +33,7 @@ pub mod modifications;
 pub mod numeric;
 pub mod options;
 pub mod params;
+pub mod results;
 
 pub use error::ParamError;
 pub use geometry::PairGeometry;

@@ -58,6 +58,7 @@ use helical_gear_mesh::mesh::{
     Fidelity, GearCompliance, Mesh, MeshOptions, MeshState, TipThreshold, pressure_waterfall,
     static_curve, tip_contact_threshold_curve,
 };
+use helical_gear_mesh::results::{StaticCurveRecord, SweepRecord};
 
 /// The paper's values (Andersson & Vedmar 2003) that the run is compared with.
 pub mod reference {
@@ -375,15 +376,22 @@ fn summarise(result: SweepResult, d: f64, reading: DampingReading, d_model: f64)
         (Some(&lo), Some(&hi)) => Some([lo, hi]),
         _ => None,
     };
-    let mut res: Vec<(f64, f64)> =
-        result.resonances.iter().map(|r| (r.omega_p, r.te_max_over_ste_max)).collect();
+    // The normalisation and the resonances are the shared sweep record's.
+    let speeds: Vec<f64> = result.points.iter().map(|p| p.omega_p).collect();
+    let record = SweepRecord::new(&result, &speeds);
+    let mut res: Vec<(f64, f64)> = record
+        .resonances_rad_s
+        .iter()
+        .copied()
+        .zip(record.resonance_te_max_over_ste_max.iter().copied())
+        .collect();
     res.sort_by(|a, b| a.0.total_cmp(&b.0));
     SweepRun {
         summary: SweepSummary {
             d_mesh_n_s_per_m: d,
             damping_reading: reading,
             d_mesh_model_n_s_per_m: d_model,
-            ste_max_um: result.ste.max() * 1e6,
+            ste_max_um: record.ste_max_um,
             resonances_rad_s: res.iter().map(|r| r.0).collect(),
             resonance_te_max_over_ste_max: res.iter().map(|r| r.1).collect(),
             separation_rad_s,
@@ -526,7 +534,9 @@ pub fn run_paper(pair: &GearPair, out: &Path, opts: &PaperOptions) -> Result<Pap
     let pitch = geo.pinion.angular_pitch();
     let torque = pair.drive.torque_nm;
     let curve = static_curve(&mut full, torque, 0.0, pitch, 40, 1).map_err(mesh_err)?;
-    let k_mean = curve.mean_stiffness(geo.pinion.rb);
+    // The static summary is the shared static record's.
+    let static_record = StaticCurveRecord::new(&curve, geo.pinion.rb);
+    static_record.check_finite()?;
     let cos_b = geo.base_helix_angle.cos();
     let extent = curve.points.iter().map(|e| e.outputs.contact_length).sum::<f64>()
         / curve.points.len() as f64
@@ -703,11 +713,11 @@ pub fn run_paper(pair: &GearPair, out: &Path, opts: &PaperOptions) -> Result<Pap
     );
 
     let summary = PaperSummary {
-        ste_max_um: curve.max() * 1e6,
-        ste_min_um: curve.min() * 1e6,
-        ste_mean_um: curve.mean() * 1e6,
-        tip_rounding_contact_static: curve.tip_rounding_contact(),
-        mesh_stiffness_mean_n_per_um: k_mean * 1e-6,
+        ste_max_um: static_record.ste_max_um,
+        ste_min_um: static_record.ste_min_um,
+        ste_mean_um: static_record.ste_mean_um,
+        tip_rounding_contact_static: static_record.tip_rounding_contact,
+        mesh_stiffness_mean_n_per_um: static_record.mesh_stiffness_mean_n_per_um,
         mean_loaded_extent_mn: extent,
         omega_crit_rad_s: w_crit,
         omega_crit_2_rad_s: w2,

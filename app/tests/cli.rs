@@ -375,3 +375,14 @@ fn closed_stdout_ends_quietly() {
         );
     }
 }
+
+#[test]
+fn geometry_json_is_the_geometry_record() {
+    let (ok, stdout, _) = run(&["geometry", "--json"]);
+    assert!(ok);
+    let r: helical_gear_mesh::results::GeometryRecord =
+        serde_json::from_str(&stdout).expect("the record's keys");
+    let p = helical_gear_mesh::GearPair::paper_table1();
+    let g = helical_gear_mesh::PairGeometry::new(&p).unwrap();
+    assert_eq!(r, helical_gear_mesh::results::GeometryRecord::new(&g, &p));
+}

@@ -93,9 +93,11 @@ class Mapping_(Mapping):
 
 
 class Geometry(Mapping_):
-    """Derived geometry of a pair (keys of ``helical-gear geometry --json``): contact ratios
-    ``eps_alpha``, ``eps_beta``; radii ``*_radius_p_m``/``*_g_m``; ``center_distance_m``;
-    angles ``*_rad``; ``base_pitch_m``; ``backlash_te_m``; inertias ``j_p_kgm2``, ``j_g_kgm2``."""
+    """Derived geometry of a pair (the keys and values of ``helical-gear geometry --json``,
+    the library's ``results::GeometryRecord``): contact ratios ``eps_alpha``, ``eps_beta``;
+    radii ``*_radius_p_m``/``*_g_m`` (``relief_start_radius_*_m`` None without tip relief);
+    ``center_distance_m``; angles ``*_rad`` (``angular_pitch_p_rad``); ``base_pitch_m``;
+    ``backlash_te_m``; inertias ``j_p_kgm2``, ``j_g_kgm2``; ``assumptions`` (sentences)."""
 
 
 def geometry(pair: GearPair | None = None) -> Geometry:
@@ -301,15 +303,15 @@ def static_curve(
     return StaticCurve(
         torque_nm=d["torque_nm"],
         phi_p=np.array(d["phi_p_rad"]),
-        ste=np.array(d["ste_m"]),
+        ste=np.array(d["ste_um"]) * 1e-6,
         n_pairs=np.array(d["n_pairs"], dtype=np.uint32),
         p_max=np.array(d["p_max_pa"]),
         tip_contact=np.array(d["tip_contact"], dtype=bool),
         contact_length=np.array(d["contact_length_m"]),
-        ste_max=d["ste_max_m"],
-        ste_min=d["ste_min_m"],
-        ste_mean=d["ste_mean_m"],
-        mesh_stiffness_mean=d["mesh_stiffness_mean_n_per_m"],
+        ste_max=d["ste_max_um"] * 1e-6,
+        ste_min=d["ste_min_um"] * 1e-6,
+        ste_mean=d["ste_mean_um"] * 1e-6,
+        mesh_stiffness_mean=d["mesh_stiffness_mean_n_per_um"] * 1e6,
     )
 
 
@@ -486,8 +488,10 @@ def sweep(
         resonances=np.array(d["resonances_rad_s"], dtype=float),
         resonance_te_max_over_ste_max=np.array(d["resonance_te_max_over_ste_max"], dtype=float),
         peak_te_ratio=d["peak_te_max_over_ste_max"],
-        ste_max=d["ste_max_m"],
-        mesh_stiffness=d["mesh_stiffness_n_per_m"],
+        ste_max=d["ste_max_um"] * 1e-6,
+        mesh_stiffness=(
+            None if d["mesh_stiffness_n_per_um"] is None else d["mesh_stiffness_n_per_um"] * 1e6
+        ),
         warnings=tuple(d["warnings"]),
         wall_seconds=d["wall_seconds"],
     )

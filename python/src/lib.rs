@@ -35,6 +35,7 @@ use helical_gear_mesh::mesh::{
     static_curve,
 };
 use helical_gear_mesh::options::Integrator;
+use helical_gear_mesh::results::{GeometryRecord, StaticCurveRecord, SweepRecord};
 use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
@@ -246,35 +247,16 @@ fn assumptions(py: Python<'_>, pair_json: &str) -> PyResult<Vec<String>> {
     run(py, || Ok(parse_pair(pair_json)?.assumptions()))
 }
 
-/// Derived geometry of the pair as JSON (the keys of `helical-gear geometry --json`, SI).
+/// Derived geometry of the pair as JSON: the library's `results::GeometryRecord`, the keys
+/// and values of `helical-gear geometry --json`.
 #[pyfunction]
 fn geometry_json(py: Python<'_>, pair_json: &str) -> PyResult<String> {
     run(py, || {
         let p = parse_pair(pair_json)?;
         let g = PairGeometry::new(&p)?;
-        to_json_text(&json!({
-            "eps_alpha": g.eps_alpha,
-            "eps_beta": g.eps_beta,
-            "base_radius_p_m": g.pinion.rb,
-            "base_radius_g_m": g.gear.rb,
-            "tip_radius_p_m": g.pinion.ra,
-            "tip_radius_g_m": g.gear.ra,
-            "root_radius_p_m": g.pinion.rf,
-            "root_radius_g_m": g.gear.rf,
-            "reference_radius_p_m": g.pinion.r,
-            "reference_radius_g_m": g.gear.r,
-            "form_radius_p_m": g.pinion.r_form,
-            "form_radius_g_m": g.gear.r_form,
-            "center_distance_m": g.center_distance,
-            "transverse_pressure_angle_rad": g.alpha_t,
-            "operating_pressure_angle_rad": g.alpha_wt,
-            "base_helix_angle_rad": g.base_helix_angle,
-            "base_pitch_m": g.base_pitch,
-            "backlash_te_m": g.backlash_te,
-            "angular_pitch_p_rad": g.pinion.angular_pitch(),
-            "j_p_kgm2": g.j_p,
-            "j_g_kgm2": g.j_g,
-        }))
+        let record = GeometryRecord::new(&g, &p);
+        record.check_finite().map_err(Failure::Solver)?;
+        to_json_text(&record)
     })
 }
 
@@ -515,9 +497,10 @@ impl MeshModel {
     }
 
     /// Static transmission error (Eq. 16) at torque `torque` (N·m) on `points_per_pitch`
-    /// pinion angles per pitch over `pitches` pitches from φp = 0: JSON with per-point arrays
-    /// (`phi_p_rad`, `ste_m`, `n_pairs`, `p_max_pa`, `tip_contact`, `contact_length_m`) and the
-    /// summary (`ste_max_m`, `ste_min_m`, `ste_mean_m`, `mesh_stiffness_mean_n_per_m`).
+    /// pinion angles per pitch over `pitches` pitches from φp = 0: JSON of the library's
+    /// `results::StaticCurveRecord` (per-point arrays `phi_p_rad`, `ste_um`, `n_pairs`,
+    /// `p_max_pa`, `tip_contact`, `contact_length_m`; summary `ste_max_um`, `ste_min_um`,
+    /// `ste_mean_um`, `ste_peak_to_peak_um`, `mesh_stiffness_mean_n_per_um`).
     #[pyo3(signature = (torque, points_per_pitch = 20, pitches = 1))]
     fn static_curve_json(
         &self,
@@ -542,21 +525,9 @@ impl MeshModel {
             let geo = m.geometry().clone();
             let pitch = geo.pinion.angular_pitch();
             let c = static_curve(&mut m, torque, 0.0, pitch, points_per_pitch, pitches)?;
-            let pts = &c.points;
-            to_json_text(&json!({
-                "torque_nm": torque,
-                "phi_p_rad": pts.iter().map(|e| e.phi_p).collect::<Vec<_>>(),
-                "ste_m": pts.iter().map(|e| e.te).collect::<Vec<_>>(),
-                "n_pairs": pts.iter().map(|e| e.outputs.n_pairs).collect::<Vec<_>>(),
-                "p_max_pa": pts.iter().map(|e| e.outputs.p_max).collect::<Vec<_>>(),
-                "tip_contact": pts.iter().map(|e| e.outputs.tip_contact).collect::<Vec<_>>(),
-                "contact_length_m": pts.iter().map(|e| e.outputs.contact_length).collect::<Vec<_>>(),
-                "ste_max_m": c.max(),
-                "ste_min_m": c.min(),
-                "ste_mean_m": c.mean(),
-                "mesh_stiffness_mean_n_per_m": c.mean_stiffness(geo.pinion.rb),
-                "tip_rounding_contact": c.tip_rounding_contact(),
-            }))
+            let record = StaticCurveRecord::new(&c, geo.pinion.rb);
+            record.check_finite().map_err(Failure::Solver)?;
+            to_json_text(&record)
         })
     }
 
@@ -663,8 +634,9 @@ impl MeshModel {
 
     /// Steady-state TE_max/STE_max at every speed of `speeds` (rad/s, > 0, ascending) with the
     /// drivetrain and mesh damping of `pair_json`, and the located resonances (the library's
-    /// `dynamics::sweep`): JSON with per-speed arrays, `resonances_rad_s`,
-    /// `resonance_te_max_over_ste_max`, `ste_max_m`, `mesh_stiffness_n_per_m`, `warnings`.
+    /// `dynamics::sweep`): JSON of the library's `results::SweepRecord` (per-speed arrays,
+    /// `resonances_rad_s`, `resonance_te_max_over_ste_max`, `ste_max_um`,
+    /// `mesh_stiffness_n_per_um`, `warnings`).
     #[pyo3(signature = (pair_json, speeds, steps_per_period = DEFAULT_STEPS_PER_MESH_PERIOD, max_periods = 3000, refine_runs = 6, min_prominence = 0.005, threads = None))]
     #[allow(clippy::too_many_arguments)]
     fn sweep_json(
@@ -699,32 +671,9 @@ impl MeshModel {
                 ..SweepOptions::default()
             };
             let r = sweep(&mesh, &drive, &speeds, &opts)?;
-            let pts = &r.points;
-            let all_runs = pts.iter().chain(r.resonances.iter().flat_map(|x| x.refinement.iter()));
-            let warnings: Vec<String> = all_runs
-                .clone()
-                .filter_map(|p| p.warning.map(|w| format!("ω_p = {} rad/s: {w}", p.omega_p)))
-                .collect();
-            let peak = all_runs.map(|p| p.te_max_over_ste_max).fold(f64::NEG_INFINITY, f64::max);
-            to_json_text(&json!({
-                "speeds_rad_s": speeds,
-                "te_max_over_ste_max": pts.iter().map(|p| p.te_max_over_ste_max).collect::<Vec<_>>(),
-                "te_min_over_ste_max": pts.iter().map(|p| p.te_min_over_ste_max).collect::<Vec<_>>(),
-                "separated": pts.iter().map(|p| p.separated).collect::<Vec<_>>(),
-                "back_contact": pts.iter().map(|p| p.back_contact).collect::<Vec<_>>(),
-                "tip_contact": pts.iter().map(|p| p.tip_contact).collect::<Vec<_>>(),
-                "steady": pts.iter().map(|p| p.steady).collect::<Vec<_>>(),
-                "periods": pts.iter().map(|p| p.periods).collect::<Vec<_>>(),
-                "resonances_rad_s": r.resonances.iter().map(|x| x.omega_p).collect::<Vec<_>>(),
-                "resonance_te_max_over_ste_max":
-                    r.resonances.iter().map(|x| x.te_max_over_ste_max).collect::<Vec<_>>(),
-                "peak_te_max_over_ste_max": peak,
-                "ste_max_m": r.ste.max(),
-                "mesh_stiffness_n_per_m": r.mesh_stiffness,
-                "max_step_s": r.max_step,
-                "warnings": warnings,
-                "wall_seconds": r.wall_seconds,
-            }))
+            let record = SweepRecord::new(&r, &speeds);
+            record.check_finite().map_err(Failure::Solver)?;
+            to_json_text(&record)
         })
     }
 

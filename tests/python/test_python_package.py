@@ -155,6 +155,18 @@ def test_state_outside_the_validity_range_raises():
     assert issubclass(hg.SolverError, hg.GearMeshError)
 
 
+def test_geometry_equals_the_cli(tmp_path):
+    cli = RELEASE / "helical-gear"
+    if not cli.exists():
+        pytest.fail(f"{cli} is missing: build it with `cargo build --release --bin helical-gear`")
+    run = subprocess.run([str(cli), "geometry", "--json"], capture_output=True, text=True,
+                         check=True)
+    ref = json.loads(run.stdout)
+    g = hg.geometry()
+    assert set(g) == set(ref)
+    assert all(g[k] == ref[k] for k in ref), [k for k in ref if g[k] != ref[k]]
+
+
 def test_static_curve_equals_the_cli(tmp_path):
     cli = RELEASE / "helical-gear"
     if not cli.exists():
@@ -166,10 +178,12 @@ def test_static_curve_equals_the_cli(tmp_path):
                           "--points-per-pitch", "6"], capture_output=True, text=True, check=True)
     ref = json.loads(run.stdout)
     c = hg.static_curve(pair, points_per_pitch=6)
-    assert c.ste_max * 1e6 == ref["ste_max_um"]
+    # Python reads the same record as the CLI prints (µm), in m.
+    assert c.ste_max == ref["ste_max_um"] * 1e-6
     assert c.ste_peak_to_peak * 1e6 == pytest.approx(ref["ste_peak_to_peak_um"], rel=1e-12)
-    assert c.mesh_stiffness_mean * 1e-6 == ref["mesh_stiffness_mean_n_per_um"]
-    assert [p["ste_um"] for p in ref["points"]] == list(c.ste * 1e6)
+    assert c.mesh_stiffness_mean == ref["mesh_stiffness_mean_n_per_um"] * 1e6
+    assert [p["ste_um"] * 1e-6 for p in ref["points"]] == list(c.ste)
+    assert ref["ste_um"] == [p["ste_um"] for p in ref["points"]]
     df = c.to_dataframe()
     assert list(df.columns)[:2] == ["phi_p", "ste"] and len(df) == 6
 

@@ -15,7 +15,6 @@ use std::io::Write;
 
 use clap::{Args, ValueEnum};
 use helical_gear_mesh::GearPair;
-use helical_gear_mesh::dynamics::model::STATE_NAMES;
 use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
 use helical_gear_mesh::dynamics::steady::steady_max_periods;
 use helical_gear_mesh::dynamics::{
@@ -26,7 +25,8 @@ use helical_gear_mesh::dynamics::{
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshTorques,
 };
-use serde_json::{Value, json};
+use helical_gear_mesh::results::{SweepRecord, TrajectoryRecord};
+use serde_json::json;
 
 use super::{Common, load_params};
 
@@ -235,16 +235,12 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
     let tr = simulate(&mut model, &start.y, a.t_end, &stepping).map_err(|e| e.to_string())?;
     let seconds = t0.elapsed().as_secs_f64();
 
-    let mut columns: Vec<(&str, Vec<f64>)> = Vec::with_capacity(14);
-    columns.push(("time_s", tr.time.clone()));
-    for (i, name) in STATE_NAMES.iter().enumerate() {
-        columns.push((name, tr.states.iter().map(|y| y[i]).collect()));
+    let record = TrajectoryRecord::new(&tr);
+    record.check_finite()?;
+    if !start.te.is_finite() {
+        return Err(format!("result field te_static_start_m = {} is not finite", start.te));
     }
-    columns.push(("te_m", tr.outputs.iter().map(|o| o.te).collect()));
-    columns.push(("m_f_p_nm", tr.outputs.iter().map(|o| o.m_f_p).collect()));
-    columns.push(("m_f_g_nm", tr.outputs.iter().map(|o| o.m_f_g).collect()));
-    columns.push(("m_d_p_nm", tr.outputs.iter().map(|o| o.m_d_p).collect()));
-    columns.push(("m_d_g_nm", tr.outputs.iter().map(|o| o.m_d_g).collect()));
+    let columns = record.columns();
 
     let stdout = std::io::stdout();
     let mut w = std::io::BufWriter::new(stdout.lock());
@@ -257,21 +253,18 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
         CliMethod::Dopri5 => "dopri5",
     };
     if a.common.json {
-        let mut obj = serde_json::Map::new();
+        let mut out = serde_json::to_value(&record).map_err(|e| format!("JSON: {e}"))?;
+        let obj = out.as_object_mut().ok_or("JSON: the trajectory record is not an object")?;
         obj.insert("omega_p_rad_s".into(), json!(a.omega_p));
         obj.insert("t_end_s".into(), json!(a.t_end));
         obj.insert("method".into(), json!(method));
         obj.insert("dt_s".into(), json!(dt_used));
         obj.insert("fidelity".into(), json!(a.fidelity.name()));
-        obj.insert("mesh_period_s".into(), json!(t_m));
+        // At rest the mesh period is infinite: null.
+        obj.insert("mesh_period_s".into(), json!(t_m.is_finite().then_some(t_m)));
         obj.insert("te_static_start_m".into(), json!(start.te));
-        obj.insert("steps".into(), json!(tr.steps));
-        obj.insert("mesh_evaluations".into(), json!(tr.mesh_evaluations));
         obj.insert("columns".into(), json!(columns.iter().map(|c| c.0).collect::<Vec<_>>()));
-        for (name, v) in &columns {
-            obj.insert((*name).into(), json!(v));
-        }
-        writeln!(w, "{}", Value::Object(obj)).map_err(io_err)?;
+        writeln!(w, "{out}").map_err(io_err)?;
     } else if a.csv {
         let header: Vec<&str> = columns.iter().map(|c| c.0).collect();
         writeln!(w, "{}", header.join(",")).map_err(io_err)?;
@@ -280,7 +273,7 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             writeln!(w, "{}", row.join(",")).map_err(io_err)?;
         }
     } else {
-        let te: &Vec<f64> = &columns[9].1;
+        let te: &[f64] = &record.te_m;
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for &x in te {
             lo = lo.min(x);
@@ -376,39 +369,14 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     };
     let r = sweep(&mesh, &drive, &speeds, &opts).map_err(|e| e.to_string())?;
     let ste_max = r.ste.max();
-    let warnings: Vec<String> = r
-        .points
-        .iter()
-        .chain(r.resonances.iter().flat_map(|x| x.refinement.iter()))
-        .filter_map(|p| p.warning.map(|w| format!("ω_p = {} rad/s: {w}", p.omega_p)))
-        .collect();
-    let col = |f: &dyn Fn(&helical_gear_mesh::dynamics::SweepPoint) -> Value| -> Vec<Value> {
-        r.points.iter().map(f).collect()
-    };
-    let out = json!({
-        "speeds_rad_s": speeds,
-        "te_max_over_ste_max": col(&|p| json!(p.te_max_over_ste_max)),
-        "te_min_over_ste_max": col(&|p| json!(p.te_min_over_ste_max)),
-        "separated": col(&|p| json!(p.separated)),
-        "back_contact": col(&|p| json!(p.back_contact)),
-        "tip_contact": col(&|p| json!(p.tip_contact)),
-        "steady": col(&|p| json!(p.steady)),
-        "period_multiple": col(&|p| json!(p.period_multiple)),
-        "periods": col(&|p| json!(p.periods)),
-        "resonances_rad_s": r.resonances.iter().map(|x| x.omega_p).collect::<Vec<_>>(),
-        "resonance_te_max_over_ste_max":
-            r.resonances.iter().map(|x| x.te_max_over_ste_max).collect::<Vec<_>>(),
-        "resonance_brackets_rad_s":
-            r.resonances.iter().map(|x| [x.bracket.0, x.bracket.1]).collect::<Vec<_>>(),
-        "ste_max_um": ste_max * 1e6,
-        "d_mesh_n_s_per_m": pair.d_mesh_n_s_per_m,
-        "fidelity": a.fidelity.name(),
-        "mesh_stiffness_n_per_um": r.mesh_stiffness.map(|k| k * 1e-6),
-        "max_step_s": r.max_step,
-        "steps_per_period": a.steps_per_period,
-        "warnings": warnings,
-        "wall_seconds": r.wall_seconds,
-    });
+    let record = SweepRecord::new(&r, &speeds);
+    record.check_finite()?;
+    let warnings = &record.warnings;
+    let mut out = serde_json::to_value(&record).map_err(|e| format!("JSON: {e}"))?;
+    let obj = out.as_object_mut().ok_or("JSON: the sweep record is not an object")?;
+    obj.insert("d_mesh_n_s_per_m".into(), json!(pair.d_mesh_n_s_per_m));
+    obj.insert("fidelity".into(), json!(a.fidelity.name()));
+    obj.insert("steps_per_period".into(), json!(a.steps_per_period));
     let stdout = std::io::stdout();
     let mut w = std::io::BufWriter::new(stdout.lock());
     if a.common.json {
@@ -457,7 +425,7 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
             )
             .map_err(io_err)?;
         }
-        for s in &warnings {
+        for s in warnings {
             writeln!(w, "  warning: {s}").map_err(io_err)?;
         }
     }

@@ -2,7 +2,7 @@
 //! inertias).
 
 use helical_gear_mesh::PairGeometry;
-use serde_json::json;
+use helical_gear_mesh::results::GeometryRecord;
 
 use super::{Common, load_params};
 
@@ -11,33 +11,9 @@ use super::{Common, load_params};
 pub fn geometry_cmd(common: &Common) -> Result<(), String> {
     let p = load_params(common)?;
     let g = PairGeometry::new(&p).map_err(|e| e.to_string())?;
-    let out = json!({
-        "eps_alpha": g.eps_alpha,
-        "eps_beta": g.eps_beta,
-        "base_radius_p_m": g.pinion.rb,
-        "base_radius_g_m": g.gear.rb,
-        "tip_radius_p_m": g.pinion.ra,
-        "tip_radius_g_m": g.gear.ra,
-        "root_radius_p_m": g.pinion.rf,
-        "root_radius_g_m": g.gear.rf,
-        "reference_radius_p_m": g.pinion.r,
-        "reference_radius_g_m": g.gear.r,
-        "form_radius_p_m": g.pinion.r_form,
-        "form_radius_g_m": g.gear.r_form,
-        "relief_start_radius_p_m": g.pinion.r_relief_start,
-        "relief_start_radius_g_m": g.gear.r_relief_start,
-        "rounding_start_radius_p_m": g.pinion.r_rounding_start,
-        "rounding_start_radius_g_m": g.gear.r_rounding_start,
-        "center_distance_m": g.center_distance,
-        "transverse_pressure_angle_rad": g.alpha_t,
-        "operating_pressure_angle_rad": g.alpha_wt,
-        "base_helix_angle_rad": g.base_helix_angle,
-        "base_pitch_m": g.base_pitch,
-        "backlash_te_m": g.backlash_te,
-        "j_p_kgm2": g.j_p,
-        "j_g_kgm2": g.j_g,
-        "assumptions": p.assumptions(),
-    });
+    let record = GeometryRecord::new(&g, &p);
+    record.check_finite()?;
+    let out = serde_json::to_value(&record).map_err(|e| format!("JSON: {e}"))?;
     if common.json {
         println!("{out}");
     } else {
@@ -48,7 +24,8 @@ pub fn geometry_cmd(common: &Common) -> Result<(), String> {
             p.normal_module_m * 1e3
         );
         for (k, v) in out.as_object().into_iter().flatten() {
-            if k != "assumptions" {
+            // The text lists what it listed before the record had the angular pitch.
+            if k != "assumptions" && k != "angular_pitch_p_rad" {
                 println!("  {k:32} {v}");
             }
         }

@@ -3,6 +3,7 @@
 
 use helical_gear_app::paper;
 use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
+use helical_gear_mesh::results::StaticCurveRecord;
 use serde_json::json;
 
 use super::{Common, load_params, mods};
@@ -65,24 +66,38 @@ pub fn static_cmd(
             })
         })
         .collect();
-    let out = json!({
-        "torque_nm": torque,
-        "slices": slices,
-        "ste_max_um": curve.max() * 1e6,
-        "ste_min_um": curve.min() * 1e6,
-        "ste_mean_um": curve.mean() * 1e6,
-        "ste_peak_to_peak_um": (curve.max() - curve.min()) * 1e6,
-        "mesh_stiffness_mean_n_per_um": stiffness * 1e-6,
-        "tip_rounding_contact": curve.tip_rounding_contact(),
-        "k_h_beta_max": fl.k_h_beta_max,
-        "k_h_beta_cycle": fl.k_h_beta_cycle,
-        "k_h_beta_iso": fl.k_h_beta_iso,
-        "f_beta_y_um": fl.f_beta_y_m * 1e6,
-        "c_gamma_n_per_mm_per_um": fl.c_gamma_n_per_mm_um,
-        "model_build_s": build_s,
-        "seconds": seconds,
-        "points": points,
-    });
+    // The shared static record (per-point arrays and summary), then the face load and the
+    // run's figures of this command.
+    let record = StaticCurveRecord::new(&curve, rb);
+    record.check_finite()?;
+    let extra = [
+        ("k_h_beta_max", fl.k_h_beta_max),
+        ("k_h_beta_cycle", fl.k_h_beta_cycle),
+        ("k_h_beta_iso", fl.k_h_beta_iso),
+        ("f_beta_y_um", fl.f_beta_y_m * 1e6),
+        ("c_gamma_n_per_mm_per_um", fl.c_gamma_n_per_mm_um),
+    ];
+    for (name, v) in extra {
+        if !v.is_finite() {
+            return Err(format!("result field {name} = {v} is not finite"));
+        }
+    }
+    if let Some((i, _)) =
+        fl.points.iter().enumerate().find(|(_, (k, w_max, w_mean))| {
+            !(k.is_finite() && w_max.is_finite() && w_mean.is_finite())
+        })
+    {
+        return Err(format!("result field points[{i}] (K_Hβ, line load) is not finite"));
+    }
+    let mut out = serde_json::to_value(&record).map_err(|e| format!("JSON: {e}"))?;
+    let obj = out.as_object_mut().ok_or("JSON: the static record is not an object")?;
+    obj.insert("slices".into(), json!(slices));
+    for (name, v) in extra {
+        obj.insert(name.into(), json!(v));
+    }
+    obj.insert("model_build_s".into(), json!(build_s));
+    obj.insert("seconds".into(), json!(seconds));
+    obj.insert("points".into(), json!(points));
     if common.json {
         println!("{out}");
     } else {

@@ -1,0 +1,150 @@
+//! Tests of `results`: every record round-trips through JSON unchanged, `check_finite` names
+//! the first non-finite field, and the static record of a constant-stiffness mesh has its
+//! closed form (STE = M/(g_p·k), mean stiffness k).
+
+use helical_gear_mesh::dynamics::{Clearance, ConstantStiffnessMesh, SweepResult, Trajectory};
+use helical_gear_mesh::mesh::MeshOutputs;
+use helical_gear_mesh::mesh::statics::static_curve;
+use helical_gear_mesh::results::{
+    GeometryRecord, StaticCurveRecord, SweepRecord, TrajectoryRecord,
+};
+use helical_gear_mesh::{GearPair, PairGeometry};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+fn round_trip<T: Serialize + DeserializeOwned + PartialEq + std::fmt::Debug>(r: &T) {
+    let text = serde_json::to_string(r).unwrap();
+    let back: T = serde_json::from_str(&text).unwrap();
+    assert_eq!(&back, r, "{text}");
+}
+
+fn geometry() -> GeometryRecord {
+    let p = GearPair::paper_table1();
+    GeometryRecord::new(&PairGeometry::new(&p).unwrap(), &p)
+}
+
+/// Constant stiffness k = 4e8 N/m on g_p = 0.05 m, M = 100 N·m: STE = 5 µm everywhere.
+fn static_record() -> StaticCurveRecord {
+    let (k, g_p) = (4e8, 0.05);
+    let mut mesh = ConstantStiffnessMesh::new(k, 0.0, g_p, 0.1, Clearance::Separating).unwrap();
+    let curve = static_curve(&mut mesh, 100.0, 0.0, 0.2, 5, 1).unwrap();
+    StaticCurveRecord::new(&curve, g_p)
+}
+
+fn sweep_record() -> SweepRecord {
+    let curve = static_curve(
+        &mut ConstantStiffnessMesh::new(4e8, 0.0, 0.05, 0.1, Clearance::Separating).unwrap(),
+        100.0,
+        0.0,
+        0.2,
+        4,
+        1,
+    )
+    .unwrap();
+    let r = SweepResult {
+        ste: curve,
+        points: Vec::new(),
+        resonances: Vec::new(),
+        mesh_stiffness: Some(4e8),
+        max_step: Some(1e-5),
+        wall_seconds: 0.25,
+    };
+    let mut s = SweepRecord::new(&r, &[]);
+    // The per-speed arrays of a three-speed sweep (the constructor's mapping is the identity).
+    s.speeds_rad_s = vec![100.0, 200.0, 300.0];
+    s.te_max_over_ste_max = vec![1.1, 1.6, 1.2];
+    s.te_min_over_ste_max = vec![0.9, -0.1, 0.8];
+    s.separated = vec![false, true, false];
+    s.back_contact = vec![false; 3];
+    s.tip_contact = vec![false, true, false];
+    s.steady = vec![true; 3];
+    s.period_multiple = vec![1; 3];
+    s.periods = vec![40.0, 52.5, 40.0];
+    s.resonances_rad_s = vec![205.0];
+    s.resonance_te_max_over_ste_max = vec![1.65];
+    s.resonance_brackets_rad_s = vec![[100.0, 300.0]];
+    s.peak_te_max_over_ste_max = 1.65;
+    s
+}
+
+fn trajectory_record() -> TrajectoryRecord {
+    let out = MeshOutputs { te: 5e-6, m_f_p: 100.0, m_f_g: 200.0, ..MeshOutputs::default() };
+    let tr = Trajectory {
+        time: vec![0.0, 1e-4],
+        states: vec![[0.1, 0.2, 0.3, 0.4, 100.0, 100.0, 50.0, 50.0]; 2],
+        outputs: vec![out; 2],
+        steps: 1,
+        mesh_evaluations: 4,
+    };
+    TrajectoryRecord::new(&tr)
+}
+
+#[test]
+fn every_record_round_trips_through_json() {
+    round_trip(&geometry());
+    round_trip(&static_record());
+    round_trip(&sweep_record());
+    round_trip(&trajectory_record());
+    // An absent relief start stays absent (null).
+    let mut g = geometry();
+    g.relief_start_radius_p_m = None;
+    round_trip(&g);
+}
+
+#[test]
+fn check_finite_names_the_first_non_finite_field() {
+    assert_eq!(geometry().check_finite(), Ok(()));
+    assert_eq!(static_record().check_finite(), Ok(()));
+    assert_eq!(sweep_record().check_finite(), Ok(()));
+    assert_eq!(trajectory_record().check_finite(), Ok(()));
+
+    let mut g = geometry();
+    g.base_pitch_m = f64::NAN;
+    g.j_g_kgm2 = f64::NAN;
+    assert!(g.check_finite().unwrap_err().contains("base_pitch_m"), "the first one is named");
+    let mut g = geometry();
+    g.relief_start_radius_g_m = Some(f64::INFINITY);
+    assert!(g.check_finite().unwrap_err().contains("relief_start_radius_g_m"));
+
+    let mut s = static_record();
+    s.ste_um[3] = f64::NAN;
+    assert!(s.check_finite().unwrap_err().contains("ste_um[3]"));
+    let mut s = static_record();
+    s.mesh_stiffness_mean_n_per_um = f64::NEG_INFINITY;
+    assert!(s.check_finite().unwrap_err().contains("mesh_stiffness_mean_n_per_um"));
+
+    let mut w = sweep_record();
+    w.te_max_over_ste_max[1] = f64::NAN;
+    assert!(w.check_finite().unwrap_err().contains("te_max_over_ste_max[1]"));
+    let mut w = sweep_record();
+    w.resonance_brackets_rad_s[0][1] = f64::NAN;
+    assert!(w.check_finite().unwrap_err().contains("resonance_brackets_rad_s"));
+
+    let mut t = trajectory_record();
+    t.m_d_g_nm[1] = f64::NAN;
+    assert!(t.check_finite().unwrap_err().contains("m_d_g_nm[1]"));
+}
+
+#[test]
+fn static_record_of_a_constant_stiffness_mesh_is_the_closed_form() {
+    let s = static_record();
+    assert_eq!(s.ste_um.len(), 5);
+    for &x in &s.ste_um {
+        assert!((x - 5.0).abs() < 1e-6, "STE {x} µm vs M/(g_p·k) = 5 µm");
+    }
+    assert!((s.ste_max_um - 5.0).abs() < 1e-6 && (s.ste_min_um - 5.0).abs() < 1e-6);
+    assert!(s.ste_peak_to_peak_um.abs() < 1e-6);
+    assert!((s.mesh_stiffness_mean_n_per_um - 400.0).abs() < 1e-4, "k = 4e8 N/m = 400 N/µm");
+    assert_eq!(s.torque_nm, 100.0);
+}
+
+#[test]
+fn geometry_record_has_the_table1_values() {
+    let p = GearPair::paper_table1();
+    let g = PairGeometry::new(&p).unwrap();
+    let r = GeometryRecord::new(&g, &p);
+    assert_eq!(r.eps_alpha, g.eps_alpha);
+    assert_eq!(r.base_radius_p_m, g.pinion.rb);
+    assert_eq!(r.angular_pitch_p_rad, 2.0 * std::f64::consts::PI / p.z_p as f64);
+    assert_eq!(r.assumptions, p.assumptions());
+}
