@@ -20,6 +20,7 @@
 
 pub mod analytic_mesh;
 pub mod integrators;
+pub mod kind;
 pub mod limits;
 pub mod model;
 pub mod relative;

@@ -29,8 +29,8 @@
 //! speed for φ̇p.
 
 use super::integrators::{OdeError, OdeSystem};
+use super::kind::{UnitKind, UnitLinearization};
 use super::model::N_STATES;
-use super::unit::{UnitKind, UnitLinearization};
 
 /// State names in relative coordinates (FMI variable names), Pair and Stage.
 pub const PAIR_STATES: [&str; 4] = ["phi_p", "TE", "w_p", "v_TE"];

@@ -125,6 +125,8 @@
 use std::ops::ControlFlow;
 
 use super::integrators::{Dopri5, Dopri5Options, OdeError, OdeSystem, Rk4};
+/// The unit kinds and the shape of a unit's linearisation ([`super::kind`]), where they were.
+pub use super::kind::{UnitKind, UnitLinearization};
 use super::limits::{MAX_UNIT_SUBSTEPS, stable_rk4_step};
 use super::model::{
     Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
@@ -152,44 +154,6 @@ pub const ATOL: Bounds<f64> = Bounds::new(1e-30, 1.0, "");
 /// precision, (t + h) − t, and the step h asked for; beyond it [`DriveUnit::advance`] refuses
 /// the step (at h = 10⁻⁴ s from about t = 10⁹ s on; `t + h == t` from about 10¹⁷ s on).
 pub const TIME_RESOLUTION: f64 = 1e-3;
-
-/// Which part of the drive line a unit holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum UnitKind {
-    /// J_p, J_g and the mesh. States (φp, φg, φ̇p, φ̇g). Inputs tau_p, tau_g.
-    Pair = 0,
-    /// Pair plus the shafts c1/d1, c2/d2. States (φp, φg, φ̇p, φ̇g). Inputs phi_1, w_1, phi_2,
-    /// w_2.
-    Stage = 1,
-    /// The whole 4-DOF model of Eqs. 1–4. States in the order of dynamics::model (8). Input M.
-    Drive = 2,
-}
-
-impl UnitKind {
-    /// Number of states: 4 for Pair and Stage, 8 for Drive.
-    pub fn n_states(self) -> usize {
-        match self {
-            UnitKind::Pair | UnitKind::Stage => 4,
-            UnitKind::Drive => N_STATES,
-        }
-    }
-
-    /// State names in state order (rad, rad/s).
-    pub fn state_names(self) -> &'static [&'static str] {
-        match self {
-            UnitKind::Pair | UnitKind::Stage => &["phi_p", "phi_g", "w_p", "w_g"],
-            UnitKind::Drive => &["phi_1", "phi_p", "phi_g", "phi_2", "w_1", "w_p", "w_g", "w_2"],
-        }
-    }
-
-    /// Indices of (φp, φg, φ̇p, φ̇g) in the state vector.
-    fn hub_indices(self) -> [usize; 4] {
-        match self {
-            UnitKind::Pair | UnitKind::Stage => [0, 1, 2, 3],
-            UnitKind::Drive => [PHI_P, PHI_G, W_P, W_G],
-        }
-    }
-}
 
 /// How a unit integrates inside a communication step.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -432,61 +396,6 @@ impl UnitOutputs {
             "F_n" => self.mesh.f_n,
             _ => return None,
         })
-    }
-}
-
-/// Dense linearisation (row-major matrices) at one (t, x, u):
-/// ẋ ≈ A·δx + B·δu, out ≈ C·δx + D·δu.
-#[derive(Debug, Clone, PartialEq)]
-pub struct UnitLinearization {
-    /// Number of states (columns of A and C).
-    pub n_x: usize,
-    /// Number of inputs (columns of B and D), in the order of [`Self::inputs`].
-    pub n_u: usize,
-    /// Number of outputs (rows of C and D), in the order of [`Self::outputs`].
-    pub n_y: usize,
-    /// A = ∂ẋ/∂x, n_x × n_x, row-major (units: those of ẋ over those of x).
-    pub a: Vec<f64>,
-    /// B = ∂ẋ/∂u, n_x × n_u.
-    pub b: Vec<f64>,
-    /// C = ∂out/∂x, n_y × n_x.
-    pub c: Vec<f64>,
-    /// D = ∂out/∂u, n_y × n_u.
-    pub d: Vec<f64>,
-}
-
-const PAIR_OUTPUTS: [&str; 11] =
-    ["phi_p", "w_p", "a_p", "phi_g", "w_g", "a_g", "M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"];
-const STAGE_OUTPUTS: [&str; 13] = [
-    "phi_p", "w_p", "a_p", "phi_g", "w_g", "a_g", "tau_1", "tau_2", "M_F_p", "M_F_g", "M_D_p",
-    "M_D_g", "TE",
-];
-const DRIVE_OUTPUTS: [&str; 17] = [
-    "phi_1", "phi_p", "phi_g", "phi_2", "w_1", "w_p", "w_g", "w_2", "a_p", "a_g", "tau_1", "tau_2",
-    "M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE",
-];
-
-impl UnitLinearization {
-    /// Input names in column order of B and D, per kind: Pair `tau_p`, `tau_g`; Stage
-    /// `phi_1`, `w_1`, `phi_2`, `w_2`; Drive `M`.
-    pub fn inputs(kind: UnitKind) -> &'static [&'static str] {
-        match kind {
-            UnitKind::Pair => &["tau_p", "tau_g"],
-            UnitKind::Stage => &["phi_1", "w_1", "phi_2", "w_2"],
-            UnitKind::Drive => &["M"],
-        }
-    }
-
-    /// Output names in row order of C and D (FMU output names): Pair `phi_p`, `w_p`, `a_p`,
-    /// `phi_g`, `w_g`, `a_g`, `M_F_p`, `M_F_g`, `M_D_p`, `M_D_g`, `TE`; Stage the same with
-    /// `tau_1`, `tau_2` after `a_g`; Drive the eight states, `a_p`, `a_g`, `tau_1`, `tau_2` and
-    /// the mesh torques and `TE`.
-    pub fn outputs(kind: UnitKind) -> &'static [&'static str] {
-        match kind {
-            UnitKind::Pair => &PAIR_OUTPUTS,
-            UnitKind::Stage => &STAGE_OUTPUTS,
-            UnitKind::Drive => &DRIVE_OUTPUTS,
-        }
     }
 }
 
