@@ -19,8 +19,8 @@
 use std::fmt;
 use std::str::FromStr;
 
+pub use crate::dynamics::integrators::Integrator;
 pub use crate::dynamics::unit::UnitKind;
-pub use crate::fmi2::variables::Integrator;
 pub use crate::mesh::{ComplianceModel, Fidelity};
 
 /// An option with a fixed table of values: each value's integer code and name.

@@ -7,8 +7,8 @@ use std::ffi::{CString, c_char};
 use std::ptr::{null, null_mut};
 
 use helical_gear_mesh::fmi2::exports::*;
+use helical_gear_mesh::fmi2::models::mesh::{VARIABLES, by_name, guid};
 use helical_gear_mesh::fmi2::types::*;
-use helical_gear_mesh::fmi2::variables::{VARIABLES, by_name, guid};
 
 fn vr(name: &str) -> u32 {
     by_name(name).unwrap_or_else(|| panic!("no variable {name}")).vr

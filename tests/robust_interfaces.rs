@@ -13,8 +13,8 @@ use helical_gear_mesh::dynamics::{
     UnitStepping,
 };
 use helical_gear_mesh::fmi2::exports::*;
+use helical_gear_mesh::fmi2::models::mesh::{by_name, guid};
 use helical_gear_mesh::fmi2::types::*;
-use helical_gear_mesh::fmi2::variables::{by_name, guid};
 use helical_gear_mesh::numeric::fnv1a_64;
 
 fn vr(name: &str) -> u32 {

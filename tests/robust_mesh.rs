@@ -12,9 +12,9 @@ use helical_gear_mesh::capi::*;
 use helical_gear_mesh::contact::ContactSolver;
 use helical_gear_mesh::fmi2::exports::*;
 use helical_gear_mesh::fmi2::model::ModelInfo;
+use helical_gear_mesh::fmi2::models::mesh::{by_name, guid};
 use helical_gear_mesh::fmi2::models::unit::PAIR;
 use helical_gear_mesh::fmi2::types::*;
-use helical_gear_mesh::fmi2::variables::{by_name, guid};
 use helical_gear_mesh::mesh::validity::MAX_OVERLAP_MN;
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshState, MeshTorques,

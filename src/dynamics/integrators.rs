@@ -1008,3 +1008,13 @@ impl Dopri5 {
         }
     }
 }
+
+/// Integrator of a stateful model (a unit) inside a communication step: the option every
+/// interface offers (codes and names: [`crate::options`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Integrator {
+    /// Classical RK4 on a grid tied to the mesh period (`rk4_steps_per_mesh_period`).
+    Rk4 = 0,
+    /// Adaptive Dormand–Prince 5(4) with `rtol`, `atol`.
+    Dopri5 = 1,
+}

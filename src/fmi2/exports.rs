@@ -1213,7 +1213,7 @@ mod tests {
 
     /// A Co-Simulation instance of the mesh element named `name`.
     fn instantiate_cs(name: &std::ffi::CStr) -> fmi2Component {
-        let g = CString::new(crate::fmi2::variables::guid()).unwrap();
+        let g = CString::new(crate::fmi2::models::mesh::guid()).unwrap();
         let c = unsafe {
             fmi2Instantiate(
                 name.as_ptr(),

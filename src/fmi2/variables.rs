@@ -29,7 +29,6 @@ use crate::dynamics::HubCoupling;
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
 use crate::options::OptionEnum;
 
-pub use super::models::mesh::{MODEL_IDENTIFIER, VARIABLES, by_name, by_vr, guid};
 use crate::params::{self as P, Bounds, GearPair};
 
 /// Everything the parameters of an instance set: the gear pair, the mesh options and the
@@ -56,15 +55,8 @@ impl Default for Settings {
     }
 }
 
-/// Integrator of a stateful model inside a communication step (codes and names:
-/// [`crate::options`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Integrator {
-    /// Classical RK4 on a grid tied to the mesh period (`rk4_steps_per_mesh_period`).
-    Rk4 = 0,
-    /// Adaptive Dormand–Prince 5(4) with `rtol`, `atol`.
-    Dopri5 = 1,
-}
+/// The integrator option of the stateful models ([`crate::dynamics::integrators::Integrator`]).
+pub use crate::dynamics::integrators::Integrator;
 
 /// The allowed codes of an option in words (`0 (full) or 1 (table)`), for the Integer setters'
 /// `&'static str` error: one string per option type, made once.
@@ -1669,6 +1661,7 @@ pub const UNITS: &[UnitDef] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fmi2::models::mesh::{VARIABLES, guid};
 
     #[test]
     fn value_references_and_names_are_unique() {
