@@ -62,6 +62,15 @@ pub struct PairGeometry {
     pub j_g: f64,
 }
 
+impl GearPair {
+    /// Validates every parameter ([`GearPair::check_params`]) and the derived geometry (the
+    /// rules of [`PairGeometry::new`]). Declared here, beside the geometry it builds, so that
+    /// the parameters' own module depends on nothing but the error type.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        PairGeometry::new(self).map(|_| ())
+    }
+}
+
 impl PairGeometry {
     /// Validates `p` and derives the geometry.
     ///

@@ -33,7 +33,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::ParamError;
-use crate::modifications::Modifications;
+pub mod modifications;
+
+use self::modifications::Modifications;
 
 /// Elastic and mass properties of one gear's material. In JSON every key is optional (missing
 /// keys: [`Material::steel`]); unknown keys are an error.
@@ -242,12 +244,6 @@ impl GearPair {
     /// unknown keys an error naming the key).
     pub fn from_json(text: &str) -> Result<Self, String> {
         serde_json::from_str(text).map_err(|e| format!("gear-pair JSON: {e}"))
-    }
-
-    /// Validates every parameter and the derived geometry; see
-    /// [`crate::geometry::PairGeometry::new`] for the rules.
-    pub fn validate(&self) -> Result<(), ParamError> {
-        crate::geometry::PairGeometry::new(self).map(|_| ())
     }
 
     /// Checks every scalar parameter against its [`Bounds`] (the `pub const`s below, which the
