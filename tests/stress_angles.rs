@@ -281,8 +281,8 @@ fn c_api_at_1e12_rad() {
 #[test]
 fn fmu_at_1e12_rad() {
     use helical_gear_mesh::fmi2::exports::*;
+    use helical_gear_mesh::fmi2::models::mesh::{by_name, guid};
     use helical_gear_mesh::fmi2::types::*;
-    use helical_gear_mesh::fmi2::variables::{by_name, guid};
     let vr = |n: &str| by_name(n).unwrap().vr;
     let inputs: Vec<u32> = ["phi_p", "phi_g", "w_p", "w_g"].iter().map(|n| vr(n)).collect();
     let outputs: Vec<u32> =

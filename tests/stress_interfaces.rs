@@ -11,8 +11,8 @@ use std::ptr::{null, null_mut};
 
 use helical_gear_mesh::capi::*;
 use helical_gear_mesh::fmi2::exports::*;
+use helical_gear_mesh::fmi2::models::mesh::{by_name, guid};
 use helical_gear_mesh::fmi2::types::*;
-use helical_gear_mesh::fmi2::variables::{by_name, guid};
 
 fn vr(name: &str) -> u32 {
     by_name(name).unwrap().vr
