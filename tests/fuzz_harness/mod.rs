@@ -499,7 +499,9 @@ pub fn capi(data: &[u8]) {
         let rtol = 10f64.powf(b.f64_in(MIN_RTOL.log10(), -2.0));
         let atol = 10f64.powf(b.f64_in(-14.0, -3.0));
         // Full fidelity stands for both in range: a table is built in seconds, too slow here.
-        let fid_arg = if fidelity == 0 { 1 } else { fidelity };
+        // (Named, not a code: the codes of the C API changed once, and a literal then meant the
+        // table.)
+        let fid_arg = if (0..2).contains(&fidelity) { HgmFidelity::Full as i32 } else { fidelity };
         let create: UnitCreateInts = hgm_unit_create;
         let u = if (0..3).contains(&kind) && (0..2).contains(&fid_arg) {
             create(kind, json.as_ref().map_or(null(), |j| j.as_ptr()), fid_arg, steps, rtol, atol)
