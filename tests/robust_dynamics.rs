@@ -176,10 +176,15 @@ fn unit_step_refuses_1e10_substeps() {
     let e = u.advance(1e-4).unwrap_err();
     assert!(too_large(&e) && e.to_string().contains("sub-steps"), "{e}");
     assert_eq!((u.time(), u.state()), (t0, y0.as_slice()), "state untouched");
-    // 2^31 − 1 steps per mesh period.
-    let mut u = linear_unit(drive, i32::MAX as u32);
-    u.start_static(0.0, 100.0, &settings).unwrap();
-    assert!(too_large(&u.advance(1e-4).unwrap_err()));
+    // 2^31 − 1 steps per mesh period: refused when the unit is made (the option's bounds,
+    // 4 … 65536), before any step could ask for them.
+    let mesh = ConstantStiffnessMesh::new(3e8, 100.0, 0.05, 0.08, Clearance::Bilateral).unwrap();
+    let steps = UnitStepping::Rk4 { steps_per_mesh_period: i32::MAX as u32 };
+    let e = DriveUnit::new(UnitKind::Drive, mesh, drive, steps).err().expect("refused");
+    assert!(
+        e.to_string().contains("steps_per_mesh_period") && e.to_string().contains("65536"),
+        "{e}"
+    );
     // A stiff, light unit: J = 1e-12 kg·m² on c = 1e15 N·m/rad, ω ≈ 3e13 rad/s.
     let stiff = Drivetrain { j1: 1e-12, j2: 1e-12, c1: 1e15, c2: 1e15, ..drive };
     let mut u = linear_unit(stiff, 128);
