@@ -231,3 +231,29 @@ fn partial_json_takes_missing_keys_from_table1() {
     let e = GearPair::from_json(r#"{"drive": {"torque": 1}}"#).unwrap_err();
     assert!(e.contains("unknown field `torque`"), "{e}");
 }
+
+/// With missing keys filled from Table 1, serde would read an array as a struct of defaults:
+/// `[]` where an object belongs is refused, naming the key, in the pair and in the
+/// modifications (the FMUs' `modifications` string).
+#[test]
+fn an_array_where_an_object_belongs_is_refused() {
+    use helical_gear_mesh::modifications::Modifications;
+    for (json, key) in [
+        ("[]", "(the gear pair)"),
+        ("[30, 47]", "(the gear pair)"),
+        (r#"{"material_p": []}"#, "material_p"),
+        (r#"{"drive": [1]}"#, "drive"),
+        (r#"{"modifications": []}"#, "modifications"),
+        (r#"{"modifications": {"gear": []}}"#, "modifications.gear"),
+        (r#"{"modifications": {"pinion": {"tip_relief": []}}}"#, "modifications.pinion.tip_relief"),
+    ] {
+        let e = GearPair::from_json(json).expect_err(json);
+        assert!(e.contains(key) && e.contains("must be an object"), "{json}: {e}");
+    }
+    assert!(
+        GearPair::from_json(r#"{"modifications": {"pinion": {"deviation_map": null}}}"#).is_ok()
+    );
+    let e = Modifications::from_json("[]").expect_err("[]");
+    assert!(e.contains("modifications") && e.contains("must be an object"), "{e}");
+    assert_eq!(Modifications::from_json("{}").unwrap(), Modifications::default());
+}

@@ -242,8 +242,14 @@ impl GearPair {
 
     /// Reads a gear pair from JSON text (the schema of this struct: missing keys from Table 1,
     /// unknown keys an error naming the key).
+    /// Every object of the schema must be a JSON object: with missing keys filled in, serde
+    /// would read an array (`[]`) as a struct of defaults, so an array where an object belongs
+    /// is an error naming its key.
     pub fn from_json(text: &str) -> Result<Self, String> {
-        serde_json::from_str(text).map_err(|e| format!("gear-pair JSON: {e}"))
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| format!("gear-pair JSON: {e}"))?;
+        objects_where_structs(&value)?;
+        serde_json::from_value(value).map_err(|e| format!("gear-pair JSON: {e}"))
     }
 
     /// Checks every scalar parameter against its [`Bounds`] (the `pub const`s below, which the
@@ -497,4 +503,53 @@ pub const D_MESH_N_S_PER_M: Bounds<f64> = Bounds::new(0.0, D_MESH_MAX_N_S_PER_M,
 /// `hgm_set_d_mesh`, Python).
 pub fn check_d_mesh(d_mesh: f64) -> Result<(), ParamError> {
     D_MESH_N_S_PER_M.check("d_mesh_n_s_per_m", d_mesh)
+}
+
+/// Checks that the gear-pair JSON `v` has an object wherever the schema has a struct (the pair
+/// itself, `material_p`, `material_g`, `drive`, `modifications` with its `pinion` and `gear`,
+/// their `end_relief`, `tip_relief` and `deviation_map`); `null` is allowed where the field is
+/// optional. The error names the key.
+fn objects_where_structs(v: &serde_json::Value) -> Result<(), String> {
+    fn object<'a>(
+        v: &'a serde_json::Value,
+        key: &str,
+        optional: bool,
+    ) -> Result<Option<&'a serde_json::Map<String, serde_json::Value>>, String> {
+        match v {
+            serde_json::Value::Object(m) => Ok(Some(m)),
+            serde_json::Value::Null if optional => Ok(None),
+            other => {
+                let kind = match other {
+                    serde_json::Value::Array(_) => "an array",
+                    serde_json::Value::String(_) => "a string",
+                    serde_json::Value::Number(_) => "a number",
+                    serde_json::Value::Bool(_) => "a boolean",
+                    _ => "null",
+                };
+                Err(format!("gear-pair JSON: `{key}` must be an object ({{…}}), found {kind}"))
+            }
+        }
+    }
+    let Some(top) = object(v, "(the gear pair)", false)? else { return Ok(()) };
+    for key in ["material_p", "material_g", "drive"] {
+        if let Some(x) = top.get(key) {
+            object(x, key, false)?;
+        }
+    }
+    if let Some(m) = top.get("modifications") {
+        let Some(m) = object(m, "modifications", false)? else { return Ok(()) };
+        for gear in ["pinion", "gear"] {
+            let Some(g) = m.get(gear) else { continue };
+            let key = format!("modifications.{gear}");
+            let Some(g) = object(g, &key, false)? else { continue };
+            for (sub, optional) in
+                [("end_relief", false), ("tip_relief", false), ("deviation_map", true)]
+            {
+                if let Some(x) = g.get(sub) {
+                    object(x, &format!("{key}.{sub}"), optional)?;
+                }
+            }
+        }
+    }
+    Ok(())
 }

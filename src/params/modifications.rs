@@ -165,8 +165,15 @@ impl Modifications {
     /// Parses a `modifications` JSON object (the schema of the README, "Modifications,
     /// misalignment and deviations"; every key optional, missing = zero). Errors name the unknown or ill-typed key as serde reports it. Values are validated
     /// against the geometry later, by [`Modifications::validate`].
+    /// An array where an object belongs (`[]`, which serde would read as all zero) is an
+    /// error naming the key.
     pub fn from_json(text: &str) -> Result<Self, String> {
-        serde_json::from_str(text).map_err(|e| format!("modifications JSON: {e}"))
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| format!("modifications JSON: {e}"))?;
+        let pair = serde_json::json!({ "modifications": value });
+        super::objects_where_structs(&pair).map_err(|e| e.replace("gear-pair", "modifications"))?;
+        serde_json::from_value(pair["modifications"].clone())
+            .map_err(|e| format!("modifications JSON: {e}"))
     }
 
     /// `self` with `patch` (a JSON object of the same schema) merged in key by key: a key of
