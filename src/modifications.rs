@@ -65,7 +65,7 @@
 //! contact search keeps the absolute tooth-pair number, which picks the deviations of the
 //! engaged teeth. The per-pitch table of the `table` fidelity holds the modifications that
 //! repeat on every tooth (they must remove material; otherwise the mesh model evaluates at
-//! full fidelity, [`crate::mesh::MeshModel::with_compliance`]); pitch deviations and runout
+//! full fidelity, [`crate::mesh::Mesh::from_model`]); pitch deviations and runout
 //! are added on it per tooth pair ([`Separation::tooth_offset`], `crate::mesh::table`, "Tooth
 //! deviations").
 
