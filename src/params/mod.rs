@@ -510,46 +510,55 @@ pub fn check_d_mesh(d_mesh: f64) -> Result<(), ParamError> {
 /// their `end_relief`, `tip_relief` and `deviation_map`); `null` is allowed where the field is
 /// optional. The error names the key.
 fn objects_where_structs(v: &serde_json::Value) -> Result<(), String> {
-    fn object<'a>(
-        v: &'a serde_json::Value,
-        key: &str,
-        optional: bool,
-    ) -> Result<Option<&'a serde_json::Map<String, serde_json::Value>>, String> {
-        match v {
-            serde_json::Value::Object(m) => Ok(Some(m)),
-            serde_json::Value::Null if optional => Ok(None),
-            other => {
-                let kind = match other {
-                    serde_json::Value::Array(_) => "an array",
-                    serde_json::Value::String(_) => "a string",
-                    serde_json::Value::Number(_) => "a number",
-                    serde_json::Value::Bool(_) => "a boolean",
-                    _ => "null",
-                };
-                Err(format!("gear-pair JSON: `{key}` must be an object ({{…}}), found {kind}"))
-            }
-        }
-    }
-    let Some(top) = object(v, "(the gear pair)", false)? else { return Ok(()) };
+    const WHAT: &str = "gear-pair JSON";
+    let Some(top) = json_object(WHAT, v, "(the gear pair)", false)? else { return Ok(()) };
     for key in ["material_p", "material_g", "drive"] {
         if let Some(x) = top.get(key) {
-            object(x, key, false)?;
+            json_object(WHAT, x, key, false)?;
         }
     }
-    if let Some(m) = top.get("modifications") {
-        let Some(m) = object(m, "modifications", false)? else { return Ok(()) };
-        for gear in ["pinion", "gear"] {
-            let Some(g) = m.get(gear) else { continue };
-            let key = format!("modifications.{gear}");
-            let Some(g) = object(g, &key, false)? else { continue };
-            for (sub, optional) in
-                [("end_relief", false), ("tip_relief", false), ("deviation_map", true)]
-            {
-                if let Some(x) = g.get(sub) {
-                    object(x, &format!("{key}.{sub}"), optional)?;
-                }
+    match top.get("modifications") {
+        Some(m) => modification_objects(WHAT, m, "modifications"),
+        None => Ok(()),
+    }
+}
+
+/// [`objects_where_structs`] for a `modifications` object `m` found at `key` of a `what`
+/// (`pinion`, `gear`, their `end_relief`, `tip_relief` and the optional `deviation_map`).
+fn modification_objects(what: &str, m: &serde_json::Value, key: &str) -> Result<(), String> {
+    let Some(m) = json_object(what, m, key, false)? else { return Ok(()) };
+    for gear in ["pinion", "gear"] {
+        let Some(g) = m.get(gear) else { continue };
+        let key = format!("{key}.{gear}");
+        let Some(g) = json_object(what, g, &key, false)? else { continue };
+        for (sub, optional) in
+            [("end_relief", false), ("tip_relief", false), ("deviation_map", true)]
+        {
+            if let Some(x) = g.get(sub) {
+                json_object(what, x, &format!("{key}.{sub}"), optional)?;
             }
         }
     }
     Ok(())
+}
+
+/// `v` as an object (`None` for a `null` where `optional`); anything else is an error naming
+/// `key` of the `what` and the JSON type found.
+fn json_object<'a>(
+    what: &str,
+    v: &'a serde_json::Value,
+    key: &str,
+    optional: bool,
+) -> Result<Option<&'a serde_json::Map<String, serde_json::Value>>, String> {
+    use serde_json::Value;
+    let found = match v {
+        Value::Object(m) => return Ok(Some(m)),
+        Value::Null if optional => return Ok(None),
+        Value::Array(_) => "an array",
+        Value::String(_) => "a string",
+        Value::Number(_) => "a number",
+        Value::Bool(_) => "a boolean",
+        Value::Null => "null",
+    };
+    Err(format!("{what}: `{key}` must be an object ({{…}}), found {found}"))
 }

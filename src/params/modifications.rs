@@ -170,10 +170,8 @@ impl Modifications {
     pub fn from_json(text: &str) -> Result<Self, String> {
         let value: serde_json::Value =
             serde_json::from_str(text).map_err(|e| format!("modifications JSON: {e}"))?;
-        let pair = serde_json::json!({ "modifications": value });
-        super::objects_where_structs(&pair).map_err(|e| e.replace("gear-pair", "modifications"))?;
-        serde_json::from_value(pair["modifications"].clone())
-            .map_err(|e| format!("modifications JSON: {e}"))
+        super::modification_objects("modifications JSON", &value, "modifications")?;
+        serde_json::from_value(value).map_err(|e| format!("modifications JSON: {e}"))
     }
 
     /// `self` with `patch` (a JSON object of the same schema) merged in key by key: a key of
