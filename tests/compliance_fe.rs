@@ -5,21 +5,14 @@
 //! mesh convergence, Maxwell–Betti reciprocity of the influence matrix, rigid-body modes of the
 //! element stiffness, and the error paths (inverted elements, missing constraints, bad loads).
 
+mod common;
+
 use faer::Mat;
 use helical_gear_mesh::compliance::fe::{FeError, FeModel, Material, Mesh, dof, element};
 
+use common::Lcg;
+
 const STEEL: Material = Material { e: 206e9, nu: 0.3 };
-
-/// Deterministic pseudo-random numbers in [−1, 1] (a 64-bit LCG), for reproducible distortion.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 =
-            self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
 
 /// Puts every mid-edge node at the midpoint of its two corners (straight edges).
 fn straighten_edges(mesh: &mut Mesh) {
@@ -62,7 +55,7 @@ fn patch_test_reproduces_linear_field_and_constant_stress() {
         if is_corner {
             for c in x.iter_mut() {
                 if !on_boundary(*c) {
-                    *c += 0.3 * h * rng.next();
+                    *c += 0.3 * h * rng.signed();
                 }
             }
         }

@@ -5,6 +5,8 @@
 //! 2.2, τ > 0 on the top rows): 14 profile rows × 9 ζ columns, teeth −1, 0, 1, α* of order
 //! 1e-11…1e-10 m/N, neighbour blocks about 20 % of the loaded tooth's.
 
+mod common;
+
 use helical_gear_mesh::compliance::fitted::{FitError, FittedInfluence, InfluenceParameters};
 use helical_gear_mesh::compliance::interpolated::InterpolatedInfluence;
 use helical_gear_mesh::compliance::lm::{
@@ -13,27 +15,11 @@ use helical_gear_mesh::compliance::lm::{
 use helical_gear_mesh::compliance::{Compliance, FlankCoord, InfluenceGrid};
 use std::time::Instant;
 
+use common::Lcg;
+
 const B0: f64 = 5.0;
 /// Reference compliance of the synthetic gear, m/N.
 const ALPHA_REF: f64 = 4e-11;
-
-/// Deterministic pseudo-random numbers in [0, 1) (a 64-bit LCG).
-struct Lcg(u64);
-
-impl Lcg {
-    fn uniform(&mut self) -> f64 {
-        self.0 =
-            self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Standard normal deviate (Box–Muller).
-    fn normal(&mut self) -> f64 {
-        let u1 = self.uniform().max(1e-300);
-        let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    }
-}
 
 // ---------------------------------------------------------------------------------------------
 // Levenberg–Marquardt

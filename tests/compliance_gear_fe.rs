@@ -5,10 +5,12 @@
 //! surface-to-surface influence, positivity and axial decay of α*, a small but non-zero
 //! neighbour-tooth coupling, and the torsion of the web against the annulus solution.
 
+mod common;
+
 use faer::Mat;
 use helical_gear_mesh::PairGeometry;
 use helical_gear_mesh::compliance::InfluenceGrid;
-use helical_gear_mesh::compliance::fe::element::{self, FACES, GAUSS3_POINTS, GAUSS3_WEIGHTS};
+use helical_gear_mesh::compliance::fe::element::FACES;
 use helical_gear_mesh::compliance::fe::gear_mesh::{GearMesh, GearMeshDensity};
 use helical_gear_mesh::compliance::fe::{Face, FeModel, Material, dof};
 use helical_gear_mesh::compliance::influence_fe::{
@@ -17,6 +19,8 @@ use helical_gear_mesh::compliance::influence_fe::{
 use helical_gear_mesh::geometry::inertia::polygon_area;
 use helical_gear_mesh::geometry::{GearGeometry, SegmentKind};
 use helical_gear_mesh::params::GearPair;
+
+use common::fe::volume_and_min_jacobian;
 
 fn rot(p: [f64; 2], a: f64) -> [f64; 2] {
     let (s, c) = a.sin_cos();
@@ -37,28 +41,6 @@ fn check_flank_nodes(g: &GearGeometry, gm: &GearMesh, k: usize) {
             assert!((x[2] - gm.level_z[c]).abs() < 1e-15);
         }
     }
-}
-
-/// Volume of the mesh (m³) and the smallest Jacobian determinant at the 27 Gauss points.
-fn volume_and_min_jacobian(gm: &GearMesh) -> (f64, f64) {
-    let mut vol = 0.0;
-    let mut min_det = f64::INFINITY;
-    for e in 0..gm.mesh.elements.len() {
-        let c = gm.mesh.element_coords(e).expect("element");
-        for (k, &z) in GAUSS3_POINTS.iter().enumerate() {
-            for (j, &y) in GAUSS3_POINTS.iter().enumerate() {
-                for (i, &x) in GAUSS3_POINTS.iter().enumerate() {
-                    let det = match element::gradients(&c, [x, y, z]) {
-                        Ok((_, det)) => det,
-                        Err(err) => err.det,
-                    };
-                    min_det = min_det.min(det);
-                    vol += GAUSS3_WEIGHTS[i] * GAUSS3_WEIGHTS[j] * GAUSS3_WEIGHTS[k] * det;
-                }
-            }
-        }
-    }
-    (vol, min_det)
 }
 
 #[test]
@@ -254,109 +236,6 @@ fn web_torsion_matches_the_annulus() {
             (mean - exact) / exact
         );
         assert!(((mean - exact) / exact).abs() < 0.03);
-    }
-}
-
-/// Default-density influence runs of the Table 1 pinion and gear (sizes and timings).
-#[test]
-#[ignore]
-fn default_density_timings() {
-    let p = GearPair::paper_table1();
-    let geo = PairGeometry::new(&p).expect("geometry");
-    for g in [&geo.pinion, &geo.gear] {
-        let inf = fe_influence(
-            g,
-            &p,
-            &GearMeshDensity::default(),
-            DEFAULT_DEPTH_MN * p.normal_module_m,
-            true,
-        )
-        .expect("influence");
-        let st = inf.stats;
-        eprintln!(
-            "z = {}: {} DOFs, grid {}×{}, mesh {:.2} s, assembly {:.2} s, factorisation {:.2} s, \
-             solve {:.2} s ({} cases), observe {:.2} s",
-            g.z,
-            st.dofs,
-            inf.grid.profile.len(),
-            inf.grid.zeta.len(),
-            inf.mesh_s,
-            st.assembly_s,
-            st.factorisation_s(),
-            st.solve_s,
-            st.solved_cases,
-            inf.observe_s
-        );
-    }
-}
-
-#[test]
-#[ignore]
-fn mesh_sizes() {
-    let p = GearPair::paper_table1();
-    let geo = PairGeometry::new(&p).expect("geometry");
-    for (name, d) in [
-        ("coarse", GearMeshDensity::coarse()),
-        ("default", GearMeshDensity::default()),
-        ("refined", GearMeshDensity::refined()),
-    ] {
-        for g in [&geo.pinion, &geo.gear] {
-            let gm = GearMesh::build(g, &p, &d).expect("mesh");
-            let (vol, min_det) = volume_and_min_jacobian(&gm);
-            let exact = p.face_width_m
-                * (polygon_area(&g.outline(400))
-                    - std::f64::consts::PI * (0.5 * p.bore_diameter_m).powi(2));
-            eprintln!(
-                "{name} z = {}: {} quads, {} DOFs, {} elements, vol rel {:.2e}, min det {min_det:.2e}, web {:?}",
-                g.z,
-                gm.quads,
-                3 * gm.mesh.nodes.len(),
-                gm.mesh.elements.len(),
-                (vol - exact) / exact,
-                gm.web_radii
-            );
-        }
-    }
-}
-
-/// α* of the pinion at one flank point for the three densities (mesh convergence; printed).
-#[test]
-#[ignore]
-fn alpha_mesh_convergence() {
-    let p = GearPair::paper_table1();
-    let geo = PairGeometry::new(&p).expect("geometry");
-    let g = &geo.pinion;
-    for (name, d) in [
-        ("coarse", GearMeshDensity::coarse()),
-        ("default", GearMeshDensity::default()),
-        ("refined", GearMeshDensity::refined()),
-    ] {
-        let inf = fe_influence(g, &p, &d, DEFAULT_DEPTH_MN * p.normal_module_m, false)
-            .expect("influence");
-        let grid = &inf.grid;
-        let c0 = grid.zeta.len() / 2;
-        // Linear interpolation along the rows of the diagonal value at profile coordinate 1.0
-        // (one module below the η* reference) in the middle of the face.
-        let value = |t: usize| {
-            let r = grid.profile.windows(2).position(|w| w[1] >= 1.0).expect("bracket");
-            let w = (1.0 - grid.profile[r]) / (grid.profile[r + 1] - grid.profile[r]);
-            let v = |row: usize| {
-                let i = grid.index(row, c0);
-                grid.value(t, i, i)
-            };
-            (1.0 - w) * v(r) + w * v(r + 1)
-        };
-        let st = inf.stats;
-        eprintln!(
-            "{name}: {} DOFs, factorisation {:.2} s, solves {:.2} s; α*(η*≈1, ζ = b₀/2): \
-             same tooth {:.4e} m/N, tooth −1 {:.4e}, tooth +1 {:.4e}",
-            st.dofs,
-            st.factorisation_s(),
-            st.solve_s,
-            value(1),
-            value(0),
-            value(2)
-        );
     }
 }
 

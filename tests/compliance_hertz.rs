@@ -1,6 +1,8 @@
 //! Tests of the local contact deformation (Eq. 10), the contact half width (Eq. 11) and the
 //! Hertz pressure (Eq. 15).
 
+mod common;
+
 use std::f64::consts::PI;
 
 use helical_gear_mesh::Material;
@@ -9,9 +11,7 @@ use helical_gear_mesh::compliance::hertz::{
     reduced_radius, weber_banaschek_bracket,
 };
 
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs()
-}
+use common::rel_diff as rel;
 
 fn cast_iron() -> Material {
     Material { youngs_modulus_pa: 110e9, poisson_ratio: 0.27, density_kg_m3: 7200.0 }

@@ -2,27 +2,15 @@
 //! root search, continuity of the overlap in ζ and φp, mesh periodicity, fast walk against the
 //! exhaustive search.
 
+mod common;
+
 use std::f64::consts::PI;
 
+use helical_gear_mesh::PairGeometry;
 use helical_gear_mesh::contact::{ContactPoint, ContactSolver};
 use helical_gear_mesh::geometry::{Flank, SegmentKind};
-use helical_gear_mesh::{GearPair, PairGeometry};
 
-fn table1() -> PairGeometry {
-    PairGeometry::new(&GearPair::paper_table1()).expect("Table 1 is valid")
-}
-
-/// Deterministic pseudo-random numbers in [0, 1) (SplitMix64).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use common::{SplitMix64 as Rng, table1_geometry as table1};
 
 #[test]
 fn involute_contacts_lie_in_the_plane_of_action_with_base_radius_arms() {
@@ -103,8 +91,8 @@ fn common_normal_residual_and_independent_root_search() {
     let mut checked = 0;
     let mut kinds = std::collections::BTreeSet::new();
     for _ in 0..200 {
-        let phi_p = (rng.next() - 0.5) * 0.5;
-        let te = (rng.next() - 0.3) * 100e-6;
+        let phi_p = (rng.unit() - 0.5) * 0.5;
+        let te = (rng.unit() - 0.3) * 100e-6;
         let phi_g = g.phi_g_for_te(phi_p, te);
         let red = s.contacts(phi_p, phi_g, &zetas, &mut cs);
         for c in &cs {
@@ -150,11 +138,11 @@ fn fast_walk_equals_exhaustive_search() {
     let s = ContactSolver::new(&g);
     let mut rng = Rng(11);
     for _ in 0..30000 {
-        let phi_p = (rng.next() - 0.5) * 0.3;
-        let te = (rng.next() - 0.5) * 400e-6;
+        let phi_p = (rng.unit() - 0.5) * 0.3;
+        let te = (rng.unit() - 0.5) * 400e-6;
         let phi_g = g.phi_g_for_te(phi_p, te);
-        let zeta = rng.next() * g.b0();
-        let k = (rng.next() * 5.0) as i64 - 2;
+        let zeta = rng.unit() * g.b0();
+        let k = (rng.unit() * 5.0) as i64 - 2;
         let a = s.contact_fast(phi_p, phi_g, k, zeta);
         let b = s.contact_exhaustive(phi_p, phi_g, k, zeta);
         match (a, b) {
@@ -267,8 +255,8 @@ fn shifting_by_one_pitch_reproduces_the_contact_set() {
     let (mut a, mut b) = (Vec::new(), Vec::new());
     let mut rng = Rng(3);
     for _ in 0..50 {
-        let phi_p = (rng.next() - 0.5) * 0.3;
-        let phi_g = g.phi_g_for_te(phi_p, (rng.next() - 0.2) * 80e-6);
+        let phi_p = (rng.unit() - 0.5) * 0.3;
+        let phi_g = g.phi_g_for_te(phi_p, (rng.unit() - 0.2) * 80e-6);
         for shift in [1.0, -3.0, 17.0] {
             s.contacts(phi_p, phi_g, &zetas, &mut a);
             s.contacts(
@@ -354,11 +342,11 @@ fn back_flanks_touch_through_the_backlash() {
     // Fast walk against exhaustive search on the back flanks.
     let mut rng = Rng(5);
     for _ in 0..20000 {
-        let phi_p = (rng.next() - 0.5) * 0.3;
-        let te = -g.backlash_te + (rng.next() - 0.5) * 400e-6;
+        let phi_p = (rng.unit() - 0.5) * 0.3;
+        let te = -g.backlash_te + (rng.unit() - 0.5) * 400e-6;
         let phi_g = g.phi_g_for_te(phi_p, te);
-        let zeta = rng.next() * g.b0();
-        let k = (rng.next() * 7.0) as i64 - 3;
+        let zeta = rng.unit() * g.b0();
+        let k = (rng.unit() * 7.0) as i64 - 3;
         let a = s.contact_fast_on(FlankSide::Back, phi_p, phi_g, k, zeta);
         let b = s.contact_exhaustive_on(FlankSide::Back, phi_p, phi_g, k, zeta);
         match (a, b) {

@@ -1,11 +1,15 @@
 //! Tests of the RK4 and DOPRI5 integrators on problems with known solutions.
 
+mod common;
+
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
 use helical_gear_mesh::dynamics::integrators::{
     AbsTol, Dopri5, Dopri5Options, FnSystem, OdeError, OdeSystem, Quantity, Rk4,
 };
+
+use common::Lcg;
 
 /// Harmonic oscillator y0' = y1, y1' = −ω²·y0 with y(0) = (1, 0): y0 = cos ωt, y1 = −ω sin ωt.
 struct Oscillator {
@@ -55,16 +59,6 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
 
 fn cont() -> ControlFlow<()> {
     ControlFlow::Continue(())
-}
-
-/// Deterministic uniform numbers in [0, 1) (64-bit LCG, upper bits).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -326,7 +320,7 @@ fn dopri5_dense_output_accuracy_and_end_points() {
                 n_steps += 1;
                 step_err = step_err.max(sys_exact_err(omega, s.t_end(), s.y_end()));
                 for _ in 0..5 {
-                    let t = s.t_start() + rng.next() * s.h();
+                    let t = s.t_start() + rng.uniform() * s.h();
                     s.dense_output(t, &mut buf).unwrap();
                     dense_err = dense_err.max(sys_exact_err(omega, t, &buf));
                 }

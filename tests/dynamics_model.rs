@@ -3,29 +3,25 @@
 //! through contact loss, quasi-static limit, RK4 step convergence, resonance location of a
 //! sweep, typed propagation of mesh failures.
 
+mod common;
+
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
-use helical_gear_mesh::GearPair;
 use helical_gear_mesh::dynamics::model::{PHI_1, PHI_2, PHI_G, PHI_P, W_1, W_2, W_G, W_P};
 use helical_gear_mesh::dynamics::{
     Clearance, ConstantStiffnessMesh, Drivetrain, DynamicsError, GearDynamics, OdeError, OdeSystem,
     PeriodicStiffnessMesh, Rk4, SteadyMethod, SteadyRunOptions, Stepping, run_to_steady, simulate,
 };
+use helical_gear_mesh::mesh::MeshError;
 use helical_gear_mesh::mesh::statics::{EquilibriumSettings, equilibrium};
-use helical_gear_mesh::mesh::{MeshError, MeshOutputs, MeshState, MeshTorques};
 use nalgebra::{Matrix4, SymmetricEigen, Vector4};
+
+use common::{FailingMesh, table1_drive_radii as table1};
 
 /// Mesh stiffness of the analytic meshes, N/m: puts the mesh mode near 2·10⁴ rad/s with the
 /// Table 1 inertias (the paper's main resonance, 660 rad/s × 30 teeth).
 const K_MESH: f64 = 1.2e8;
-
-/// Table 1 drivetrain and base radii (g_p, g_g), m.
-fn table1() -> (Drivetrain, f64, f64) {
-    let pair = GearPair::paper_table1();
-    let g = helical_gear_mesh::PairGeometry::new(&pair).unwrap();
-    (Drivetrain::from_pair(&pair).unwrap(), g.pinion.rb, g.gear.rb)
-}
 
 /// Time-invariant J and K of Eqs. 1–4 with a linear mesh, built here from the equations.
 fn mass_and_stiffness(d: &Drivetrain, k: f64, gp: f64, gg: f64) -> (Vector4<f64>, Matrix4<f64>) {
@@ -370,26 +366,6 @@ fn dynamic_te_tends_to_the_static_curve_at_low_speed() {
         (2.5..6.0).contains(&ratio),
         "deviation ratio {ratio} for doubled speed (expected ≈ 4)"
     );
-}
-
-/// A mesh that fails beyond a pinion angle, like a load solver that does not converge.
-#[derive(Clone)]
-struct FailingMesh {
-    inner: ConstantStiffnessMesh,
-    phi_fail: f64,
-}
-
-impl MeshTorques for FailingMesh {
-    fn mesh(&mut self, s: &MeshState) -> Result<MeshOutputs, MeshError> {
-        if s.phi_p > self.phi_fail {
-            return Err(MeshError::Equilibrium(format!("synthetic failure at φp = {}", s.phi_p)));
-        }
-        self.inner.mesh(s)
-    }
-
-    fn base_radii(&self) -> (f64, f64) {
-        self.inner.base_radii()
-    }
 }
 
 #[test]

@@ -5,44 +5,25 @@
 //! The Table 1 pair runs at table fidelity with the default table (64 × 48 nodes, built once
 //! for the whole file, a few seconds).
 
-use std::sync::OnceLock;
+mod common;
 
-use helical_gear_mesh::dynamics::model::{PHI_1, PHI_2, W_1, W_2};
 use helical_gear_mesh::dynamics::{
     Clearance, ConstantStiffnessMesh, DriveUnit, Drivetrain, DynamicsError, GearDynamics,
     HubCoupling, PeriodicStiffnessMesh, Stepping, UnitInputs, UnitKind, UnitLinearization,
     UnitSnapshot, UnitStepping, simulate,
 };
-use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
-    Fidelity, MAX_WARM_LOADS, Mesh, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques,
-    WarmLoad, WarmStart,
+    MAX_WARM_LOADS, Mesh, MeshError, MeshOptions, MeshTorques, WarmLoad, WarmStart,
 };
 use helical_gear_mesh::params::GearPair;
 
-/// The Table 1 pair at table fidelity (built once) and its drivetrain.
-fn table_mesh() -> (Mesh, Drivetrain) {
-    static MESH: OnceLock<(Mesh, Drivetrain)> = OnceLock::new();
-    let (m, d) = MESH.get_or_init(|| {
-        let pair = GearPair::paper_table1();
-        let options = MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() };
-        let mesh = Mesh::new(&pair, options).unwrap();
-        (mesh, Drivetrain::from_pair(&pair).unwrap())
-    });
-    (m.clone(), *d)
-}
+use common::cosim::{
+    pair_cut, pair_cut_foh, pair_cut_foh_coupled, reference, rel_err, rk4, stage_cut, started,
+    steps_for, table_mesh,
+};
 
-fn rk4(n: u32) -> UnitStepping {
-    UnitStepping::Rk4 { steps_per_mesh_period: n }
-}
-
-fn started(kind: UnitKind, stepping: UnitStepping, omega: f64) -> DriveUnit<Mesh> {
-    let (mesh, drive) = table_mesh();
-    let mut u = DriveUnit::new(kind, mesh, drive, stepping).unwrap();
-    u.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
-    u
-}
+use common::{FailingMesh, table1_drive_radii as table1_radii};
 
 #[test]
 fn drive_unit_with_rk4_reproduces_simulate_bit_for_bit() {
@@ -67,168 +48,6 @@ fn drive_unit_with_rk4_reproduces_simulate_bit_for_bit() {
     assert_eq!(o.mesh.te.to_bits(), tr.outputs[n].te.to_bits());
     // Steady running under M: the shaft torques balance M and the load.
     assert!((o.tau_1 + drive.torque).abs() < 0.05 * drive.torque, "tau_1 = {}", o.tau_1);
-}
-
-/// Co-simulation of the drive line cut at the shafts: J1 and J2 in the master, the Stage unit
-/// with the shafts, hubs and mesh. Zero-order hold at the communication points t_k = k·H:
-/// the master gives the far-end motion, the unit the shaft torques. Returns TE at the t_k.
-fn stage_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
-    let mut stage = started(UnitKind::Stage, rk4(128), omega);
-    let d = *stage.drive();
-    let y = stage_start(omega);
-    let (mut p1, mut w1, mut p2, mut w2) = (y[PHI_1], y[W_1], y[PHI_2], y[W_2]);
-    let load = d.torque * d.z_g as f64 / d.z_p as f64;
-    let mut te = Vec::with_capacity(n + 1);
-    for k in 0..=n {
-        stage
-            .set_inputs(UnitInputs { phi_1: p1, w_1: w1, phi_2: p2, w_2: w2, ..Default::default() })
-            .unwrap();
-        let o = stage.outputs().unwrap();
-        te.push(o.mesh.te);
-        if k == n {
-            break;
-        }
-        // The master: J1·φ1'' = M + tau_1, J2·φ2'' = M·z_g/z_p + tau_2, torques held: exact.
-        let a1 = (d.torque + o.tau_1) / d.j1;
-        let a2 = (load + o.tau_2) / d.j2;
-        stage.advance(h).unwrap();
-        p1 += w1 * h + 0.5 * a1 * h * h;
-        w1 += a1 * h;
-        p2 += w2 * h + 0.5 * a2 * h * h;
-        w2 += a2 * h;
-    }
-    te
-}
-
-/// The 8-state static start of the whole drive line at `omega`.
-fn stage_start(omega: f64) -> [f64; 8] {
-    let (mesh, drive) = table_mesh();
-    let mut model = GearDynamics::new(mesh, drive).unwrap();
-    model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap().y
-}
-
-/// Co-simulation cut at the hubs: J1, J2 and the shafts in the master, the Pair unit with the
-/// hubs and the mesh. At t_k the master computes the shaft torques on the hubs from its state
-/// and the unit's hub motion; over the step the unit holds them and the master integrates J1
-/// and J2 (RK4, 8 sub-steps) against the hub motion extrapolated with the rates of t_k.
-fn pair_cut(omega: f64, h: f64, n: usize) -> Vec<f64> {
-    pair_cut_with(omega, h, n, false)
-}
-
-/// [`pair_cut`] with the held shaft torques taken at mid-step (`mid`): from the master's state
-/// and the unit's hub motion at t_k, both extrapolated linearly to t_k + H/2.
-fn pair_cut_mid(omega: f64, h: f64, n: usize) -> Vec<f64> {
-    pair_cut_with(omega, h, n, true)
-}
-
-/// [`pair_cut`] with first-order hold: the master passes the shaft torques and their time
-/// derivatives at t_k (exact from its state and the unit's outputs: d tau_p/dt = c1·(φ̇1 −
-/// φ̇p) + d1·(φ̈1 − a_p), with φ̈1 from J1's equation), as `fmi2SetRealInputDerivatives` does.
-fn pair_cut_foh(omega: f64, h: f64, n: usize) -> Vec<f64> {
-    pair_cut_hold(omega, h, n, false, true, false)
-}
-
-fn pair_cut_with(omega: f64, h: f64, n: usize, mid: bool) -> Vec<f64> {
-    pair_cut_hold(omega, h, n, mid, false, false)
-}
-
-/// [`pair_cut`] (zero-order hold) with the unit told the shafts' stiffness and damping
-/// ([`HubCoupling`]): it corrects the held torques by its own hub motion within the step.
-fn pair_cut_coupled(omega: f64, h: f64, n: usize) -> Vec<f64> {
-    pair_cut_hold(omega, h, n, false, false, true)
-}
-
-/// [`pair_cut_foh`] with the [`HubCoupling`] of [`pair_cut_coupled`].
-fn pair_cut_foh_coupled(omega: f64, h: f64, n: usize) -> Vec<f64> {
-    pair_cut_hold(omega, h, n, false, true, true)
-}
-
-fn pair_cut_hold(omega: f64, h: f64, n: usize, mid: bool, foh: bool, coupled: bool) -> Vec<f64> {
-    let mut pair = started(UnitKind::Pair, rk4(128), omega);
-    let d = *pair.drive();
-    if coupled {
-        pair.set_hub_coupling(HubCoupling { c_p: d.c1, d_p: d.d1, c_g: d.c2, d_g: d.d2 }).unwrap();
-    }
-    let y = stage_start(omega);
-    let mut m = [y[PHI_1], y[W_1], y[PHI_2], y[W_2]];
-    let load = d.torque * d.z_g as f64 / d.z_p as f64;
-    let mut te = Vec::with_capacity(n + 1);
-    for k in 0..=n {
-        let o = pair.outputs().unwrap();
-        te.push(o.mesh.te);
-        if k == n {
-            break;
-        }
-        let hub = [o.phi_p, o.w_p, o.phi_g, o.w_g];
-        let e = if mid { 0.5 * h } else { 0.0 };
-        let s1 = d.c1 * (m[0] + m[1] * e - hub[0] - hub[1] * e) + d.d1 * (m[1] - hub[1]);
-        let s2 = d.c2 * (hub[2] + hub[3] * e - m[2] - m[3] * e) + d.d2 * (hub[3] - m[3]);
-        let (mut r1, mut r2) = (0.0, 0.0);
-        if foh {
-            let a1 = (d.torque - s1) / d.j1;
-            let a2 = (load + s2) / d.j2;
-            r1 = d.c1 * (m[1] - hub[1]) + d.d1 * (a1 - o.a_p);
-            r2 = d.c2 * (hub[3] - m[3]) + d.d2 * (o.a_g - a2);
-        }
-        let u = UnitInputs {
-            tau_p: s1,
-            tau_g: -s2,
-            tau_p_rate: r1,
-            tau_g_rate: -r2,
-            ..Default::default()
-        };
-        pair.set_inputs(u).unwrap();
-        pair.advance(h).unwrap();
-        // Master: J1 φ1'' = M − c1(φ1 − φp(t)) − d1(φ̇1 − φ̇p), J2 φ2'' = M·z_g/z_p +
-        // c2(φg(t) − φ2) + d2(φ̇g − φ̇2), hub motion φ(t) = φ(t_k) + φ̇(t_k)·s.
-        let f = |s: f64, x: [f64; 4]| -> [f64; 4] {
-            let pp = hub[0] + hub[1] * s;
-            let pg = hub[2] + hub[3] * s;
-            let t1 = d.c1 * (x[0] - pp) + d.d1 * (x[1] - hub[1]);
-            let t2 = d.c2 * (pg - x[2]) + d.d2 * (hub[3] - x[3]);
-            [x[1], (d.torque - t1) / d.j1, x[3], (load + t2) / d.j2]
-        };
-        let sub = 8;
-        let hs = h / sub as f64;
-        for i in 0..sub {
-            let s = i as f64 * hs;
-            let add = |x: [f64; 4], k: [f64; 4], c: f64| std::array::from_fn(|j| x[j] + c * k[j]);
-            let k1 = f(s, m);
-            let k2 = f(s + 0.5 * hs, add(m, k1, 0.5 * hs));
-            let k3 = f(s + 0.5 * hs, add(m, k2, 0.5 * hs));
-            let k4 = f(s + hs, add(m, k3, hs));
-            m = std::array::from_fn(|j| {
-                m[j] + hs / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
-            });
-        }
-    }
-    te
-}
-
-/// TE at t_k = k·H of the whole 4-DOF model by `simulate`, RK4 at a fine step (at most T_m/256,
-/// a whole fraction of H).
-fn reference(omega: f64, h: f64, n: usize) -> Vec<f64> {
-    let (mesh, drive) = table_mesh();
-    let m = (h / (drive.mesh_period(omega) / 256.0)).ceil() as usize;
-    let dt = h / m as f64;
-    let mut model = GearDynamics::new(mesh, drive).unwrap();
-    let start = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap();
-    let tr = simulate(&mut model, &start.y, (n * m) as f64 * dt, &Stepping::Rk4 { dt }).unwrap();
-    (0..=n).map(|k| tr.outputs[k * m].te).collect()
-}
-
-/// Largest |TE − TE_ref| relative to the largest |TE_ref|.
-fn rel_err(te: &[f64], reference: &[f64]) -> f64 {
-    assert_eq!(te.len(), reference.len());
-    let scale = reference.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let err = te.iter().zip(reference).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-    err / scale
-}
-
-/// Communication steps covering about 30 mesh periods at `omega`.
-fn steps_for(omega: f64, h: f64) -> usize {
-    let (_, drive) = table_mesh();
-    (30.0 * drive.mesh_period(omega) / h).ceil() as usize
 }
 
 /// TE error of `cut` against the reference at `omega` and `h` over about 30 mesh periods.
@@ -380,42 +199,6 @@ fn dopri5_unit_error_control_acts_on_te() {
     }
 }
 
-/// The co-simulation error table of the README: TE error against the reference for H from
-/// T_m/16 to 1 ms, both cuts, both speeds. `cargo test --test dynamics_unit -- --ignored`.
-#[test]
-#[ignore]
-fn cosimulation_error_table() {
-    let (_, drive) = table_mesh();
-    println!(
-        "| ω_p, rad/s | H | stage cut | pair cut | pair cut, mid-step torque | pair cut, \
-         first-order hold | pair cut, hub coupling | pair cut, first-order hold and hub \
-         coupling |"
-    );
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
-    for omega in [300.0, 532.0] {
-        let t_m = drive.mesh_period(omega);
-        for (label, h) in [
-            ("T_m/16".to_string(), t_m / 16.0),
-            ("1e-4 s".into(), 1e-4),
-            ("2.8e-4 s".into(), 2.8e-4),
-            ("1e-3 s".into(), 1e-3),
-        ] {
-            let n = steps_for(omega, h);
-            let r = reference(omega, h, n);
-            let es = rel_err(&stage_cut(omega, h, n), &r);
-            let ep = rel_err(&pair_cut(omega, h, n), &r);
-            let em = rel_err(&pair_cut_mid(omega, h, n), &r);
-            let ef = rel_err(&pair_cut_foh(omega, h, n), &r);
-            let ez = rel_err(&pair_cut_coupled(omega, h, n), &r);
-            let ec = rel_err(&pair_cut_foh_coupled(omega, h, n), &r);
-            println!(
-                "| {omega} | {label} ({h:.3e} s) | {es:.1e} | {ep:.1e} | {em:.1e} | {ef:.1e} | \
-                 {ez:.1e} | {ec:.1e} |"
-            );
-        }
-    }
-}
-
 /// Runs `unit` over a fixed pattern of variable communication steps with Stage inputs moving
 /// like the shaft ends of the static start `u0` (at their rates), and returns the TE after each step.
 fn run_pattern(unit: &mut DriveUnit<Mesh>, steps: usize, u0: UnitInputs) -> Vec<f64> {
@@ -482,32 +265,6 @@ fn snapshot_restore_continues_bit_for_bit_full_fidelity() {
     let mesh = Mesh::new(&pair, options).unwrap();
     let drive = Drivetrain::from_pair(&pair).unwrap();
     check_snapshot(mesh, drive, rk4(64), 6);
-}
-
-/// A mesh that fails beyond a pinion angle, like a load solver that does not converge.
-#[derive(Clone)]
-struct FailingMesh {
-    inner: ConstantStiffnessMesh,
-    phi_fail: f64,
-}
-
-impl MeshTorques for FailingMesh {
-    fn mesh(&mut self, s: &MeshState) -> Result<MeshOutputs, MeshError> {
-        if s.phi_p > self.phi_fail {
-            return Err(MeshError::Equilibrium(format!("synthetic failure at φp = {}", s.phi_p)));
-        }
-        self.inner.mesh(s)
-    }
-
-    fn base_radii(&self) -> (f64, f64) {
-        self.inner.base_radii()
-    }
-}
-
-fn table1_radii() -> (Drivetrain, f64, f64) {
-    let pair = GearPair::paper_table1();
-    let g = PairGeometry::new(&pair).unwrap();
-    (Drivetrain::from_pair(&pair).unwrap(), g.pinion.rb, g.gear.rb)
 }
 
 #[test]
@@ -712,49 +469,6 @@ fn linearize_reports_unsupported_meshes() {
     }
 }
 
-/// In-process speed of the Drive unit at 532 rad/s, table fidelity, H = 1e-4 s: simulated
-/// seconds per wall-clock second and the TE error against RK4 at T_m/1024 (the converged
-/// reference), over 1 s of drive-line time.
-/// `cargo test --release --test dynamics_unit drive_unit_speed -- --ignored --nocapture`.
-#[test]
-#[ignore]
-fn drive_unit_speed() {
-    let omega = 532.0;
-    let h = 1e-4;
-    let n = 10_000;
-    let run_with = |stepping: UnitStepping| -> (Vec<f64>, f64) {
-        let mut u = started(UnitKind::Drive, stepping, omega);
-        let t0 = std::time::Instant::now();
-        let mut te = Vec::with_capacity(n);
-        for _ in 0..n {
-            u.advance(h).unwrap();
-            te.push(u.outputs().unwrap().mesh.te);
-        }
-        (te, t0.elapsed().as_secs_f64())
-    };
-    let run = |steps: u32| run_with(rk4(steps));
-    let (reference, _) = run(1024);
-    for rtol in [1e-6, 1e-7, 1e-8, 1e-9] {
-        let (te, wall) = run_with(UnitStepping::Dopri5 { rtol, atol: 1e-6 * rtol });
-        let e = rel_err(&te, &reference);
-        println!(
-            "DOPRI5 rtol {rtol:e}: {:.1} simulated s per wall s, TE error {e:.1e}",
-            n as f64 * h / wall
-        );
-    }
-    for steps in [32, 64, 80, 84, 88, 92, 96, 128] {
-        let (te, wall) = run(steps);
-        let e = rel_err(&te, &reference);
-        println!(
-            "N = {steps}: {:.1} simulated s per wall s, TE error {e:.1e}",
-            n as f64 * h / wall
-        );
-    }
-}
-
-/// The warm start is part of the state, nothing else of the call history is: at full
-/// fidelity, reading the outputs between steps (which evaluates the mesh) leaves the
-/// trajectory bit for bit as it is without, and a snapshot carries a non-empty warm start.
 #[test]
 fn full_fidelity_outputs_between_steps_leave_the_trajectory_unchanged() {
     let pair = GearPair::paper_table1();
@@ -808,45 +522,4 @@ fn snapshot_with_a_bad_warm_start_is_refused() {
     // A count beyond the bound is refused before anything is reserved.
     b[..4].copy_from_slice(&u32::MAX.to_le_bytes());
     assert!(WarmStart::from_bytes(&b).unwrap_err().contains("at most"));
-}
-
-/// Full-fidelity units, Table 1 at 532 rad/s, RK4 128 sub-steps per mesh period, H = 1e-4 s,
-/// 20 steps after the static start: real-time factor with the warm start carried from step to
-/// step, and with every step started cold (the warm start emptied through the snapshot).
-/// `cargo test --release --test dynamics_unit full_fidelity_unit_speed -- --ignored --nocapture`.
-#[test]
-#[ignore]
-fn full_fidelity_unit_speed() {
-    let pair = GearPair::paper_table1();
-    let mesh = Mesh::new(&pair, MeshOptions::default()).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
-    let (omega, h, n) = (532.0, 1e-4, 20);
-    for kind in [UnitKind::Drive, UnitKind::Pair] {
-        for cold in [true, false] {
-            let mut u = DriveUnit::new(kind, mesh.clone(), drive, rk4(128)).unwrap();
-            u.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
-            let t0 = std::time::Instant::now();
-            for _ in 0..n {
-                if cold {
-                    let mut s = u.snapshot();
-                    s.warm_start = WarmStart::default();
-                    u.restore(&s).unwrap();
-                }
-                u.advance(h).unwrap();
-                u.outputs().unwrap();
-            }
-            let wall = t0.elapsed().as_secs_f64();
-            let st = u.mesh().stats();
-            println!(
-                "{kind:?}, full, {}: {:.5}× real time ({wall:.2} s for {:.1e} s); since the \
-                 start {} load solves, {} Newton iterations, {} factorisations",
-                if cold { "cold start per step" } else { "warm start carried" },
-                n as f64 * h / wall,
-                n as f64 * h,
-                st.solves,
-                st.iterations,
-                st.factorizations
-            );
-        }
-    }
 }

@@ -3,80 +3,16 @@
 //! instances on several threads. Log messages are checked by the Python and C suites, whose
 //! loggers are real C variadic functions.
 
+mod common;
+
 use std::ffi::{CString, c_char};
 use std::ptr::{null, null_mut};
 
 use helical_gear_mesh::fmi2::exports::*;
-use helical_gear_mesh::fmi2::models::mesh::{VARIABLES, by_name, guid};
+use helical_gear_mesh::fmi2::models::mesh::{VARIABLES, guid};
 use helical_gear_mesh::fmi2::types::*;
 
-fn vr(name: &str) -> u32 {
-    by_name(name).unwrap_or_else(|| panic!("no variable {name}")).vr
-}
-
-/// An instance created without callbacks; freed on drop.
-struct Fmu(fmi2Component);
-
-impl Fmu {
-    fn new() -> Self {
-        let name = CString::new("test").unwrap();
-        let g = CString::new(guid()).unwrap();
-        let c = unsafe {
-            fmi2Instantiate(
-                name.as_ptr(),
-                FMI2_CO_SIMULATION,
-                g.as_ptr(),
-                c"file:///nonexistent/my%20fmu/resources".as_ptr(),
-                null(),
-                FMI2_FALSE,
-                FMI2_FALSE,
-            )
-        };
-        assert!(!c.is_null());
-        Fmu(c)
-    }
-
-    fn initialised() -> Self {
-        let f = Self::new();
-        f.init();
-        f
-    }
-
-    fn init(&self) {
-        unsafe {
-            assert_eq!(
-                fmi2SetupExperiment(self.0, FMI2_FALSE, 0.0, 0.0, FMI2_FALSE, 0.0),
-                fmi2Status::Ok
-            );
-            assert_eq!(fmi2EnterInitializationMode(self.0), fmi2Status::Ok);
-            assert_eq!(fmi2ExitInitializationMode(self.0), fmi2Status::Ok);
-        }
-    }
-
-    fn set(&self, names: &[&str], values: &[f64]) -> fmi2Status {
-        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
-        unsafe { fmi2SetReal(self.0, r.as_ptr(), r.len(), values.as_ptr()) }
-    }
-
-    fn get(&self, names: &[&str]) -> Result<Vec<f64>, fmi2Status> {
-        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
-        let mut out = vec![0.0; r.len()];
-        match unsafe { fmi2GetReal(self.0, r.as_ptr(), r.len(), out.as_mut_ptr()) } {
-            fmi2Status::Ok => Ok(out),
-            s => Err(s),
-        }
-    }
-
-    fn reset(&self) {
-        assert_eq!(unsafe { fmi2Reset(self.0) }, fmi2Status::Ok);
-    }
-}
-
-impl Drop for Fmu {
-    fn drop(&mut self) {
-        unsafe { fmi2FreeInstance(self.0) };
-    }
-}
+use common::fmi::{Fmu, vr};
 
 const OUTS: [&str; 5] = ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"];
 /// A loaded state of the Table 1 pair: TE = +20 µm (README worked example), rolling.

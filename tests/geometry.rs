@@ -1,15 +1,14 @@
 //! Tests of `geometry`: Table 1 data, tooth generation by the basic rack (against an independent
 //! brute-force simulation of the generating motion), continuity of the flank chain, inertias.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use helical_gear_mesh::geometry::inertia::{polygon_area, polygon_polar_moment};
 use helical_gear_mesh::geometry::{GearGeometry, SegmentKind, inv};
-use helical_gear_mesh::{GearPair, PairGeometry};
 
-fn table1() -> PairGeometry {
-    PairGeometry::new(&GearPair::paper_table1()).expect("Table 1 is valid")
-}
+use common::table1_geometry as table1;
 
 #[test]
 fn table1_contact_ratios_and_base_radii() {

@@ -1,5 +1,7 @@
 //! Tests of the load distribution solver (Eq. 12) and its outputs (Eqs. 13–15).
 
+mod common;
+
 use std::time::Instant;
 
 use faer::Mat;
@@ -11,20 +13,7 @@ use helical_gear_mesh::load::{
     damping_torques, hertz_pressures, mesh_torque, total_force,
 };
 
-/// Small deterministic generator (xorshift64*), uniform in [0, 1).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
+use common::XorShift64Star as Rng;
 
 /// g = C·(w∘q) + u(q) − d computed independently of the solver.
 fn gaps(c: &Mat<f64>, w: &[f64], d: &[f64], q: &[f64], local: Option<&dyn LocalTerm>) -> Vec<f64> {

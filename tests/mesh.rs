@@ -2,6 +2,8 @@
 //! static equilibrium, load onset, slice convergence, robustness and the table fidelity.
 //! The FE compliance is computed once per test binary on the coarse mesh.
 
+mod common;
+
 use std::sync::{Arc, OnceLock};
 
 use helical_gear_mesh::GearPair;
@@ -14,6 +16,8 @@ use helical_gear_mesh::mesh::{
     ComplianceModel, EquilibriumSettings, Fidelity, GearCompliance, Mesh, MeshError, MeshOptions,
     MeshState, compute_compliance, equilibrium, static_curve, tip_contact_threshold_curve,
 };
+
+use common::{state_at_rest as state, table1_pitch as pitch};
 
 fn coarse() -> &'static (GearCompliance, GearCompliance) {
     static C: OnceLock<(GearCompliance, GearCompliance)> = OnceLock::new();
@@ -30,14 +34,6 @@ fn coarse() -> &'static (GearCompliance, GearCompliance) {
 fn model(options: MeshOptions) -> Mesh {
     let (p, g) = coarse().clone();
     Mesh::with_compliance(&GearPair::paper_table1(), options, p, g).expect("model")
-}
-
-fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
-    MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
-}
-
-fn pitch() -> f64 {
-    2.0 * std::f64::consts::PI / GearPair::paper_table1().z_p as f64
 }
 
 /// With a Winkler (constant, local) compliance k per flank and no Hertz term every loaded

@@ -2,12 +2,16 @@
 //! kind of states, evaluations along a trajectory make no heap allocation (counted by a global
 //! allocator wrapper; this file holds a single test so that no other test allocates meanwhile).
 
+mod common;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::mesh::{ComplianceModel, Mesh, MeshOptions, MeshState, compute_compliance};
+
+use common::coarse_options;
 
 struct Counting;
 
@@ -62,13 +66,7 @@ fn steady_evaluations_do_not_allocate() {
     dev.modifications.pinion.pitch_deviations_m = vec![1e-6; dev.z_p as usize];
     dev.modifications.pinion.pitch_deviations_m[3] = -1e-6;
     dev.modifications.gear.runout_m = 4e-6;
-    let opts = MeshOptions {
-        slices: 40,
-        fidelity: Fidelity::Table,
-        table_phase_points: 16,
-        table_te_points: 12,
-        ..MeshOptions::default()
-    };
+    let opts = coarse_options(Fidelity::Table);
     let mut t = Mesh::new(&dev, opts).expect("table with deviations");
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     let mut sum = 0.0;

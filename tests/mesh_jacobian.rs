@@ -8,18 +8,18 @@
 //! different units. Full-fidelity states are used only where the loaded set of slices is
 //! the same at ±step (checked with the per-slice detail).
 
+mod common;
+
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh, MeshError, MeshJacobian, MeshOptions, MeshOutputs,
     MeshState, MeshTorques, equilibrium,
 };
 
+use common::{coarse_options, table1_pitch as pitch};
+
 fn model(options: MeshOptions) -> Mesh {
     Mesh::new(&GearPair::paper_table1(), options).expect("model")
-}
-
-fn pitch() -> f64 {
-    2.0 * std::f64::consts::PI / GearPair::paper_table1().z_p as f64
 }
 
 /// A running state with pinion angle `phi_p`, transmission error `te` and a TE rate of
@@ -237,36 +237,6 @@ fn state_far_outside_the_model_is_named() {
     assert!(named > 0, "no phase at TE = -2 mm fails; pick a harder state");
 }
 
-/// Cost of one `mesh_jacobian` against one `evaluate` along a warm-started trajectory (one
-/// pitch in 64 steps at 30 µm), full fidelity at 200 slices and table fidelity. A measurement,
-/// not a check: `cargo test --release --test mesh_jacobian -- --ignored --nocapture`.
-#[test]
-#[ignore]
-fn jacobian_cost() {
-    for fidelity in [Fidelity::Full, Fidelity::Table] {
-        let mut m = model(MeshOptions { fidelity, ..MeshOptions::default() });
-        let states: Vec<MeshState> =
-            (0..64).map(|k| state(&m, pitch() * k as f64 / 64.0, 30e-6)).collect();
-        let time = |m: &mut Mesh, jac: bool| {
-            let mut best = f64::INFINITY;
-            for _ in 0..5 {
-                let t0 = std::time::Instant::now();
-                for s in &states {
-                    if jac {
-                        std::hint::black_box(m.mesh_jacobian(s).unwrap());
-                    } else {
-                        std::hint::black_box(m.evaluate(s).unwrap());
-                    }
-                }
-                best = best.min(t0.elapsed().as_secs_f64() / states.len() as f64);
-            }
-            best * 1e6
-        };
-        let (e, j) = (time(&mut m, false), time(&mut m, true));
-        eprintln!("{fidelity:?}: evaluate {e:.3} µs, mesh_jacobian {j:.3} µs ({:.2}×)", j / e);
-    }
-}
-
 /// Invalid states are rejected as by `evaluate`; a compliance representation without an
 /// analytic derivative (the fitted Eqs. 5–8) says so instead of guessing.
 #[test]
@@ -338,13 +308,7 @@ fn table_with_tooth_deviations_matches_central_differences() {
     p.modifications.pinion.pitch_deviations_m =
         (0..p.z_p).map(|i| 1.5e-6 * (i as f64 * 1.3).sin()).collect();
     p.modifications.gear.runout_m = 6e-6;
-    let opts = MeshOptions {
-        slices: 40,
-        fidelity: Fidelity::Table,
-        table_phase_points: 16,
-        table_te_points: 12,
-        ..MeshOptions::default()
-    };
+    let opts = coarse_options(Fidelity::Table);
     let mut m = Mesh::new(&p, opts).unwrap();
     assert!(m.table().is_some_and(|t| t.has_tooth_deviations()));
     let te_nom = nominal_te(&mut m, 0.1 * pitch());

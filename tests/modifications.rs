@@ -1,12 +1,16 @@
 //! Flank modifications, misalignment and tooth deviations (`helical_gear_mesh::modifications`)
 //! against analytic oracles derived in the comments of each test.
 
+mod common;
+
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Mesh, MeshOptions, MeshState, equilibrium, face_load, k_h_beta_crowned,
     k_h_beta_iso,
 };
 use helical_gear_mesh::modifications::{Modifications, ReliefShape, TipRelief};
+
+use common::{coarse_options, rel_diff as rel, state_at_rest as state};
 
 /// Tooth-pair stiffness per unit contact length of the Winkler tests, N/m² (14 N/(mm·µm),
 /// ISO 6336's typical single stiffness c′).
@@ -29,14 +33,6 @@ fn spur() -> GearPair {
     let mut p = GearPair::paper_table1();
     p.helix_angle_rad = 0.0;
     p
-}
-
-fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
-    MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs()
 }
 
 /// Zero modifications given explicitly (a zero list of pitch deviations per gear, zero
@@ -483,13 +479,7 @@ fn dynamic_spectrum_with_pinion_deviations_has_pinion_orders_only() {
     let mut p = GearPair::paper_table1();
     p.modifications.pinion.pitch_deviations_m = pitch_errors().pinion.pitch_deviations_m;
     assert_eq!(p.modifications.period_meshes(p.z_p, p.z_g), 30);
-    let options = MeshOptions {
-        slices: 40,
-        fidelity: Fidelity::Table,
-        table_phase_points: 16,
-        table_te_points: 12,
-        ..MeshOptions::default()
-    };
+    let options = coarse_options(Fidelity::Table);
     let mesh = Mesh::new(&p, options).unwrap();
     let mut dynm = GearDynamics::new(mesh, Drivetrain::from_pair(&p).unwrap()).unwrap();
     let rel_tol = 1e-3;

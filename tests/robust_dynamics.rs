@@ -2,6 +2,8 @@
 //! speed and standstill are integrated stably, a run-up from rest works, and every request
 //! whose cost grows with an input is refused before anything is reserved or integrated.
 
+mod common;
+
 use std::sync::OnceLock;
 
 use helical_gear_mesh::GearPair;
@@ -14,19 +16,14 @@ use helical_gear_mesh::dynamics::{
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions, MeshTorques};
 
+use common::small_table_options;
+
 /// Table 1 at a coarse table fidelity (fast to build) and its drivetrain.
 fn table_mesh() -> (Mesh, Drivetrain) {
     static MESH: OnceLock<(Mesh, Drivetrain)> = OnceLock::new();
     let (m, d) = MESH.get_or_init(|| {
         let pair = GearPair::paper_table1();
-        let options = MeshOptions {
-            fidelity: Fidelity::Table,
-            slices: 60,
-            table_phase_points: 24,
-            table_te_points: 16,
-            pressure: false,
-            ..MeshOptions::default()
-        };
+        let options = small_table_options();
         (Mesh::new(&pair, options).unwrap(), Drivetrain::from_pair(&pair).unwrap())
     });
     (m.clone(), *d)

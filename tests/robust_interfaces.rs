@@ -4,6 +4,8 @@
 //! read back finite, the C API's enum arguments validated as integers, a second thread entering
 //! an FMU instance in use refused with fmi2Error, and short numbers in messages.
 
+mod common;
+
 use std::ffi::{CStr, CString};
 use std::ptr::{null, null_mut};
 
@@ -13,91 +15,11 @@ use helical_gear_mesh::dynamics::{
     UnitStepping,
 };
 use helical_gear_mesh::fmi2::exports::*;
-use helical_gear_mesh::fmi2::models::mesh::{by_name, guid};
+use helical_gear_mesh::fmi2::models::mesh::guid;
 use helical_gear_mesh::fmi2::types::*;
 use helical_gear_mesh::numeric::fnv1a_64;
 
-fn vr(name: &str) -> u32 {
-    by_name(name).unwrap().vr
-}
-
-struct Fmu(fmi2Component);
-
-impl Fmu {
-    fn new() -> Self {
-        let g = CString::new(guid()).unwrap();
-        let c = unsafe {
-            fmi2Instantiate(
-                c"robust".as_ptr(),
-                FMI2_CO_SIMULATION,
-                g.as_ptr(),
-                null(),
-                null(),
-                FMI2_FALSE,
-                FMI2_FALSE,
-            )
-        };
-        assert!(!c.is_null());
-        Fmu(c)
-    }
-    fn setup(&self) {
-        unsafe {
-            assert_eq!(fmi2SetupExperiment(self.0, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Ok);
-            assert_eq!(fmi2EnterInitializationMode(self.0), fmi2Status::Ok);
-        }
-    }
-    fn init(&self) {
-        self.setup();
-        assert_eq!(unsafe { fmi2ExitInitializationMode(self.0) }, fmi2Status::Ok);
-    }
-    fn recover(&self) {
-        assert_eq!(unsafe { fmi2Reset(self.0) }, fmi2Status::Ok);
-        self.init();
-    }
-    fn set(&self, names: &[&str], v: &[f64]) -> fmi2Status {
-        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
-        unsafe { fmi2SetReal(self.0, r.as_ptr(), r.len(), v.as_ptr()) }
-    }
-    fn get(&self, names: &[&str]) -> Result<Vec<f64>, fmi2Status> {
-        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
-        let mut out = vec![0.0; r.len()];
-        match unsafe { fmi2GetReal(self.0, r.as_ptr(), r.len(), out.as_mut_ptr()) } {
-            fmi2Status::Ok => Ok(out),
-            s => Err(s),
-        }
-    }
-    fn serialize(&self) -> Vec<fmi2Byte> {
-        let mut st: fmi2FMUstate = null_mut();
-        let mut size = 0usize;
-        unsafe {
-            assert_eq!(fmi2GetFMUstate(self.0, &mut st), fmi2Status::Ok);
-            assert_eq!(fmi2SerializedFMUstateSize(self.0, st, &mut size), fmi2Status::Ok);
-            let mut b = vec![0 as fmi2Byte; size];
-            assert_eq!(fmi2SerializeFMUstate(self.0, st, b.as_mut_ptr(), size), fmi2Status::Ok);
-            assert_eq!(fmi2FreeFMUstate(self.0, &mut st), fmi2Status::Ok);
-            b
-        }
-    }
-    /// Deserialises `b` and sets the state; the status of the first call that fails.
-    fn restore(&self, b: &[fmi2Byte]) -> fmi2Status {
-        let mut st: fmi2FMUstate = null_mut();
-        unsafe {
-            let s = fmi2DeSerializeFMUstate(self.0, b.as_ptr(), b.len(), &mut st);
-            if s != fmi2Status::Ok {
-                return s;
-            }
-            let s = fmi2SetFMUstate(self.0, st);
-            assert_eq!(fmi2FreeFMUstate(self.0, &mut st), fmi2Status::Ok);
-            s
-        }
-    }
-}
-
-impl Drop for Fmu {
-    fn drop(&mut self) {
-        unsafe { fmi2FreeInstance(self.0) };
-    }
-}
+use common::fmi::{Fmu, vr};
 
 const OUTS: [&str; 8] =
     ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];

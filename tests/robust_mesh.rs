@@ -4,6 +4,8 @@
 //! naming the angle and the bound (never an integer wrap); the searches over TE end at the
 //! range. Table 1 (embedded compliance), coarse slices and tables.
 
+mod common;
+
 use std::ffi::CString;
 use std::ptr::null;
 
@@ -17,20 +19,11 @@ use helical_gear_mesh::fmi2::models::unit::PAIR;
 use helical_gear_mesh::fmi2::types::*;
 use helical_gear_mesh::mesh::validity::MAX_OVERLAP_MN;
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshState, MeshTorques,
-    equilibrium,
+    EquilibriumSettings, Fidelity, Mesh, MeshError, MeshState, MeshTorques, equilibrium,
 };
 use helical_gear_mesh::numeric::{MAX_PITCHES, Pitch, two_prod};
 
-fn options(fidelity: Fidelity) -> MeshOptions {
-    MeshOptions {
-        fidelity,
-        slices: 40,
-        table_phase_points: 16,
-        table_te_points: 12,
-        ..MeshOptions::default()
-    }
-}
+use common::{coarse_options as options, table1_pitch as pitch};
 
 fn model(fidelity: Fidelity) -> Mesh {
     Mesh::new(&GearPair::paper_table1(), options(fidelity)).expect("Table 1 model")
@@ -38,10 +31,6 @@ fn model(fidelity: Fidelity) -> Mesh {
 
 fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
     MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 100.0, w_g: -63.83 }
-}
-
-fn pitch() -> f64 {
-    std::f64::consts::TAU / f64::from(GearPair::paper_table1().z_p)
 }
 
 /// Asserts that `r` is the out-of-range error of TE outside the validity range (no load-solver

@@ -7,10 +7,14 @@
 //! reference state, TE to 10⁻¹⁸ m; the naive f64 reduction of the previous code is off by
 //! micrometres there, which the test measures and prints.
 
+mod common;
+
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::capi::{HgmOutputs, HgmStatus, hgm_create_default, hgm_evaluate, hgm_free};
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::mesh::{Mesh, MeshOptions, MeshOutputs, MeshState};
+
+use common::table1_geometry as geometry;
 
 /// ⌊2¹²⁸/(2π)⌋: the hex digits of 2/π (0.A2F9836E4E441529FC2757D1F534DDC0…) shifted by two.
 const INV_TWO_PI_128: u128 = 0x28be_60db_9391_054a_7f09_d5f4_7d4d_3770;
@@ -78,10 +82,6 @@ fn reference_constants_are_consistent() {
     let (r, k) = exact_reduce(-0.3, 30);
     assert_eq!(k, -1);
     assert!((r - (-0.3 + std::f64::consts::TAU / 30.0)).abs() < 1e-15);
-}
-
-fn geometry() -> PairGeometry {
-    PairGeometry::new(&GearPair::paper_table1()).expect("geometry")
 }
 
 /// Huge states (Φp, Φg) of the Table 1 pair near a target TE, and their exact small-angle

@@ -10,6 +10,8 @@
 //! outputs periodic in one pinion pitch (and in whole turns), q ≥ 0 and finite pressure on
 //! every slice, M_F,p non-decreasing in TE, and separation inside the backlash.
 
+mod common;
+
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::geometry::PairGeometry;
@@ -18,29 +20,7 @@ use helical_gear_mesh::mesh::{
     MeshOutputs, MeshState, compute_compliance, equilibrium, winkler_compliances,
 };
 
-/// xorshift64* (Vigna): small, seeded, no dependency.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    fn int(&mut self, lo: u32, hi: u32) -> u32 {
-        lo + (self.next_u64() % u64::from(hi - lo + 1)) as u32
-    }
-}
+use common::XorShift64Star as Rng;
 
 fn random_design(rng: &mut Rng) -> GearPair {
     let mut p = GearPair::paper_table1();

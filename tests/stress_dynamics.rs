@@ -10,6 +10,8 @@
 //! model (coarse table fidelity) is run at a few speeds up to 3·ω_crit as well, where the
 //! tip-rounding contact and the separation of the paper appear.
 
+mod common;
+
 use std::ops::ControlFlow;
 
 use helical_gear_mesh::GearPair;
@@ -18,8 +20,10 @@ use helical_gear_mesh::dynamics::{
     Clearance, Dopri5, Dopri5Options, Drivetrain, GearDynamics, OdeError, OdeSystem,
     PeriodicStiffnessMesh, Stepping, simulate,
 };
+use helical_gear_mesh::mesh::Mesh;
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
-use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions};
+
+use common::small_table_options;
 
 const K0: f64 = 1.2e8;
 const A: f64 = 0.1;
@@ -231,14 +235,7 @@ fn real_mesh_kicked_long() {
 
 fn kicked_real_mesh(runs: &[(f64, f64)], t_end: f64) {
     let pair = GearPair::paper_table1();
-    let options = MeshOptions {
-        fidelity: Fidelity::Table,
-        slices: 60,
-        table_phase_points: 24,
-        table_te_points: 16,
-        pressure: false,
-        ..MeshOptions::default()
-    };
+    let options = small_table_options();
     let t0 = std::time::Instant::now();
     let mesh = Mesh::new(&pair, options).unwrap();
     let drive = Drivetrain::from_pair(&pair).unwrap();

@@ -6,67 +6,17 @@
 //! program (tests/c/test_capi.c), whose logger is a real variadic C function; it also runs
 //! under valgrind for leaks when valgrind is installed (tests/python/test_c_api.py).
 
+mod common;
+
 use std::ffi::CString;
 use std::ptr::{null, null_mut};
 
 use helical_gear_mesh::capi::*;
 use helical_gear_mesh::fmi2::exports::*;
-use helical_gear_mesh::fmi2::models::mesh::{by_name, guid};
+use helical_gear_mesh::fmi2::models::mesh::guid;
 use helical_gear_mesh::fmi2::types::*;
 
-fn vr(name: &str) -> u32 {
-    by_name(name).unwrap().vr
-}
-
-struct Fmu(fmi2Component);
-
-impl Fmu {
-    fn new() -> Self {
-        let g = CString::new(guid()).unwrap();
-        let c = unsafe {
-            fmi2Instantiate(
-                c"stress".as_ptr(),
-                FMI2_CO_SIMULATION,
-                g.as_ptr(),
-                null(),
-                null(),
-                FMI2_FALSE,
-                FMI2_FALSE,
-            )
-        };
-        assert!(!c.is_null());
-        Fmu(c)
-    }
-    fn init(&self) {
-        unsafe {
-            assert_eq!(fmi2SetupExperiment(self.0, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Ok);
-            assert_eq!(fmi2EnterInitializationMode(self.0), fmi2Status::Ok);
-            assert_eq!(fmi2ExitInitializationMode(self.0), fmi2Status::Ok);
-        }
-    }
-    fn recover(&self) {
-        assert_eq!(unsafe { fmi2Reset(self.0) }, fmi2Status::Ok);
-        self.init();
-    }
-    fn set(&self, names: &[&str], v: &[f64]) -> fmi2Status {
-        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
-        unsafe { fmi2SetReal(self.0, r.as_ptr(), r.len(), v.as_ptr()) }
-    }
-    fn get(&self, names: &[&str]) -> Result<Vec<f64>, fmi2Status> {
-        let r: Vec<u32> = names.iter().map(|n| vr(n)).collect();
-        let mut out = vec![0.0; r.len()];
-        match unsafe { fmi2GetReal(self.0, r.as_ptr(), r.len(), out.as_mut_ptr()) } {
-            fmi2Status::Ok => Ok(out),
-            s => Err(s),
-        }
-    }
-}
-
-impl Drop for Fmu {
-    fn drop(&mut self) {
-        unsafe { fmi2FreeInstance(self.0) };
-    }
-}
+use common::fmi::{Fmu, vr};
 
 const INPUTS: [&str; 4] = ["phi_p", "phi_g", "w_p", "w_g"];
 const OUTS: [&str; 8] =

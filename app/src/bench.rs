@@ -726,7 +726,8 @@ fn hunting_case(
     Ok(case)
 }
 
-fn cpu_model() -> String {
+/// The CPU's model name from `/proc/cpuinfo` ("unknown" where it cannot be read).
+pub fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|s| {
