@@ -119,8 +119,8 @@
 //!
 //! Carrying the warm start instead of restarting cold at every communication step (as
 //! earlier versions did) saves the cold solve's extra Newton iterations at the first
-//! evaluation of each step; the measured cost per step is in `full_fidelity_unit_speed`
-//! (`tests/dynamics_unit.rs`).
+//! evaluation of each step; the measured cost per step is the generated page
+//! `docs/bench/units.md` (`cargo run --release -p helical-gear-app --example measure -- units`).
 
 use std::ops::ControlFlow;
 
