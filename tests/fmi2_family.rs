@@ -1,6 +1,8 @@
 //! The stateful models through the exported FMI functions: instantiation by GUID, stepping
 //! from the static equilibrium, bit-for-bit FMU state restore, a failed step's status.
 
+mod common;
+
 use std::ffi::CString;
 use std::ptr::{null, null_mut};
 
@@ -9,30 +11,14 @@ use helical_gear_mesh::fmi2::model::ModelInfo;
 use helical_gear_mesh::fmi2::models::unit::{DRIVE, PAIR, STAGE};
 use helical_gear_mesh::fmi2::types::*;
 
-struct Fmu(fmi2Component, &'static ModelInfo);
+use common::fmi::ModelFmu as Fmu;
 
 impl Fmu {
+    /// An initialised Co-Simulation instance of `m`.
     fn new(m: &'static ModelInfo) -> Self {
-        let g = CString::new(m.guid()).unwrap();
-        let c = unsafe {
-            fmi2Instantiate(c"u".as_ptr(), FMI2_CO_SIMULATION, g.as_ptr(), null(), null(), 0, 0)
-        };
-        assert!(!c.is_null(), "{}", m.identifier);
-        let f = Fmu(c, m);
-        unsafe {
-            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Ok);
-            assert_eq!(fmi2EnterInitializationMode(c), fmi2Status::Ok);
-            assert_eq!(fmi2ExitInitializationMode(c), fmi2Status::Ok);
-        }
+        let f = Fmu::instantiate(m, FMI2_CO_SIMULATION);
+        f.init();
         f
-    }
-
-    fn get(&self, names: &[&str]) -> Vec<f64> {
-        let r: Vec<u32> = names.iter().map(|n| self.1.by_name(n).unwrap().vr).collect();
-        let mut out = vec![0.0; r.len()];
-        let st = unsafe { fmi2GetReal(self.0, r.as_ptr(), r.len(), out.as_mut_ptr()) };
-        assert_eq!(st, fmi2Status::Ok);
-        out
     }
 
     fn run(&self, t: f64, n: usize, h: f64) -> Vec<Vec<f64>> {
@@ -43,12 +29,6 @@ impl Fmu {
                 self.get(&["TE", "w_p", "phi_g", "M_F_p"])
             })
             .collect()
-    }
-}
-
-impl Drop for Fmu {
-    fn drop(&mut self) {
-        unsafe { fmi2FreeInstance(self.0) };
     }
 }
 

@@ -4,8 +4,7 @@
 //! model's own derivatives and outputs (the FMU computes its derivatives from the mesh
 //! Jacobian, never by differences; this test is the independent check).
 
-use std::ffi::CString;
-use std::ptr::null;
+mod common;
 
 use helical_gear_mesh::fmi2::exports::*;
 use helical_gear_mesh::fmi2::model::ModelInfo;
@@ -13,7 +12,7 @@ use helical_gear_mesh::fmi2::models::mesh::INFO as MESH;
 use helical_gear_mesh::fmi2::models::unit::{DRIVE, PAIR, STAGE};
 use helical_gear_mesh::fmi2::types::*;
 
-struct Fmu(fmi2Component, &'static ModelInfo);
+use common::fmi::ModelFmu as Fmu;
 
 /// A coarse mesh and table (the properties checked do not depend on the resolution).
 const COARSE: [(&str, i32); 3] =
@@ -27,40 +26,16 @@ impl Fmu {
         reals: &[(&str, f64)],
         ints: &[(&str, i32)],
     ) -> Self {
-        let g = CString::new(m.guid()).unwrap();
-        let c = unsafe { fmi2Instantiate(c"me".as_ptr(), ty, g.as_ptr(), null(), null(), 0, 0) };
-        assert!(!c.is_null(), "{}", m.identifier);
-        let f = Fmu(c, m);
+        let f = Fmu::instantiate(m, ty);
         for (n, v) in reals {
             f.set(&[n], &[*v]);
         }
         for (n, v) in ints {
             let vr = m.by_name(n).unwrap().vr;
-            assert_eq!(unsafe { fmi2SetInteger(c, &vr, 1, v) }, fmi2Status::Ok);
+            assert_eq!(unsafe { fmi2SetInteger(f.0, &vr, 1, v) }, fmi2Status::Ok);
         }
-        unsafe {
-            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Ok);
-            assert_eq!(fmi2EnterInitializationMode(c), fmi2Status::Ok);
-            assert_eq!(fmi2ExitInitializationMode(c), fmi2Status::Ok);
-        }
+        f.init();
         f
-    }
-
-    fn vrs(&self, names: &[&str]) -> Vec<u32> {
-        names.iter().map(|n| self.1.by_name(n).unwrap_or_else(|| panic!("{n}")).vr).collect()
-    }
-
-    fn get(&self, names: &[&str]) -> Vec<f64> {
-        let r = self.vrs(names);
-        let mut out = vec![0.0; r.len()];
-        let st = unsafe { fmi2GetReal(self.0, r.as_ptr(), r.len(), out.as_mut_ptr()) };
-        assert_eq!(st, fmi2Status::Ok, "get {names:?}");
-        out
-    }
-
-    fn set(&self, names: &[&str], v: &[f64]) {
-        let r = self.vrs(names);
-        assert_eq!(unsafe { fmi2SetReal(self.0, r.as_ptr(), r.len(), v.as_ptr()) }, fmi2Status::Ok);
     }
 
     fn nx(&self) -> usize {
@@ -123,12 +98,6 @@ impl Fmu {
             assert_eq!(info.nextEventTimeDefined, FMI2_FALSE);
             assert_eq!(fmi2EnterContinuousTimeMode(self.0), fmi2Status::Ok);
         }
-    }
-}
-
-impl Drop for Fmu {
-    fn drop(&mut self) {
-        unsafe { fmi2FreeInstance(self.0) };
     }
 }
 

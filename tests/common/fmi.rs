@@ -1,11 +1,13 @@
-//! An FMI 2.0 Co-Simulation instance of the HelicalGearMesh model through the exported
-//! `fmi2*` functions, as an importer would hold it; shared by `tests/fmi2.rs`,
-//! `tests/robust_interfaces.rs` and `tests/stress_interfaces.rs`.
+//! FMI 2.0 instances through the exported `fmi2*` functions, as an importer would hold them:
+//! [`Fmu`], a Co-Simulation instance of the HelicalGearMesh model (`tests/fmi2.rs`,
+//! `tests/robust_interfaces.rs`, `tests/stress_interfaces.rs`), and [`ModelFmu`], an instance
+//! of any model of the family (`tests/fmi2_family.rs`, `tests/fmi2_model_exchange.rs`).
 
 use std::ffi::CString;
 use std::ptr::{null, null_mut};
 
 use helical_gear_mesh::fmi2::exports::*;
+use helical_gear_mesh::fmi2::model::ModelInfo;
 use helical_gear_mesh::fmi2::models::mesh::{by_name, guid};
 use helical_gear_mesh::fmi2::types::*;
 
@@ -121,6 +123,58 @@ impl Fmu {
 }
 
 impl Drop for Fmu {
+    fn drop(&mut self) {
+        unsafe { fmi2FreeInstance(self.0) };
+    }
+}
+
+/// An instance of any model of the family (`ModelInfo`: HelicalGearMesh, Pair, Stage, Drive)
+/// with its variable table, for value references by name; freed on drop. The binaries add
+/// their own constructors and calls in `impl` blocks of their own.
+pub struct ModelFmu(pub fmi2Component, pub &'static ModelInfo);
+
+impl ModelFmu {
+    /// A new instance of `m` of interface `ty` (Co-Simulation or Model Exchange), without
+    /// callbacks or resource location, in the `instantiated` state.
+    pub fn instantiate(m: &'static ModelInfo, ty: fmi2Type) -> Self {
+        let g = CString::new(m.guid()).unwrap();
+        let c = unsafe { fmi2Instantiate(c"test".as_ptr(), ty, g.as_ptr(), null(), null(), 0, 0) };
+        assert!(!c.is_null(), "{}", m.identifier);
+        ModelFmu(c, m)
+    }
+
+    /// `fmi2SetupExperiment` (start 0), `fmi2EnterInitializationMode` and
+    /// `fmi2ExitInitializationMode`, each asserted Ok.
+    pub fn init(&self) {
+        unsafe {
+            assert_eq!(fmi2SetupExperiment(self.0, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Ok);
+            assert_eq!(fmi2EnterInitializationMode(self.0), fmi2Status::Ok);
+            assert_eq!(fmi2ExitInitializationMode(self.0), fmi2Status::Ok);
+        }
+    }
+
+    /// The value references of the variables `names` (panics on an unknown name).
+    pub fn vrs(&self, names: &[&str]) -> Vec<u32> {
+        names.iter().map(|n| self.1.by_name(n).unwrap_or_else(|| panic!("{n}")).vr).collect()
+    }
+
+    /// `fmi2GetReal` of the variables `names`, asserted Ok.
+    pub fn get(&self, names: &[&str]) -> Vec<f64> {
+        let r = self.vrs(names);
+        let mut out = vec![0.0; r.len()];
+        let st = unsafe { fmi2GetReal(self.0, r.as_ptr(), r.len(), out.as_mut_ptr()) };
+        assert_eq!(st, fmi2Status::Ok, "get {names:?}");
+        out
+    }
+
+    /// `fmi2SetReal` of the variables `names` to `v`, asserted Ok.
+    pub fn set(&self, names: &[&str], v: &[f64]) {
+        let r = self.vrs(names);
+        assert_eq!(unsafe { fmi2SetReal(self.0, r.as_ptr(), r.len(), v.as_ptr()) }, fmi2Status::Ok);
+    }
+}
+
+impl Drop for ModelFmu {
     fn drop(&mut self) {
         unsafe { fmi2FreeInstance(self.0) };
     }
