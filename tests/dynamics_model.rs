@@ -17,7 +17,7 @@ use helical_gear_mesh::mesh::MeshError;
 use helical_gear_mesh::mesh::statics::{EquilibriumSettings, equilibrium};
 use nalgebra::{Matrix4, SymmetricEigen, Vector4};
 
-use common::{FailingMesh, table1_drive_radii as table1};
+use common::{FailingMesh, rhs_with_dissipation, table1_drive_radii as table1};
 
 /// Mesh stiffness of the analytic meshes, N/m: puts the mesh mode near 2·10⁴ rad/s with the
 /// Table 1 inertias (the paper's main resonance, 660 rad/s × 30 teeth).
@@ -222,15 +222,7 @@ impl OdeSystem for WithDissipation {
     }
 
     fn rhs(&mut self, t: f64, y: &[f64], d: &mut [f64]) -> Result<(), OdeError> {
-        self.model.rhs(t, &y[..8], &mut d[..8])?;
-        // The same mesh evaluation (remembered) gives the mesh damping torques.
-        let o = self.model.outputs(&y[..8]).map_err(|e| OdeError::rhs(t, e))?;
-        let dr = self.model.drive();
-        d[8] = dr.d1 * (y[W_1] - y[W_P]).powi(2)
-            + dr.d2 * (y[W_G] - y[W_2]).powi(2)
-            + o.m_d_p * y[W_P]
-            + o.m_d_g * y[W_G];
-        Ok(())
+        rhs_with_dissipation(&mut self.model, t, y, d)
     }
 }
 

@@ -23,7 +23,7 @@ use helical_gear_mesh::dynamics::{
 use helical_gear_mesh::mesh::Mesh;
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 
-use common::small_table_options;
+use common::{rhs_with_dissipation, small_table_options};
 
 const K0: f64 = 1.2e8;
 const A: f64 = 0.1;
@@ -52,13 +52,7 @@ impl OdeSystem for Balanced {
     }
 
     fn rhs(&mut self, t: f64, y: &[f64], d: &mut [f64]) -> Result<(), OdeError> {
-        self.model.rhs(t, &y[..8], &mut d[..8])?;
-        let o = self.model.outputs(&y[..8]).map_err(|e| OdeError::rhs(t, e))?;
-        let dr = self.model.drive();
-        d[8] = dr.d1 * (y[W_1] - y[W_P]).powi(2)
-            + dr.d2 * (y[W_G] - y[W_2]).powi(2)
-            + o.m_d_p * y[W_P]
-            + o.m_d_g * y[W_G];
+        rhs_with_dissipation(&mut self.model, t, y, d)?;
         let k_prime = -K0 * A * self.z_p * (self.z_p * y[PHI_P]).sin();
         let delta = deflection(self.model.te(&y[..8]));
         d[9] = 0.5 * k_prime * y[W_P] * delta * delta;

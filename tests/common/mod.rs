@@ -2,11 +2,13 @@
 //! `mod common;` and uses what it needs; a helper one binary leaves unused is no warning there).
 //!
 //! * this module: the Table 1 pair's geometry, drivetrain and pitch, mesh options and states,
-//!   a relative difference, the deterministic random numbers of the randomised tests, and a
-//!   mesh that fails on purpose;
+//!   a relative difference, the deterministic random numbers of the randomised tests, the
+//!   drive line's right-hand side with a dissipation quadrature, and a mesh that fails on
+//!   purpose;
 //! * [`cosim`]: the co-simulation masters of the Table 1 drive line;
 //! * [`fe`]: checks of a whole-gear FE mesh (volume, Jacobians);
-//! * [`fmi`]: an FMI 2.0 Co-Simulation instance of the HelicalGearMesh model, freed on drop.
+//! * [`fmi`]: FMI 2.0 instances freed on drop, of the HelicalGearMesh model (Co-Simulation)
+//!   and of any model of the family, with value references by name.
 //!
 //! `cosim` and `fe` are also compiled into the measurement program `app/examples/measure.rs`,
 //! so the figures of `docs/bench/` come from the code the tests assert.
@@ -18,7 +20,10 @@ pub mod cosim;
 pub mod fe;
 pub mod fmi;
 
-use helical_gear_mesh::dynamics::{ConstantStiffnessMesh, Drivetrain};
+use helical_gear_mesh::dynamics::model::{W_1, W_2, W_G, W_P};
+use helical_gear_mesh::dynamics::{
+    ConstantStiffnessMesh, Drivetrain, GearDynamics, OdeError, OdeSystem,
+};
 use helical_gear_mesh::mesh::{
     Fidelity, Mesh, MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques,
 };
@@ -143,6 +148,26 @@ impl XorShift64Star {
     pub fn int(&mut self, lo: u32, hi: u32) -> u32 {
         lo + (self.next_u64() % u64::from(hi - lo + 1)) as u32
     }
+}
+
+/// Eqs. 1–4 of `model` into `d[..8]` and, in `d[8]`, the power (W) dissipated in the shaft
+/// dampers d₁, d₂ and the mesh damper: the right-hand side of the drive line with one
+/// quadrature state `y[8]`, the energy dissipated, for energy-balance checks.
+pub fn rhs_with_dissipation<M: MeshTorques>(
+    model: &mut GearDynamics<M>,
+    t: f64,
+    y: &[f64],
+    d: &mut [f64],
+) -> Result<(), OdeError> {
+    model.rhs(t, &y[..8], &mut d[..8])?;
+    // The same mesh evaluation (remembered) gives the mesh damping torques.
+    let o = model.outputs(&y[..8]).map_err(|e| OdeError::rhs(t, e))?;
+    let dr = model.drive();
+    d[8] = dr.d1 * (y[W_1] - y[W_P]).powi(2)
+        + dr.d2 * (y[W_G] - y[W_2]).powi(2)
+        + o.m_d_p * y[W_P]
+        + o.m_d_g * y[W_G];
+    Ok(())
 }
 
 /// A mesh that fails beyond a pinion angle, like a load solver that does not converge.
