@@ -10,8 +10,8 @@ use std::sync::OnceLock;
 use helical_gear_mesh::dynamics::model::{PHI_1, PHI_2, W_1, W_2};
 use helical_gear_mesh::dynamics::{
     Clearance, ConstantStiffnessMesh, DriveUnit, Drivetrain, DynamicsError, GearDynamics,
-    HubCoupling, PeriodicStiffnessMesh, Stepping, UnitInputs, UnitKind, UnitLinearization,
-    UnitSnapshot, UnitStepping, simulate,
+    HubCoupling, PeriodicStiffnessMesh, Stepping, UnitInputRates, UnitInputs, UnitKind,
+    UnitLinearization, UnitSnapshot, UnitStepping, simulate,
 };
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
@@ -170,14 +170,9 @@ fn pair_cut_hold(omega: f64, h: f64, n: usize, mid: bool, foh: bool, coupled: bo
             r1 = d.c1 * (m[1] - hub[1]) + d.d1 * (a1 - o.a_p);
             r2 = d.c2 * (hub[3] - m[3]) + d.d2 * (o.a_g - a2);
         }
-        let u = UnitInputs {
-            tau_p: s1,
-            tau_g: -s2,
-            tau_p_rate: r1,
-            tau_g_rate: -r2,
-            ..Default::default()
-        };
-        pair.set_inputs(u).unwrap();
+        pair.set_inputs(UnitInputs { tau_p: s1, tau_g: -s2, ..Default::default() }).unwrap();
+        let r = UnitInputRates { tau_p_rate: r1, tau_g_rate: -r2, ..Default::default() };
+        pair.set_input_rates(r).unwrap();
         pair.advance(h).unwrap();
         // Master: J1 φ1'' = M − c1(φ1 − φp(t)) − d1(φ̇1 − φ̇p), J2 φ2'' = M·z_g/z_p +
         // c2(φg(t) − φ2) + d2(φ̇g − φ̇2), hub motion φ(t) = φ(t_k) + φ̇(t_k)·s.
@@ -330,7 +325,9 @@ fn coupled_pair_snapshot_continues_bit_for_bit() {
             .map(|k| {
                 if k % 2 == 0 {
                     let rate = 50.0 * (k as f64).sin();
-                    p.set_inputs(UnitInputs { tau_p_rate: rate, ..u0 }).unwrap();
+                    p.set_inputs(u0).unwrap();
+                    let r = UnitInputRates { tau_p_rate: rate, ..Default::default() };
+                    p.set_input_rates(r).unwrap();
                 }
                 p.advance(7.7e-5).unwrap();
                 p.outputs().unwrap().mesh.te
@@ -689,7 +686,6 @@ fn linearize_matches_central_differences_with_analytic_meshes() {
         phi_2: pg + 0.2,
         w_2: -199.0,
         torque: 103.0,
-        ..UnitInputs::default()
     };
     let drive_x = [pp + 0.1, pp, pg, pg + 0.2, 305.0, 310.0, -196.0, -199.0];
     for kind in [UnitKind::Pair, UnitKind::Stage, UnitKind::Drive] {
