@@ -7,6 +7,11 @@
 #include <stdint.h>
 
 /**
+ * Number of states of the drive (Eqs. 1–4): the length of `HgmUnitOutputs::dydt`.
+ */
+#define HGM_N_STATES 8
+
+/**
  * Result of a C API call.
  */
 typedef enum {
@@ -29,37 +34,38 @@ typedef enum {
 } HgmStatus;
 
 /**
- * Which part of the drive line a unit holds (see `HgmUnit`): the values of `hgm_unit_create`'s
- * `kind` argument, which takes an `int32_t` and refuses any other value (the codes of
- * [`crate::options`]).
+ * Which part of the drive line a unit holds (the C API's `HgmUnitKind`: the values of
+ * `hgm_unit_create`'s `kind`, the codes of [`crate::options`]).
  */
 typedef enum {
   /**
-   * J_p, J_g and the mesh; inputs `tau_p`, `tau_g`.
+   * J_p, J_g and the mesh. States (φp, φg, φ̇p, φ̇g). Inputs tau_p, tau_g.
    */
   HGM_UNIT_KIND_PAIR = 0,
   /**
-   * The pair plus the shafts c1/d1, c2/d2; inputs `phi_1`, `w_1`, `phi_2`, `w_2`.
+   * Pair plus the shafts c1/d1, c2/d2. States (φp, φg, φ̇p, φ̇g). Inputs phi_1, w_1, phi_2,
+   * w_2.
    */
   HGM_UNIT_KIND_STAGE = 1,
   /**
-   * The whole 4-DOF model of Eqs. 1–4; input `torque` (M).
+   * The whole 4-DOF model of Eqs. 1–4. States in the order of dynamics::model (8). Input M.
    */
   HGM_UNIT_KIND_DRIVE = 2,
 } HgmUnitKind;
 
 /**
- * Mesh evaluation of a unit: the values of `hgm_unit_create`'s `fidelity` argument, which
- * takes an `int32_t` and refuses any other value. The codes are those of the FMUs' `fidelity`
- * parameter ([`crate::options`]; before this encoding was shared, `TABLE` was 0 and `FULL` 1).
+ * How each evaluation is computed (the C API's `HgmFidelity`: the values of
+ * `hgm_unit_create`'s `fidelity`, the codes of [`crate::options`] and of the FMUs' `fidelity`
+ * parameter; before this encoding was shared, `TABLE` was 0 and `FULL` 1).
  */
 typedef enum {
   /**
-   * Contact search and load solve at every evaluation.
+   * Contact search and load solve at every call.
    */
   HGM_FIDELITY_FULL = 0,
   /**
-   * Interpolation in a table built at creation (a few seconds), full model outside it.
+   * Interpolation in a table over (mesh phase, TE) built once from `Full`; points outside
+   * the table fall back to `Full`.
    */
   HGM_FIDELITY_TABLE = 1,
 } HgmFidelity;
@@ -75,7 +81,7 @@ typedef struct HgmModel HgmModel;
 typedef struct HgmUnit HgmUnit;
 
 /**
- * Outputs of one evaluation (all SI).
+ * Results of one mesh evaluation (the C API's `HgmOutputs`).
  */
 typedef struct {
   /**
@@ -87,11 +93,11 @@ typedef struct {
    */
   double m_f_g;
   /**
-   * Damping mesh torque on the pinion M_D,p (Eq. 14), N·m; enters Eq. 2 with a minus sign.
+   * Damping torque on the pinion M_D,p (Eq. 14), N·m; enters Eq. 2 with a minus sign.
    */
   double m_d_p;
   /**
-   * Damping mesh torque on the gear M_D,g (Eq. 14), N·m; enters Eq. 3 with a minus sign.
+   * Damping torque on the gear M_D,g (Eq. 14), N·m; enters Eq. 3 with a minus sign.
    */
   double m_d_g;
   /**
@@ -99,7 +105,7 @@ typedef struct {
    */
   double te;
   /**
-   * Total normal contact force, N.
+   * Total normal contact force F = Σ w_i·q_i, N (all flanks in contact).
    */
   double f_n;
   /**
@@ -107,7 +113,7 @@ typedef struct {
    */
   double contact_length;
   /**
-   * Largest Hertz pressure (Eq. 15), Pa.
+   * Largest Hertz pressure (Eq. 15), Pa (0 when pressure is not computed or no load).
    */
   double p_max;
   /**
@@ -115,33 +121,36 @@ typedef struct {
    */
   uint32_t n_pairs;
   /**
-   * A loaded contact lies on the tip rounding (or tip edge) of either gear.
+   * True when a loaded contact lies on the tip rounding (or tip edge) of either gear.
    */
   bool tip_contact;
   /**
-   * No flank carries load.
+   * True when no flank carries load (loss of contact).
    */
   bool separated;
   /**
-   * The back flanks carry load (the torques are then negative).
+   * True when the back flanks carry load (TE below minus the backlash; the torques are
+   * then negative).
    */
   bool back_contact;
 } HgmOutputs;
 
 /**
- * Inputs of a unit (SI); each kind reads only its own fields, held over a step.
+ * Inputs of a unit as set (SI; the C API's `HgmUnitInputs`). Each kind reads only its own
+ * fields (see UnitKind); their rates over a step are [`UnitInputRates`].
  */
 typedef struct {
   /**
-   * Pair: torque the pinion shaft exerts on the pinion hub, N·m.
+   * Pair: torque the pinion shaft exerts on the pinion hub, N·m
+   * (J_p·φp'' = tau_p − M_F_p − M_D_p).
    */
   double tau_p;
   /**
-   * Pair: torque the gear shaft exerts on the gear hub, N·m.
+   * Pair: torque the gear shaft exerts on the gear hub, N·m (J_g·φg'' = tau_g − M_F_g − M_D_g).
    */
   double tau_g;
   /**
-   * Stage: angle of the pinion shaft's far end, rad (moves with `w_1` over a step).
+   * Stage: angle of the pinion shaft's far end (J1 side), rad.
    */
   double phi_1;
   /**
@@ -149,7 +158,7 @@ typedef struct {
    */
   double w_1;
   /**
-   * Stage: angle of the gear shaft's far end, rad (moves with `w_2` over a step).
+   * Stage: angle of the gear shaft's far end (J2 side), rad.
    */
   double phi_2;
   /**
@@ -157,27 +166,27 @@ typedef struct {
    */
   double w_2;
   /**
-   * Drive: driving torque M on J1, N·m (load on J2: M·z_g/z_p).
+   * Drive: driving torque M on J1, N·m (the load on J2 is M·z_g/z_p as in Eq. 4).
    */
   double torque;
 } HgmUnitInputs;
 
 /**
- * Time derivatives of a unit's inputs over a step (first-order hold; SI). Each kind reads
- * only its own fields.
+ * Time derivatives of a unit's inputs over a step (first-order hold, module doc; SI; the C
+ * API's `HgmUnitInputRates`). Each kind reads only its own fields; all 0 is the plain hold.
  */
 typedef struct {
   /**
-   * Pair: d(tau_p)/dt, N·m/s.
+   * Pair: time derivative of `tau_p` over the step, N·m/s.
    */
   double tau_p_rate;
   /**
-   * Pair: d(tau_g)/dt, N·m/s.
+   * Pair: time derivative of `tau_g`, N·m/s.
    */
   double tau_g_rate;
   /**
-   * Stage: angular acceleration of the pinion shaft's far end, rad/s² (its angle moves as
-   * phi_1 + w_1·s + ½·w_1_rate·s²).
+   * Stage: angular acceleration of the pinion shaft's far end over the step, rad/s²
+   * (φ₁ moves as φ₁ + φ̇₁·s + ½·rate·s², its rate as φ̇₁ + rate·s).
    */
   double w_1_rate;
   /**
@@ -185,13 +194,15 @@ typedef struct {
    */
   double w_2_rate;
   /**
-   * Drive: d(M)/dt, N·m/s.
+   * Drive: time derivative of the driving torque M, N·m/s.
    */
   double torque_rate;
 } HgmUnitInputRates;
 
 /**
- * Outputs of a unit at its current time (SI).
+ * Outputs of a unit at its current time and state (SI). Fields a kind does not hold are the
+ * values it sees (Stage: phi_1…w_2 are the far-end inputs at the current time) or 0. The C
+ * API's `HgmUnitOutputs`.
  */
 typedef struct {
   /**
@@ -199,63 +210,71 @@ typedef struct {
    */
   double t;
   /**
-   * Pinion hub angle, rad.
+   * Pinion hub angle φp, rad.
    */
   double phi_p;
   /**
-   * Pinion hub rate, rad/s.
+   * Pinion hub rate φ̇p, rad/s.
    */
   double w_p;
   /**
-   * Pinion hub acceleration, rad/s².
+   * Pinion hub acceleration φ̈p, rad/s².
    */
   double a_p;
   /**
-   * Gear hub angle, rad.
+   * Gear hub angle φg, rad.
    */
   double phi_g;
   /**
-   * Gear hub rate, rad/s.
+   * Gear hub rate φ̇g, rad/s.
    */
   double w_g;
   /**
-   * Gear hub acceleration, rad/s².
+   * Gear hub acceleration φ̈g, rad/s².
    */
   double a_g;
   /**
-   * J1 angle (Drive) or pinion shaft far-end angle (Stage), rad; 0 for Pair.
+   * State derivative at the current time, state and inputs, in the kind's state order
+   * ([`UnitKind::state_names`]; entries beyond [`UnitKind::n_states`] are 0), rad/s and
+   * rad/s².
+   */
+  double dydt[HGM_N_STATES];
+  /**
+   * Angle of J1 (Drive) or of the pinion shaft's far end (Stage), rad; 0 for Pair.
    */
   double phi_1;
   /**
-   * J1 rate (Drive) or pinion shaft far-end rate (Stage), rad/s; 0 for Pair.
+   * Rate of J1 (Drive) or of the pinion shaft's far end (Stage), rad/s; 0 for Pair.
    */
   double w_1;
   /**
-   * J2 angle (Drive) or gear shaft far-end angle (Stage), rad; 0 for Pair.
+   * Angle of J2 (Drive) or of the gear shaft's far end (Stage), rad; 0 for Pair.
    */
   double phi_2;
   /**
-   * J2 rate (Drive) or gear shaft far-end rate (Stage), rad/s; 0 for Pair.
+   * Rate of J2 (Drive) or of the gear shaft's far end (Stage), rad/s; 0 for Pair.
    */
   double w_2;
   /**
-   * Torque the pinion shaft exerts on J1, N·m (J1·φ1'' = M + tau_1); 0 for Pair.
+   * Torque the pinion shaft exerts on J1 (Stage, Drive), N·m: J1·φ1'' = M + tau_1
+   * (steady running: tau_1 = −M); 0 for Pair.
    */
   double tau_1;
   /**
-   * Torque the gear shaft exerts on J2, N·m (J2·φ2'' = M·z_g/z_p + tau_2); 0 for Pair.
+   * Torque the gear shaft exerts on J2 (Stage, Drive), N·m: J2·φ2'' = M·z_g/z_p + tau_2;
+   * 0 for Pair.
    */
   double tau_2;
   /**
-   * Torque the pinion shaft exerts on the pinion hub, N·m (the input for Pair).
+   * Torque the pinion shaft exerts on the pinion hub (Stage, Drive; the input for Pair), N·m.
    */
   double tau_p;
   /**
-   * Torque the gear shaft exerts on the gear hub, N·m (the input for Pair).
+   * Torque the gear shaft exerts on the gear hub (Stage, Drive; the input for Pair), N·m.
    */
   double tau_g;
   /**
-   * Mesh outputs (torques, TE, F_n, flags).
+   * The mesh outputs (torques, TE, F_n, flags) at the current state.
    */
   HgmOutputs mesh;
 } HgmUnitOutputs;

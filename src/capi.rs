@@ -24,6 +24,21 @@
 //! is not finite is never written with `HGM_STATUS_OK` (it is a `HGM_STATUS_MODEL_ERROR` naming
 //! it). Enum arguments are taken as `int32_t` and checked against their allowed values.
 //!
+//! # The C types are the library's
+//!
+//! The structs and enums of the header are the library's own `#[repr(C)]` types, which the
+//! functions take and return as they are (no copies, no conversion): cbindgen reads them from
+//! their source files and gives them their C names (`fmu-build`'s `headers.rs`):
+//!
+//! | C | library |
+//! |---|---|
+//! | `HgmOutputs` | [`crate::mesh::MeshOutputs`] |
+//! | `HgmUnitInputs`, `HgmUnitInputRates` | [`crate::dynamics::UnitInputs`], [`crate::dynamics::UnitInputRates`] |
+//! | `HgmUnitOutputs` (with `dydt[HGM_N_STATES]`) | [`crate::dynamics::UnitOutputs`] |
+//! | `HgmUnitKind`, `HgmFidelity` (the values of the `int32_t` arguments) | [`crate::dynamics::UnitKind`], [`crate::mesh::Fidelity`] |
+//!
+//! Rust code reaches them here under the C names too (`capi::HgmOutputs` is `MeshOutputs`).
+//!
 //! # Warm start of the mesh handle
 //!
 //! An `HgmModel` keeps the load solver's warm start (the loads of its previous evaluation,
@@ -58,8 +73,8 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use crate::dynamics::unit::{MAX_ANGLE_RAD, MAX_SPEED_RAD_S};
 use crate::dynamics::{
-    DriveUnit, Drivetrain, HubCoupling, UnitInputs, UnitKind, UnitOutputs, UnitSnapshot,
-    UnitStepping,
+    DriveUnit, Drivetrain, HubCoupling, UnitInputRates, UnitInputs, UnitKind, UnitOutputs,
+    UnitSnapshot, UnitStepping,
 };
 use crate::error::short_num;
 use crate::mesh::statics::EquilibriumSettings;
@@ -67,14 +82,13 @@ use crate::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState};
 use crate::options::OptionEnum;
 use crate::params::GearPair;
 
-// The C constants are the codes of the one encoding (crate::options), checked at compile time.
-const _: () = {
-    assert!(HgmFidelity::Full as i32 == Fidelity::Full as i32);
-    assert!(HgmFidelity::Table as i32 == Fidelity::Table as i32);
-    assert!(HgmUnitKind::Pair as i32 == UnitKind::Pair as i32);
-    assert!(HgmUnitKind::Stage as i32 == UnitKind::Stage as i32);
-    assert!(HgmUnitKind::Drive as i32 == UnitKind::Drive as i32);
+/// The library's types under their C names (the same types, re-exported; see the module doc).
+pub use crate::dynamics::{
+    UnitInputRates as HgmUnitInputRates, UnitInputs as HgmUnitInputs, UnitKind as HgmUnitKind,
+    UnitOutputs as HgmUnitOutputs,
 };
+/// The library's types under their C names (the same types, re-exported; see the module doc).
+pub use crate::mesh::{Fidelity as HgmFidelity, MeshOutputs as HgmOutputs};
 
 /// Result of a C API call.
 #[repr(C)]
@@ -88,55 +102,6 @@ pub enum HgmStatus {
     ModelError = 2,
     /// An internal error (a caught panic); see `hgm_last_error`.
     InternalError = 3,
-}
-
-/// Outputs of one evaluation (all SI).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct HgmOutputs {
-    /// Elastic mesh torque on the pinion M_F,p (Eq. 13), N·m; enters Eq. 2 with a minus sign.
-    pub m_f_p: f64,
-    /// Elastic mesh torque on the gear M_F,g (Eq. 13), N·m; enters Eq. 3 with a minus sign.
-    pub m_f_g: f64,
-    /// Damping mesh torque on the pinion M_D,p (Eq. 14), N·m; enters Eq. 2 with a minus sign.
-    pub m_d_p: f64,
-    /// Damping mesh torque on the gear M_D,g (Eq. 14), N·m; enters Eq. 3 with a minus sign.
-    pub m_d_g: f64,
-    /// Transmission error TE = φp·g_p + φg·g_g (Eq. 16), m; > 0 when the teeth must deform.
-    pub te: f64,
-    /// Total normal contact force, N.
-    pub f_n: f64,
-    /// Total length of the loaded contact lines, m.
-    pub contact_length: f64,
-    /// Largest Hertz pressure (Eq. 15), Pa.
-    pub p_max: f64,
-    /// Number of tooth pairs carrying load.
-    pub n_pairs: u32,
-    /// A loaded contact lies on the tip rounding (or tip edge) of either gear.
-    pub tip_contact: bool,
-    /// No flank carries load.
-    pub separated: bool,
-    /// The back flanks carry load (the torques are then negative).
-    pub back_contact: bool,
-}
-
-impl From<MeshOutputs> for HgmOutputs {
-    fn from(o: MeshOutputs) -> Self {
-        Self {
-            m_f_p: o.m_f_p,
-            m_f_g: o.m_f_g,
-            m_d_p: o.m_d_p,
-            m_d_g: o.m_d_g,
-            te: o.te,
-            f_n: o.f_n,
-            contact_length: o.contact_length,
-            p_max: o.p_max,
-            n_pairs: o.n_pairs,
-            tip_contact: o.tip_contact,
-            separated: o.separated,
-            back_contact: o.back_contact,
-        }
-    }
 }
 
 /// A mesh model (opaque to C).
@@ -307,7 +272,7 @@ pub unsafe extern "C" fn hgm_evaluate(
     phi_g: f64,
     w_p: f64,
     w_g: f64,
-    out: *mut HgmOutputs,
+    out: *mut MeshOutputs,
 ) -> HgmStatus {
     with_model(h, "hgm_evaluate", |m| {
         if out.is_null() {
@@ -337,7 +302,7 @@ pub unsafe extern "C" fn hgm_evaluate(
             .map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
         check_mesh_outputs(&o)?;
         // SAFETY: non-null, caller contract.
-        unsafe { out.write(o.into()) };
+        unsafe { out.write(o) };
         Ok(())
     })
 }
@@ -388,108 +353,6 @@ pub unsafe extern "C" fn hgm_free(h: *mut HgmModel) {
 // ---------------------------------------------------------------------------------------------
 // Stateful units
 // ---------------------------------------------------------------------------------------------
-
-/// Which part of the drive line a unit holds (see `HgmUnit`): the values of `hgm_unit_create`'s
-/// `kind` argument, which takes an `int32_t` and refuses any other value (the codes of
-/// [`crate::options`]).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum HgmUnitKind {
-    /// J_p, J_g and the mesh; inputs `tau_p`, `tau_g`.
-    Pair = 0,
-    /// The pair plus the shafts c1/d1, c2/d2; inputs `phi_1`, `w_1`, `phi_2`, `w_2`.
-    Stage = 1,
-    /// The whole 4-DOF model of Eqs. 1–4; input `torque` (M).
-    Drive = 2,
-}
-
-/// Mesh evaluation of a unit: the values of `hgm_unit_create`'s `fidelity` argument, which
-/// takes an `int32_t` and refuses any other value. The codes are those of the FMUs' `fidelity`
-/// parameter ([`crate::options`]; before this encoding was shared, `TABLE` was 0 and `FULL` 1).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum HgmFidelity {
-    /// Contact search and load solve at every evaluation.
-    Full = 0,
-    /// Interpolation in a table built at creation (a few seconds), full model outside it.
-    Table = 1,
-}
-
-/// Inputs of a unit (SI); each kind reads only its own fields, held over a step.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct HgmUnitInputs {
-    /// Pair: torque the pinion shaft exerts on the pinion hub, N·m.
-    pub tau_p: f64,
-    /// Pair: torque the gear shaft exerts on the gear hub, N·m.
-    pub tau_g: f64,
-    /// Stage: angle of the pinion shaft's far end, rad (moves with `w_1` over a step).
-    pub phi_1: f64,
-    /// Stage: rate of the pinion shaft's far end, rad/s.
-    pub w_1: f64,
-    /// Stage: angle of the gear shaft's far end, rad (moves with `w_2` over a step).
-    pub phi_2: f64,
-    /// Stage: rate of the gear shaft's far end, rad/s.
-    pub w_2: f64,
-    /// Drive: driving torque M on J1, N·m (load on J2: M·z_g/z_p).
-    pub torque: f64,
-}
-
-/// Time derivatives of a unit's inputs over a step (first-order hold; SI). Each kind reads
-/// only its own fields.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct HgmUnitInputRates {
-    /// Pair: d(tau_p)/dt, N·m/s.
-    pub tau_p_rate: f64,
-    /// Pair: d(tau_g)/dt, N·m/s.
-    pub tau_g_rate: f64,
-    /// Stage: angular acceleration of the pinion shaft's far end, rad/s² (its angle moves as
-    /// phi_1 + w_1·s + ½·w_1_rate·s²).
-    pub w_1_rate: f64,
-    /// Stage: angular acceleration of the gear shaft's far end, rad/s².
-    pub w_2_rate: f64,
-    /// Drive: d(M)/dt, N·m/s.
-    pub torque_rate: f64,
-}
-
-/// Outputs of a unit at its current time (SI).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct HgmUnitOutputs {
-    /// Time, s.
-    pub t: f64,
-    /// Pinion hub angle, rad.
-    pub phi_p: f64,
-    /// Pinion hub rate, rad/s.
-    pub w_p: f64,
-    /// Pinion hub acceleration, rad/s².
-    pub a_p: f64,
-    /// Gear hub angle, rad.
-    pub phi_g: f64,
-    /// Gear hub rate, rad/s.
-    pub w_g: f64,
-    /// Gear hub acceleration, rad/s².
-    pub a_g: f64,
-    /// J1 angle (Drive) or pinion shaft far-end angle (Stage), rad; 0 for Pair.
-    pub phi_1: f64,
-    /// J1 rate (Drive) or pinion shaft far-end rate (Stage), rad/s; 0 for Pair.
-    pub w_1: f64,
-    /// J2 angle (Drive) or gear shaft far-end angle (Stage), rad; 0 for Pair.
-    pub phi_2: f64,
-    /// J2 rate (Drive) or gear shaft far-end rate (Stage), rad/s; 0 for Pair.
-    pub w_2: f64,
-    /// Torque the pinion shaft exerts on J1, N·m (J1·φ1'' = M + tau_1); 0 for Pair.
-    pub tau_1: f64,
-    /// Torque the gear shaft exerts on J2, N·m (J2·φ2'' = M·z_g/z_p + tau_2); 0 for Pair.
-    pub tau_2: f64,
-    /// Torque the pinion shaft exerts on the pinion hub, N·m (the input for Pair).
-    pub tau_p: f64,
-    /// Torque the gear shaft exerts on the gear hub, N·m (the input for Pair).
-    pub tau_g: f64,
-    /// Mesh outputs (torques, TE, F_n, flags).
-    pub mesh: HgmOutputs,
-}
 
 /// A stateful drive-line unit (opaque to C).
 pub struct HgmUnit {
@@ -633,7 +496,7 @@ pub unsafe extern "C" fn hgm_unit_start_static(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_unit_set_inputs(
     u: *mut HgmUnit,
-    inputs: *const HgmUnitInputs,
+    inputs: *const UnitInputs,
 ) -> HgmStatus {
     with_handle(u, "hgm_unit_set_inputs", |h| {
         if inputs.is_null() {
@@ -641,17 +504,7 @@ pub unsafe extern "C" fn hgm_unit_set_inputs(
         }
         // SAFETY: non-null, caller contract.
         let i = unsafe { inputs.read() };
-        let v = UnitInputs {
-            tau_p: i.tau_p,
-            tau_g: i.tau_g,
-            phi_1: i.phi_1,
-            w_1: i.w_1,
-            phi_2: i.phi_2,
-            w_2: i.w_2,
-            torque: i.torque,
-            ..UnitInputs::default()
-        };
-        h.unit.set_inputs(v).map_err(|e| invalid_arg(e.to_string()))
+        h.unit.set_inputs(i).map_err(|e| invalid_arg(e.to_string()))
     })
 }
 
@@ -664,7 +517,7 @@ pub unsafe extern "C" fn hgm_unit_set_inputs(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_unit_set_input_rates(
     u: *mut HgmUnit,
-    rates: *const HgmUnitInputRates,
+    rates: *const UnitInputRates,
 ) -> HgmStatus {
     with_handle(u, "hgm_unit_set_input_rates", |h| {
         if rates.is_null() {
@@ -672,15 +525,7 @@ pub unsafe extern "C" fn hgm_unit_set_input_rates(
         }
         // SAFETY: non-null, caller contract.
         let r = unsafe { rates.read() };
-        let v = UnitInputs {
-            tau_p_rate: r.tau_p_rate,
-            tau_g_rate: r.tau_g_rate,
-            w_1_rate: r.w_1_rate,
-            w_2_rate: r.w_2_rate,
-            torque_rate: r.torque_rate,
-            ..*h.unit.inputs()
-        };
-        h.unit.set_inputs(v).map_err(|e| invalid_arg(e.to_string()))
+        h.unit.set_input_rates(r).map_err(|e| invalid_arg(e.to_string()))
     })
 }
 
@@ -728,7 +573,7 @@ pub unsafe extern "C" fn hgm_unit_advance(u: *mut HgmUnit, h: f64) -> HgmStatus 
 /// # Safety
 /// `u` must be NULL or a live unit handle; `out` NULL or writable.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutputs) -> HgmStatus {
+pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut UnitOutputs) -> HgmStatus {
     with_handle(u, "hgm_unit_outputs", |h| {
         if out.is_null() {
             return Err(invalid_arg("`out` is NULL"));
@@ -736,7 +581,7 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
         let o: UnitOutputs = h.unit.outputs().map_err(model_err)?;
         check_mesh_outputs(&o.mesh)?;
         check_finite(&[
-            ("t", h.unit.time()),
+            ("t", o.t),
             ("phi_p", o.phi_p),
             ("w_p", o.w_p),
             ("a_p", o.a_p),
@@ -752,26 +597,11 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut HgmUnitOutp
             ("tau_p", o.tau_p),
             ("tau_g", o.tau_g),
         ])?;
-        let c = HgmUnitOutputs {
-            t: h.unit.time(),
-            phi_p: o.phi_p,
-            w_p: o.w_p,
-            a_p: o.a_p,
-            phi_g: o.phi_g,
-            w_g: o.w_g,
-            a_g: o.a_g,
-            phi_1: o.phi_1,
-            w_1: o.w_1,
-            phi_2: o.phi_2,
-            w_2: o.w_2,
-            tau_1: o.tau_1,
-            tau_2: o.tau_2,
-            tau_p: o.tau_p,
-            tau_g: o.tau_g,
-            mesh: o.mesh.into(),
-        };
+        if let Some(v) = o.dydt.iter().find(|v| !v.is_finite()) {
+            check_finite(&[("dydt", *v)])?;
+        }
         // SAFETY: non-null, caller contract.
-        unsafe { out.write(c) };
+        unsafe { out.write(o) };
         Ok(())
     })
 }

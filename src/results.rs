@@ -15,13 +15,17 @@
 //! Quantities that are legitimately undefined (no tip relief, no mesh period at standstill) are
 //! `Option`s, written as `null`, never as a non-finite number.
 //!
-//! Layering: `results` sits above `dynamics`; it reads geometry, mesh, dynamics and params
-//! and nothing reads it inside the library.
+//! Layering: `results` sits above `dynamics`; it reads geometry, contact, compliance, mesh,
+//! dynamics and params and nothing reads it inside the library.
 
 use serde::{Deserialize, Serialize};
 
+use crate::compliance::data::ComplianceData;
+use crate::compliance::fe::gear_mesh::GearMeshDensity;
+use crate::compliance::stiffness::PairStiffness;
+use crate::contact::{ContactPoint, FlankSide};
 use crate::dynamics::model::{N_STATES, STATE_NAMES};
-use crate::dynamics::{SweepResult, Trajectory};
+use crate::dynamics::{SteadyResponse, SweepResult, Trajectory};
 use crate::geometry::PairGeometry;
 use crate::mesh::statics::StaticCurve;
 use crate::params::GearPair;
@@ -439,5 +443,617 @@ impl TrajectoryRecord {
             finite_all(name, v)?;
         }
         Ok(())
+    }
+}
+
+/// Name of a preset FE mesh density (`coarse`, `default`, `refined`), or `custom`.
+pub fn density_name(d: &GearMeshDensity) -> &'static str {
+    [
+        ("coarse", GearMeshDensity::coarse()),
+        ("default", GearMeshDensity::default()),
+        ("refined", GearMeshDensity::refined()),
+    ]
+    .into_iter()
+    .find(|(_, v)| v == d)
+    .map_or("custom", |(n, _)| n)
+}
+
+/// The FE compliance data of a pair and the tooth-pair stiffness at the pitch point
+/// (`helical-gear compliance --json`, `helical_gear.Compliance.summary_json`). Suffix `_p`:
+/// pinion, `_g`: gear. Times are wall-clock times of the run that computed the data (stored
+/// with them), s; e_rel is the relative deviation of the fitted influence function (Eq. 9).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ComplianceRecord {
+    /// Where the data came from: `computed`, `embedded` or `disk`.
+    pub source: String,
+    /// Format version of the compliance data.
+    pub format_version: u32,
+    /// Version of the crate that computed the data.
+    pub crate_version: String,
+    /// Command that regenerates the data.
+    pub command: String,
+    /// FE mesh density: `coarse`, `default`, `refined` or `custom`.
+    pub density: String,
+    /// Depth h below the flank at which the influence is observed, m.
+    pub depth_h_m: f64,
+    /// Rows (profile positions) of the influence grid.
+    pub grid_rows: usize,
+    /// Columns (axial positions) of the influence grid.
+    pub grid_columns: usize,
+    /// Observed teeth relative to the loaded one (−1, 0, +1).
+    pub grid_teeth: Vec<i32>,
+    /// FE degrees of freedom of the pinion.
+    pub fe_dofs_p: usize,
+    /// FE degrees of freedom of the gear.
+    pub fe_dofs_g: usize,
+    /// FE wall time of both gears, s.
+    pub fe_seconds: f64,
+    /// Mesh generation of the pinion, s.
+    pub fe_mesh_s_p: f64,
+    /// Mesh generation of the gear, s.
+    pub fe_mesh_s_g: f64,
+    /// Assembly of the pinion, s.
+    pub fe_assembly_s_p: f64,
+    /// Assembly of the gear, s.
+    pub fe_assembly_s_g: f64,
+    /// Cholesky factorisation of the pinion, s.
+    pub fe_factorisation_s_p: f64,
+    /// Cholesky factorisation of the gear, s.
+    pub fe_factorisation_s_g: f64,
+    /// Load-case solves of the pinion, s.
+    pub fe_solve_s_p: f64,
+    /// Load-case solves of the gear, s.
+    pub fe_solve_s_g: f64,
+    /// Observation at depth h of the pinion, s.
+    pub fe_observe_s_p: f64,
+    /// Observation at depth h of the gear, s.
+    pub fe_observe_s_g: f64,
+    /// Unit load cases solved for the pinion.
+    pub fe_load_cases_p: usize,
+    /// Unit load cases solved for the gear.
+    pub fe_load_cases_g: usize,
+    /// Standard deviation of e_rel over the fitted pairs of the pinion (dimensionless).
+    pub e_rel_std_p: f64,
+    /// Standard deviation of e_rel over the fitted pairs of the gear (dimensionless).
+    pub e_rel_std_g: f64,
+    /// e_rel against the pinion's node grid over the fitted domain (dimensionless).
+    pub e_rel_std_nodes_domain_p: f64,
+    /// e_rel against the gear's node grid over the fitted domain (dimensionless).
+    pub e_rel_std_nodes_domain_g: f64,
+    /// e_rel against the pinion's node grid over all pairs of the fitted rows.
+    pub e_rel_std_nodes_rows_p: f64,
+    /// e_rel against the gear's node grid over all pairs of the fitted rows.
+    pub e_rel_std_nodes_rows_g: f64,
+    /// e_rel against the pinion's node grid over all same-tooth pairs.
+    pub e_rel_std_nodes_all_p: f64,
+    /// e_rel against the gear's node grid over all same-tooth pairs.
+    pub e_rel_std_nodes_all_g: f64,
+    /// Wall time of the pinion's fit, s.
+    pub fit_seconds_p: f64,
+    /// Wall time of the gear's fit, s.
+    pub fit_seconds_g: f64,
+    /// Wall time of both fits, s (`fit_seconds_p + fit_seconds_g`).
+    pub fit_seconds: f64,
+    /// Rows of the pinion with τ above this were not fitted, rad.
+    pub fit_max_tau_p_rad: f64,
+    /// Rows of the gear with τ above this were not fitted, rad.
+    pub fit_max_tau_g_rad: f64,
+    /// Reference compliance of the pinion (α* = α_ref·α), m/N.
+    pub alpha_ref_p_m_per_n: f64,
+    /// Reference compliance of the gear, m/N.
+    pub alpha_ref_g_m_per_n: f64,
+    /// Tooth-pair stiffness c′ at the pitch point, N/(mm·µm).
+    pub pair_stiffness_n_per_mm_per_um: f64,
+    /// Line load of the stiffness load case, N/m.
+    pub pair_load_n_per_m: f64,
+    /// Torque of the stiffness load case on one tooth pair, N·m.
+    pub pair_torque_nm: f64,
+    /// Transverse deflection along the line of action, µm.
+    pub pair_deflection_t_um: f64,
+    /// Global (bending, body) normal approach of the pinion, µm.
+    pub pair_u_global_p_um: f64,
+    /// Global normal approach of the gear, µm.
+    pub pair_u_global_g_um: f64,
+    /// Local (Hertzian) normal approach, µm.
+    pub pair_u_local_um: f64,
+    /// Share of the pinion's global approach in the total (dimensionless).
+    pub pair_share_global_p: f64,
+    /// Share of the gear's global approach in the total (dimensionless).
+    pub pair_share_global_g: f64,
+    /// Share of the local approach in the total (dimensionless).
+    pub pair_share_local: f64,
+}
+
+impl ComplianceRecord {
+    /// The record of `data` and of the tooth-pair stiffness `st` it gives.
+    pub fn new(data: &ComplianceData, st: &PairStiffness) -> Self {
+        let (gp, gg, prov) = (&data.pinion, &data.gear, &data.provenance);
+        let shares = st.shares();
+        Self {
+            source: data.source().as_str().into(),
+            format_version: prov.format_version,
+            crate_version: prov.crate_version.clone(),
+            command: prov.command.clone(),
+            density: density_name(&prov.density).into(),
+            depth_h_m: prov.depth_h_m,
+            grid_rows: gp.grid.profile.len(),
+            grid_columns: gp.grid.zeta.len(),
+            grid_teeth: gp.grid.teeth.clone(),
+            fe_dofs_p: gp.fe.dofs,
+            fe_dofs_g: gg.fe.dofs,
+            fe_seconds: data.fe_seconds(),
+            fe_mesh_s_p: gp.fe.mesh_s,
+            fe_mesh_s_g: gg.fe.mesh_s,
+            fe_assembly_s_p: gp.fe.assembly_s,
+            fe_assembly_s_g: gg.fe.assembly_s,
+            fe_factorisation_s_p: gp.fe.factorisation_s,
+            fe_factorisation_s_g: gg.fe.factorisation_s,
+            fe_solve_s_p: gp.fe.solve_s,
+            fe_solve_s_g: gg.fe.solve_s,
+            fe_observe_s_p: gp.fe.observe_s,
+            fe_observe_s_g: gg.fe.observe_s,
+            fe_load_cases_p: gp.fe.load_cases,
+            fe_load_cases_g: gg.fe.load_cases,
+            e_rel_std_p: gp.fit.report.sigma_e_rel,
+            e_rel_std_g: gg.fit.report.sigma_e_rel,
+            e_rel_std_nodes_domain_p: gp.fit.nodes_domain.std,
+            e_rel_std_nodes_domain_g: gg.fit.nodes_domain.std,
+            e_rel_std_nodes_rows_p: gp.fit.nodes_rows.std,
+            e_rel_std_nodes_rows_g: gg.fit.nodes_rows.std,
+            e_rel_std_nodes_all_p: gp.fit.nodes_all.std,
+            e_rel_std_nodes_all_g: gg.fit.nodes_all.std,
+            fit_seconds_p: gp.fit.fit_s,
+            fit_seconds_g: gg.fit.fit_s,
+            fit_seconds: gp.fit.fit_s + gg.fit.fit_s,
+            fit_max_tau_p_rad: gp.fit.max_tau_rad,
+            fit_max_tau_g_rad: gg.fit.max_tau_rad,
+            alpha_ref_p_m_per_n: gp.fit.alpha_ref_m_per_n,
+            alpha_ref_g_m_per_n: gg.fit.alpha_ref_m_per_n,
+            pair_stiffness_n_per_mm_per_um: st.c_prime_n_per_mm_per_um,
+            pair_load_n_per_m: st.load_n_per_m,
+            pair_torque_nm: st.torque_nm,
+            pair_deflection_t_um: st.delta_t_m * UM,
+            pair_u_global_p_um: st.u_global_p_m * UM,
+            pair_u_global_g_um: st.u_global_g_m * UM,
+            pair_u_local_um: st.u_local_m * UM,
+            pair_share_global_p: shares[0],
+            pair_share_global_g: shares[1],
+            pair_share_local: shares[2],
+        }
+    }
+
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        for (name, v) in [
+            ("depth_h_m", self.depth_h_m),
+            ("fe_seconds", self.fe_seconds),
+            ("fe_mesh_s_p", self.fe_mesh_s_p),
+            ("fe_mesh_s_g", self.fe_mesh_s_g),
+            ("fe_assembly_s_p", self.fe_assembly_s_p),
+            ("fe_assembly_s_g", self.fe_assembly_s_g),
+            ("fe_factorisation_s_p", self.fe_factorisation_s_p),
+            ("fe_factorisation_s_g", self.fe_factorisation_s_g),
+            ("fe_solve_s_p", self.fe_solve_s_p),
+            ("fe_solve_s_g", self.fe_solve_s_g),
+            ("fe_observe_s_p", self.fe_observe_s_p),
+            ("fe_observe_s_g", self.fe_observe_s_g),
+            ("e_rel_std_p", self.e_rel_std_p),
+            ("e_rel_std_g", self.e_rel_std_g),
+            ("e_rel_std_nodes_domain_p", self.e_rel_std_nodes_domain_p),
+            ("e_rel_std_nodes_domain_g", self.e_rel_std_nodes_domain_g),
+            ("e_rel_std_nodes_rows_p", self.e_rel_std_nodes_rows_p),
+            ("e_rel_std_nodes_rows_g", self.e_rel_std_nodes_rows_g),
+            ("e_rel_std_nodes_all_p", self.e_rel_std_nodes_all_p),
+            ("e_rel_std_nodes_all_g", self.e_rel_std_nodes_all_g),
+            ("fit_seconds_p", self.fit_seconds_p),
+            ("fit_seconds_g", self.fit_seconds_g),
+            ("fit_seconds", self.fit_seconds),
+            ("fit_max_tau_p_rad", self.fit_max_tau_p_rad),
+            ("fit_max_tau_g_rad", self.fit_max_tau_g_rad),
+            ("alpha_ref_p_m_per_n", self.alpha_ref_p_m_per_n),
+            ("alpha_ref_g_m_per_n", self.alpha_ref_g_m_per_n),
+            ("pair_stiffness_n_per_mm_per_um", self.pair_stiffness_n_per_mm_per_um),
+            ("pair_load_n_per_m", self.pair_load_n_per_m),
+            ("pair_torque_nm", self.pair_torque_nm),
+            ("pair_deflection_t_um", self.pair_deflection_t_um),
+            ("pair_u_global_p_um", self.pair_u_global_p_um),
+            ("pair_u_global_g_um", self.pair_u_global_g_um),
+            ("pair_u_local_um", self.pair_u_local_um),
+            ("pair_share_global_p", self.pair_share_global_p),
+            ("pair_share_global_g", self.pair_share_global_g),
+            ("pair_share_local", self.pair_share_local),
+        ] {
+            finite(name, v)?;
+        }
+        Ok(())
+    }
+}
+
+/// One slice of the instant line of contact (a [`ContactPoint`] as printed): the contact (or
+/// gap) between a pinion and a gear flank in one transverse slice.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ContactSliceRecord {
+    /// Axial coordinate ζ = z/m_n of the slice (dimensionless).
+    pub zeta: f64,
+    /// Tooth-pair number (the absolute index of the pinion tooth).
+    pub pair: i64,
+    /// Which flanks: `drive` or `back`.
+    pub side: String,
+    /// Surfaces in contact, `"<pinion surface>/<gear surface>"` (e.g. `involute/rounding`).
+    pub kind: String,
+    /// Signed overlap along the common normal, m (> 0: the teeth must deform).
+    pub overlap_m: f64,
+    /// Radius of curvature of the pinion flank (transverse), m.
+    pub rho_p_m: f64,
+    /// Radius of curvature of the gear flank (transverse), m.
+    pub rho_g_m: f64,
+    /// Moment arm of the normal force about the pinion axis, m (> 0 in normal drive).
+    pub arm_p_m: f64,
+    /// Moment arm of the normal force about the gear axis, m (> 0 in normal drive).
+    pub arm_g_m: f64,
+    /// Distance of the pinion's contact point from its axis, m.
+    pub radius_p_m: f64,
+    /// Distance of the gear's contact point from its axis, m.
+    pub radius_g_m: f64,
+    /// η* of the pinion's point, in units of m_n.
+    pub eta_star_p: f64,
+    /// τ of the pinion's point, rad.
+    pub tau_p_rad: f64,
+    /// η* of the gear's point, in units of m_n.
+    pub eta_star_g: f64,
+    /// τ of the gear's point, rad.
+    pub tau_g_rad: f64,
+    /// Angle of the pinion's outward normal in the fixed frame, rad.
+    pub normal_angle_rad: f64,
+}
+
+/// The instant line of contact at a pinion angle and transmission error
+/// (`helical-gear contact --json`): one record per slice and tooth pair.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ContactRecord {
+    /// Pinion hub angle φp, rad.
+    pub phi_p_rad: f64,
+    /// Gear hub angle φg, rad (the one that gives the transmission error).
+    pub phi_g_rad: f64,
+    /// Transmission error TE = φp·g_p + φg·g_g (Eq. 16), m.
+    pub te_m: f64,
+    /// The contacts, slice by slice.
+    pub slices: Vec<ContactSliceRecord>,
+}
+
+impl ContactRecord {
+    /// The record of the contacts `cs` at (`phi_p`, `phi_g`) (rad) and transmission error
+    /// `te` (m).
+    pub fn new(phi_p: f64, phi_g: f64, te: f64, cs: &[ContactPoint]) -> Self {
+        let slices = cs
+            .iter()
+            .map(|c| ContactSliceRecord {
+                zeta: c.zeta,
+                pair: c.pair,
+                side: match c.side {
+                    FlankSide::Drive => "drive".into(),
+                    FlankSide::Back => "back".into(),
+                },
+                kind: c.kind_name(),
+                overlap_m: c.overlap_m,
+                rho_p_m: c.rho_p_m,
+                rho_g_m: c.rho_g_m,
+                arm_p_m: c.arm_p_m,
+                arm_g_m: c.arm_g_m,
+                radius_p_m: c.radius_p_m,
+                radius_g_m: c.radius_g_m,
+                eta_star_p: c.eta_star_p,
+                tau_p_rad: c.tau_p,
+                eta_star_g: c.eta_star_g,
+                tau_g_rad: c.tau_g,
+                normal_angle_rad: c.normal_angle,
+            })
+            .collect();
+        Self { phi_p_rad: phi_p, phi_g_rad: phi_g, te_m: te, slices }
+    }
+
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite("phi_p_rad", self.phi_p_rad)?;
+        finite("phi_g_rad", self.phi_g_rad)?;
+        finite("te_m", self.te_m)?;
+        for (i, s) in self.slices.iter().enumerate() {
+            for (name, v) in [
+                ("zeta", s.zeta),
+                ("overlap_m", s.overlap_m),
+                ("rho_p_m", s.rho_p_m),
+                ("rho_g_m", s.rho_g_m),
+                ("arm_p_m", s.arm_p_m),
+                ("arm_g_m", s.arm_g_m),
+                ("radius_p_m", s.radius_p_m),
+                ("radius_g_m", s.radius_g_m),
+                ("eta_star_p", s.eta_star_p),
+                ("tau_p_rad", s.tau_p_rad),
+                ("eta_star_g", s.eta_star_g),
+                ("tau_g_rad", s.tau_g_rad),
+                ("normal_angle_rad", s.normal_angle_rad),
+            ] {
+                finite(&format!("slices[{i}].{name}"), v)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One flank-modification variant of a Harris map: its static STE peak to peak at each torque.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HarrisVariantRecord {
+    /// Name of the variant (from the variants file).
+    pub name: String,
+    /// Peak-to-peak static TE at each torque of [`HarrisRecord::torques_nm`], µm.
+    pub ste_peak_to_peak_um: Vec<f64>,
+}
+
+/// A Harris map (`helical-gear harris --json`): the static STE peak to peak over the torque
+/// for each flank-modification variant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HarrisRecord {
+    /// Driving torques on the pinion, N·m.
+    pub torques_nm: Vec<f64>,
+    /// The variants, in the order of the variants file.
+    pub variants: Vec<HarrisVariantRecord>,
+}
+
+impl HarrisRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite_all("torques_nm", &self.torques_nm)?;
+        for v in &self.variants {
+            finite_all(&format!("{}.ste_peak_to_peak_um", v.name), &v.ste_peak_to_peak_um)?;
+        }
+        Ok(())
+    }
+}
+
+/// The static TE over a whole hunting period and its amplitude spectrum in orders of the
+/// pinion rotation (`helical-gear spectrum --json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SpectrumRecord {
+    /// Driving torque on the pinion, N·m.
+    pub torque_nm: f64,
+    /// Meshes in the hunting period (the length of the analysed record).
+    pub hunting_meshes: usize,
+    /// Pinion revolutions in the hunting period.
+    pub pinion_revolutions: f64,
+    /// Mean static TE, µm.
+    pub ste_mean_um: f64,
+    /// Peak-to-peak static TE, µm.
+    pub ste_peak_to_peak_um: f64,
+    /// Orders of the pinion rotation of the lines (dimensionless, from 0).
+    pub orders: Vec<f64>,
+    /// Amplitude of each line, µm.
+    pub amplitudes_um: Vec<f64>,
+    /// Wall time of the run, s.
+    pub seconds: f64,
+}
+
+impl SpectrumRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite("torque_nm", self.torque_nm)?;
+        finite("pinion_revolutions", self.pinion_revolutions)?;
+        finite("ste_mean_um", self.ste_mean_um)?;
+        finite("ste_peak_to_peak_um", self.ste_peak_to_peak_um)?;
+        finite_all("orders", &self.orders)?;
+        finite_all("amplitudes_um", &self.amplitudes_um)?;
+        finite("seconds", self.seconds)
+    }
+}
+
+/// The steady dynamic run behind a dynamic spectrum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SteadyRunRecord {
+    /// Pinion speed, rad/s.
+    pub speed_rad_s: f64,
+    /// True if the response reached the steady state.
+    pub steady: bool,
+    /// Mesh periods integrated (fractional for DOPRI5).
+    pub mesh_periods_integrated: f64,
+    /// Largest dynamic TE over the analysed window, µm.
+    pub te_max_um: f64,
+    /// Smallest dynamic TE over the analysed window, µm (< 0 with separation possible).
+    pub te_min_um: f64,
+    /// True if the teeth separated in the window.
+    pub separated: bool,
+}
+
+impl SteadyRunRecord {
+    /// The record of the steady response `r` at pinion speed `speed` (rad/s).
+    pub fn new(speed: f64, r: &SteadyResponse) -> Self {
+        Self {
+            speed_rad_s: speed,
+            steady: r.steady,
+            mesh_periods_integrated: r.periods,
+            te_max_um: r.te_max * UM,
+            te_min_um: r.te_min * UM,
+            separated: r.separated,
+        }
+    }
+}
+
+/// The dynamic TE over one period of the steady response and its amplitude spectrum in orders
+/// of the pinion rotation (`helical-gear spectrum --dynamic --json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DynamicSpectrumRecord {
+    /// The steady run.
+    pub dynamic: SteadyRunRecord,
+    /// Meshes in the analysed period.
+    pub period_meshes: usize,
+    /// Pinion revolutions in the analysed period.
+    pub pinion_revolutions: f64,
+    /// Mean dynamic TE, µm.
+    pub te_mean_um: f64,
+    /// Peak-to-peak dynamic TE, µm.
+    pub te_peak_to_peak_um: f64,
+    /// Orders of the pinion rotation of the lines (dimensionless, from 0).
+    pub orders: Vec<f64>,
+    /// Amplitude of each line, µm.
+    pub amplitudes_um: Vec<f64>,
+    /// Wall time of the run, s.
+    pub seconds: f64,
+}
+
+impl DynamicSpectrumRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        let d = &self.dynamic;
+        finite("dynamic.speed_rad_s", d.speed_rad_s)?;
+        finite("dynamic.mesh_periods_integrated", d.mesh_periods_integrated)?;
+        finite("dynamic.te_max_um", d.te_max_um)?;
+        finite("dynamic.te_min_um", d.te_min_um)?;
+        finite("pinion_revolutions", self.pinion_revolutions)?;
+        finite("te_mean_um", self.te_mean_um)?;
+        finite("te_peak_to_peak_um", self.te_peak_to_peak_um)?;
+        finite_all("orders", &self.orders)?;
+        finite_all("amplitudes_um", &self.amplitudes_um)?;
+        finite("seconds", self.seconds)
+    }
+}
+
+/// One point of `helical-gear static --json`'s `points`: the static state at one pinion angle
+/// with its face load.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StaticPointRecord {
+    /// Pinion angle φp, rad.
+    pub phi_p_rad: f64,
+    /// Static transmission error, µm (> 0 in normal drive).
+    pub ste_um: f64,
+    /// Tooth pairs in contact.
+    pub n_pairs: u32,
+    /// Largest contact pressure, Pa.
+    pub p_max_pa: f64,
+    /// Loaded contact on a tip rounding or edge.
+    pub tip_contact: bool,
+    /// Total loaded contact length, m.
+    pub contact_length_m: f64,
+    /// Face load factor K_Hβ (largest over mean line load, dimensionless).
+    pub k_h_beta: f64,
+    /// Largest line load across the face, N/mm.
+    pub line_load_max_n_per_mm: f64,
+    /// Mean line load across the face, N/mm.
+    pub line_load_mean_n_per_mm: f64,
+}
+
+/// `helical-gear static --json`: the static curve ([`StaticCurveRecord`], its keys at the top
+/// level), the face load summary against ISO 6336-1 and the per-point table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StaticRunRecord {
+    /// The static curve and its summary.
+    #[serde(flatten)]
+    pub curve: StaticCurveRecord,
+    /// Axial slices per contact line of the model.
+    pub slices: usize,
+    /// Largest K_Hβ over the points (dimensionless).
+    pub k_h_beta_max: f64,
+    /// K_Hβ of the line load averaged over the points (dimensionless).
+    pub k_h_beta_cycle: f64,
+    /// K_Hβ of ISO 6336-1 method C (dimensionless).
+    pub k_h_beta_iso: f64,
+    /// Effective misalignment F_βy of the ISO method, µm.
+    pub f_beta_y_um: f64,
+    /// Mesh stiffness per unit face width of the aligned pair, N/(mm·µm).
+    pub c_gamma_n_per_mm_per_um: f64,
+    /// Wall time of the model build, s.
+    pub model_build_s: f64,
+    /// Wall time of the run, s.
+    pub seconds: f64,
+    /// The points with their face load.
+    pub points: Vec<StaticPointRecord>,
+}
+
+impl StaticRunRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        self.curve.check_finite()?;
+        for (name, v) in [
+            ("k_h_beta_max", self.k_h_beta_max),
+            ("k_h_beta_cycle", self.k_h_beta_cycle),
+            ("k_h_beta_iso", self.k_h_beta_iso),
+            ("f_beta_y_um", self.f_beta_y_um),
+            ("c_gamma_n_per_mm_per_um", self.c_gamma_n_per_mm_per_um),
+            ("model_build_s", self.model_build_s),
+            ("seconds", self.seconds),
+        ] {
+            finite(name, v)?;
+        }
+        for (i, p) in self.points.iter().enumerate() {
+            for (name, v) in [
+                ("phi_p_rad", p.phi_p_rad),
+                ("ste_um", p.ste_um),
+                ("p_max_pa", p.p_max_pa),
+                ("contact_length_m", p.contact_length_m),
+                ("k_h_beta", p.k_h_beta),
+                ("line_load_max_n_per_mm", p.line_load_max_n_per_mm),
+                ("line_load_mean_n_per_mm", p.line_load_mean_n_per_mm),
+            ] {
+                finite(&format!("points[{i}].{name}"), v)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `helical-gear dynamics --json`: the trajectory ([`TrajectoryRecord`], its keys at the top
+/// level) and the run's settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryRunRecord {
+    /// The trajectory.
+    #[serde(flatten)]
+    pub trajectory: TrajectoryRecord,
+    /// Nominal pinion speed, rad/s.
+    pub omega_p_rad_s: f64,
+    /// End time of the run, s.
+    pub t_end_s: f64,
+    /// Integrator: `rk4` or `dopri5`.
+    pub method: String,
+    /// Step (RK4) or output interval (DOPRI5), s; `None` (null): DOPRI5's accepted steps.
+    pub dt_s: Option<f64>,
+    /// Mesh fidelity: `full` or `table`.
+    pub fidelity: String,
+    /// Mesh period at the nominal speed, s; `None` (null) at standstill (infinite).
+    pub mesh_period_s: Option<f64>,
+    /// Static TE of the start, m.
+    pub te_static_start_m: f64,
+    /// Names of the trajectory's columns, in the order of the CSV output.
+    pub columns: Vec<String>,
+}
+
+impl TrajectoryRunRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        self.trajectory.check_finite()?;
+        finite("omega_p_rad_s", self.omega_p_rad_s)?;
+        finite("t_end_s", self.t_end_s)?;
+        finite_opt("dt_s", self.dt_s)?;
+        finite_opt("mesh_period_s", self.mesh_period_s)?;
+        finite("te_static_start_m", self.te_static_start_m)
+    }
+}
+
+/// `helical-gear sweep --json`: the sweep ([`SweepRecord`], its keys at the top level) and the
+/// run's settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepRunRecord {
+    /// The sweep.
+    #[serde(flatten)]
+    pub sweep: SweepRecord,
+    /// Mesh damping coefficient d_mesh of Eq. 14, N·s/m.
+    pub d_mesh_n_s_per_m: f64,
+    /// Mesh fidelity: `full` or `table`.
+    pub fidelity: String,
+    /// RK4 steps per mesh period.
+    pub steps_per_period: usize,
+}
+
+impl SweepRunRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        self.sweep.check_finite()?;
+        finite("d_mesh_n_s_per_m", self.d_mesh_n_s_per_m)
     }
 }

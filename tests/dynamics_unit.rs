@@ -9,8 +9,8 @@ mod common;
 
 use helical_gear_mesh::dynamics::{
     Clearance, ConstantStiffnessMesh, DriveUnit, Drivetrain, DynamicsError, GearDynamics,
-    HubCoupling, PeriodicStiffnessMesh, Stepping, UnitInputs, UnitKind, UnitLinearization,
-    UnitSnapshot, UnitStepping, simulate,
+    HubCoupling, PeriodicStiffnessMesh, Stepping, UnitInputRates, UnitInputs, UnitKind,
+    UnitLinearization, UnitSnapshot, UnitStepping, simulate,
 };
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
@@ -149,7 +149,9 @@ fn coupled_pair_snapshot_continues_bit_for_bit() {
             .map(|k| {
                 if k % 2 == 0 {
                     let rate = 50.0 * (k as f64).sin();
-                    p.set_inputs(UnitInputs { tau_p_rate: rate, ..u0 }).unwrap();
+                    p.set_inputs(u0).unwrap();
+                    let r = UnitInputRates { tau_p_rate: rate, ..Default::default() };
+                    p.set_input_rates(r).unwrap();
                 }
                 p.advance(7.7e-5).unwrap();
                 p.outputs().unwrap().mesh.te
@@ -446,7 +448,6 @@ fn linearize_matches_central_differences_with_analytic_meshes() {
         phi_2: pg + 0.2,
         w_2: -199.0,
         torque: 103.0,
-        ..UnitInputs::default()
     };
     let drive_x = [pp + 0.1, pp, pg, pg + 0.2, 305.0, 310.0, -196.0, -199.0];
     for kind in [UnitKind::Pair, UnitKind::Stage, UnitKind::Drive] {

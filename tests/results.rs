@@ -148,3 +148,135 @@ fn geometry_record_has_the_table1_values() {
     assert_eq!(r.angular_pitch_p_rad, 2.0 * std::f64::consts::PI / p.z_p as f64);
     assert_eq!(r.assumptions, p.assumptions());
 }
+
+/// The keys of a serialised record, sorted.
+fn keys<T: Serialize>(r: &T) -> Vec<String> {
+    let v = serde_json::to_value(r).unwrap();
+    let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
+    k.sort();
+    k
+}
+
+/// The records of the CLI's run outputs (static, simulate, sweep, spectrum, harris) round-trip
+/// through JSON and keep the keys users parse, the run records with their inner record's keys
+/// at the top level.
+#[test]
+fn run_records_round_trip_with_their_keys() {
+    use helical_gear_mesh::results::{
+        DynamicSpectrumRecord, HarrisRecord, HarrisVariantRecord, SpectrumRecord,
+        StaticPointRecord, StaticRunRecord, SteadyRunRecord, SweepRunRecord, TrajectoryRunRecord,
+    };
+    let point = StaticPointRecord {
+        phi_p_rad: 0.01,
+        ste_um: 5.0,
+        n_pairs: 2,
+        p_max_pa: 1e9,
+        tip_contact: false,
+        contact_length_m: 0.05,
+        k_h_beta: 1.2,
+        line_load_max_n_per_mm: 300.0,
+        line_load_mean_n_per_mm: 250.0,
+    };
+    let st = StaticRunRecord {
+        curve: static_record(),
+        slices: 40,
+        k_h_beta_max: 1.3,
+        k_h_beta_cycle: 1.1,
+        k_h_beta_iso: 1.2,
+        f_beta_y_um: 10.0,
+        c_gamma_n_per_mm_per_um: 18.0,
+        model_build_s: 0.5,
+        seconds: 1.0,
+        points: vec![point],
+    };
+    round_trip(&st);
+    st.check_finite().unwrap();
+    let mut expected = keys(&static_record());
+    expected.extend(
+        [
+            "slices",
+            "k_h_beta_max",
+            "k_h_beta_cycle",
+            "k_h_beta_iso",
+            "f_beta_y_um",
+            "c_gamma_n_per_mm_per_um",
+            "model_build_s",
+            "seconds",
+            "points",
+        ]
+        .map(String::from),
+    );
+    expected.sort();
+    assert_eq!(keys(&st), expected);
+    let mut bad = st.clone();
+    bad.points[0].k_h_beta = f64::NAN;
+    assert!(bad.check_finite().unwrap_err().contains("points[0].k_h_beta"));
+
+    let tr = TrajectoryRunRecord {
+        trajectory: trajectory_record(),
+        omega_p_rad_s: 0.0,
+        t_end_s: 1e-3,
+        method: "rk4".into(),
+        dt_s: Some(1e-5),
+        fidelity: "table".into(),
+        mesh_period_s: None,
+        te_static_start_m: 5e-6,
+        columns: vec!["time_s".into()],
+    };
+    round_trip(&tr);
+    tr.check_finite().unwrap();
+    assert!(serde_json::to_string(&tr).unwrap().contains("\"mesh_period_s\":null"));
+
+    let sw = SweepRunRecord {
+        sweep: sweep_record(),
+        d_mesh_n_s_per_m: 1000.0,
+        fidelity: "table".into(),
+        steps_per_period: 64,
+    };
+    round_trip(&sw);
+    sw.check_finite().unwrap();
+    let mut expected = keys(&sweep_record());
+    expected.extend(["d_mesh_n_s_per_m", "fidelity", "steps_per_period"].map(String::from));
+    expected.sort();
+    assert_eq!(keys(&sw), expected);
+
+    let sp = SpectrumRecord {
+        torque_nm: 500.0,
+        hunting_meshes: 30,
+        pinion_revolutions: 1.0,
+        ste_mean_um: 20.0,
+        ste_peak_to_peak_um: 2.0,
+        orders: vec![0.0, 30.0],
+        amplitudes_um: vec![20.0, 1.0],
+        seconds: 1.0,
+    };
+    round_trip(&sp);
+    sp.check_finite().unwrap();
+    let dy = DynamicSpectrumRecord {
+        dynamic: SteadyRunRecord {
+            speed_rad_s: 300.0,
+            steady: true,
+            mesh_periods_integrated: 120.5,
+            te_max_um: 30.0,
+            te_min_um: 10.0,
+            separated: false,
+        },
+        period_meshes: 1,
+        pinion_revolutions: 1.0 / 30.0,
+        te_mean_um: 20.0,
+        te_peak_to_peak_um: 20.0,
+        orders: vec![0.0, 30.0],
+        amplitudes_um: vec![20.0, 9.0],
+        seconds: 1.0,
+    };
+    round_trip(&dy);
+    dy.check_finite().unwrap();
+    let ha = HarrisRecord {
+        torques_nm: vec![50.0, 100.0],
+        variants: vec![HarrisVariantRecord {
+            name: "none".into(),
+            ste_peak_to_peak_um: vec![1.0, f64::INFINITY],
+        }],
+    };
+    assert!(ha.check_finite().unwrap_err().contains("none.ste_peak_to_peak_um[1]"));
+}

@@ -264,7 +264,7 @@ fn flipped_bits_in_a_unit_snapshot_are_refused_or_harmless() {
     let e = u.restore(&back).unwrap_err().to_string();
     assert!(e.contains("`w_p`") && numbers_are_short(&e), "{e}");
     bad = snap.clone();
-    bad.inputs.tau_p = -1e300;
+    bad.inputs.values.tau_p = -1e300;
     assert!(u.restore(&bad).is_err());
     assert_eq!(u.snapshot(), snap, "a refused restore changes nothing");
     // Another format version.

@@ -386,3 +386,38 @@ fn geometry_json_is_the_geometry_record() {
     let g = helical_gear_mesh::PairGeometry::new(&p).unwrap();
     assert_eq!(r, helical_gear_mesh::results::GeometryRecord::new(&g, &p));
 }
+
+/// `compliance --json` on Table 1 is the library's `ComplianceRecord` of the embedded data and
+/// its pitch-point stiffness (200 slices), value for value.
+#[test]
+fn compliance_json_is_the_compliance_record() {
+    use helical_gear_mesh::compliance::data::ComplianceData;
+    use helical_gear_mesh::results::ComplianceRecord;
+    let (ok, stdout, stderr) = run(&["compliance", "--json"]);
+    assert!(ok, "{stderr}");
+    let r: ComplianceRecord = serde_json::from_str(&stdout).expect("the record's keys");
+    let p = helical_gear_mesh::GearPair::paper_table1();
+    let g = helical_gear_mesh::PairGeometry::new(&p).unwrap();
+    let data = ComplianceData::embedded_table1().unwrap();
+    let st = data.pair_stiffness(&g, 200).unwrap();
+    assert_eq!(r, ComplianceRecord::new(&data, &st));
+    assert_eq!(r.fit_seconds, r.fit_seconds_p + r.fit_seconds_g);
+}
+
+/// `contact --json` is the library's `ContactRecord` of the same contact search.
+#[test]
+fn contact_json_is_the_contact_record() {
+    use helical_gear_mesh::contact::{ContactSolver, FlankSide};
+    use helical_gear_mesh::results::ContactRecord;
+    let (ok, stdout, stderr) = run(&["contact", "--phi-p", "0.01", "--te", "20e-6", "--json"]);
+    assert!(ok, "{stderr}");
+    let r: ContactRecord = serde_json::from_str(&stdout).expect("the record's keys");
+    let p = helical_gear_mesh::GearPair::paper_table1();
+    let g = helical_gear_mesh::PairGeometry::new(&p).unwrap();
+    let solver = ContactSolver::new(&g);
+    let phi_g = g.phi_g_for_te(0.01, 20e-6);
+    let mut cs = Vec::new();
+    let red = solver.contacts_on(FlankSide::Drive, 0.01, phi_g, &solver.slice_zetas(20), &mut cs);
+    assert_eq!(r, ContactRecord::new(0.01, phi_g, red.te, &cs));
+    assert!(r.slices.iter().all(|s| s.side == "drive"));
+}

@@ -37,6 +37,10 @@ fn cli_static_and_harris_keys() {
     for key in ["k_h_beta_max", "k_h_beta_iso", "k_h_beta_cycle"] {
         assert!(s[key].as_f64().unwrap() > 1.0, "{key}: {s}");
     }
+    let record: helical_gear_mesh::results::StaticRunRecord =
+        serde_json::from_value(s.clone()).expect("static --json is the StaticRunRecord");
+    assert_eq!(record.points.len(), record.curve.ste_um.len());
+    assert_eq!(record.slices, 40);
     let pt = &s["points"][0];
     for key in ["k_h_beta", "line_load_max_n_per_mm", "line_load_mean_n_per_mm"] {
         assert!(pt[key].as_f64().unwrap() > 0.0, "{key}: {pt}");
@@ -52,6 +56,9 @@ fn cli_static_and_harris_keys() {
     args.extend(w);
     let h = cli(&args);
     assert_eq!(h["torques_nm"], serde_json::json!([50.0, 100.0]));
+    let record: helical_gear_mesh::results::HarrisRecord =
+        serde_json::from_value(h.clone()).expect("harris --json is the HarrisRecord");
+    assert_eq!(record.variants.len(), 2);
     assert_eq!(h["variants"][1]["name"], "crowned");
     assert_eq!(h["variants"][0]["ste_peak_to_peak_um"].as_array().unwrap().len(), 2);
     std::fs::remove_dir_all(&dir).ok();

@@ -57,6 +57,10 @@ fn cli_simulate_at_standstill_holds_the_static_equilibrium() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let te0 = v["te_static_start_m"].as_f64().unwrap();
     assert!(te0 > 0.0, "loaded at rest: {te0:e} m");
+    let record: helical_gear_mesh::results::TrajectoryRunRecord =
+        serde_json::from_str(&out).expect("simulate --json is the TrajectoryRunRecord");
+    assert_eq!(record.mesh_period_s, None, "infinite at rest: null");
+    assert_eq!(record.columns[0], "time_s");
     let te: Vec<f64> = v["te_m"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
     let dev = te.iter().map(|t| (t - te0).abs()).fold(0.0, f64::max);
     // Measured: 4.4e-16 of the static TE over 2 ms (161 steps of 1.24e-5 s).

@@ -63,3 +63,49 @@ fn readme_table_replacement_needs_both_markers() {
     assert!(new.contains("| `phi_p` |") && !new.contains("old"));
     assert_eq!(readme_with_table(&new, &INFO).unwrap(), new, "idempotent");
 }
+
+/// The C API's structs and enums are the library's `#[repr(C)]` types under their C names:
+/// every type the header defines is one of `headers::CAPI_TYPES` (or the status and opaque
+/// handles of `capi.rs`), and `capi.rs` itself defines no `#[repr(C)]` struct that could drift
+/// from the library's. Together with `checked_in_generated_files_are_current` this holds the
+/// header's structs to the library's field for field.
+#[test]
+fn c_api_structs_are_the_library_types() {
+    use fmu_build::headers::{CAPI_TYPES, capi_header};
+    let root = fmu_build::workspace_root();
+    let header = capi_header(&root).expect("header generates");
+    let c_names: Vec<&str> = CAPI_TYPES.iter().map(|(_, c)| *c).collect();
+    let mut defined = Vec::new();
+    for line in header.lines() {
+        if let Some(name) = line.strip_prefix("} ").and_then(|r| r.strip_suffix(';')) {
+            defined.push(name.to_string());
+        }
+    }
+    for name in &defined {
+        assert!(
+            name == "HgmStatus" || c_names.contains(&name.as_str()),
+            "the header defines `{name}`, which is not one of the library's types"
+        );
+    }
+    for c in &c_names {
+        assert!(defined.iter().any(|d| d == c), "the header lacks `{c}`");
+    }
+    let capi = std::fs::read_to_string(root.join("src/capi.rs")).unwrap();
+    assert_eq!(
+        capi.lines().filter(|l| l.starts_with("#[repr(C)]")).count(),
+        1,
+        "capi.rs defines a C type besides HgmStatus (the C API's types are the library's)"
+    );
+    // The layouts cbindgen wrote are the ones Rust uses (no field or padding lost).
+    use helical_gear_mesh::dynamics::{UnitInputRates, UnitInputs, UnitOutputs};
+    use helical_gear_mesh::mesh::MeshOutputs;
+    use std::mem::{offset_of, size_of};
+    assert_eq!(size_of::<UnitInputs>(), 7 * 8);
+    assert_eq!(size_of::<UnitInputRates>(), 5 * 8);
+    assert_eq!(offset_of!(MeshOutputs, n_pairs), 8 * 8);
+    assert_eq!(offset_of!(MeshOutputs, back_contact), 8 * 8 + 4 + 2);
+    assert_eq!(offset_of!(UnitOutputs, t), 0);
+    assert_eq!(offset_of!(UnitOutputs, mesh), (15 + 8) * 8);
+    assert!(header.contains("double dydt[HGM_N_STATES];"));
+    assert!(header.contains("HgmOutputs mesh;"));
+}

@@ -35,14 +35,16 @@ use helical_gear_mesh::mesh::{
     static_curve,
 };
 use helical_gear_mesh::options::Integrator;
-use helical_gear_mesh::results::{GeometryRecord, StaticCurveRecord, SweepRecord};
+use helical_gear_mesh::results::{
+    ComplianceRecord, GeometryRecord, StaticCurveRecord, SweepRecord,
+};
 use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use serde_json::{Value, json};
+use serde_json::Value;
 
 create_exception!(
     _native,
@@ -206,17 +208,6 @@ fn density(name: &str) -> Res<GearMeshDensity> {
     }
 }
 
-fn density_name(d: &GearMeshDensity) -> &'static str {
-    [
-        ("coarse", GearMeshDensity::coarse()),
-        ("default", GearMeshDensity::default()),
-        ("refined", GearMeshDensity::refined()),
-    ]
-    .into_iter()
-    .find(|(_, v)| v == d)
-    .map_or("custom", |(n, _)| n)
-}
-
 fn fidelity(name: &str) -> Res<Fidelity> {
     name.parse::<Fidelity>().map_err(Failure::Param)
 }
@@ -339,31 +330,18 @@ impl Compliance {
         self.data.fe_seconds()
     }
 
-    /// Summary as JSON: source, density, FE sizes and times, fit quality, and the tooth-pair
-    /// stiffness at the pitch point of `pair_json` (200 slices).
+    /// Summary as JSON, the library's `results::ComplianceRecord` (the keys of
+    /// `helical-gear compliance --json`): source, density, FE sizes and times, fit quality, and
+    /// the tooth-pair stiffness at the pitch point of `pair_json` (200 slices).
     fn summary_json(&self, py: Python<'_>, pair_json: &str) -> PyResult<String> {
         let data = self.data.clone();
         run(py, move || {
             let p = parse_pair(pair_json)?;
             let geo = PairGeometry::new(&p)?;
             let st = data.pair_stiffness(&geo, 200)?;
-            let (gp, gg) = (&data.pinion, &data.gear);
-            to_json_text(&json!({
-                "source": data.source().as_str(),
-                "density": density_name(&data.provenance.density),
-                "depth_h_m": data.provenance.depth_h_m,
-                "fe_seconds": data.fe_seconds(),
-                "fit_seconds": gp.fit.fit_s + gg.fit.fit_s,
-                "fe_dofs_p": gp.fe.dofs,
-                "fe_dofs_g": gg.fe.dofs,
-                "grid_rows": gp.grid.profile.len(),
-                "grid_columns": gp.grid.zeta.len(),
-                "e_rel_std_p": gp.fit.report.sigma_e_rel,
-                "e_rel_std_g": gg.fit.report.sigma_e_rel,
-                "alpha_ref_p_m_per_n": gp.fit.alpha_ref_m_per_n,
-                "alpha_ref_g_m_per_n": gg.fit.alpha_ref_m_per_n,
-                "pair_stiffness_n_per_mm_per_um": st.c_prime_n_per_mm_per_um,
-            }))
+            let record = ComplianceRecord::new(&data, &st);
+            record.check_finite().map_err(Failure::Solver)?;
+            to_json_text(&record)
         })
     }
 }

@@ -6,7 +6,9 @@
 
 use super::model::{N_STATES, PHI_G, PHI_P, W_G, W_P};
 
-/// Which part of the drive line a unit holds.
+/// Which part of the drive line a unit holds (the C API's `HgmUnitKind`: the values of
+/// `hgm_unit_create`'s `kind`, the codes of [`crate::options`]).
+#[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum UnitKind {
     /// J_p, J_g and the mesh. States (φp, φg, φ̇p, φ̇g). Inputs tau_p, tau_g.

@@ -49,6 +49,6 @@ pub use sweep::{
     Resonance, SweepOptions, SweepPoint, SweepResult, find_peaks, static_te_curve, sweep,
 };
 pub use unit::{
-    DriveUnit, HubCoupling, HubReference, UnitInputs, UnitKind, UnitLinearization, UnitOutputs,
-    UnitSnapshot, UnitStepping,
+    DriveUnit, HeldInputs, HubCoupling, HubReference, UnitInputRates, UnitInputs, UnitKind,
+    UnitLinearization, UnitOutputs, UnitSnapshot, UnitStepping,
 };

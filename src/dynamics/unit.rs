@@ -28,8 +28,9 @@
 //!
 //! # Inputs over a communication step
 //!
-//! Inputs are held from the time they were set ([`DriveUnit::set_inputs`] records the unit's
-//! time t_u): torques are constant (zero-order hold) unless their rates are given
+//! Inputs ([`UnitInputs`]) are held from the time they were set ([`DriveUnit::set_inputs`]
+//! and [`DriveUnit::set_input_rates`] record the unit's time t_u): torques are constant
+//! (zero-order hold) unless their rates ([`UnitInputRates`]) are given
 //! (`tau_p_rate`, `tau_g_rate`, `torque_rate`: first-order hold, tau_p(t) = tau_p +
 //! tau_p_rate·(t − t_u), FMI's `fmi2SetRealInputDerivatives`); the Stage's far-end angles move
 //! with the given rates and accelerations, φ₁(t) = φ₁ + φ̇₁·s + ½·a₁·s², φ̇₁(t) = φ̇₁ + a₁·s
@@ -176,7 +177,9 @@ pub enum UnitStepping {
     },
 }
 
-/// Inputs of a unit (SI). Each kind reads only its own fields (see UnitKind).
+/// Inputs of a unit as set (SI; the C API's `HgmUnitInputs`). Each kind reads only its own
+/// fields (see UnitKind); their rates over a step are [`UnitInputRates`].
+#[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct UnitInputs {
     /// Pair: torque the pinion shaft exerts on the pinion hub, N·m
@@ -194,22 +197,38 @@ pub struct UnitInputs {
     pub w_2: f64,
     /// Drive: driving torque M on J1, N·m (the load on J2 is M·z_g/z_p as in Eq. 4).
     pub torque: f64,
-    /// Pair: time derivative of `tau_p` over the step (first-order hold), N·m/s.
-    #[serde(default)]
+}
+
+/// Time derivatives of a unit's inputs over a step (first-order hold, module doc; SI; the C
+/// API's `HgmUnitInputRates`). Each kind reads only its own fields; all 0 is the plain hold.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct UnitInputRates {
+    /// Pair: time derivative of `tau_p` over the step, N·m/s.
     pub tau_p_rate: f64,
     /// Pair: time derivative of `tau_g`, N·m/s.
-    #[serde(default)]
     pub tau_g_rate: f64,
     /// Stage: angular acceleration of the pinion shaft's far end over the step, rad/s²
     /// (φ₁ moves as φ₁ + φ̇₁·s + ½·rate·s², its rate as φ̇₁ + rate·s).
-    #[serde(default)]
     pub w_1_rate: f64,
     /// Stage: angular acceleration of the gear shaft's far end, rad/s².
-    #[serde(default)]
     pub w_2_rate: f64,
     /// Drive: time derivative of the driving torque M, N·m/s.
-    #[serde(default)]
     pub torque_rate: f64,
+}
+
+/// The inputs a unit holds: the values as set and their rates. Serialised as one JSON object
+/// with the keys of both (`tau_p`, …, `torque`, `tau_p_rate`, …, `torque_rate`; a missing rate
+/// reads as 0), the `inputs` of a [`UnitSnapshot`].
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct HeldInputs {
+    /// The values as set.
+    #[serde(flatten)]
+    pub values: UnitInputs,
+    /// Their rates over the step.
+    #[serde(flatten)]
+    pub rates: UnitInputRates,
 }
 
 /// Largest |angle| of a unit's inputs and state, rad. The mesh reduces angles by whole pitches
@@ -245,6 +264,12 @@ impl UnitInputs {
         for (name, v) in [("w_1", self.w_1), ("w_2", self.w_2)] {
             check_abs(name, v, MAX_SPEED_RAD_S, "finite, |speed| <= 1e5 rad/s")?;
         }
+        Ok(())
+    }
+}
+
+impl UnitInputRates {
+    fn check(&self) -> Result<(), DynamicsError> {
         for (name, v) in [
             ("tau_p_rate", self.tau_p_rate),
             ("tau_g_rate", self.tau_g_rate),
@@ -257,6 +282,13 @@ impl UnitInputs {
             }
         }
         Ok(())
+    }
+}
+
+impl HeldInputs {
+    fn check(&self) -> Result<(), DynamicsError> {
+        self.values.check()?;
+        self.rates.check()
     }
 }
 
@@ -327,9 +359,13 @@ impl HubReference {
 }
 
 /// Outputs of a unit at its current time and state (SI). Fields a kind does not hold are the
-/// values it sees (Stage: phi_1…w_2 are the far-end inputs at the current time) or 0.
+/// values it sees (Stage: phi_1…w_2 are the far-end inputs at the current time) or 0. The C
+/// API's `HgmUnitOutputs`.
+#[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct UnitOutputs {
+    /// Time, s.
+    pub t: f64,
     /// Pinion hub angle φp, rad.
     pub phi_p: f64,
     /// Pinion hub rate φ̇p, rad/s.
@@ -408,8 +444,8 @@ pub struct UnitSnapshot {
     pub time: f64,
     /// State, in the kind's order (rad, rad/s).
     pub state: Vec<f64>,
-    /// Inputs as set.
-    pub inputs: UnitInputs,
+    /// Inputs as set, with their rates.
+    pub inputs: HeldInputs,
     /// Time at which the inputs were set (the origin of the Stage's far-end extrapolation), s.
     pub input_time: f64,
     /// DOPRI5: first step of the next advance, s (`None`: automatic choice).
@@ -485,7 +521,7 @@ impl UnitSnapshot {
 struct UnitSystem<M> {
     kind: UnitKind,
     model: GearDynamics<M>,
-    inputs: UnitInputs,
+    inputs: HeldInputs,
     input_time: f64,
     /// Move the Stage's far ends with their rates from `input_time` (co-simulation).
     extrapolate: bool,
@@ -506,9 +542,9 @@ fn shaft_torques(d: &Drivetrain, far: [f64; 4], hub: [f64; 4]) -> (f64, f64) {
 impl<M: MeshTorques> UnitSystem<M> {
     /// Far-end motion (φ₁, φ̇₁, φ₂, φ̇₂) the Stage sees at time `t`.
     fn far_ends(&self, t: f64) -> [f64; 4] {
-        let u = &self.inputs;
+        let (u, r) = (&self.inputs.values, &self.inputs.rates);
         let dt = self.held_for(t);
-        let (a1, a2) = (u.w_1_rate, u.w_2_rate);
+        let (a1, a2) = (r.w_1_rate, r.w_2_rate);
         [
             u.phi_1 + (u.w_1 + 0.5 * a1 * dt) * dt,
             u.w_1 + a1 * dt,
@@ -527,9 +563,9 @@ impl<M: MeshTorques> UnitSystem<M> {
     fn hub_torques(&self, t: f64, hub: [f64; 4]) -> (f64, f64) {
         match self.kind {
             UnitKind::Pair => {
-                let (u, dt) = (&self.inputs, self.held_for(t));
-                let tp = u.tau_p + u.tau_p_rate * dt;
-                let tg = u.tau_g + u.tau_g_rate * dt;
+                let (u, r, dt) = (&self.inputs.values, &self.inputs.rates, self.held_for(t));
+                let tp = u.tau_p + r.tau_p_rate * dt;
+                let tg = u.tau_g + r.tau_g_rate * dt;
                 match (&self.hub_ref, self.extrapolate) {
                     (Some(r), true) => {
                         let (c, s) = (&self.coupling, t - r.t);
@@ -575,8 +611,9 @@ impl<M: MeshTorques> OdeSystem for UnitSystem<M> {
 
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), OdeError> {
         if self.kind == UnitKind::Drive {
-            if self.inputs.torque_rate != 0.0 {
-                let m = self.inputs.torque + self.inputs.torque_rate * self.held_for(t);
+            if self.inputs.rates.torque_rate != 0.0 {
+                let m =
+                    self.inputs.values.torque + self.inputs.rates.torque_rate * self.held_for(t);
                 self.model.set_torque(m);
             }
             return self.model.rhs(t, y, dydt);
@@ -686,7 +723,10 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             UnitKind::Drive => hub.max(d.linear_frequencies(k, gp, gg)[3]),
             _ => hub,
         };
-        let inputs = UnitInputs { torque: drive.torque, ..UnitInputs::default() };
+        let inputs = HeldInputs {
+            values: UnitInputs { torque: drive.torque, ..UnitInputs::default() },
+            rates: UnitInputRates::default(),
+        };
         Ok(Self {
             sys: UnitSystem {
                 kind,
@@ -782,7 +822,13 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
 
     /// The inputs as set.
     pub fn inputs(&self) -> &UnitInputs {
-        &self.sys.inputs
+        &self.sys.inputs.values
+    }
+
+    /// The rates of the inputs as set (0 unless [`DriveUnit::set_input_rates`] gave others
+    /// since the inputs were last set).
+    pub fn input_rates(&self) -> &UnitInputRates {
+        &self.sys.inputs.rates
     }
 
     /// Time at which the inputs were set, s (origin of the Stage's far-end extrapolation).
@@ -790,14 +836,26 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         self.sys.input_time
     }
 
-    /// Sets the inputs, valid from the current time on: torques within ±[`MAX_TORQUE_NM`],
-    /// angles within ±[`MAX_ANGLE_RAD`], speeds within ±[`MAX_SPEED_RAD_S`], rates finite.
+    /// Sets the inputs, valid from the current time on, with rates 0 (zero-order hold):
+    /// torques within ±[`MAX_TORQUE_NM`], angles within ±[`MAX_ANGLE_RAD`], speeds within
+    /// ±[`MAX_SPEED_RAD_S`].
     pub fn set_inputs(&mut self, u: UnitInputs) -> Result<(), DynamicsError> {
-        u.check()?;
-        self.sys.inputs = u;
+        self.hold(HeldInputs { values: u, rates: UnitInputRates::default() })
+    }
+
+    /// Sets the rates of the inputs (each finite), the inputs as set moving with them from the
+    /// current time on (first-order hold, module doc).
+    pub fn set_input_rates(&mut self, r: UnitInputRates) -> Result<(), DynamicsError> {
+        self.hold(HeldInputs { values: self.sys.inputs.values, rates: r })
+    }
+
+    /// Holds `h` from the current time on (checked first; unchanged on error).
+    fn hold(&mut self, h: HeldInputs) -> Result<(), DynamicsError> {
+        h.check()?;
+        self.sys.inputs = h;
         self.sys.input_time = self.t;
         self.sys.hub_ref = None;
-        self.sys.model.set_torque(u.torque);
+        self.sys.model.set_torque(h.values.torque);
         Ok(())
     }
 
@@ -859,7 +917,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let start = match self.sys.model.static_start(0.0, w_p_start, settings) {
             Ok(s) => s,
             Err(e) => {
-                self.sys.model.set_torque(self.sys.inputs.torque);
+                self.sys.model.set_torque(self.sys.inputs.values.torque);
                 return Err(e);
             }
         };
@@ -1015,6 +1073,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let hub = self.sys.hub(&self.y);
         let [.., iwp, iwg] = self.sys.kind.hub_indices();
         let mut out = UnitOutputs {
+            t,
             phi_p: hub[0],
             w_p: hub[2],
             a_p: dydt[iwp],
@@ -1035,8 +1094,8 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         };
         match far {
             None => {
-                out.tau_p = self.sys.inputs.tau_p;
-                out.tau_g = self.sys.inputs.tau_g;
+                out.tau_p = self.sys.inputs.values.tau_p;
+                out.tau_g = self.sys.inputs.values.tau_g;
             }
             Some(f) => {
                 let (s1, s2) = shaft_torques(self.sys.model.drive(), f, hub);
@@ -1279,7 +1338,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         self.sys.inputs = s.inputs;
         self.sys.input_time = s.input_time;
         self.sys.hub_ref = s.hub_ref;
-        self.sys.model.set_torque(s.inputs.torque);
+        self.sys.model.set_torque(s.inputs.values.torque);
         self.step_hint = s.step_hint;
         Ok(())
     }

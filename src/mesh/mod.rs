@@ -87,7 +87,8 @@ pub struct MeshState {
     pub w_g: f64,
 }
 
-/// Results of one mesh evaluation.
+/// Results of one mesh evaluation (the C API's `HgmOutputs`).
+#[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MeshOutputs {
     /// Elastic mesh torque on the pinion M_F,p (Eq. 13), N·m; enters Eq. 2 with a minus sign.
@@ -98,7 +99,7 @@ pub struct MeshOutputs {
     pub m_d_p: f64,
     /// Damping torque on the gear M_D,g (Eq. 14), N·m; enters Eq. 3 with a minus sign.
     pub m_d_g: f64,
-    /// Transmission error TE = φp·g_p + φg·g_g (Eq. 16), m.
+    /// Transmission error TE = φp·g_p + φg·g_g (Eq. 16), m; > 0 when the teeth must deform.
     pub te: f64,
     /// Total normal contact force F = Σ w_i·q_i, N (all flanks in contact).
     pub f_n: f64,
@@ -112,11 +113,15 @@ pub struct MeshOutputs {
     pub tip_contact: bool,
     /// True when no flank carries load (loss of contact).
     pub separated: bool,
-    /// True when the back flanks carry load (TE below minus the backlash).
+    /// True when the back flanks carry load (TE below minus the backlash; the torques are
+    /// then negative).
     pub back_contact: bool,
 }
 
-/// How each evaluation is computed.
+/// How each evaluation is computed (the C API's `HgmFidelity`: the values of
+/// `hgm_unit_create`'s `fidelity`, the codes of [`crate::options`] and of the FMUs' `fidelity`
+/// parameter; before this encoding was shared, `TABLE` was 0 and `FULL` 1).
+#[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Fidelity {
     /// Contact search and load solve at every call.

@@ -13,8 +13,8 @@ use std::sync::OnceLock;
 
 use helical_gear_mesh::dynamics::model::{PHI_1, PHI_2, W_1, W_2};
 use helical_gear_mesh::dynamics::{
-    DriveUnit, Drivetrain, GearDynamics, HubCoupling, Stepping, UnitInputs, UnitKind, UnitStepping,
-    simulate,
+    DriveUnit, Drivetrain, GearDynamics, HubCoupling, Stepping, UnitInputRates, UnitInputs,
+    UnitKind, UnitStepping, simulate,
 };
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions};
@@ -149,14 +149,9 @@ fn pair_cut_hold(omega: f64, h: f64, n: usize, mid: bool, foh: bool, coupled: bo
             r1 = d.c1 * (m[1] - hub[1]) + d.d1 * (a1 - o.a_p);
             r2 = d.c2 * (hub[3] - m[3]) + d.d2 * (o.a_g - a2);
         }
-        let u = UnitInputs {
-            tau_p: s1,
-            tau_g: -s2,
-            tau_p_rate: r1,
-            tau_g_rate: -r2,
-            ..Default::default()
-        };
-        pair.set_inputs(u).unwrap();
+        pair.set_inputs(UnitInputs { tau_p: s1, tau_g: -s2, ..Default::default() }).unwrap();
+        let r = UnitInputRates { tau_p_rate: r1, tau_g_rate: -r2, ..Default::default() };
+        pair.set_input_rates(r).unwrap();
         pair.advance(h).unwrap();
         // Master: J1 φ1'' = M − c1(φ1 − φp(t)) − d1(φ̇1 − φ̇p), J2 φ2'' = M·z_g/z_p +
         // c2(φg(t) − φ2) + d2(φ̇g − φ̇2), hub motion φ(t) = φ(t_k) + φ̇(t_k)·s.

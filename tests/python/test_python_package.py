@@ -286,6 +286,17 @@ def test_simulate_equals_the_cli(tmp_path):
     assert set(tr.to_dataframe().columns) >= {"time", "TE", "phi_p_rad", "M_F_g"}
 
 
+def test_compliance_summary_equals_the_cli():
+    """`Compliance.summary()` is the record of `helical-gear compliance --json` (the library's
+    `results::ComplianceRecord`): on Table 1's embedded data the same keys and values."""
+    cli = RELEASE / "helical-gear"
+    run = subprocess.run([str(cli), "compliance", "--json"], capture_output=True, text=True,
+                         check=True)
+    s = dict(hg.compliance().summary())
+    assert s == json.loads(run.stdout)
+    assert s["source"] == "embedded" and s["fit_seconds"] == s["fit_seconds_p"] + s["fit_seconds_g"]
+
+
 def test_compliance_pickles_losslessly():
     c = hg.compliance()  # Table 1: the embedded data
     assert c.source == "embedded"

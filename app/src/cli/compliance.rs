@@ -5,7 +5,7 @@ use helical_gear_mesh::PairGeometry;
 use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData};
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
-use serde_json::json;
+use helical_gear_mesh::results::{ComplianceRecord, density_name};
 
 use super::{Common, load_params};
 
@@ -28,15 +28,6 @@ impl DensityArg {
             DensityArg::Refined => GearMeshDensity::refined(),
         }
     }
-}
-
-/// Name of a preset density, or `"custom"`.
-fn density_name(d: &GearMeshDensity) -> &'static str {
-    [("coarse", GearMeshDensity::coarse()), ("default", GearMeshDensity::default())]
-        .into_iter()
-        .chain([("refined", GearMeshDensity::refined())])
-        .find(|(_, v)| v == d)
-        .map_or("custom", |(n, _)| n)
 }
 
 /// Number of axial slices of the pair-stiffness load case.
@@ -74,63 +65,10 @@ pub fn compliance_cmd(
     let shares = st.shares();
     let (gp, gg) = (&data.pinion, &data.gear);
     let prov = &data.provenance;
-    let mut out = json!({
-        "source": data.source().as_str(),
-        "format_version": prov.format_version,
-        "crate_version": prov.crate_version,
-        "command": prov.command,
-        "density": density_name(&prov.density),
-        "depth_h_m": prov.depth_h_m,
-        "grid_rows": gp.grid.profile.len(),
-        "grid_columns": gp.grid.zeta.len(),
-        "grid_teeth": gp.grid.teeth,
-        "fe_dofs_p": gp.fe.dofs,
-        "fe_dofs_g": gg.fe.dofs,
-        "fe_seconds": data.fe_seconds(),
-        "fe_mesh_s_p": gp.fe.mesh_s,
-        "fe_mesh_s_g": gg.fe.mesh_s,
-        "fe_assembly_s_p": gp.fe.assembly_s,
-        "fe_assembly_s_g": gg.fe.assembly_s,
-        "fe_factorisation_s_p": gp.fe.factorisation_s,
-        "fe_factorisation_s_g": gg.fe.factorisation_s,
-        "fe_solve_s_p": gp.fe.solve_s,
-        "fe_solve_s_g": gg.fe.solve_s,
-        "fe_observe_s_p": gp.fe.observe_s,
-        "fe_observe_s_g": gg.fe.observe_s,
-        "fe_load_cases_p": gp.fe.load_cases,
-        "fe_load_cases_g": gg.fe.load_cases,
-    });
-    let fit_and_stiffness = json!({
-        "e_rel_std_p": gp.fit.report.sigma_e_rel,
-        "e_rel_std_g": gg.fit.report.sigma_e_rel,
-        "e_rel_std_nodes_domain_p": gp.fit.nodes_domain.std,
-        "e_rel_std_nodes_domain_g": gg.fit.nodes_domain.std,
-        "e_rel_std_nodes_rows_p": gp.fit.nodes_rows.std,
-        "e_rel_std_nodes_rows_g": gg.fit.nodes_rows.std,
-        "e_rel_std_nodes_all_p": gp.fit.nodes_all.std,
-        "e_rel_std_nodes_all_g": gg.fit.nodes_all.std,
-        "fit_seconds_p": gp.fit.fit_s,
-        "fit_seconds_g": gg.fit.fit_s,
-        "fit_max_tau_p_rad": gp.fit.max_tau_rad,
-        "fit_max_tau_g_rad": gg.fit.max_tau_rad,
-        "alpha_ref_p_m_per_n": gp.fit.alpha_ref_m_per_n,
-        "alpha_ref_g_m_per_n": gg.fit.alpha_ref_m_per_n,
-        "pair_stiffness_n_per_mm_per_um": st.c_prime_n_per_mm_per_um,
-        "pair_load_n_per_m": st.load_n_per_m,
-        "pair_torque_nm": st.torque_nm,
-        "pair_deflection_t_um": st.delta_t_m * 1e6,
-        "pair_u_global_p_um": st.u_global_p_m * 1e6,
-        "pair_u_global_g_um": st.u_global_g_m * 1e6,
-        "pair_u_local_um": st.u_local_m * 1e6,
-        "pair_share_global_p": shares[0],
-        "pair_share_global_g": shares[1],
-        "pair_share_local": shares[2],
-    });
-    if let (Some(o), serde_json::Value::Object(more)) = (out.as_object_mut(), fit_and_stiffness) {
-        o.extend(more);
-    }
     if common.json {
-        println!("{out}");
+        let record = ComplianceRecord::new(&data, &st);
+        record.check_finite()?;
+        println!("{}", serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?);
         return Ok(());
     }
     println!(

@@ -3,7 +3,7 @@
 
 use helical_gear_mesh::PairGeometry;
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
-use serde_json::json;
+use helical_gear_mesh::results::ContactRecord;
 
 use super::{Common, load_params};
 
@@ -38,24 +38,9 @@ pub fn contact_cmd(
     let side = if back { FlankSide::Back } else { FlankSide::Drive };
     let red = solver.contacts_on(side, phi_p, phi_g, &zetas, &mut cs);
     if common.json {
-        let rows: Vec<_> = cs
-            .iter()
-            .map(|c| {
-                json!({
-                    "zeta": c.zeta, "pair": c.pair, "side": c.side, "kind": c.kind_name(),
-                    "overlap_m": c.overlap_m, "rho_p_m": c.rho_p_m, "rho_g_m": c.rho_g_m,
-                    "arm_p_m": c.arm_p_m, "arm_g_m": c.arm_g_m,
-                    "radius_p_m": c.radius_p_m, "radius_g_m": c.radius_g_m,
-                    "eta_star_p": c.eta_star_p, "tau_p_rad": c.tau_p,
-                    "eta_star_g": c.eta_star_g, "tau_g_rad": c.tau_g,
-                    "normal_angle_rad": c.normal_angle,
-                })
-            })
-            .collect();
-        println!(
-            "{}",
-            json!({"phi_p_rad": phi_p, "phi_g_rad": phi_g, "te_m": red.te, "slices": rows})
-        );
+        let record = ContactRecord::new(phi_p, phi_g, red.te, &cs);
+        record.check_finite()?;
+        println!("{}", serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?);
     } else {
         println!("φp = {phi_p} rad, φg = {phi_g} rad, TE = {:.3} µm", red.te * 1e6);
         println!(

@@ -25,8 +25,9 @@ use helical_gear_mesh::dynamics::{
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshTorques,
 };
-use helical_gear_mesh::results::{SweepRecord, TrajectoryRecord};
-use serde_json::json;
+use helical_gear_mesh::results::{
+    SweepRecord, SweepRunRecord, TrajectoryRecord, TrajectoryRunRecord,
+};
 
 use super::{Common, load_params};
 
@@ -253,18 +254,22 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
         CliMethod::Dopri5 => "dopri5",
     };
     if a.common.json {
-        let mut out = serde_json::to_value(&record).map_err(|e| format!("JSON: {e}"))?;
-        let obj = out.as_object_mut().ok_or("JSON: the trajectory record is not an object")?;
-        obj.insert("omega_p_rad_s".into(), json!(a.omega_p));
-        obj.insert("t_end_s".into(), json!(a.t_end));
-        obj.insert("method".into(), json!(method));
-        obj.insert("dt_s".into(), json!(dt_used));
-        obj.insert("fidelity".into(), json!(a.fidelity.name()));
-        // At rest the mesh period is infinite: null.
-        obj.insert("mesh_period_s".into(), json!(t_m.is_finite().then_some(t_m)));
-        obj.insert("te_static_start_m".into(), json!(start.te));
-        obj.insert("columns".into(), json!(columns.iter().map(|c| c.0).collect::<Vec<_>>()));
-        writeln!(w, "{out}").map_err(io_err)?;
+        let names = columns.iter().map(|c| c.0.to_string()).collect();
+        let out = TrajectoryRunRecord {
+            trajectory: record,
+            omega_p_rad_s: a.omega_p,
+            t_end_s: a.t_end,
+            method: method.into(),
+            dt_s: dt_used,
+            fidelity: a.fidelity.name().into(),
+            // At rest the mesh period is infinite: null.
+            mesh_period_s: t_m.is_finite().then_some(t_m),
+            te_static_start_m: start.te,
+            columns: names,
+        };
+        out.check_finite()?;
+        let text = serde_json::to_string(&out).map_err(|e| format!("JSON: {e}"))?;
+        writeln!(w, "{text}").map_err(io_err)?;
     } else if a.csv {
         let header: Vec<&str> = columns.iter().map(|c| c.0).collect();
         writeln!(w, "{}", header.join(",")).map_err(io_err)?;
@@ -369,14 +374,15 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     };
     let r = sweep(&mesh, &drive, &speeds, &opts).map_err(|e| e.to_string())?;
     let ste_max = r.ste.max();
-    let record = SweepRecord::new(&r, &speeds);
+    let record = SweepRunRecord {
+        sweep: SweepRecord::new(&r, &speeds),
+        d_mesh_n_s_per_m: pair.d_mesh_n_s_per_m,
+        fidelity: a.fidelity.name().into(),
+        steps_per_period: a.steps_per_period,
+    };
     record.check_finite()?;
-    let warnings = &record.warnings;
-    let mut out = serde_json::to_value(&record).map_err(|e| format!("JSON: {e}"))?;
-    let obj = out.as_object_mut().ok_or("JSON: the sweep record is not an object")?;
-    obj.insert("d_mesh_n_s_per_m".into(), json!(pair.d_mesh_n_s_per_m));
-    obj.insert("fidelity".into(), json!(a.fidelity.name()));
-    obj.insert("steps_per_period".into(), json!(a.steps_per_period));
+    let warnings = &record.sweep.warnings;
+    let out = serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?;
     let stdout = std::io::stdout();
     let mut w = std::io::BufWriter::new(stdout.lock());
     if a.common.json {

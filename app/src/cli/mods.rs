@@ -14,8 +14,10 @@ use helical_gear_mesh::mesh::{
 };
 use helical_gear_mesh::modifications::Modifications;
 use helical_gear_mesh::numeric::amplitude_spectrum;
+use helical_gear_mesh::results::{
+    DynamicSpectrumRecord, HarrisRecord, HarrisVariantRecord, SpectrumRecord, SteadyRunRecord,
+};
 use serde::Deserialize;
-use serde_json::json;
 
 use super::{Common, load_params};
 
@@ -223,11 +225,15 @@ pub fn harris_cmd(a: &HarrisArgs) -> Result<(), String> {
         }
         rows.push((v.name.clone(), ptp));
     }
-    let out = json!({
-        "torques_nm": torques,
-        "variants": rows.iter().map(|(n, p)| json!({"name": n, "ste_peak_to_peak_um": p}))
-            .collect::<Vec<_>>(),
-    });
+    let record = HarrisRecord {
+        torques_nm: torques.clone(),
+        variants: rows
+            .iter()
+            .map(|(n, p)| HarrisVariantRecord { name: n.clone(), ste_peak_to_peak_um: p.clone() })
+            .collect(),
+    };
+    record.check_finite()?;
+    let out = serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?;
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -238,7 +244,7 @@ pub fn harris_cmd(a: &HarrisArgs) -> Result<(), String> {
             std::iter::once(torques[i]).chain(rows.iter().map(|(_, p)| p[i])).collect::<Vec<_>>()
         });
         write_csv(&dir.join("harris.csv"), &h, data).map_err(plot_err)?;
-        std::fs::write(dir.join("harris.json"), out.to_string())
+        std::fs::write(dir.join("harris.json"), &out)
             .map_err(|e| format!("cannot write harris.json: {e}"))?;
         let chart = LineChart {
             title: "Harris map: peak-to-peak static TE".into(),
@@ -321,7 +327,7 @@ fn dynamic_te(
     a: &SpectrumArgs,
     pair: &GearPair,
     speed: f64,
-) -> Result<(Vec<f64>, usize, serde_json::Value), String> {
+) -> Result<(Vec<f64>, usize, SteadyRunRecord), String> {
     use helical_gear_mesh::dynamics::{
         Drivetrain, GearDynamics, SteadyMethod, SteadyRunOptions, run_to_steady,
     };
@@ -354,15 +360,7 @@ fn dynamic_te(
         eprintln!("spectrum: warning: {w}");
     }
     let te = r.window_te(a.points_per_pitch).map_err(|e| e.to_string())?;
-    let info = json!({
-        "speed_rad_s": speed,
-        "steady": r.steady,
-        "mesh_periods_integrated": r.periods,
-        "te_max_um": r.te_max * 1e6,
-        "te_min_um": r.te_min * 1e6,
-        "separated": r.separated,
-    });
-    Ok((te, r.period_multiple, info))
+    Ok((te, r.period_multiple, SteadyRunRecord::new(speed, &r)))
 }
 
 /// `helical-gear spectrum`: the static TE over a whole hunting period and its spectrum in
@@ -406,16 +404,17 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     let orders: Vec<f64> = (0..amp.len()).map(|j| j as f64 / revs).collect();
     let max_order = a.max_order.unwrap_or(f64::INFINITY);
     let keep: Vec<usize> = (0..amp.len()).filter(|&j| orders[j] <= max_order).collect();
-    let out = json!({
-        "torque_nm": torque,
-        "hunting_meshes": meshes,
-        "pinion_revolutions": revs,
-        "ste_mean_um": curve.mean() * 1e6,
-        "ste_peak_to_peak_um": (curve.max() - curve.min()) * 1e6,
-        "orders": keep.iter().map(|&j| orders[j]).collect::<Vec<_>>(),
-        "amplitudes_um": keep.iter().map(|&j| amp[j] * 1e6).collect::<Vec<_>>(),
-        "seconds": t0.elapsed().as_secs_f64(),
-    });
+    let record = SpectrumRecord {
+        torque_nm: torque,
+        hunting_meshes: meshes,
+        pinion_revolutions: revs,
+        ste_mean_um: curve.mean() * 1e6,
+        ste_peak_to_peak_um: (curve.max() - curve.min()) * 1e6,
+        orders: keep.iter().map(|&j| orders[j]).collect(),
+        amplitudes_um: keep.iter().map(|&j| amp[j] * 1e6).collect(),
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    record.check_finite()?;
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -455,7 +454,7 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
         line_chart(&dir.join("spectrum.png"), &chart, (1000, 600)).map_err(plot_err)?;
     }
     if a.common.json {
-        println!("{out}");
+        println!("{}", serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?);
     } else {
         println!(
             "Static TE spectrum, M = {torque} N·m, hunting period {meshes} meshes ({revs} pinion \
@@ -490,16 +489,17 @@ fn dynamic_spectrum(
     let mean = te.iter().sum::<f64>() / te.len().max(1) as f64;
     let ptp = te.iter().copied().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().copied().fold(f64::INFINITY, f64::min);
-    let out = json!({
-        "dynamic": info,
-        "period_meshes": meshes,
-        "pinion_revolutions": revs,
-        "te_mean_um": mean * 1e6,
-        "te_peak_to_peak_um": ptp * 1e6,
-        "orders": keep.iter().map(|&j| orders[j]).collect::<Vec<_>>(),
-        "amplitudes_um": keep.iter().map(|&j| amp[j] * 1e6).collect::<Vec<_>>(),
-        "seconds": t0.elapsed().as_secs_f64(),
-    });
+    let record = DynamicSpectrumRecord {
+        dynamic: info,
+        period_meshes: meshes,
+        pinion_revolutions: revs,
+        te_mean_um: mean * 1e6,
+        te_peak_to_peak_um: ptp * 1e6,
+        orders: keep.iter().map(|&j| orders[j]).collect(),
+        amplitudes_um: keep.iter().map(|&j| amp[j] * 1e6).collect(),
+        seconds: t0.elapsed().as_secs_f64(),
+    };
+    record.check_finite()?;
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -537,7 +537,7 @@ fn dynamic_spectrum(
         line_chart(&dir.join("spectrum_dynamic.png"), &chart, (1000, 600)).map_err(plot_err)?;
     }
     if a.common.json {
-        println!("{out}");
+        println!("{}", serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?);
     } else {
         println!(
             "Dynamic TE spectrum at {speed} rad/s over {meshes} meshes ({revs} pinion \

@@ -3,8 +3,7 @@
 
 use helical_gear_app::paper;
 use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
-use helical_gear_mesh::results::StaticCurveRecord;
-use serde_json::json;
+use helical_gear_mesh::results::{StaticCurveRecord, StaticPointRecord, StaticRunRecord};
 
 use super::{Common, load_params, mods};
 
@@ -52,54 +51,39 @@ pub fn static_cmd(
         paper::figure_7(dir, &rows)?;
     }
     let seconds = t0.elapsed().as_secs_f64();
-    let points: Vec<_> = curve
+    let points = curve
         .points
         .iter()
         .zip(&fl.points)
-        .map(|(e, &(k, w_max, w_mean))| {
-            json!({
-                "phi_p_rad": e.phi_p, "ste_um": e.te * 1e6, "n_pairs": e.outputs.n_pairs,
-                "p_max_pa": e.outputs.p_max, "tip_contact": e.outputs.tip_contact,
-                "contact_length_m": e.outputs.contact_length,
-                "k_h_beta": k, "line_load_max_n_per_mm": w_max,
-                "line_load_mean_n_per_mm": w_mean,
-            })
+        .map(|(e, &(k, w_max, w_mean))| StaticPointRecord {
+            phi_p_rad: e.phi_p,
+            ste_um: e.te * 1e6,
+            n_pairs: e.outputs.n_pairs,
+            p_max_pa: e.outputs.p_max,
+            tip_contact: e.outputs.tip_contact,
+            contact_length_m: e.outputs.contact_length,
+            k_h_beta: k,
+            line_load_max_n_per_mm: w_max,
+            line_load_mean_n_per_mm: w_mean,
         })
         .collect();
     // The shared static record (per-point arrays and summary), then the face load and the
     // run's figures of this command.
-    let record = StaticCurveRecord::new(&curve, rb);
+    let record = StaticRunRecord {
+        curve: StaticCurveRecord::new(&curve, rb),
+        slices,
+        k_h_beta_max: fl.k_h_beta_max,
+        k_h_beta_cycle: fl.k_h_beta_cycle,
+        k_h_beta_iso: fl.k_h_beta_iso,
+        f_beta_y_um: fl.f_beta_y_m * 1e6,
+        c_gamma_n_per_mm_per_um: fl.c_gamma_n_per_mm_um,
+        model_build_s: build_s,
+        seconds,
+        points,
+    };
     record.check_finite()?;
-    let extra = [
-        ("k_h_beta_max", fl.k_h_beta_max),
-        ("k_h_beta_cycle", fl.k_h_beta_cycle),
-        ("k_h_beta_iso", fl.k_h_beta_iso),
-        ("f_beta_y_um", fl.f_beta_y_m * 1e6),
-        ("c_gamma_n_per_mm_per_um", fl.c_gamma_n_per_mm_um),
-    ];
-    for (name, v) in extra {
-        if !v.is_finite() {
-            return Err(format!("result field {name} = {v} is not finite"));
-        }
-    }
-    if let Some((i, _)) =
-        fl.points.iter().enumerate().find(|(_, (k, w_max, w_mean))| {
-            !(k.is_finite() && w_max.is_finite() && w_mean.is_finite())
-        })
-    {
-        return Err(format!("result field points[{i}] (K_Hβ, line load) is not finite"));
-    }
-    let mut out = serde_json::to_value(&record).map_err(|e| format!("JSON: {e}"))?;
-    let obj = out.as_object_mut().ok_or("JSON: the static record is not an object")?;
-    obj.insert("slices".into(), json!(slices));
-    for (name, v) in extra {
-        obj.insert(name.into(), json!(v));
-    }
-    obj.insert("model_build_s".into(), json!(build_s));
-    obj.insert("seconds".into(), json!(seconds));
-    obj.insert("points".into(), json!(points));
     if common.json {
-        println!("{out}");
+        println!("{}", serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?);
     } else {
         println!(
             "Static transmission error, M = {torque} N·m, {} points over {pitches} pitch(es), \

@@ -32,7 +32,7 @@ use std::sync::OnceLock;
 use crate::dynamics::Drivetrain;
 use crate::dynamics::relative::RelativeCoordinates;
 use crate::dynamics::unit::{
-    DriveUnit, UnitInputs, UnitKind, UnitLinearization, UnitSnapshot, UnitStepping,
+    DriveUnit, UnitInputRates, UnitInputs, UnitKind, UnitLinearization, UnitSnapshot, UnitStepping,
 };
 use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
@@ -751,8 +751,8 @@ fn kind_name(kind: UnitKind) -> &'static str {
     }
 }
 
-fn unit_inputs(i: &Inputs) -> UnitInputs {
-    UnitInputs {
+fn unit_inputs(i: &Inputs) -> (UnitInputs, UnitInputRates) {
+    let u = UnitInputs {
         tau_p: i.tau_p,
         tau_g: i.tau_g,
         phi_1: i.phi_1,
@@ -760,12 +760,15 @@ fn unit_inputs(i: &Inputs) -> UnitInputs {
         phi_2: i.phi_2,
         w_2: i.w_2,
         torque: i.m,
+    };
+    let r = UnitInputRates {
         tau_p_rate: i.rates.tau_p,
         tau_g_rate: i.rates.tau_g,
         w_1_rate: i.rates.w_1,
         w_2_rate: i.rates.w_2,
         torque_rate: i.rates.m,
-    }
+    };
+    (u, r)
 }
 
 /// Names of the state-derivative variables in state order (Pair and Stage).
@@ -798,9 +801,10 @@ impl UnitEngine {
     /// the last step (so the unit's input time, the origin of the held inputs' extrapolation,
     /// is that of the last setting).
     fn sync(&mut self, i: &Inputs) -> Result<(), String> {
-        let u = unit_inputs(i);
-        if i.fresh || *self.unit.inputs() != u {
+        let (u, r) = unit_inputs(i);
+        if i.fresh || *self.unit.inputs() != u || *self.unit.input_rates() != r {
             self.unit.set_inputs(u).map_err(|e| e.to_string())?;
+            self.unit.set_input_rates(r).map_err(|e| e.to_string())?;
         }
         Ok(())
     }
@@ -838,7 +842,9 @@ impl Engine for UnitEngine {
             };
             self.unit.set_time(t0).map_err(|e| e.to_string())?;
             self.unit.set_state(&state).map_err(|e| format!("explicit start state: {e}"))?;
-            self.unit.set_inputs(unit_inputs(inputs)).map_err(|e| e.to_string())?;
+            let (u, r) = unit_inputs(inputs);
+            self.unit.set_inputs(u).map_err(|e| e.to_string())?;
+            self.unit.set_input_rates(r).map_err(|e| e.to_string())?;
         }
         Ok(())
     }
@@ -902,8 +908,9 @@ impl Engine for UnitEngine {
     /// inputs for the current time, so the Stage's far ends are not extrapolated).
     fn set_time(&mut self, t: f64) -> Result<(), String> {
         self.unit.set_time(t).map_err(|e| e.to_string())?;
-        let u = *self.unit.inputs();
-        self.unit.set_inputs(u).map_err(|e| e.to_string())
+        let (u, r) = (*self.unit.inputs(), *self.unit.input_rates());
+        self.unit.set_inputs(u).map_err(|e| e.to_string())?;
+        self.unit.set_input_rates(r).map_err(|e| e.to_string())
     }
 
     fn get_states(&self, x: &mut [f64]) {
