@@ -50,5 +50,5 @@ pub use sweep::{
 };
 pub use unit::{
     DriveUnit, HubCoupling, HubReference, UnitInputs, UnitKind, UnitLinearization, UnitOutputs,
-    UnitSnapshot, UnitStepping,
+    UnitQuantity, UnitSnapshot, UnitStepping,
 };
