@@ -9,9 +9,10 @@
 //!
 //! Boundaries: an input is checked against its stated range when set or restored
 //! ([`Variable::check_input`]: |angle| ≤ 1e15 rad, |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m),
-//! the tunable `d_mesh` against the pair's own range (`params::check_d_mesh`), and every value
-//! a getter or a step hands out with a success status passes one check, [`ensure_finite`]: a
-//! non-finite value is an error naming the variable, never a result. Serialised FMU states
+//! a tunable parameter by the model's own check ([`ModelInfo::check_tunable`]) before the
+//! model applies it ([`Engine::tune`]), and every value a getter or a step hands out with a
+//! success status passes one check, [`ensure_finite`]: a non-finite value is an error naming
+//! the variable, never a result. Serialised FMU states
 //! carry a format version and a checksum (see the layout below).
 
 use std::ffi::CString;
@@ -278,9 +279,15 @@ pub(crate) struct Instance {
     pub(crate) strings: Vec<CString>,
 }
 
-fn settings_eq_but_damping(a: &Settings, b: &Settings) -> bool {
+/// True when `a` and `b` differ at most in `model`'s tunable parameters (an engine built
+/// from `a` then serves `b` after [`Engine::tune`]).
+fn settings_eq_but_tunable(model: &ModelInfo, a: &Settings, b: &Settings) -> bool {
     let mut b2 = b.clone();
-    b2.pair.d_mesh_n_s_per_m = a.pair.d_mesh_n_s_per_m;
+    for v in model.variables.iter().filter(|v| v.variability == Variability::Tunable) {
+        if let Access::RealParam(get, set) = v.access {
+            set(&mut b2, get(a));
+        }
+    }
     *a == b2
 }
 
@@ -418,9 +425,9 @@ impl Instance {
         if self.data.built.is_none() {
             let s = &self.data.settings;
             let built = match &self.pristine {
-                Some(p) if settings_eq_but_damping(&p.settings, s) => {
+                Some(p) if settings_eq_but_tunable(self.model, &p.settings, s) => {
                     let mut b = p.clone();
-                    b.engine.set_d_mesh(s.pair.d_mesh_n_s_per_m)?;
+                    b.engine.tune(s)?;
                     b.settings = s.clone();
                     b
                 }
@@ -635,15 +642,22 @@ impl Instance {
                         continue;
                     }
                     if v.variability == Variability::Tunable {
-                        // The parameter's own range (the one the pair's validation applies),
-                        // checked now, also before the model exists.
-                        crate::params::check_d_mesh(x)
-                            .map_err(|e| format!("{e} (FMI parameter `{}`)", v.name))?;
-                        if let Some(b) = self.data.built.as_mut() {
-                            b.engine.set_d_mesh(x)?;
-                            set(&mut b.settings, x);
-                        }
+                        // The model checks its own values now, also before it exists; a
+                        // refused value leaves the settings as they were.
+                        let old = get(&self.data.settings);
                         set(&mut self.data.settings, x);
+                        if let Err(e) = (self.model.check_tunable)(&self.data.settings) {
+                            set(&mut self.data.settings, old);
+                            return Err(format!("{e} (FMI parameter `{}`)", v.name));
+                        }
+                        if let Some(b) = self.data.built.as_mut() {
+                            set(&mut b.settings, x);
+                            if let Err(e) = b.engine.tune(&b.settings) {
+                                set(&mut b.settings, old);
+                                set(&mut self.data.settings, old);
+                                return Err(e);
+                            }
+                        }
                         self.data.outputs = None;
                     } else {
                         set(&mut self.data.settings, x);

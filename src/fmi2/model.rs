@@ -38,8 +38,10 @@ pub enum StepFailure {
 pub trait Engine: Send {
     /// A boxed copy (FMU states hold one).
     fn clone_box(&self) -> Box<dyn Engine>;
-    /// Sets the tunable mesh damping `d_mesh`, N·s/m.
-    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String>;
+    /// Applies the tunable parameters of `settings` (already checked by
+    /// [`ModelInfo::check_tunable`]) without a rebuild: called after one of them changed, and
+    /// on a copy of a built engine whose fixed parameters match.
+    fn tune(&mut self, settings: &Settings) -> Result<(), String>;
     /// Puts the engine at its start (time `t0`, s) from the parameters; may overwrite the
     /// inputs with values consistent with the start (the static equilibrium of the stateful
     /// models).
@@ -139,6 +141,10 @@ pub struct ModelInfo {
     pub stateful: bool,
     /// Builds the engine.
     pub build: BuildFn,
+    /// Checks the values of the tunable parameters in the given settings against their ranges
+    /// (the model's own checks, also before the engine exists); the error names the value
+    /// and its limit.
+    pub check_tunable: fn(&Settings) -> Result<(), String>,
     /// The GUID, computed on first use.
     pub guid_cell: &'static OnceLock<String>,
 }

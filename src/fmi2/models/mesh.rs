@@ -95,6 +95,7 @@ pub static INFO: ModelInfo = ModelInfo {
     stateful: false,
     event_indicators: 0,
     build,
+    check_tunable,
     guid_cell: &GUID,
 };
 
@@ -143,6 +144,12 @@ pub(crate) fn build_mesh(s: &Settings) -> Result<(Mesh, Derived), String> {
     Ok((model, derived))
 }
 
+/// The tunable parameters' check of every model over the mesh: the mesh damping `d_mesh`
+/// against the pair's own range ([`crate::params::check_d_mesh`]).
+pub(crate) fn check_tunable(s: &Settings) -> Result<(), String> {
+    crate::params::check_d_mesh(s.pair.d_mesh_n_s_per_m).map_err(|e| e.to_string())
+}
+
 fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
     let (model, derived) = build_mesh(s)?;
     Ok((Box::new(MeshEngine(model)), derived))
@@ -176,8 +183,9 @@ impl Engine for MeshEngine {
         Box::new(self.clone())
     }
 
-    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String> {
-        self.0.set_d_mesh(d_mesh).map_err(|e| mesh_error_text(&e))
+    /// Applies the mesh damping `d_mesh` (the one tunable parameter).
+    fn tune(&mut self, s: &Settings) -> Result<(), String> {
+        self.0.set_d_mesh(s.pair.d_mesh_n_s_per_m).map_err(|e| mesh_error_text(&e))
     }
 
     fn start(&mut self, _: &Settings, _: &mut Inputs, _: f64) -> Result<(), String> {

@@ -667,6 +667,7 @@ pub static PAIR: ModelInfo = ModelInfo {
     stateful: true,
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Pair, s),
+    check_tunable: super::mesh::check_tunable,
     guid_cell: &PAIR_GUID,
 };
 
@@ -689,6 +690,7 @@ pub static STAGE: ModelInfo = ModelInfo {
     stateful: true,
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Stage, s),
+    check_tunable: super::mesh::check_tunable,
     guid_cell: &STAGE_GUID,
 };
 
@@ -710,6 +712,7 @@ pub static DRIVE: ModelInfo = ModelInfo {
     stateful: true,
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Drive, s),
+    check_tunable: super::mesh::check_tunable,
     guid_cell: &DRIVE_GUID,
 };
 
@@ -845,8 +848,12 @@ impl Engine for UnitEngine {
         Box::new(self.clone())
     }
 
-    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String> {
-        self.unit.mesh_mut().set_d_mesh(d_mesh).map_err(|e| super::mesh::mesh_error_text(&e))
+    /// Applies the mesh damping `d_mesh` (the one tunable parameter).
+    fn tune(&mut self, s: &Settings) -> Result<(), String> {
+        self.unit
+            .mesh_mut()
+            .set_d_mesh(s.pair.d_mesh_n_s_per_m)
+            .map_err(|e| super::mesh::mesh_error_text(&e))
     }
 
     fn start(&mut self, s: &Settings, inputs: &mut Inputs, t0: f64) -> Result<(), String> {
