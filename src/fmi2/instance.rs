@@ -1085,14 +1085,16 @@ pub(crate) fn log_to(
 // then the engine's state (u32 length, 0 before the start or when it has none, + bytes: a
 // unit's snapshot text, warm start included; the mesh element's load-solver warm start,
 // `mesh::WarmStart::to_bytes`, so that a restored element evaluates bit for bit as the
-// original); last the cached outputs (u8 flag, then the twelve mesh-output fields; stateful models
-// always write 0: their outputs follow from the state). The engine itself (the mesh model) is
+// original); last the cached outputs (u8 flag, then the model's bytes,
+// `ModelInfo::cached_outputs`: the mesh element's twelve mesh-output fields; models without
+// such a codec, the stateful ones, always write 0: their outputs follow from the state).
+// The engine itself (the mesh model) is
 // not serialised: it is rebuilt from the parameters (or cloned from the instance's last build
 // with the same parameters). The last 8 bytes are the 64-bit FNV-1a checksum
 // (`numeric::fnv1a_64`) of everything before them. A state is refused whole when the magic,
 // the version, the GUID or the checksum does not match, and every value read is checked:
 // finite times and parameters (their ranges when the model is rebuilt), inputs within their
-// stated ranges (`Variable::check_input`), finite cached outputs.
+// stated ranges (`Variable::check_input`), cached outputs as the model's codec checks them.
 
 const MAGIC: &[u8; 8] = b"HGMSTATE";
 const FORMAT_VERSION: u32 = 5;
@@ -1135,32 +1137,10 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     };
     b.extend_from_slice(&(state.len() as u32).to_le_bytes());
     b.extend_from_slice(&state);
-    match &d.outputs {
-        Some(o) if !model.stateful => {
+    match (&d.outputs, model.cached_outputs) {
+        (Some(o), Some(codec)) => {
             b.push(1);
-            let crate::mesh::MeshOutputs {
-                m_f_p,
-                m_f_g,
-                m_d_p,
-                m_d_g,
-                te,
-                f_n,
-                contact_length,
-                p_max,
-                n_pairs,
-                tip_contact,
-                separated,
-                back_contact,
-            } = o.mesh;
-            for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
-                b.extend_from_slice(&x.to_le_bytes());
-            }
-            b.extend_from_slice(&n_pairs.to_le_bytes());
-            b.extend_from_slice(&[
-                u8::from(tip_contact),
-                u8::from(separated),
-                u8::from(back_contact),
-            ]);
+            (codec.save)(o, &mut b);
         }
         _ => b.push(0),
     }
@@ -1312,31 +1292,12 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         engine_state = Some(s.to_vec());
     }
     if r.bool()? {
-        if model.stateful {
-            return Err("serialised state: cached outputs in a state of a stateful model".into());
-        }
-        let mut x = [0.0; 8];
-        for xi in &mut x {
-            *xi = r.f64()?;
-        }
-        let mesh = crate::mesh::MeshOutputs {
-            m_f_p: x[0],
-            m_f_g: x[1],
-            m_d_p: x[2],
-            m_d_g: x[3],
-            te: x[4],
-            f_n: x[5],
-            contact_length: x[6],
-            p_max: x[7],
-            n_pairs: r.u32()?,
-            tip_contact: r.bool()?,
-            separated: r.bool()?,
-            back_contact: r.bool()?,
-        };
-        const NAMES: [&str; 8] =
-            ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
-        ensure_finite("serialised state: cached output", &x, |i| NAMES[i].to_string())?;
-        d.outputs = Some(Outputs { mesh, ..Outputs::default() });
+        let codec = model.cached_outputs.ok_or_else(|| {
+            format!("serialised state: cached outputs in a state of {}", model.identifier)
+        })?;
+        let (o, n) = (codec.load)(&r.b[r.at..])?;
+        r.at += n;
+        d.outputs = Some(o);
     }
     if r.at != bytes.len() {
         return Err(format!(

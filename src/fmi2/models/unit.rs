@@ -668,6 +668,7 @@ pub static PAIR: ModelInfo = ModelInfo {
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Pair, s),
     check_tunable: super::mesh::check_tunable,
+    cached_outputs: None,
     guid_cell: &PAIR_GUID,
 };
 
@@ -691,6 +692,7 @@ pub static STAGE: ModelInfo = ModelInfo {
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Stage, s),
     check_tunable: super::mesh::check_tunable,
+    cached_outputs: None,
     guid_cell: &STAGE_GUID,
 };
 
@@ -713,6 +715,7 @@ pub static DRIVE: ModelInfo = ModelInfo {
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Drive, s),
     check_tunable: super::mesh::check_tunable,
+    cached_outputs: None,
     guid_cell: &DRIVE_GUID,
 };
 
