@@ -18,7 +18,7 @@
 use std::ffi::CString;
 use std::path::PathBuf;
 
-use super::model::{Engine, Jacobian, ModelInfo, StepFailure};
+use super::model::{Engine, Jacobian, MAX_STATES, ModelInfo, StepFailure};
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use super::variables::{
     Access, Causality, Derived, InputRates, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability,
@@ -743,8 +743,8 @@ impl Instance {
                 Ok(()) => {
                     d.outputs = None;
                     d.inputs.fresh = false;
-                    // At most the Drive's eight states: no allocation per step.
-                    let mut buf = [0.0; crate::dynamics::model::N_STATES];
+                    // At most MAX_STATES states: no allocation per step.
+                    let mut buf = [0.0; MAX_STATES];
                     let x = &mut buf[..engine.n_states()];
                     engine.get_states(x);
                     ensure_finite("fmi2DoStep", x, |i| self.model.state_name(i))?;

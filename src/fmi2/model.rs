@@ -20,6 +20,11 @@ use super::variables::{
     Variable,
 };
 
+/// Model Exchange: the most continuous states a model may have (the length of the outputs'
+/// state vectors, [`Outputs::x`] and [`Outputs::dx`]); the instance's buffers are this long, so
+/// that a step allocates nothing.
+pub const MAX_STATES: usize = 8;
+
 /// The default experiment of a model (`<DefaultExperiment>`), s.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Experiment {
