@@ -137,8 +137,11 @@ pub struct OutputsCodec {
     /// Reads outputs written by `save` from the start of the bytes (the rest of the state)
     /// and returns them with the number of bytes read; every value is checked (finite,
     /// flags 0 or 1), a short input is refused as truncated.
-    pub load: fn(&[u8]) -> Result<(Outputs, usize), String>,
+    pub load: LoadOutputsFn,
 }
+
+/// Reads cached outputs from bytes ([`OutputsCodec::load`]): the outputs and the bytes read.
+pub type LoadOutputsFn = fn(&[u8]) -> Result<(Outputs, usize), String>;
 
 /// Builds the engine of a model and the calculated parameters from the parameters.
 pub type BuildFn = fn(&Settings) -> Result<(Box<dyn Engine>, Derived), String>;
