@@ -10,7 +10,7 @@ mod common;
 use helical_gear_mesh::dynamics::{
     Clearance, ConstantStiffnessMesh, DriveUnit, Drivetrain, DynamicsError, GearDynamics,
     HubCoupling, PeriodicStiffnessMesh, Stepping, UnitInputRates, UnitInputs, UnitKind,
-    UnitLinearization, UnitSnapshot, UnitStepping, simulate,
+    UnitLinearization, UnitQuantity, UnitSnapshot, UnitStepping, simulate,
 };
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
@@ -374,7 +374,7 @@ fn check_linearization<M: MeshTorques + Clone>(mut u: DriveUnit<M>, x: &[f64], i
         let mut f = vec![0.0; n];
         u.derivatives(0.0, x, &mut f).unwrap();
         let o = u.outputs().unwrap();
-        let y = out_names.iter().map(|s| o.get(s).unwrap()).collect();
+        let y = out_names.iter().map(|&q| o.value(q).unwrap()).collect();
         (f, y)
     };
     let check = |what: &str, lin_m: &[f64], cols: usize, col: usize, fd: &[f64]| {
@@ -401,22 +401,22 @@ fn check_linearization<M: MeshTorques + Clone>(mut u: DriveUnit<M>, x: &[f64], i
         check("A", &lin.a, n, j, &df);
         check("C", &lin.c, n, j, &dy);
     }
-    for (j, name) in in_names.iter().enumerate() {
-        let du = match *name {
-            "phi_1" | "phi_2" => 1e-8,
-            "w_1" | "w_2" => 1e-4,
+    for (j, &q) in in_names.iter().enumerate() {
+        let du = match q {
+            UnitQuantity::Phi1 | UnitQuantity::Phi2 => 1e-8,
+            UnitQuantity::W1 | UnitQuantity::W2 => 1e-4,
             _ => 1e-3,
         };
         let set = |v: f64| {
             let mut w = inp;
-            match *name {
-                "tau_p" => w.tau_p += v,
-                "tau_g" => w.tau_g += v,
-                "phi_1" => w.phi_1 += v,
-                "w_1" => w.w_1 += v,
-                "phi_2" => w.phi_2 += v,
-                "w_2" => w.w_2 += v,
-                "M" => w.torque += v,
+            match q {
+                UnitQuantity::TauP => w.tau_p += v,
+                UnitQuantity::TauG => w.tau_g += v,
+                UnitQuantity::Phi1 => w.phi_1 += v,
+                UnitQuantity::W1 => w.w_1 += v,
+                UnitQuantity::Phi2 => w.phi_2 += v,
+                UnitQuantity::W2 => w.w_2 += v,
+                UnitQuantity::DrivingTorque => w.torque += v,
                 _ => unreachable!(),
             }
             w

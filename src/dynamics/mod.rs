@@ -50,5 +50,5 @@ pub use sweep::{
 };
 pub use unit::{
     DriveUnit, HeldInputs, HubCoupling, HubReference, UnitInputRates, UnitInputs, UnitKind,
-    UnitLinearization, UnitOutputs, UnitSnapshot, UnitStepping,
+    UnitLinearization, UnitOutputs, UnitQuantity, UnitSnapshot, UnitStepping,
 };

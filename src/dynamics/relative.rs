@@ -27,16 +27,29 @@
 //! nominal running: 1 rad for φp, the static twists and TE under the nominal torque for the
 //! small angles, those times the fastest linearised frequency for their rates, and the nominal
 //! speed for φ̇p.
+//!
+//! The coordinates are typed ([`PAIR_STATES`], [`DRIVE_STATES`]: [`UnitQuantity`] values in
+//! coordinate order); the names an interface gives them (the FMUs' state variables) are that
+//! interface's.
 
 use super::integrators::{OdeError, OdeSystem};
-use super::kind::{UnitKind, UnitLinearization};
+use super::kind::{UnitKind, UnitLinearization, UnitQuantity};
 use super::model::N_STATES;
 
-/// State names in relative coordinates (FMI variable names), Pair and Stage.
-pub const PAIR_STATES: [&str; 4] = ["phi_p", "TE", "w_p", "v_TE"];
-/// State names in relative coordinates (FMI variable names), Drive.
-pub const DRIVE_STATES: [&str; 8] =
-    ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2"];
+/// The relative coordinates of the Pair and the Stage, in order: (φp, TE, φ̇p, v_TE).
+pub const PAIR_STATES: [UnitQuantity; 4] =
+    [UnitQuantity::PhiP, UnitQuantity::Te, UnitQuantity::WP, UnitQuantity::VTe];
+/// The relative coordinates of the Drive, in order: (φp, θ₁, TE, θ₂, φ̇p, θ̇₁, v_TE, θ̇₂).
+pub const DRIVE_STATES: [UnitQuantity; 8] = [
+    UnitQuantity::PhiP,
+    UnitQuantity::Theta1,
+    UnitQuantity::Te,
+    UnitQuantity::Theta2,
+    UnitQuantity::WP,
+    UnitQuantity::WTheta1,
+    UnitQuantity::VTe,
+    UnitQuantity::WTheta2,
+];
 
 /// The linear map between a unit's absolute state and its relative coordinates (module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,8 +74,8 @@ impl RelativeCoordinates {
         self.kind.n_states()
     }
 
-    /// State names in coordinate order.
-    pub fn names(&self) -> &'static [&'static str] {
+    /// The coordinates in order ([`PAIR_STATES`], [`DRIVE_STATES`]).
+    pub fn states(&self) -> &'static [UnitQuantity] {
         match self.kind {
             UnitKind::Pair | UnitKind::Stage => &PAIR_STATES,
             UnitKind::Drive => &DRIVE_STATES,
@@ -295,7 +308,7 @@ mod tests {
             for (a, b) in y.iter().zip(&back) {
                 assert!((a - b).abs() < 1e-14);
             }
-            let te = x[r.names().iter().position(|s| *s == "TE").unwrap()];
+            let te = x[r.states().iter().position(|&s| s == UnitQuantity::Te).unwrap()];
             let (pp, pg) = match kind {
                 UnitKind::Drive => (y[1], y[2]),
                 _ => (y[0], y[1]),

@@ -127,7 +127,7 @@ use std::ops::ControlFlow;
 
 use super::integrators::{Dopri5, Dopri5Options, OdeError, OdeSystem, Rk4};
 /// The unit kinds and the shape of a unit's linearisation ([`super::kind`]), where they were.
-pub use super::kind::{UnitKind, UnitLinearization};
+pub use super::kind::{UnitKind, UnitLinearization, UnitQuantity};
 use super::limits::{MAX_UNIT_SUBSTEPS, stable_rk4_step};
 use super::model::{
     Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
@@ -255,14 +255,15 @@ fn check_abs(
 
 impl UnitInputs {
     fn check(&self) -> Result<(), DynamicsError> {
-        for (name, v) in [("tau_p", self.tau_p), ("tau_g", self.tau_g), ("torque", self.torque)] {
-            check_abs(name, v, MAX_TORQUE_NM, "finite, |torque| <= 1e9 N·m")?;
+        use UnitQuantity::*;
+        for (q, v) in [(TauP, self.tau_p), (TauG, self.tau_g), (DrivingTorque, self.torque)] {
+            check_abs(q.field_name(), v, MAX_TORQUE_NM, "finite, |torque| <= 1e9 N·m")?;
         }
-        for (name, v) in [("phi_1", self.phi_1), ("phi_2", self.phi_2)] {
-            check_abs(name, v, MAX_ANGLE_RAD, "finite, |angle| <= 1e15 rad")?;
+        for (q, v) in [(Phi1, self.phi_1), (Phi2, self.phi_2)] {
+            check_abs(q.field_name(), v, MAX_ANGLE_RAD, "finite, |angle| <= 1e15 rad")?;
         }
-        for (name, v) in [("w_1", self.w_1), ("w_2", self.w_2)] {
-            check_abs(name, v, MAX_SPEED_RAD_S, "finite, |speed| <= 1e5 rad/s")?;
+        for (q, v) in [(W1, self.w_1), (W2, self.w_2)] {
+            check_abs(q.field_name(), v, MAX_SPEED_RAD_S, "finite, |speed| <= 1e5 rad/s")?;
         }
         Ok(())
     }
@@ -379,7 +380,7 @@ pub struct UnitOutputs {
     /// Gear hub acceleration φ̈g, rad/s².
     pub a_g: f64,
     /// State derivative at the current time, state and inputs, in the kind's state order
-    /// ([`UnitKind::state_names`]; entries beyond [`UnitKind::n_states`] are 0), rad/s and
+    /// ([`UnitKind::states`]; entries beyond [`UnitKind::n_states`] are 0), rad/s and
     /// rad/s².
     pub dydt: [f64; N_STATES],
     /// Angle of J1 (Drive) or of the pinion shaft's far end (Stage), rad; 0 for Pair.
@@ -405,32 +406,33 @@ pub struct UnitOutputs {
 }
 
 impl UnitOutputs {
-    /// The output called `name` (the names of [`UnitLinearization::outputs`] and the state
-    /// names: `phi_p`, `w_p`, `a_p`, …, `tau_1`, `tau_2`, `tau_p`, `tau_g`, `M_F_p`, `M_F_g`,
-    /// `M_D_p`, `M_D_g`, `TE`, `F_n`), or `None` for an unknown name.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        Some(match name {
-            "phi_p" => self.phi_p,
-            "w_p" => self.w_p,
-            "a_p" => self.a_p,
-            "phi_g" => self.phi_g,
-            "w_g" => self.w_g,
-            "a_g" => self.a_g,
-            "phi_1" => self.phi_1,
-            "w_1" => self.w_1,
-            "phi_2" => self.phi_2,
-            "w_2" => self.w_2,
-            "tau_1" => self.tau_1,
-            "tau_2" => self.tau_2,
-            "tau_p" => self.tau_p,
-            "tau_g" => self.tau_g,
-            "M_F_p" => self.mesh.m_f_p,
-            "M_F_g" => self.mesh.m_f_g,
-            "M_D_p" => self.mesh.m_d_p,
-            "M_D_g" => self.mesh.m_d_g,
-            "TE" => self.mesh.te,
-            "F_n" => self.mesh.f_n,
-            _ => return None,
+    /// The value of quantity `q` (in its unit, [`UnitQuantity`]), or `None` for one the
+    /// outputs do not hold: the relative coordinates (θ₁, θ₂, θ̇₁, θ̇₂, v_TE) and the driving
+    /// torque M (an input).
+    pub fn value(&self, q: UnitQuantity) -> Option<f64> {
+        use UnitQuantity::*;
+        Some(match q {
+            PhiP => self.phi_p,
+            WP => self.w_p,
+            AP => self.a_p,
+            PhiG => self.phi_g,
+            WG => self.w_g,
+            AG => self.a_g,
+            Phi1 => self.phi_1,
+            W1 => self.w_1,
+            Phi2 => self.phi_2,
+            W2 => self.w_2,
+            Tau1 => self.tau_1,
+            Tau2 => self.tau_2,
+            TauP => self.tau_p,
+            TauG => self.tau_g,
+            MFP => self.mesh.m_f_p,
+            MFG => self.mesh.m_f_g,
+            MDP => self.mesh.m_d_p,
+            MDG => self.mesh.m_d_g,
+            Te => self.mesh.te,
+            FN => self.mesh.f_n,
+            Theta1 | Theta2 | WTheta1 | WTheta2 | VTe | DrivingTorque => return None,
         })
     }
 }
@@ -761,9 +763,9 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         self.sys.kind.n_states()
     }
 
-    /// State names in state order.
-    pub fn state_names(&self) -> &'static [&'static str] {
-        self.sys.kind.state_names()
+    /// The states in state order ([`UnitKind::states`]).
+    pub fn states(&self) -> &'static [UnitQuantity] {
+        self.sys.kind.states()
     }
 
     /// The integration settings.
@@ -1239,21 +1241,22 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         // Output rows.
         let mut c_mat = vec![0.0; n_y * n];
         let mut d_mat = vec![0.0; n_y * n_u];
-        let names = kind.state_names();
-        for (r, name) in outputs.iter().enumerate() {
+        let states = kind.states();
+        for (r, &q) in outputs.iter().enumerate() {
             let crow = &mut c_mat[r * n..(r + 1) * n];
             let drow = &mut d_mat[r * n_u..(r + 1) * n_u];
-            if let Some(i) = names.iter().position(|s| s == name) {
+            if let Some(i) = states.iter().position(|&s| s == q) {
                 crow[i] = 1.0;
                 continue;
             }
-            match *name {
-                "a_p" | "a_g" => {
-                    let i = if *name == "a_p" { iwp } else { iwg };
+            use UnitQuantity::*;
+            match q {
+                AP | AG => {
+                    let i = if q == AP { iwp } else { iwg };
                     crow.copy_from_slice(&a[i * n..(i + 1) * n]);
                     drow.copy_from_slice(&b[i * n_u..(i + 1) * n_u]);
                 }
-                "tau_1" => {
+                Tau1 => {
                     for (cv, s) in crow.iter_mut().zip(&s1x) {
                         *cv = -s;
                     }
@@ -1261,19 +1264,19 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
                         *dv = -s;
                     }
                 }
-                "tau_2" => {
+                Tau2 => {
                     crow.copy_from_slice(&s2x[..n]);
                     drow.copy_from_slice(&s2u[..n_u]);
                 }
-                "M_F_p" => crow.copy_from_slice(&dm[mfp][..n]),
-                "M_F_g" => crow.copy_from_slice(&dm[mfg][..n]),
-                "M_D_p" => crow.copy_from_slice(&dm[mdp][..n]),
-                "M_D_g" => crow.copy_from_slice(&dm[mdg][..n]),
-                "TE" => {
+                MFP => crow.copy_from_slice(&dm[mfp][..n]),
+                MFG => crow.copy_from_slice(&dm[mfg][..n]),
+                MDP => crow.copy_from_slice(&dm[mdp][..n]),
+                MDG => crow.copy_from_slice(&dm[mdg][..n]),
+                Te => {
                     crow[ipp] = gp;
                     crow[ipg] = gg;
                 }
-                other => unreachable!("output `{other}` has no linearisation row"),
+                other => unreachable!("output {other} has no linearisation row"),
             }
         }
         Ok(UnitLinearization { n_x: n, n_u, n_y, a, b, c: c_mat, d: d_mat })
@@ -1305,8 +1308,9 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         if s.state.len() != n {
             return Err(invalid("snapshot state length", s.state.len() as f64, "the unit's"));
         }
-        for (&v, name) in s.state.iter().zip(self.sys.kind.state_names()) {
-            if name.starts_with("phi") {
+        for (&v, q) in s.state.iter().zip(self.sys.kind.states()) {
+            let name = q.field_name();
+            if q.is_angle() {
                 check_abs(name, v, MAX_ANGLE_RAD, "finite, |angle| <= 1e15 rad (snapshot state)")?;
             } else {
                 check_abs(

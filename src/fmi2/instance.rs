@@ -9,15 +9,16 @@
 //!
 //! Boundaries: an input is checked against its stated range when set or restored
 //! ([`Variable::check_input`]: |angle| ≤ 1e15 rad, |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m),
-//! the tunable `d_mesh` against the pair's own range (`params::check_d_mesh`), and every value
-//! a getter or a step hands out with a success status passes one check, [`ensure_finite`]: a
-//! non-finite value is an error naming the variable, never a result. Serialised FMU states
+//! a tunable parameter by the model's own check ([`ModelInfo::check_tunable`]) before the
+//! model applies it ([`Engine::tune`]), and every value a getter or a step hands out with a
+//! success status passes one check, [`ensure_finite`]: a non-finite value is an error naming
+//! the variable, never a result. Serialised FMU states
 //! carry a format version and a checksum (see the layout below).
 
 use std::ffi::CString;
 use std::path::PathBuf;
 
-use super::model::{Engine, Jacobian, ModelInfo, StepFailure};
+use super::model::{Engine, Jacobian, MAX_STATES, ModelInfo, StepFailure};
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use super::variables::{
     Access, Causality, Derived, InputRates, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability,
@@ -278,9 +279,15 @@ pub(crate) struct Instance {
     pub(crate) strings: Vec<CString>,
 }
 
-fn settings_eq_but_damping(a: &Settings, b: &Settings) -> bool {
+/// True when `a` and `b` differ at most in `model`'s tunable parameters (an engine built
+/// from `a` then serves `b` after [`Engine::tune`]).
+fn settings_eq_but_tunable(model: &ModelInfo, a: &Settings, b: &Settings) -> bool {
     let mut b2 = b.clone();
-    b2.pair.d_mesh_n_s_per_m = a.pair.d_mesh_n_s_per_m;
+    for v in model.variables.iter().filter(|v| v.variability == Variability::Tunable) {
+        if let Access::RealParam(get, set) = v.access {
+            set(&mut b2, get(a));
+        }
+    }
     *a == b2
 }
 
@@ -418,9 +425,9 @@ impl Instance {
         if self.data.built.is_none() {
             let s = &self.data.settings;
             let built = match &self.pristine {
-                Some(p) if settings_eq_but_damping(&p.settings, s) => {
+                Some(p) if settings_eq_but_tunable(self.model, &p.settings, s) => {
                     let mut b = p.clone();
-                    b.engine.set_d_mesh(s.pair.d_mesh_n_s_per_m)?;
+                    b.engine.tune(s)?;
                     b.settings = s.clone();
                     b
                 }
@@ -635,15 +642,22 @@ impl Instance {
                         continue;
                     }
                     if v.variability == Variability::Tunable {
-                        // The parameter's own range (the one the pair's validation applies),
-                        // checked now, also before the model exists.
-                        crate::params::check_d_mesh(x)
-                            .map_err(|e| format!("{e} (FMI parameter `{}`)", v.name))?;
-                        if let Some(b) = self.data.built.as_mut() {
-                            b.engine.set_d_mesh(x)?;
-                            set(&mut b.settings, x);
-                        }
+                        // The model checks its own values now, also before it exists; a
+                        // refused value leaves the settings as they were.
+                        let old = get(&self.data.settings);
                         set(&mut self.data.settings, x);
+                        if let Err(e) = (self.model.check_tunable)(&self.data.settings) {
+                            set(&mut self.data.settings, old);
+                            return Err(format!("{e} (FMI parameter `{}`)", v.name));
+                        }
+                        if let Some(b) = self.data.built.as_mut() {
+                            set(&mut b.settings, x);
+                            if let Err(e) = b.engine.tune(&b.settings) {
+                                set(&mut b.settings, old);
+                                set(&mut self.data.settings, old);
+                                return Err(e);
+                            }
+                        }
                         self.data.outputs = None;
                     } else {
                         set(&mut self.data.settings, x);
@@ -729,8 +743,8 @@ impl Instance {
                 Ok(()) => {
                     d.outputs = None;
                     d.inputs.fresh = false;
-                    // At most the Drive's eight states: no allocation per step.
-                    let mut buf = [0.0; crate::dynamics::model::N_STATES];
+                    // At most MAX_STATES states: no allocation per step.
+                    let mut buf = [0.0; MAX_STATES];
                     let x = &mut buf[..engine.n_states()];
                     engine.get_states(x);
                     ensure_finite("fmi2DoStep", x, |i| self.model.state_name(i))?;
@@ -1071,14 +1085,16 @@ pub(crate) fn log_to(
 // then the engine's state (u32 length, 0 before the start or when it has none, + bytes: a
 // unit's snapshot text, warm start included; the mesh element's load-solver warm start,
 // `mesh::WarmStart::to_bytes`, so that a restored element evaluates bit for bit as the
-// original); last the cached outputs (u8 flag, then the twelve mesh-output fields; stateful models
-// always write 0: their outputs follow from the state). The engine itself (the mesh model) is
+// original); last the cached outputs (u8 flag, then the model's bytes,
+// `ModelInfo::cached_outputs`: the mesh element's twelve mesh-output fields; models without
+// such a codec, the stateful ones, always write 0: their outputs follow from the state).
+// The engine itself (the mesh model) is
 // not serialised: it is rebuilt from the parameters (or cloned from the instance's last build
 // with the same parameters). The last 8 bytes are the 64-bit FNV-1a checksum
 // (`numeric::fnv1a_64`) of everything before them. A state is refused whole when the magic,
 // the version, the GUID or the checksum does not match, and every value read is checked:
 // finite times and parameters (their ranges when the model is rebuilt), inputs within their
-// stated ranges (`Variable::check_input`), finite cached outputs.
+// stated ranges (`Variable::check_input`), cached outputs as the model's codec checks them.
 
 const MAGIC: &[u8; 8] = b"HGMSTATE";
 const FORMAT_VERSION: u32 = 5;
@@ -1121,32 +1137,10 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     };
     b.extend_from_slice(&(state.len() as u32).to_le_bytes());
     b.extend_from_slice(&state);
-    match &d.outputs {
-        Some(o) if !model.stateful => {
+    match (&d.outputs, model.cached_outputs) {
+        (Some(o), Some(codec)) => {
             b.push(1);
-            let crate::mesh::MeshOutputs {
-                m_f_p,
-                m_f_g,
-                m_d_p,
-                m_d_g,
-                te,
-                f_n,
-                contact_length,
-                p_max,
-                n_pairs,
-                tip_contact,
-                separated,
-                back_contact,
-            } = o.mesh;
-            for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
-                b.extend_from_slice(&x.to_le_bytes());
-            }
-            b.extend_from_slice(&n_pairs.to_le_bytes());
-            b.extend_from_slice(&[
-                u8::from(tip_contact),
-                u8::from(separated),
-                u8::from(back_contact),
-            ]);
+            (codec.save)(o, &mut b);
         }
         _ => b.push(0),
     }
@@ -1298,31 +1292,12 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         engine_state = Some(s.to_vec());
     }
     if r.bool()? {
-        if model.stateful {
-            return Err("serialised state: cached outputs in a state of a stateful model".into());
-        }
-        let mut x = [0.0; 8];
-        for xi in &mut x {
-            *xi = r.f64()?;
-        }
-        let mesh = crate::mesh::MeshOutputs {
-            m_f_p: x[0],
-            m_f_g: x[1],
-            m_d_p: x[2],
-            m_d_g: x[3],
-            te: x[4],
-            f_n: x[5],
-            contact_length: x[6],
-            p_max: x[7],
-            n_pairs: r.u32()?,
-            tip_contact: r.bool()?,
-            separated: r.bool()?,
-            back_contact: r.bool()?,
-        };
-        const NAMES: [&str; 8] =
-            ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
-        ensure_finite("serialised state: cached output", &x, |i| NAMES[i].to_string())?;
-        d.outputs = Some(Outputs { mesh, ..Outputs::default() });
+        let codec = model.cached_outputs.ok_or_else(|| {
+            format!("serialised state: cached outputs in a state of {}", model.identifier)
+        })?;
+        let (o, n) = (codec.load)(&r.b[r.at..])?;
+        r.at += n;
+        d.outputs = Some(o);
     }
     if r.at != bytes.len() {
         return Err(format!(

@@ -4,6 +4,14 @@
 //! The FMI layer ([`super::instance`], [`super::exports`]) knows nothing of gears: it runs the
 //! state machine, dispatches value references through the model's variable table, logs, saves
 //! and restores FMU states, and calls the model's [`Engine`] to build, start, evaluate and step.
+//! Whatever depends on the physics is the model's: the check of its tunable parameters
+//! ([`ModelInfo::check_tunable`], before the engine exists) and their application without a
+//! rebuild ([`Engine::tune`]; the layer knows which parameters are tunable from the variable
+//! table's variability), the bytes of its state ([`Engine::save`], [`Engine::load`]) and of its
+//! cached outputs in a serialised FMU state ([`ModelInfo::cached_outputs`]), and, for Model
+//! Exchange, its states, nominals and exact Jacobian (rows and columns named by the variable
+//! names of its table). A new model is one file under `fmi2/models/` with its variable table,
+//! its [`ModelInfo`] and its [`Engine`].
 
 use std::sync::OnceLock;
 
@@ -11,6 +19,11 @@ use super::variables::{
     CS_CAPABILITIES, Derived, Inputs, LOG_CATEGORIES, MODEL_VERSION, Outputs, Settings, UNITS,
     Variable,
 };
+
+/// Model Exchange: the most continuous states a model may have (the length of the outputs'
+/// state vectors, [`Outputs::x`] and [`Outputs::dx`]); the instance's buffers are this long, so
+/// that a step allocates nothing.
+pub const MAX_STATES: usize = 8;
 
 /// The default experiment of a model (`<DefaultExperiment>`), s.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -38,8 +51,10 @@ pub enum StepFailure {
 pub trait Engine: Send {
     /// A boxed copy (FMU states hold one).
     fn clone_box(&self) -> Box<dyn Engine>;
-    /// Sets the tunable mesh damping `d_mesh`, N·s/m.
-    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String>;
+    /// Applies the tunable parameters of `settings` (already checked by
+    /// [`ModelInfo::check_tunable`]) without a rebuild: called after one of them changed, and
+    /// on a copy of a built engine whose fixed parameters match.
+    fn tune(&mut self, settings: &Settings) -> Result<(), String>;
     /// Puts the engine at its start (time `t0`, s) from the parameters; may overwrite the
     /// inputs with values consistent with the start (the static equilibrium of the stateful
     /// models).
@@ -113,6 +128,21 @@ impl Clone for Box<dyn Engine> {
     }
 }
 
+/// A model's cached outputs as bytes in a serialised FMU state: the model alone knows which of
+/// its outputs it evaluates and how to check them.
+#[derive(Debug, Clone, Copy)]
+pub struct OutputsCodec {
+    /// Appends the outputs' bytes.
+    pub save: fn(&Outputs, &mut Vec<u8>),
+    /// Reads outputs written by `save` from the start of the bytes (the rest of the state)
+    /// and returns them with the number of bytes read; every value is checked (finite,
+    /// flags 0 or 1), a short input is refused as truncated.
+    pub load: LoadOutputsFn,
+}
+
+/// Reads cached outputs from bytes ([`OutputsCodec::load`]): the outputs and the bytes read.
+pub type LoadOutputsFn = fn(&[u8]) -> Result<(Outputs, usize), String>;
+
 /// Builds the engine of a model and the calculated parameters from the parameters.
 pub type BuildFn = fn(&Settings) -> Result<(Box<dyn Engine>, Derived), String>;
 
@@ -134,11 +164,19 @@ pub struct ModelInfo {
     pub experiment: Experiment,
     /// Model Exchange: number of event indicators (`numberOfEventIndicators`).
     pub event_indicators: usize,
-    /// True when the engine has a state of its own (stateful models): a serialised FMU state
-    /// then carries it, and the cached outputs are not serialised (they follow from it).
+    /// True when the engine has a state of its own (stateful models): a communication step
+    /// advances it ([`Engine::step`]) and a serialised FMU state carries it ([`Engine::save`]).
     pub stateful: bool,
+    /// How a serialised FMU state carries the cached outputs (the values of the last
+    /// evaluation, kept so that a restored instance reads them without evaluating again);
+    /// `None` when they are not serialised because they follow from the engine's state.
+    pub cached_outputs: Option<OutputsCodec>,
     /// Builds the engine.
     pub build: BuildFn,
+    /// Checks the values of the tunable parameters in the given settings against their ranges
+    /// (the model's own checks, also before the engine exists); the error names the value
+    /// and its limit.
+    pub check_tunable: fn(&Settings) -> Result<(), String>,
     /// The GUID, computed on first use.
     pub guid_cell: &'static OnceLock<String>,
 }

@@ -4,13 +4,14 @@
 
 use std::sync::OnceLock;
 
-use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
+use crate::fmi2::instance::ensure_finite;
+use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, OutputsCodec, StepFailure};
 use crate::fmi2::variables::{ANGLE, DEG, RAD};
 use crate::fmi2::variables::{
     Access, CALCULATED, Causality, Derived, GEAR_PARAMS, Inputs, MESH_OPTIONS, MESH_OUTPUTS, NONE,
     Outputs, Settings, Variability, Variable, concat, total_len,
 };
-use crate::mesh::{Mesh, MeshError, MeshState, MeshTorques, WarmStart};
+use crate::mesh::{Mesh, MeshError, MeshOutputs, MeshState, MeshTorques, WarmStart};
 
 use Variable as V;
 
@@ -95,6 +96,8 @@ pub static INFO: ModelInfo = ModelInfo {
     stateful: false,
     event_indicators: 0,
     build,
+    check_tunable,
+    cached_outputs: Some(CACHED_OUTPUTS),
     guid_cell: &GUID,
 };
 
@@ -143,9 +146,80 @@ pub(crate) fn build_mesh(s: &Settings) -> Result<(Mesh, Derived), String> {
     Ok((model, derived))
 }
 
+/// The tunable parameters' check of every model over the mesh: the mesh damping `d_mesh`
+/// against the pair's own range ([`crate::params::check_d_mesh`]).
+pub(crate) fn check_tunable(s: &Settings) -> Result<(), String> {
+    crate::params::check_d_mesh(s.pair.d_mesh_n_s_per_m).map_err(|e| e.to_string())
+}
+
 fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
     let (model, derived) = build_mesh(s)?;
     Ok((Box::new(MeshEngine(model)), derived))
+}
+
+/// The element's cached outputs in a serialised FMU state (it evaluates lazily, so a state
+/// taken after a read carries the evaluation): the eight Real mesh outputs (M_F_p, M_F_g,
+/// M_D_p, M_D_g, TE, F_n, contact_length, p_max) as f64, `n_pairs` as u32 and the flags
+/// `tip_contact`, `separated`, `back_contact` as one byte each, little endian (75 bytes).
+const CACHED_OUTPUTS: OutputsCodec = OutputsCodec { save: save_outputs, load: load_outputs };
+
+/// Length of [`CACHED_OUTPUTS`]' bytes.
+const CACHED_LEN: usize = 8 * 8 + 4 + 3;
+
+fn save_outputs(o: &Outputs, b: &mut Vec<u8>) {
+    let MeshOutputs {
+        m_f_p,
+        m_f_g,
+        m_d_p,
+        m_d_g,
+        te,
+        f_n,
+        contact_length,
+        p_max,
+        n_pairs,
+        tip_contact,
+        separated,
+        back_contact,
+    } = o.mesh;
+    for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    b.extend_from_slice(&n_pairs.to_le_bytes());
+    b.extend_from_slice(&[u8::from(tip_contact), u8::from(separated), u8::from(back_contact)]);
+}
+
+fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
+    let b = bytes.get(..CACHED_LEN).ok_or_else(|| {
+        format!(
+            "serialised state truncated in the cached outputs ({} of {CACHED_LEN} bytes)",
+            bytes.len()
+        )
+    })?;
+    let x: [f64; 8] =
+        std::array::from_fn(|i| f64::from_le_bytes(b[8 * i..8 * i + 8].try_into().expect("8")));
+    const NAMES: [&str; 8] =
+        ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
+    ensure_finite("serialised state: cached output", &x, |i| NAMES[i].to_string())?;
+    let flag = |i: usize| match b[68 + i] {
+        0 => Ok(false),
+        1 => Ok(true),
+        v => Err(format!("serialised state: cached output flag byte {v} (allowed 0 or 1)")),
+    };
+    let mesh = MeshOutputs {
+        m_f_p: x[0],
+        m_f_g: x[1],
+        m_d_p: x[2],
+        m_d_g: x[3],
+        te: x[4],
+        f_n: x[5],
+        contact_length: x[6],
+        p_max: x[7],
+        n_pairs: u32::from_le_bytes(b[64..68].try_into().expect("4")),
+        tip_contact: flag(0)?,
+        separated: flag(1)?,
+        back_contact: flag(2)?,
+    };
+    Ok((Outputs { mesh, ..Outputs::default() }, CACHED_LEN))
 }
 
 /// The mesh model as an [`Engine`] without dynamic state. Its load solver's warm start (the
@@ -176,8 +250,9 @@ impl Engine for MeshEngine {
         Box::new(self.clone())
     }
 
-    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String> {
-        self.0.set_d_mesh(d_mesh).map_err(|e| mesh_error_text(&e))
+    /// Applies the mesh damping `d_mesh` (the one tunable parameter).
+    fn tune(&mut self, s: &Settings) -> Result<(), String> {
+        self.0.set_d_mesh(s.pair.d_mesh_n_s_per_m).map_err(|e| mesh_error_text(&e))
     }
 
     fn start(&mut self, _: &Settings, _: &mut Inputs, _: f64) -> Result<(), String> {
@@ -248,5 +323,39 @@ mod tests {
         assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
         assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));
         let _ = NONE;
+    }
+
+    #[test]
+    fn cached_outputs_round_trip_bit_for_bit_and_refuse_short_or_bad_bytes() {
+        let mesh = MeshOutputs {
+            m_f_p: 101.25,
+            m_f_g: 160.5,
+            m_d_p: -0.125,
+            m_d_g: 1e-300,
+            te: 1.5e-5,
+            f_n: 3.2e3,
+            contact_length: 0.041,
+            p_max: 1.1e9,
+            n_pairs: 2,
+            tip_contact: true,
+            separated: false,
+            back_contact: true,
+        };
+        let o = Outputs { mesh, ..Outputs::default() };
+        let mut b = vec![7];
+        (CACHED_OUTPUTS.save)(&o, &mut b);
+        assert_eq!(b.len(), 1 + CACHED_LEN);
+        b.push(9); // what follows is not read
+        let (back, n) = (CACHED_OUTPUTS.load)(&b[1..]).unwrap();
+        assert_eq!((back, n), (o, CACHED_LEN));
+        let e = (CACHED_OUTPUTS.load)(&b[1..CACHED_LEN]).unwrap_err();
+        assert!(e.contains("truncated"), "{e}");
+        let mut bad = b.clone();
+        bad[1 + 8 * 4..1 + 8 * 5].copy_from_slice(&f64::NAN.to_le_bytes());
+        let e = (CACHED_OUTPUTS.load)(&bad[1..]).unwrap_err();
+        assert!(e.contains("`TE`"), "{e}");
+        let mut bad = b;
+        bad[1 + 68] = 2;
+        assert!((CACHED_OUTPUTS.load)(&bad[1..]).is_err());
     }
 }

@@ -19,3 +19,19 @@ pub fn by_guid(guid: &str) -> Option<&'static ModelInfo> {
 pub fn by_identifier(identifier: &str) -> Option<&'static ModelInfo> {
     MODELS.iter().copied().find(|m| m.identifier == identifier)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi2::model::MAX_STATES;
+    use crate::fmi2::variables::Outputs;
+
+    #[test]
+    fn every_model_fits_the_instance_state_buffers() {
+        let o = Outputs::default();
+        assert_eq!((o.x.len(), o.dx.len()), (MAX_STATES, MAX_STATES));
+        for m in MODELS {
+            assert!(m.derivatives().count() <= MAX_STATES, "{}", m.identifier);
+        }
+    }
+}

@@ -32,7 +32,8 @@ use std::sync::OnceLock;
 use crate::dynamics::Drivetrain;
 use crate::dynamics::relative::RelativeCoordinates;
 use crate::dynamics::unit::{
-    DriveUnit, UnitInputRates, UnitInputs, UnitKind, UnitLinearization, UnitSnapshot, UnitStepping,
+    DriveUnit, UnitInputRates, UnitInputs, UnitKind, UnitLinearization, UnitQuantity, UnitSnapshot,
+    UnitStepping,
 };
 use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
@@ -667,6 +668,8 @@ pub static PAIR: ModelInfo = ModelInfo {
     stateful: true,
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Pair, s),
+    check_tunable: super::mesh::check_tunable,
+    cached_outputs: None,
     guid_cell: &PAIR_GUID,
 };
 
@@ -689,6 +692,8 @@ pub static STAGE: ModelInfo = ModelInfo {
     stateful: true,
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Stage, s),
+    check_tunable: super::mesh::check_tunable,
+    cached_outputs: None,
     guid_cell: &STAGE_GUID,
 };
 
@@ -710,6 +715,8 @@ pub static DRIVE: ModelInfo = ModelInfo {
     stateful: true,
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Drive, s),
+    check_tunable: super::mesh::check_tunable,
+    cached_outputs: None,
     guid_cell: &DRIVE_GUID,
 };
 
@@ -785,6 +792,40 @@ const DRIVE_DERS: [&str; 8] = [
     "der(w_theta_2)",
 ];
 
+/// The FMI variable name of a unit quantity: the one map from the physics' quantities to the
+/// names of the stateful models' variables (states, inputs, outputs).
+pub fn variable_name(q: UnitQuantity) -> &'static str {
+    use UnitQuantity::*;
+    match q {
+        PhiP => "phi_p",
+        WP => "w_p",
+        AP => "a_p",
+        PhiG => "phi_g",
+        WG => "w_g",
+        AG => "a_g",
+        Phi1 => "phi_1",
+        W1 => "w_1",
+        Phi2 => "phi_2",
+        W2 => "w_2",
+        Tau1 => "tau_1",
+        Tau2 => "tau_2",
+        TauP => "tau_p",
+        TauG => "tau_g",
+        MFP => "M_F_p",
+        MFG => "M_F_g",
+        MDP => "M_D_p",
+        MDG => "M_D_g",
+        Te => "TE",
+        FN => "F_n",
+        Theta1 => "theta_1",
+        Theta2 => "theta_2",
+        WTheta1 => "w_theta_1",
+        WTheta2 => "w_theta_2",
+        VTe => "v_TE",
+        DrivingTorque => "M",
+    }
+}
+
 /// A [`DriveUnit`] over the mesh model as an [`Engine`]. Model Exchange sees the unit's state
 /// in relative coordinates ([`RelativeCoordinates`]: TE and the shaft twists are states, so
 /// that an importer's tolerances act on them).
@@ -815,8 +856,12 @@ impl Engine for UnitEngine {
         Box::new(self.clone())
     }
 
-    fn set_d_mesh(&mut self, d_mesh: f64) -> Result<(), String> {
-        self.unit.mesh_mut().set_d_mesh(d_mesh).map_err(|e| super::mesh::mesh_error_text(&e))
+    /// Applies the mesh damping `d_mesh` (the one tunable parameter).
+    fn tune(&mut self, s: &Settings) -> Result<(), String> {
+        self.unit
+            .mesh_mut()
+            .set_d_mesh(s.pair.d_mesh_n_s_per_m)
+            .map_err(|e| super::mesh::mesh_error_text(&e))
     }
 
     fn start(&mut self, s: &Settings, inputs: &mut Inputs, t0: f64) -> Result<(), String> {
@@ -944,10 +989,12 @@ impl Engine for UnitEngine {
         let (n, nu) = (l.n_x, l.n_u);
         let ders: &[&'static str] = if kind == UnitKind::Drive { &DRIVE_DERS } else { &PAIR_DERS };
         let outs = UnitLinearization::outputs(kind);
-        let mut rows: Vec<&'static str> = outs.to_vec();
+        let mut rows: Vec<&'static str> = outs.iter().map(|&q| variable_name(q)).collect();
         rows.extend_from_slice(ders);
-        let mut cols: Vec<&'static str> = self.rel.names().to_vec();
-        cols.extend_from_slice(UnitLinearization::inputs(kind));
+        let cols: Vec<&'static str> = (self.rel.states().iter())
+            .chain(UnitLinearization::inputs(kind))
+            .map(|&q| variable_name(q))
+            .collect();
         let w = n + nu;
         let mut values = vec![0.0; rows.len() * w];
         for r in 0..outs.len() {
@@ -976,6 +1023,27 @@ mod tests {
                     assert_ne!(a.name, b.name, "{}", m.identifier);
                 }
             }
+        }
+    }
+
+    #[test]
+    fn every_unit_quantity_of_a_model_names_one_of_its_variables() {
+        for (m, kind) in
+            [(&PAIR, UnitKind::Pair), (&STAGE, UnitKind::Stage), (&DRIVE, UnitKind::Drive)]
+        {
+            let rel = RelativeCoordinates::new(kind, 0.03, 0.05);
+            // Every input and state; every output but the Drive's shaft torques τ₁, τ₂
+            // (rows of its linearisation that the FMU does not output).
+            let outputs = UnitLinearization::outputs(kind).iter().filter(|&&q| {
+                !(kind == UnitKind::Drive && matches!(q, UnitQuantity::Tau1 | UnitQuantity::Tau2))
+            });
+            let quantities = outputs.chain(UnitLinearization::inputs(kind)).chain(rel.states());
+            for &q in quantities {
+                let name = variable_name(q);
+                assert!(m.by_name(name).is_some(), "{}: {q:?} → `{name}`", m.identifier);
+            }
+            let states: Vec<&str> = rel.states().iter().map(|&q| variable_name(q)).collect();
+            assert_eq!(m.state_names(), states, "{}: Model Exchange state order", m.identifier);
         }
     }
 }
