@@ -24,7 +24,11 @@ const K_MESH: f64 = 1.2e8;
 fn table1() -> (Drivetrain, f64, f64) {
     let pair = GearPair::paper_table1();
     let g = helical_gear_mesh::PairGeometry::new(&pair).unwrap();
-    (Drivetrain::from_pair(&pair).unwrap(), g.pinion.rb, g.gear.rb)
+    (
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap(),
+        g.pinion.rb,
+        g.gear.rb,
+    )
 }
 
 /// Time-invariant J and K of Eqs. 1–4 with a linear mesh, built here from the equations.

@@ -28,7 +28,7 @@ fn table_mesh() -> (Mesh, Drivetrain) {
         let pair = GearPair::paper_table1();
         let options = MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() };
         let mesh = Mesh::new(&pair, options).unwrap();
-        (mesh, Drivetrain::from_pair(&pair).unwrap())
+        (mesh, Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap())
     });
     (m.clone(), *d)
 }
@@ -480,7 +480,8 @@ fn snapshot_restore_continues_bit_for_bit_full_fidelity() {
     let pair = GearPair::paper_table1();
     let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
     let mesh = Mesh::new(&pair, options).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     check_snapshot(mesh, drive, rk4(64), 6);
 }
 
@@ -507,7 +508,11 @@ impl MeshTorques for FailingMesh {
 fn table1_radii() -> (Drivetrain, f64, f64) {
     let pair = GearPair::paper_table1();
     let g = PairGeometry::new(&pair).unwrap();
-    (Drivetrain::from_pair(&pair).unwrap(), g.pinion.rb, g.gear.rb)
+    (
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap(),
+        g.pinion.rb,
+        g.gear.rb,
+    )
 }
 
 #[test]
@@ -760,7 +765,8 @@ fn full_fidelity_outputs_between_steps_leave_the_trajectory_unchanged() {
     let pair = GearPair::paper_table1();
     let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
     let mesh = Mesh::new(&pair, options).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     let run = |read: bool| -> (Vec<u64>, UnitSnapshot) {
         let mut u = DriveUnit::new(UnitKind::Drive, mesh.clone(), drive, rk4(64)).unwrap();
         u.start_static(0.0, 400.0, &EquilibriumSettings::default()).unwrap();
@@ -819,7 +825,8 @@ fn snapshot_with_a_bad_warm_start_is_refused() {
 fn full_fidelity_unit_speed() {
     let pair = GearPair::paper_table1();
     let mesh = Mesh::new(&pair, MeshOptions::default()).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     let (omega, h, n) = (532.0, 1e-4, 20);
     for kind in [UnitKind::Drive, UnitKind::Pair] {
         for cold in [true, false] {

@@ -27,7 +27,10 @@ fn table_mesh() -> (Mesh, Drivetrain) {
             pressure: false,
             ..MeshOptions::default()
         };
-        (Mesh::new(&pair, options).unwrap(), Drivetrain::from_pair(&pair).unwrap())
+        (
+            Mesh::new(&pair, options).unwrap(),
+            Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap(),
+        )
     });
     (m.clone(), *d)
 }

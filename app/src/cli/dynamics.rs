@@ -14,7 +14,6 @@
 use std::io::Write;
 
 use clap::{Args, ValueEnum};
-use helical_gear_mesh::GearPair;
 use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
 use helical_gear_mesh::dynamics::steady::steady_max_periods;
 use helical_gear_mesh::dynamics::{
@@ -26,9 +25,10 @@ use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshTorques,
 };
 use helical_gear_mesh::results::{SweepRecord, TrajectoryRecord};
+use helical_gear_mesh::{DriveLine, GearPair};
 use serde_json::json;
 
-use super::{Common, load_params};
+use super::{Common, DriveArg, load_drive, load_params};
 
 /// Mesh evaluation fidelity on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -69,6 +69,8 @@ pub enum CliMethod {
 pub struct SimulateArgs {
     #[command(flatten)]
     common: Common,
+    #[command(flatten)]
+    drive: DriveArg,
     /// Nominal pinion speed ω_p, rad/s (> 0; low speeds are integrated with the step of the
     /// fastest mode); the gear turns at −ω_p·z_p/z_g.
     #[arg(long)]
@@ -111,6 +113,8 @@ pub struct SimulateArgs {
 pub struct SweepArgs {
     #[command(flatten)]
     common: Common,
+    #[command(flatten)]
+    drive: DriveArg,
     /// Lowest pinion speed, rad/s (> 0).
     #[arg(long)]
     from: f64,
@@ -144,18 +148,22 @@ pub struct SweepArgs {
 }
 
 /// The mesh model the dynamics run with: the full Andersson–Vedmar [`Mesh`] of `pair`
-/// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity`.
+/// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity`, a table sized for the drive
+/// line `drive`.
 fn build_mesh(
     pair: &GearPair,
+    drive: &DriveLine,
     fidelity: CliFidelity,
 ) -> Result<impl MeshTorques + Clone + Send + use<>, MeshError> {
-    Mesh::new(pair, MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() })
+    let options = MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() };
+    Mesh::new(pair, options.sized_for(drive))
 }
 
-/// Parameters with `--d-mesh` applied, the drivetrain, and the mesh model (building it may
-/// take a while: a note goes to stderr).
+/// Parameters with `--d-mesh` applied, the drivetrain of `--drive`, and the mesh model
+/// (building it may take a while: a note goes to stderr).
 fn setup(
     common: &Common,
+    drive: &DriveArg,
     d_mesh: Option<f64>,
     fidelity: CliFidelity,
 ) -> Result<(GearPair, Drivetrain, impl MeshTorques + Clone + Send + use<>), String> {
@@ -166,10 +174,11 @@ fn setup(
         }
         pair.d_mesh_n_s_per_m = d;
     }
-    let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
+    let line = load_drive(drive)?;
+    let drive = Drivetrain::from_pair(&pair, &line).map_err(|e| e.to_string())?;
     eprintln!("building the mesh model ({} fidelity)…", fidelity.name());
     let t0 = std::time::Instant::now();
-    let mesh = build_mesh(&pair, fidelity).map_err(|e| format!("mesh model: {e}"))?;
+    let mesh = build_mesh(&pair, &line, fidelity).map_err(|e| format!("mesh model: {e}"))?;
     eprintln!("mesh model ready in {:.1} s", t0.elapsed().as_secs_f64());
     Ok((pair, drive, mesh))
 }
@@ -207,7 +216,7 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
         check_samples((a.t_end / dt).floor() + 1.0, "lower --t-end or raise --dt")
             .map_err(|e| e.to_string())?;
     }
-    let (_, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
+    let (_, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
     let t_m = drive.mesh_period(a.omega_p);
     let mut model = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
     let stepping = match a.method {
@@ -345,7 +354,7 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
             a.refine_runs
         ));
     }
-    let (pair, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
+    let (pair, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
     let speeds: Vec<f64> = if a.points == 1 {
         vec![a.from]
     } else {
