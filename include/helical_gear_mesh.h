@@ -235,7 +235,7 @@ typedef struct {
   double a_g;
   /**
    * State derivative at the current time, state and inputs, in the kind's state order
-   * ([`UnitKind::state_names`]; entries beyond [`UnitKind::n_states`] are 0), rad/s and
+   * ([`UnitKind::states`]; entries beyond [`UnitKind::n_states`] are 0), rad/s and
    * rad/s².
    */
   double dydt[HGM_N_STATES];
@@ -344,8 +344,11 @@ void hgm_free(HgmModel *h);
 
 /**
  * Creates a unit of `kind` for the gear pair of `json` (the schema of `helical-gear params`)
- * or, with `json` NULL, the paper's Table 1 pair; its drivetrain (J1, J2, shafts, nominal
- * torque M) is the pair's `drive` section. `fidelity` chooses the mesh evaluation. Integration:
+ * or, with `json` NULL, the paper's Table 1 pair, driven by the drive line of `drive_json`
+ * (J1, J2, shafts, nominal torque M: keys `torque_nm`, `j1_kgm2`, `j2_kgm2`,
+ * `c1_nm_per_rad`, `c2_nm_per_rad`, `d1_nms_per_rad`, `d2_nms_per_rad`, missing keys from
+ * Table 1) or, with `drive_json` NULL, Table 1's drive line. A table is sized for the drive
+ * line's torque (max(|M|, 1 N·m)). `fidelity` chooses the mesh evaluation. Integration:
  * `steps_per_mesh_period` > 0 gives RK4 on a grid of at most T_m/steps_per_mesh_period
  * (≥ 4; 128 is the crate's default); 0 gives adaptive DOPRI5 with `rtol`, `atol` (> 0).
  * The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
@@ -356,10 +359,11 @@ void hgm_free(HgmModel *h);
  * Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
  *
  * # Safety
- * `json` must be NULL or a zero-terminated string.
+ * `json` and `drive_json` must each be NULL or a zero-terminated string.
  */
 HgmUnit *hgm_unit_create(int32_t kind,
                          const char *json,
+                         const char *drive_json,
                          int32_t fidelity,
                          uint32_t steps_per_mesh_period,
                          double rtol,
@@ -367,7 +371,7 @@ HgmUnit *hgm_unit_create(int32_t kind,
 
 /**
  * Puts the unit in static equilibrium at nominal pinion speed `w_p_start` (rad/s) under the
- * pair's nominal torque, at time `t0` (s); the inputs are set to the ones that keep it.
+ * drive line's nominal torque, at time `t0` (s); the inputs are set to the ones that keep it.
  *
  * # Safety
  * `u` must be NULL or a live unit handle.

@@ -56,7 +56,7 @@
 //! whole drive of Eqs. 1–4 (input the driving torque M):
 //!
 //! ```c
-//! HgmUnit *u = hgm_unit_create(HGM_UNIT_KIND_STAGE, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+//! HgmUnit *u = hgm_unit_create(HGM_UNIT_KIND_STAGE, NULL, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
 //! hgm_unit_start_static(u, 0.0, 532.0);          /* static equilibrium at 532 rad/s */
 //! HgmUnitInputs in; HgmUnitOutputs out;
 //! hgm_unit_outputs(u, &out);                     /* phi_1 … w_2: the far ends it holds */
@@ -80,7 +80,7 @@ use crate::error::short_num;
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState};
 use crate::options::OptionEnum;
-use crate::params::GearPair;
+use crate::params::{DriveLine, GearPair};
 
 /// The library's types under their C names (the same types, re-exported; see the module doc).
 pub use crate::dynamics::{
@@ -408,8 +408,11 @@ fn invalid_arg(msg: impl Into<String>) -> (HgmStatus, String) {
 }
 
 /// Creates a unit of `kind` for the gear pair of `json` (the schema of `helical-gear params`)
-/// or, with `json` NULL, the paper's Table 1 pair; its drivetrain (J1, J2, shafts, nominal
-/// torque M) is the pair's `drive` section. `fidelity` chooses the mesh evaluation. Integration:
+/// or, with `json` NULL, the paper's Table 1 pair, driven by the drive line of `drive_json`
+/// (J1, J2, shafts, nominal torque M: keys `torque_nm`, `j1_kgm2`, `j2_kgm2`,
+/// `c1_nm_per_rad`, `c2_nm_per_rad`, `d1_nms_per_rad`, `d2_nms_per_rad`, missing keys from
+/// Table 1) or, with `drive_json` NULL, Table 1's drive line. A table is sized for the drive
+/// line's torque (max(|M|, 1 N·m)). `fidelity` chooses the mesh evaluation. Integration:
 /// `steps_per_mesh_period` > 0 gives RK4 on a grid of at most T_m/steps_per_mesh_period
 /// (≥ 4; 128 is the crate's default); 0 gives adaptive DOPRI5 with `rtol`, `atol` (> 0).
 /// The unit starts at t = 0 with zero state; call `hgm_unit_start_static` or set the state.
@@ -420,11 +423,12 @@ fn invalid_arg(msg: impl Into<String>) -> (HgmStatus, String) {
 /// Returns NULL on failure (message from `hgm_last_error(NULL)`). Free with `hgm_unit_free`.
 ///
 /// # Safety
-/// `json` must be NULL or a zero-terminated string.
+/// `json` and `drive_json` must each be NULL or a zero-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_unit_create(
     kind: i32,
     json: *const c_char,
+    drive_json: *const c_char,
     fidelity: i32,
     steps_per_mesh_period: u32,
     rtol: f64,
@@ -440,6 +444,16 @@ pub unsafe extern "C" fn hgm_unit_create(
                 .map_err(|e| format!("hgm_unit_create: `json` is not UTF-8: {e}"))?;
             GearPair::from_json(text)?
         };
+        let drive_line = if drive_json.is_null() {
+            DriveLine::paper_table1()
+        } else {
+            // SAFETY: caller contract.
+            let text = unsafe { CStr::from_ptr(drive_json) }
+                .to_str()
+                .map_err(|e| format!("hgm_unit_create: `drive_json` is not UTF-8: {e}"))?;
+            DriveLine::from_json(text)?
+        };
+        drive_line.check().map_err(|e| e.to_string())?;
         let fidelity = Fidelity::from_code(fidelity)
             .map_err(|e| format!("{e} (HGM_FIDELITY_FULL, HGM_FIDELITY_TABLE)"))?;
         let kind = UnitKind::from_code(kind).map_err(|e| {
@@ -450,9 +464,9 @@ pub unsafe extern "C" fn hgm_unit_create(
         } else {
             UnitStepping::Dopri5 { rtol, atol }
         };
-        let mesh = Mesh::new(&pair, MeshOptions { fidelity, ..MeshOptions::default() })
-            .map_err(|e| e.to_string())?;
-        let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
+        let options = MeshOptions { fidelity, ..MeshOptions::default() }.sized_for(&drive_line);
+        let mesh = Mesh::new(&pair, options).map_err(|e| e.to_string())?;
+        let drive = Drivetrain::new(mesh.geometry(), &drive_line).map_err(|e| e.to_string())?;
         let unit = DriveUnit::new(kind, mesh, drive, stepping).map_err(|e| e.to_string())?;
         Ok(HgmUnit {
             inner: UnitHandle { unit, snapshot: CString::default() },
@@ -473,7 +487,7 @@ pub unsafe extern "C" fn hgm_unit_create(
 }
 
 /// Puts the unit in static equilibrium at nominal pinion speed `w_p_start` (rad/s) under the
-/// pair's nominal torque, at time `t0` (s); the inputs are set to the ones that keep it.
+/// drive line's nominal torque, at time `t0` (s); the inputs are set to the ones that keep it.
 ///
 /// # Safety
 /// `u` must be NULL or a live unit handle.

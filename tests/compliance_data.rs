@@ -27,6 +27,9 @@ use helical_gear_mesh::contact::ContactSolver;
 use helical_gear_mesh::geometry::Member;
 use helical_gear_mesh::params::GearPair;
 
+/// The torque of Table 1's drive line, N·m: the load of the pair-stiffness case.
+const T1_TORQUE_NM: f64 = 100.0;
+
 /// A fresh, empty directory under the system temp dir.
 fn temp_dir(tag: &str) -> PathBuf {
     let nanos = std::time::SystemTime::now()
@@ -165,16 +168,14 @@ fn embedded_resource_matches_a_fresh_computation() {
 /// A modification of a gear pair.
 type Change = fn(&mut GearPair);
 
-/// The key ignores the drive line, d_mesh and densities and sees every compliance parameter.
+/// The key ignores d_mesh and densities (and the drive line, not part of the pair) and sees
+/// every compliance parameter.
 #[test]
 fn matches_only_compliance_parameters() {
     let embedded = ComplianceData::embedded_table1().expect("embedded");
     let t1 = GearPair::paper_table1();
     assert!(embedded.matches(&t1));
     let mut same = t1.clone();
-    same.drive.torque_nm = 250.0;
-    same.drive.j1_kgm2 = 1.0;
-    same.drive.c2_nm_per_rad = 5000.0;
     same.d_mesh_n_s_per_m = 200.0;
     same.material_p.density_kg_m3 = 7800.0;
     assert!(embedded.matches(&same));
@@ -261,12 +262,12 @@ fn errors_name_what_failed() {
     assert!(e.to_string().contains("compliance data"), "{e}");
     let data = ComplianceData::embedded_table1().expect("embedded");
     let geo = PairGeometry::new(&GearPair::paper_table1()).expect("geometry");
-    let e = data.pair_stiffness(&geo, 1).expect_err("one slice");
+    let e = data.pair_stiffness(&geo, 1, T1_TORQUE_NM).expect_err("one slice");
     assert!(e.to_string().contains("slices = 1"), "{e}");
     let mut other = GearPair::paper_table1();
     other.bore_diameter_m = 20e-3;
     let geo2 = PairGeometry::new(&other).expect("geometry");
-    assert!(data.pair_stiffness(&geo2, 50).is_err());
+    assert!(data.pair_stiffness(&geo2, 50, T1_TORQUE_NM).is_err());
     let e = ComplianceData::read_file(&temp_dir("missing").join("none.json")).expect_err("no file");
     assert!(matches!(e, ComplianceError::Io { .. }), "{e}");
 }
@@ -307,7 +308,7 @@ fn pair_stiffness_of_table1() {
     let p = GearPair::paper_table1();
     let geo = PairGeometry::new(&p).expect("geometry");
     let data = ComplianceData::embedded_table1().expect("embedded");
-    let s = data.pair_stiffness(&geo, 200).expect("stiffness");
+    let s = data.pair_stiffness(&geo, 200, T1_TORQUE_NM).expect("stiffness");
     print_stiffness("Table 1, bore fixed (interpolated)", &s);
     // The load case: pair 0 meets at the operating pitch circle at mid face, TE = 0.
     let solver = ContactSolver::new(&geo);
@@ -341,21 +342,18 @@ fn pair_stiffness_of_table1() {
     let ul = local.deformation(s.load_n_per_m, rho).expect("u_c").total;
     assert!((s.u_local_m - ul).abs() < 0.01 * ul, "{} vs {ul}", s.u_local_m);
     // Converged in the number of slices, and the two representations agree.
-    let s100 = data.pair_stiffness(&geo, 100).expect("100 slices");
+    let s100 = data.pair_stiffness(&geo, 100, T1_TORQUE_NM).expect("100 slices");
     let rel = (s100.c_prime_n_per_mm_per_um - s.c_prime_n_per_mm_per_um).abs()
         / s.c_prime_n_per_mm_per_um;
     assert!(rel < 1e-3, "100 vs 200 slices: {rel:e}");
     let (fp, fg) =
         (data.fitted(Member::Pinion).expect("fit"), data.fitted(Member::Gear).expect("fit"));
-    let sf = pair_stiffness(&geo, &fp, &fg, 200).expect("fitted");
+    let sf = pair_stiffness(&geo, &fp, &fg, 200, T1_TORQUE_NM).expect("fitted");
     print_stiffness("Table 1, bore fixed (fitted)", &sf);
     let rel = (sf.u_total_m - s.u_total_m).abs() / s.u_total_m;
     assert!(rel < 0.01, "fitted vs interpolated: {rel:e}");
     // Twice the torque: the global parts double, the local part less than doubles.
-    let mut p2 = p.clone();
-    p2.drive.torque_nm = 200.0;
-    let geo2 = PairGeometry::new(&p2).expect("geometry");
-    let s2 = data.pair_stiffness(&geo2, 200).expect("stiffness");
+    let s2 = data.pair_stiffness(&geo, 200, 2.0 * T1_TORQUE_NM).expect("stiffness");
     assert!((s2.u_global_p_m - 2.0 * s.u_global_p_m).abs() < 1e-12 * s.u_global_p_m);
     assert!(s2.u_local_m > s.u_local_m && s2.u_local_m < 2.0 * s.u_local_m);
     // The FE bodies twist between bore and rim: the annulus solution for the web alone is a
@@ -397,11 +395,11 @@ fn pair_stiffness_with_the_rim_fixed() {
     let h = DEFAULT_DEPTH_MN * p.normal_module_m;
     let data = ComplianceData::compute_rim_fixed(&p, &d, h, false).expect("FE");
     assert!(!data.provenance.support.is_bore());
-    let rim = data.pair_stiffness(&geo, 200).expect("stiffness");
+    let rim = data.pair_stiffness(&geo, 200, T1_TORQUE_NM).expect("stiffness");
     print_stiffness("Table 1, rim fixed", &rim);
     let bore = ComplianceData::embedded_table1()
         .expect("embedded")
-        .pair_stiffness(&geo, 200)
+        .pair_stiffness(&geo, 200, T1_TORQUE_NM)
         .expect("stiffness");
     print_stiffness("Table 1, bore fixed", &bore);
     eprintln!(
@@ -445,7 +443,7 @@ fn pair_compliance_mesh_convergence() {
             );
             reps.push(InterpolatedInfluence::new(inf.grid).expect("grid"));
         }
-        let s = pair_stiffness(&geo, &reps[0], &reps[1], 200).expect("stiffness");
+        let s = pair_stiffness(&geo, &reps[0], &reps[1], 200, T1_TORQUE_NM).expect("stiffness");
         eprintln!("{name}: {:.1} s", t.elapsed().as_secs_f64());
         print_stiffness(name, &s);
         results.push(s);

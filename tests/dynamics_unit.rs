@@ -265,7 +265,8 @@ fn snapshot_restore_continues_bit_for_bit_full_fidelity() {
     let pair = GearPair::paper_table1();
     let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
     let mesh = Mesh::new(&pair, options).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     check_snapshot(mesh, drive, rk4(64), 6);
 }
 
@@ -475,7 +476,8 @@ fn full_fidelity_outputs_between_steps_leave_the_trajectory_unchanged() {
     let pair = GearPair::paper_table1();
     let options = MeshOptions { slices: 60, pressure: false, ..MeshOptions::default() };
     let mesh = Mesh::new(&pair, options).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     let run = |read: bool| -> (Vec<u64>, UnitSnapshot) {
         let mut u = DriveUnit::new(UnitKind::Drive, mesh.clone(), drive, rk4(64)).unwrap();
         u.start_static(0.0, 400.0, &EquilibriumSettings::default()).unwrap();

@@ -529,3 +529,54 @@ fn modifications_string_parameter() {
     let e = helical_gear_mesh::Modifications::from_json("{\"pinion\": {\"runout\": 1e-6}}");
     assert!(e.unwrap_err().contains("runout"));
 }
+
+/// The mesh element's table is sized by its parameter `table_design_torque_nm`: built for
+/// 500 N·m it covers the static TE at 500 N·m, which lies beyond the range of the table built
+/// for the default 100 N·m, and the FMU's outputs there are the library's table mesh at that
+/// design torque, bit for bit (the default table hands the state to the full model instead).
+#[test]
+fn mesh_fmu_table_covers_its_design_torque() {
+    use helical_gear_mesh::GearPair;
+    use helical_gear_mesh::mesh::statics::{EquilibriumSettings, equilibrium};
+    use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions, MeshState};
+    let torque = 500.0;
+    let opts = MeshOptions {
+        fidelity: Fidelity::Table,
+        slices: 40,
+        table_phase_points: 16,
+        table_te_points: 12,
+        table_design_torque_nm: torque,
+        ..MeshOptions::default()
+    };
+    let pair = GearPair::paper_table1();
+    let mut lib = Mesh::new(&pair, opts).unwrap();
+    let hi = lib.table().expect("table").te_range().1;
+    let mut default = Mesh::new(&pair, MeshOptions { table_design_torque_nm: 100.0, ..opts })
+        .expect("default table");
+    let hi_default = default.table().expect("table").te_range().1;
+    let phi_p = 0.013;
+    let eq = equilibrium(&mut lib, phi_p, torque, 1e-5, &EquilibriumSettings::default()).unwrap();
+    eprintln!("static TE at {torque} N.m: {:.3e} m; table up to {hi:.3e} m", eq.te);
+    eprintln!("default table (100 N.m) up to {hi_default:.3e} m");
+    assert!(eq.te < hi, "the table covers its design torque's static TE");
+    assert!(eq.te > hi_default, "beyond the default table");
+    // Through the FMI API: the same table.
+    let f = Fmu::new();
+    let ints = [(vr("fidelity"), 1), (vr("slices"), 40)];
+    let sizes = [(vr("table_phase_points"), 16), (vr("table_te_points"), 12)];
+    for (r, v) in ints.into_iter().chain(sizes) {
+        assert_eq!(unsafe { fmi2SetInteger(f.0, &r, 1, &v) }, fmi2Status::Ok);
+    }
+    assert_eq!(f.set(&["table_design_torque_nm"], &[torque]), fmi2Status::Ok);
+    f.init();
+    let phi_g = lib.geometry().phi_g_for_te(phi_p, eq.te);
+    let s = MeshState { phi_p, phi_g, w_p: 0.0, w_g: 0.0 };
+    assert_eq!(f.set(&["phi_p", "phi_g", "w_p", "w_g"], &[phi_p, phi_g, 0.0, 0.0]), fmi2Status::Ok);
+    let got = f.get(&["M_F_p", "TE"]).unwrap();
+    let o = lib.evaluate(&s).unwrap();
+    assert_eq!(got[0].to_bits(), o.m_f_p.to_bits(), "{} vs {}", got[0], o.m_f_p);
+    assert_eq!(got[1].to_bits(), o.te.to_bits());
+    assert!((o.m_f_p - torque).abs() < 0.02 * torque, "static: M_F_p = {}", o.m_f_p);
+    let d = default.evaluate(&s).unwrap();
+    assert_ne!(d.m_f_p.to_bits(), o.m_f_p.to_bits(), "the default table falls back to full");
+}

@@ -6,7 +6,6 @@ mod common;
 
 use std::sync::{Arc, OnceLock};
 
-use helical_gear_mesh::GearPair;
 use helical_gear_mesh::compliance::data::{BodySupport, ComplianceData};
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
@@ -16,6 +15,7 @@ use helical_gear_mesh::mesh::{
     ComplianceModel, EquilibriumSettings, Fidelity, GearCompliance, Mesh, MeshError, MeshOptions,
     MeshState, compute_compliance, equilibrium, static_curve, tip_contact_threshold_curve,
 };
+use helical_gear_mesh::{DriveLine, GearPair};
 
 use common::{state_at_rest as state, table1_pitch as pitch};
 
@@ -346,7 +346,7 @@ fn rim_fixed_compliance_gives_a_stiffer_mesh() {
         Mesh::with_compliance(&pair, options, interp(Member::Pinion), interp(Member::Gear))
             .expect("rim model");
     let mut bore = model(options);
-    let torque = pair.drive.torque_nm;
+    let torque = DriveLine::paper_table1().torque_nm;
     let k_rim = mesh_stiffness(&mut rim, 0.0, torque).expect("k rim");
     let k_bore = mesh_stiffness(&mut bore, 0.0, torque).expect("k bore");
     let ste_rim = static_curve(&mut rim, torque, 0.0, pitch(), 8, 1).expect("STE rim").max();
@@ -368,7 +368,7 @@ fn rim_fixed_compliance_gives_a_stiffer_mesh() {
 #[test]
 fn tip_contact_threshold_brackets_the_onset() {
     let mut m = model(MeshOptions { slices: 100, ..MeshOptions::default() });
-    let torque = GearPair::paper_table1().drive.torque_nm;
+    let torque = DriveLine::paper_table1().torque_nm;
     let ste = static_curve(&mut m, torque, 0.0, pitch(), 8, 1).expect("STE").max();
     let curve = tip_contact_threshold_curve(&m, 0.0, pitch(), 4, 6.0 * ste, 60).expect("curve");
     let (phi, t) = curve.min().expect("tip contact within 6 × STE max");
@@ -438,12 +438,12 @@ fn cold_solves_under_heavy_overload_follow_the_loaded_path() {
 #[test]
 fn table_ends_where_the_model_stops_holding() {
     let (pair, cp, cg) = overload_design().clone();
-    let mut pair = pair;
-    pair.drive.torque_nm = 200.0;
+    let torque = 200.0;
     let base = MeshOptions {
         slices: 40,
         table_phase_points: 16,
         table_te_points: 12,
+        table_design_torque_nm: torque,
         ..MeshOptions::default()
     };
     let mut full = Mesh::with_compliance(&pair, base, cp.clone(), cg.clone()).unwrap();
@@ -462,7 +462,6 @@ fn table_ends_where_the_model_stops_holding() {
     assert!(cut.cause.contains("outside the model's range"), "{}", cut.cause);
 
     // The nominal static TE lies inside.
-    let torque = pair.drive.torque_nm;
     let mut te_nom: f64 = 0.0;
     for k in 0..8 {
         let phi = pitch() * (k as f64 + 0.5) / 8.0;

@@ -100,7 +100,7 @@ fn disagreement(exact: &MeshJacobian, fd: &[[f64; 4]; 4], out: &MeshOutputs) -> 
 
 /// Static TE at the nominal torque (100 N·m) and phase `phi_p`.
 fn nominal_te(m: &mut Mesh, phi_p: f64) -> f64 {
-    let torque = GearPair::paper_table1().drive.torque_nm;
+    let torque = helical_gear_mesh::DriveLine::paper_table1().torque_nm;
     equilibrium(m, phi_p, torque, 1e-5, &EquilibriumSettings::default()).expect("equilibrium").te
 }
 

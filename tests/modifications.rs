@@ -365,7 +365,7 @@ fn tooth_deviations_on_the_table_match_full_fidelity() {
     let mut ideal_t = Mesh::new(&GearPair::paper_table1(), table_opts).unwrap();
     let mut ideal_f = Mesh::new(&GearPair::paper_table1(), full_opts).unwrap();
     let pitch = t.geometry().pinion.angular_pitch();
-    let nominal = p.drive.torque_nm;
+    let nominal = helical_gear_mesh::DriveLine::paper_table1().torque_nm;
     // Largest |ΔM_F,p| / nominal torque, with and without the deviations, per TE level.
     let tes = [12e-6, 20e-6, 30e-6, 45e-6, 60e-6];
     let (mut worst, mut worst_ideal) = ([0.0f64; 5], [0.0f64; 5]);
@@ -481,7 +481,11 @@ fn dynamic_spectrum_with_pinion_deviations_has_pinion_orders_only() {
     assert_eq!(p.modifications.period_meshes(p.z_p, p.z_g), 30);
     let options = coarse_options(Fidelity::Table);
     let mesh = Mesh::new(&p, options).unwrap();
-    let mut dynm = GearDynamics::new(mesh, Drivetrain::from_pair(&p).unwrap()).unwrap();
+    let mut dynm = GearDynamics::new(
+        mesh,
+        Drivetrain::from_pair(&p, &helical_gear_mesh::DriveLine::paper_table1()).unwrap(),
+    )
+    .unwrap();
     let rel_tol = 1e-3;
     let opts = SteadyRunOptions {
         method: SteadyMethod::Rk4 { steps_per_period: 32 },

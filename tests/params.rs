@@ -1,7 +1,7 @@
 //! Tests of `params`: Table 1 default, JSON round trip, and one test per validation rule that
 //! checks the error names the parameter; a fuzz test that no input panics.
 
-use helical_gear_mesh::{GearPair, PairGeometry};
+use helical_gear_mesh::{DriveLine, GearPair, PairGeometry};
 
 /// Validates `p` and returns the error text, asserting that it names `key`.
 fn rejects(p: &GearPair, key: &str) -> String {
@@ -72,9 +72,10 @@ fn helix_angle_and_plain_ranges() {
     let mut p = t1();
     p.d_mesh_n_s_per_m = -1.0;
     rejects(&p, "d_mesh_n_s_per_m");
-    let mut p = t1();
-    p.drive.j1_kgm2 = 0.0;
-    rejects(&p, "drive.j1_kgm2");
+    let d = DriveLine { j1_kgm2: 0.0, ..DriveLine::paper_table1() };
+    let err = d.check().expect_err("J1 = 0");
+    assert_eq!(err.name, "drive.j1_kgm2", "{err}");
+    assert!(err.to_string().contains("allowed"), "{err}");
     let mut p = t1();
     p.dedendum_mn = 0.9;
     rejects(&p, "dedendum_mn");
@@ -211,24 +212,23 @@ fn no_input_panics() {
     assert!(ok > 100, "only {ok} valid sets: the fuzz covers too little of the valid range");
 }
 
-/// A partial gear-pair JSON takes every missing key from Table 1 (also inside the materials and
-/// the drive line), and an unknown key is still an error naming it.
+/// A partial gear-pair JSON takes every missing key from Table 1 (also inside the materials),
+/// a partial drive-line JSON from Table 1's drive line, and an unknown key is still an error
+/// naming it.
 #[test]
 fn partial_json_takes_missing_keys_from_table1() {
     let p = GearPair::from_json(r#"{"helix_angle_rad": 0.2}"#).unwrap();
     assert_eq!(p, GearPair { helix_angle_rad: 0.2, ..GearPair::paper_table1() });
     assert_eq!(GearPair::from_json("{}").unwrap(), GearPair::paper_table1());
-    let p = GearPair::from_json(
-        r#"{"material_g": {"poisson_ratio": 0.29}, "drive": {"torque_nm": 50}}"#,
-    )
-    .unwrap();
+    let p = GearPair::from_json(r#"{"material_g": {"poisson_ratio": 0.29}}"#).unwrap();
     let mut q = GearPair::paper_table1();
     q.material_g.poisson_ratio = 0.29;
-    q.drive.torque_nm = 50.0;
     assert_eq!(p, q);
+    let d = DriveLine::from_json(r#"{"torque_nm": 50}"#).unwrap();
+    assert_eq!(d, DriveLine { torque_nm: 50.0, ..DriveLine::paper_table1() });
     let e = GearPair::from_json(r#"{"helix_angle": 0.2}"#).unwrap_err();
     assert!(e.contains("unknown field `helix_angle`"), "{e}");
-    let e = GearPair::from_json(r#"{"drive": {"torque": 1}}"#).unwrap_err();
+    let e = DriveLine::from_json(r#"{"torque": 1}"#).unwrap_err();
     assert!(e.contains("unknown field `torque`"), "{e}");
 }
 
@@ -242,7 +242,6 @@ fn an_array_where_an_object_belongs_is_refused() {
         ("[]", "(the gear pair)"),
         ("[30, 47]", "(the gear pair)"),
         (r#"{"material_p": []}"#, "material_p"),
-        (r#"{"drive": [1]}"#, "drive"),
         (r#"{"modifications": []}"#, "modifications"),
         (r#"{"modifications": {"gear": []}}"#, "modifications.gear"),
         (r#"{"modifications": {"pinion": {"tip_relief": []}}}"#, "modifications.pinion.tip_relief"),
@@ -253,7 +252,38 @@ fn an_array_where_an_object_belongs_is_refused() {
     assert!(
         GearPair::from_json(r#"{"modifications": {"pinion": {"deviation_map": null}}}"#).is_ok()
     );
+    let e = DriveLine::from_json("[1]").expect_err("[1]");
+    assert!(e.contains("(the drive line)") && e.contains("must be an object"), "{e}");
     let e = Modifications::from_json("[]").expect_err("[]");
     assert!(e.contains("modifications") && e.contains("must be an object"), "{e}");
     assert_eq!(Modifications::from_json("{}").unwrap(), Modifications::default());
+}
+
+/// The drive line is not part of the gear pair: a pair JSON with a `drive` key (an object, a
+/// partial one or anything else) is refused with a message that says where the drive line
+/// goes now (CLI `--drive`, Python `drive=`, C `drive_json`), not a bare "unknown field".
+#[test]
+fn pair_json_with_drive_is_refused_pointing_to_the_drive_line() {
+    for json in [r#"{"drive": {"torque_nm": 50}}"#, r#"{"drive": {}}"#, r#"{"drive": [1]}"#] {
+        let e = GearPair::from_json(json).expect_err(json);
+        assert!(!e.contains("unknown field"), "{json}: {e}");
+        for place in ["--drive", "drive=", "drive_json"] {
+            assert!(e.contains(place), "{json}: {e} does not name {place}");
+        }
+    }
+}
+
+/// A partial drive-line JSON takes every missing key from Table 1's drive line; `{}` is Table
+/// 1's; every value is checked against its bounds by `DriveLine::check`, naming `drive.<key>`.
+#[test]
+fn partial_drive_json_takes_missing_keys_from_table1() {
+    assert_eq!(DriveLine::from_json("{}").unwrap(), DriveLine::paper_table1());
+    let d = DriveLine::from_json(r#"{"j2_kgm2": 1.5, "d1_nms_per_rad": 0.1}"#).unwrap();
+    let t = DriveLine::paper_table1();
+    assert_eq!(d, DriveLine { j2_kgm2: 1.5, d1_nms_per_rad: 0.1, ..t });
+    let back = DriveLine::from_json(&serde_json::to_string(&d).unwrap()).unwrap();
+    assert_eq!(back, d);
+    let d = DriveLine::from_json(r#"{"torque_nm": 2e9}"#).unwrap();
+    let e = d.check().expect_err("|M| > 1e9");
+    assert_eq!(e.name, "drive.torque_nm", "{e}");
 }

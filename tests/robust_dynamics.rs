@@ -24,7 +24,10 @@ fn table_mesh() -> (Mesh, Drivetrain) {
     let (m, d) = MESH.get_or_init(|| {
         let pair = GearPair::paper_table1();
         let options = small_table_options();
-        (Mesh::new(&pair, options).unwrap(), Drivetrain::from_pair(&pair).unwrap())
+        (
+            Mesh::new(&pair, options).unwrap(),
+            Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap(),
+        )
     });
     (m.clone(), *d)
 }

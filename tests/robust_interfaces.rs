@@ -189,7 +189,7 @@ fn unit_create_refuses_out_of_range_kind_and_fidelity() {
         (0, 2, "`fidelity` = 2"),
         (1, 77, "`fidelity` = 77"),
     ] {
-        let u = unsafe { hgm_unit_create(kind, null(), fidelity, 128, 0.0, 0.0) };
+        let u = unsafe { hgm_unit_create(kind, null(), null(), fidelity, 128, 0.0, 0.0) };
         assert!(u.is_null());
         let m =
             unsafe { CStr::from_ptr(hgm_unit_last_error(null())) }.to_string_lossy().into_owned();
@@ -226,7 +226,11 @@ fn flipped_bits_in_a_serialised_fmu_state_are_refused_whole() {
 fn analytic_unit(kind: UnitKind) -> DriveUnit<ConstantStiffnessMesh> {
     let (gp, gg) = (0.04286, 0.06715);
     let mesh = ConstantStiffnessMesh::new(2e8, 100.0, gp, gg, Clearance::Separating).unwrap();
-    let drive = Drivetrain::from_pair(&helical_gear_mesh::GearPair::paper_table1()).unwrap();
+    let drive = Drivetrain::from_pair(
+        &helical_gear_mesh::GearPair::paper_table1(),
+        &helical_gear_mesh::DriveLine::paper_table1(),
+    )
+    .unwrap();
     DriveUnit::new(kind, mesh, drive, UnitStepping::Rk4 { steps_per_mesh_period: 64 }).unwrap()
 }
 
@@ -274,7 +278,7 @@ fn flipped_bits_in_a_unit_snapshot_are_refused_or_harmless() {
 
 #[test]
 fn c_api_unit_snapshot_with_altered_value_is_refused() {
-    let u = unsafe { hgm_unit_create(2, null(), HgmFidelity::Full as i32, 128, 0.0, 0.0) };
+    let u = unsafe { hgm_unit_create(2, null(), null(), HgmFidelity::Full as i32, 128, 0.0, 0.0) };
     if u.is_null() {
         panic!("{}", unsafe { CStr::from_ptr(hgm_unit_last_error(null())) }.to_string_lossy());
     }

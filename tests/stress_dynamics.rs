@@ -91,7 +91,8 @@ fn run(d_mesh: f64, omega: f64, periods: f64) -> RunStats {
     let pair = GearPair::paper_table1();
     let geo = helical_gear_mesh::PairGeometry::new(&pair).unwrap();
     let (gp, gg) = (geo.pinion.rb, geo.gear.rb);
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     let mesh =
         PeriodicStiffnessMesh::new(K0, A, drive.z_p, d_mesh, gp, gg, Clearance::Backlash(BACKLASH))
             .unwrap();
@@ -156,7 +157,8 @@ fn run(d_mesh: f64, omega: f64, periods: f64) -> RunStats {
 fn zero_to_three_omega_crit_both_dampings() {
     let pair = GearPair::paper_table1();
     let geo = helical_gear_mesh::PairGeometry::new(&pair).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     // The mesh mode of the linear mesh: the highest of the four frequencies; ω_crit = ω_m/z_p.
     let w = drive.linear_frequencies(K0, geo.pinion.rb, geo.gear.rb);
     let omega_mesh = w.iter().copied().fold(0.0, f64::max);
@@ -232,7 +234,8 @@ fn kicked_real_mesh(runs: &[(f64, f64)], t_end: f64) {
     let options = small_table_options();
     let t0 = std::time::Instant::now();
     let mesh = Mesh::new(&pair, options).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     let (mut tip, mut sep, mut back, mut recontact) = (0, 0, 0, 0);
     for d_mesh in [100.0, 200.0] {
         for &(omega, kick) in runs {

@@ -366,7 +366,8 @@ fn units(dir: &Path) -> Result<Vec<PathBuf>, String> {
     ));
     let pair = GearPair::paper_table1();
     let mesh = Mesh::new(&pair, MeshOptions::default()).map_err(|e| e.to_string())?;
-    let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
+    let drive = Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1())
+        .map_err(|e| e.to_string())?;
     for kind in [UnitKind::Drive, UnitKind::Pair] {
         for cold in [true, false] {
             let mut u = DriveUnit::new(kind, mesh.clone(), drive, cosim::rk4(128)).map_err(err)?;

@@ -54,7 +54,7 @@ use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
     ComplianceModel, Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState,
 };
-use helical_gear_mesh::params::GearPair;
+use helical_gear_mesh::params::{DriveLine, GearPair};
 
 /// Options of [`run_bench`].
 #[derive(Debug, Clone, PartialEq)]
@@ -190,8 +190,14 @@ pub struct BenchReport {
     pub version: String,
 }
 
-/// Runs the benchmark on `pair` (its compliance from the embedded data or the cache).
-pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, String> {
+/// Runs the benchmark on `pair` driven by `drive` (tables sized for its torque; the paper's
+/// drive line is [`DriveLine::paper_table1`]), its compliance from the embedded data or the
+/// cache.
+pub fn run_bench(
+    pair: &GearPair,
+    drive: &DriveLine,
+    opts: &BenchOptions,
+) -> Result<BenchReport, String> {
     let say = |s: &str| {
         if opts.progress {
             eprintln!("bench: {s}");
@@ -199,7 +205,7 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
     };
     let q = opts.quick;
     let err = |e: helical_gear_mesh::mesh::MeshError| e.to_string();
-    let base = MeshOptions::default();
+    let base = MeshOptions::default().sized_for(drive);
     let reference_slices = if q { 200 } else { 800 };
     let (n_phase, min_pass_s) = if q { (6, 0.02) } else { (64, 1.0) };
 
@@ -341,16 +347,16 @@ pub fn run_bench(pair: &GearPair, opts: &BenchOptions) -> Result<BenchReport, St
 
     // Dynamics.
     let table = default_table.ok_or("no table model")?;
-    let drive_units = drive_unit_cases(pair, &table, q, &say)?;
-    let dynamics = dynamics_cases(pair, table, q, &say)?;
-    let hunting = hunting_case(pair, q, min_pass_s, &say)?;
+    let drive_units = drive_unit_cases(pair, drive, &table, q, &say)?;
+    let dynamics = dynamics_cases(pair, drive, table, q, &say)?;
+    let hunting = hunting_case(pair, drive, q, min_pass_s, &say)?;
 
     // Paper run.
     let (paper_runtime_s, paper_stages) = if opts.paper {
         say("paper run (quiet)");
         let dir = std::env::temp_dir().join(format!("helical-gear-bench-{}", std::process::id()));
         let po = PaperOptions { quick: q, progress: false, ..PaperOptions::default() };
-        let s = run_paper(pair, &dir, &po);
+        let s = run_paper(pair, drive, &dir, &po);
         let _ = std::fs::remove_dir_all(&dir);
         let s = s?;
         say(&format!("paper run: {:.1} s", s.runtime_s));
@@ -442,11 +448,12 @@ fn time_with(
 /// The dynamics cases on the table mesh `table` (see the module docs).
 fn dynamics_cases(
     pair: &GearPair,
+    drive: &DriveLine,
     table: Mesh,
     quick: bool,
     say: &dyn Fn(&str),
 ) -> Result<Vec<DynamicsCase>, String> {
-    let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
+    let drive = Drivetrain::from_pair(pair, drive).map_err(|e| e.to_string())?;
     let mut dynm = GearDynamics::new(table, drive).map_err(|e| e.to_string())?;
     let omega = 500.0;
     let start = dynm
@@ -577,12 +584,13 @@ pub struct DriveUnitCase {
 /// The drive-line unit rows (see the module docs).
 fn drive_unit_cases(
     pair: &GearPair,
+    drive: &DriveLine,
     table: &Mesh,
     quick: bool,
     say: &dyn Fn(&str),
 ) -> Result<Vec<DriveUnitCase>, String> {
     use helical_gear_mesh::dynamics::unit::{DriveUnit, UnitKind, UnitStepping};
-    let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
+    let drive = Drivetrain::from_pair(pair, drive).map_err(|e| e.to_string())?;
     let (omega, h) = (532.0, 1e-4);
     let run = |mesh: Mesh, stepping: UnitStepping, n: usize| -> Result<(Vec<f64>, f64), String> {
         let e = |e: helical_gear_mesh::dynamics::DynamicsError| e.to_string();
@@ -646,6 +654,7 @@ fn drive_unit_cases(
 /// The hunting-period case (see the module docs).
 fn hunting_case(
     pair: &GearPair,
+    drive: &DriveLine,
     quick: bool,
     min_pass_s: f64,
     say: &dyn Fn(&str),
@@ -653,7 +662,8 @@ fn hunting_case(
     let err = |e: helical_gear_mesh::mesh::MeshError| e.to_string();
     let p = GearPair { modifications: bench_deviations(pair), ..pair.clone() };
     let slices = if quick { 50 } else { 200 };
-    let o = MeshOptions { fidelity: Fidelity::Table, slices, ..MeshOptions::default() };
+    let o = MeshOptions { fidelity: Fidelity::Table, slices, ..MeshOptions::default() }
+        .sized_for(drive);
     let t0 = Instant::now();
     let table = Mesh::new(&p, o).map_err(err)?;
     let build_s = t0.elapsed().as_secs_f64();
@@ -663,7 +673,8 @@ fn hunting_case(
     } else {
         helical_gear_mesh::modifications::Modifications::hunting_meshes(p.z_p, p.z_g)
     };
-    let drive = Drivetrain::from_pair(&p).map_err(|e| e.to_string())?;
+    let line = drive;
+    let drive = Drivetrain::from_pair(&p, line).map_err(|e| e.to_string())?;
     let mut dynm = GearDynamics::new(table, drive).map_err(|e| e.to_string())?;
     let omega = 500.0;
     let start = dynm
@@ -693,7 +704,7 @@ fn hunting_case(
         .collect();
     let mut table = dynm.into_mesh();
     let (us, out) = time_eval(&mut table, &states, min_pass_s)?;
-    let nominal = p.drive.torque_nm.abs().max(1.0);
+    let nominal = line.torque_nm.abs().max(1.0);
     let (mut max_err, mut sq) = (0.0f64, 0.0);
     for (s, o) in states.iter().zip(&out) {
         let f = full.evaluate_full(s).map_err(err)?;

@@ -1,7 +1,9 @@
 //! `helical-gear`: command-line front end of the helical_gear_mesh library.
 //!
 //! Every subcommand takes `--params FILE` (JSON in the schema of [`GearPair`]; default: the
-//! paper's Table 1) and `--json` (one JSON object on stdout; human-readable text otherwise).
+//! paper's Table 1) and `--json` (one JSON object on stdout; human-readable text otherwise);
+//! those that use the drive line or its torque also take `--drive FILE` (JSON in the schema
+//! of `DriveLine`; default: Table 1's drive line).
 //! JSON keys are snake_case with units in the name.
 
 use std::process::ExitCode;
@@ -11,7 +13,7 @@ mod cli;
 use clap::{Parser, Subcommand};
 use cli::compliance::DensityArg;
 use cli::{Common, bench, compliance, contact, dynamics, geometry, mods, paper, statics};
-use helical_gear_mesh::GearPair;
+use helical_gear_mesh::{DriveLine, GearPair};
 
 #[derive(Parser)]
 #[command(name = "helical-gear", version, about = "Andersson–Vedmar helical-gear mesh model")]
@@ -49,6 +51,8 @@ enum Command {
     Compliance {
         #[command(flatten)]
         common: Common,
+        #[command(flatten)]
+        drive: cli::DriveArg,
         /// Compute the data afresh (FE and fit; never the embedded or cached data) and write
         /// them to FILE, e.g. `resources/compliance_table1.json`.
         #[arg(long, value_name = "FILE")]
@@ -58,12 +62,18 @@ enum Command {
         density: DensityArg,
     },
     /// Print the default parameters (Table 1) as JSON, a template for `--params`.
-    Params,
+    Params {
+        /// Print Table 1's drive line instead, a template for `--drive`.
+        #[arg(long)]
+        drive: bool,
+    },
     /// Static transmission error over the mesh cycle (Eq. 16) and the pressure waterfall.
     Static {
         #[command(flatten)]
         common: Common,
-        /// Driving torque M on the pinion, N·m (default: the parameters' `drive.torque_nm`).
+        #[command(flatten)]
+        drive: cli::DriveArg,
+        /// Driving torque M on the pinion, N·m (default: the drive line's `torque_nm`).
         #[arg(long)]
         torque: Option<f64>,
         /// Pinion angles per pinion pitch.
@@ -128,27 +138,39 @@ fn main() -> ExitCode {
         Command::Contact { common, phi_p, te, slices, back } => {
             contact::contact_cmd(common, *phi_p, *te, *slices, *back)
         }
-        Command::Static { common, torque, points_per_pitch, pitches, slices, plot, model } => {
-            statics::static_cmd(
-                common,
-                *torque,
-                *points_per_pitch,
-                *pitches,
-                *slices,
-                plot.as_deref(),
-                model,
-            )
-        }
+        Command::Static {
+            common,
+            drive,
+            torque,
+            points_per_pitch,
+            pitches,
+            slices,
+            plot,
+            model,
+        } => statics::static_cmd(
+            common,
+            drive,
+            *torque,
+            *points_per_pitch,
+            *pitches,
+            *slices,
+            plot.as_deref(),
+            model,
+        ),
         Command::Harris(args) => mods::harris_cmd(args),
         Command::Spectrum(args) => mods::spectrum_cmd(args),
         Command::Simulate(args) => dynamics::simulate_cmd(args),
         Command::Sweep(args) => dynamics::sweep_cmd(args),
-        Command::Compliance { common, write_cache, density } => {
-            compliance::compliance_cmd(common, write_cache.as_deref(), *density)
+        Command::Compliance { common, drive, write_cache, density } => {
+            compliance::compliance_cmd(common, drive, write_cache.as_deref(), *density)
         }
         Command::Paper(args) => paper::paper_cmd(args),
         Command::Bench(args) => bench::bench_cmd(args),
-        Command::Params => match serde_json::to_string_pretty(&GearPair::paper_table1()) {
+        Command::Params { drive } => match if *drive {
+            serde_json::to_string_pretty(&DriveLine::paper_table1())
+        } else {
+            serde_json::to_string_pretty(&GearPair::paper_table1())
+        } {
             Ok(s) => {
                 println!("{s}");
                 Ok(())

@@ -45,7 +45,6 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::plot;
-use helical_gear_mesh::GearPair;
 use helical_gear_mesh::compliance::data::{CacheOptions, ComplianceData};
 use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::dynamics::model::{PHI_G, PHI_P, W_G, W_P};
@@ -59,6 +58,7 @@ use helical_gear_mesh::mesh::{
     static_curve, tip_contact_threshold_curve,
 };
 use helical_gear_mesh::results::{StaticCurveRecord, SweepRecord};
+use helical_gear_mesh::{DriveLine, GearPair};
 
 /// The paper's values (Andersson & Vedmar 2003) that the run is compared with.
 pub mod reference {
@@ -506,9 +506,15 @@ fn state_of(y: &[f64; 8]) -> MeshState {
     MeshState { phi_p: y[PHI_P], phi_g: y[PHI_G], w_p: y[W_P], w_g: y[W_G] }
 }
 
-/// Runs the paper job for `pair` into the directory `out` (created if missing); see the module
+/// Runs the paper job for `pair` driven by the drive line `drive` (the paper's:
+/// [`DriveLine::paper_table1`]) into the directory `out` (created if missing); see the module
 /// doc. Returns the summary that is also written to `out/summary.json`.
-pub fn run_paper(pair: &GearPair, out: &Path, opts: &PaperOptions) -> Result<PaperSummary, String> {
+pub fn run_paper(
+    pair: &GearPair,
+    drive: &DriveLine,
+    out: &Path,
+    opts: &PaperOptions,
+) -> Result<PaperSummary, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let mut st = Stages::new(opts.progress);
 
@@ -525,14 +531,14 @@ pub fn run_paper(pair: &GearPair, out: &Path, opts: &PaperOptions) -> Result<Pap
     st.done("FE compliance", data.source().as_str());
 
     // Stage 1: static analysis (full fidelity).
-    let full_opts = MeshOptions { slices: opts.slices, ..MeshOptions::default() };
+    let full_opts = MeshOptions { slices: opts.slices, ..MeshOptions::default() }.sized_for(drive);
     let build = |o: MeshOptions, p: &GearCompliance, g: &GearCompliance| {
         Mesh::with_compliance(pair, o, p.clone(), g.clone()).map_err(mesh_err)
     };
     let mut full = build(full_opts, &cp, &cg)?;
     let geo = full.geometry().clone();
     let pitch = geo.pinion.angular_pitch();
-    let torque = pair.drive.torque_nm;
+    let torque = drive.torque_nm;
     let curve = static_curve(&mut full, torque, 0.0, pitch, 40, 1).map_err(mesh_err)?;
     // The static summary is the shared static record's.
     let static_record = StaticCurveRecord::new(&curve, geo.pinion.rb);
@@ -567,7 +573,7 @@ pub fn run_paper(pair: &GearPair, out: &Path, opts: &PaperOptions) -> Result<Pap
     // Stage 2: table model and the two sweeps.
     let table_opts = MeshOptions { fidelity: Fidelity::Table, ..full_opts };
     let table = build(table_opts, &cp, &cg)?;
-    let drive = Drivetrain::from_pair(pair).map_err(mesh_err)?;
+    let drive = Drivetrain::new(table.geometry(), drive).map_err(mesh_err)?;
     let ctx = Ctx { opts, drive, table };
     st.done("table surrogate", "");
     let (n_grid, refine) = if opts.quick { (12, 2) } else { (80, 6) };

@@ -125,7 +125,8 @@ fn simulate_json_is_the_library_rk4_trajectory() {
 
     let pair = helical_gear_mesh::GearPair::paper_table1();
     let mesh = Mesh::new(&pair, MeshOptions::default()).unwrap();
-    let drive = Drivetrain::from_pair(&pair).unwrap();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
     let mut model = GearDynamics::new(mesh, drive).unwrap();
     let y0 = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap().y;
     let tr = simulate(&mut model, &y0, t_end, &Stepping::Rk4 { dt }).unwrap();
@@ -150,7 +151,8 @@ fn simulate_json_is_the_library_rk4_trajectory() {
         }
     }
     // The start is the static equilibrium: M_F,p = M.
-    assert!((col("m_f_p_nm")[0] - pair.drive.torque_nm).abs() < 1e-8 * pair.drive.torque_nm);
+    let torque = helical_gear_mesh::DriveLine::paper_table1().torque_nm;
+    assert!((col("m_f_p_nm")[0] - torque).abs() < 1e-8 * torque);
 }
 
 fn run_env(args: &[&str], env: (&str, &std::path::Path)) -> (bool, String, String) {
@@ -399,7 +401,7 @@ fn compliance_json_is_the_compliance_record() {
     let p = helical_gear_mesh::GearPair::paper_table1();
     let g = helical_gear_mesh::PairGeometry::new(&p).unwrap();
     let data = ComplianceData::embedded_table1().unwrap();
-    let st = data.pair_stiffness(&g, 200).unwrap();
+    let st = data.pair_stiffness(&g, 200, 100.0).unwrap();
     assert_eq!(r, ComplianceRecord::new(&data, &st));
     assert_eq!(r.fit_seconds, r.fit_seconds_p + r.fit_seconds_g);
 }
@@ -420,4 +422,42 @@ fn contact_json_is_the_contact_record() {
     let red = solver.contacts_on(FlankSide::Drive, 0.01, phi_g, &solver.slice_zetas(20), &mut cs);
     assert_eq!(r, ContactRecord::new(0.01, phi_g, red.te, &cs));
     assert!(r.slices.iter().all(|s| s.side == "drive"));
+}
+
+/// The drive line is not part of the gear pair: a `--params` file with a `drive` key is
+/// refused with a message that points to `--drive`; `--drive FILE` takes a partial drive line
+/// (missing keys from Table 1's, here the pair stiffness's torque), `params --drive` prints
+/// Table 1's, and a bad drive file is an error naming the key and the file.
+#[test]
+fn drive_line_is_its_own_file() {
+    let dir = std::env::temp_dir().join(format!("hg-cli-drive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let pair = dir.join("pair.json");
+    std::fs::write(&pair, r#"{"helix_angle_rad": 0.2, "drive": {"torque_nm": 50}}"#).unwrap();
+    let (ok, stdout, stderr) = run(&["geometry", "--json", "--params", pair.to_str().unwrap()]);
+    assert!(!ok && stdout.is_empty());
+    assert!(stderr.contains("--drive") && !stderr.contains("unknown field"), "{stderr}");
+
+    let (ok, template, _) = run(&["params", "--drive"]);
+    assert!(ok);
+    let t: serde_json::Value = serde_json::from_str(&template).expect("one JSON object");
+    assert_eq!(t["torque_nm"], 100.0);
+    assert_eq!(t["j1_kgm2"], 0.62);
+
+    let drive = dir.join("drive.json");
+    std::fs::write(&drive, r#"{"torque_nm": 200}"#).unwrap();
+    let (ok, stdout, stderr) = run(&["compliance", "--json", "--drive", drive.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    assert_eq!(v["pair_torque_nm"], 200.0);
+    let (ok, stdout, _) = run(&["compliance", "--json"]);
+    assert!(ok);
+    let d: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    assert_eq!(d["pair_torque_nm"], 100.0);
+
+    std::fs::write(&drive, r#"{"torque": 200}"#).unwrap();
+    let (ok, _, stderr) = run(&["static", "--drive", drive.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("unknown field `torque`"), "{stderr}");
+    assert!(stderr.contains("drive.json"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
 }

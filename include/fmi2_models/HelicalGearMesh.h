@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{5f3f1276-176f-8aea-aa47-7bc7c01bf6aa}"
+#define HelicalGearMesh_GUID "{91438406-47d1-8554-8def-d3dbc20567f1}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -57,6 +57,7 @@ typedef enum {
     HelicalGearMesh_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearMesh_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearMesh_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearMesh_vr_table_design_torque_nm = 207, /* parameter Real N.m */
 } HelicalGearMesh_ValueReference;
 
 #endif /* HELICALGEARMESH_H */

@@ -8,6 +8,8 @@ L. Vedmar, J. Sound Vib. 260 (2003) 195–212), computed by the Rust library ``h
 >>> pair = hg.GearPair(beta=0.2)             # Table 1 with a 0.2 rad helix angle
 >>> curve = hg.static_curve(pair)            # static TE over one pinion pitch
 >>> curve.ste_max                            # m
+>>> drive = hg.DriveLine(torque_nm=50.0)     # Table 1's drive line at 50 N·m
+>>> tr = hg.simulate(pair, 300.0, 0.01, drive=drive)
 
 SI units throughout. Errors derive from `GearMeshError` and carry the library's message.
 Design studies: `helical_gear.study.run`.
@@ -20,7 +22,7 @@ from ._native import (
     ParameterError,
     SolverError,
 )
-from ._pair import BOUNDS, ISO_SYMBOLS, GearPair, Group
+from ._pair import BOUNDS, DRIVE_SYMBOLS, ISO_SYMBOLS, DriveLine, GearPair, Group
 from ._api import (
     OUTPUT_NAMES,
     STATE_NAMES,
@@ -46,6 +48,8 @@ __all__ = [
     "BOUNDS",
     "Compliance",
     "ComplianceError",
+    "DRIVE_SYMBOLS",
+    "DriveLine",
     "GearMeshError",
     "GearPair",
     "Geometry",

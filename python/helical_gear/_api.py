@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._pair import GearPair
+from ._pair import DriveLine, GearPair
 
 #: Keys of `MeshModel.evaluate`'s result (the FMU's output names, then extras).
 OUTPUT_NAMES = (
@@ -38,6 +38,19 @@ OUTPUT_NAMES = (
 )
 
 FE_DENSITIES = ("coarse", "default", "refined")
+
+
+def _drive(drive: DriveLine | None) -> DriveLine:
+    if drive is None:
+        return DriveLine()
+    if not isinstance(drive, DriveLine):
+        raise TypeError(f"expected a DriveLine, got {type(drive).__name__}")
+    return drive
+
+
+def _design_torque(drive: DriveLine) -> float:
+    """The table's design torque for `drive`: max(|M|, 1 N·m) (the library's rule)."""
+    return max(abs(float(drive.torque_nm)), 1.0)
 
 
 def _pair(pair: GearPair | None) -> GearPair:
@@ -122,10 +135,12 @@ class Compliance:
         """Where the data came from: ``computed``, ``embedded`` (Table 1) or ``disk`` (cache)."""
         return self._c.source()
 
-    def summary(self) -> Mapping_:
+    def summary(self, drive: DriveLine | None = None) -> Mapping_:
         """Source (``computed``, ``embedded``, ``disk``), density, FE sizes and seconds, fit
-        quality σ(e_rel) and the tooth-pair stiffness c′ at the pitch point, N/(mm·µm)."""
-        return Mapping_(json.loads(self._c.summary_json(self.pair.to_json())))
+        quality σ(e_rel) and the tooth-pair stiffness c′ at the pitch point, N/(mm·µm), under
+        the torque of `drive` (default Table 1's, 100 N·m)."""
+        t = float(_drive(drive).torque_nm)
+        return Mapping_(json.loads(self._c.summary_json(self.pair.to_json(), t)))
 
     def __reduce__(self):
         return (_compliance_from_json, (self.pair, self._c.to_json(), self.fe_density))
@@ -180,8 +195,11 @@ class MeshModel:
     simultaneous contact lines (the paper's 200). `compliance`: FE data of this pair (default:
     `compliance(pair)`). `table_size`: the table's points per mesh period × points along TE
     (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³); each 8 … 4096 and
-    their product at most 65 536 (about a minute of build), else `ParameterError`. Pickles as
-    pair + options (+ the compliance when given) and is rebuilt on unpickling.
+    their product at most 65 536 (about a minute of build), else `ParameterError`.
+    `table_design_torque`: the torque (N·m, 1 … 1e9) whose static TE sizes the table's TE range
+    (default 100, Table 1's; `simulate` and `sweep` size a table they build themselves for
+    their ``drive``). Pickles as pair + options (+ the compliance when given) and is rebuilt on
+    unpickling.
     """
 
     def __init__(
@@ -191,24 +209,34 @@ class MeshModel:
         slices: int = 200,
         compliance: Compliance | None = None,
         table_size: tuple[int, int] = (64, 48),
+        table_design_torque: float = 100.0,
     ):
         self.pair = _pair(pair)
         self.fidelity = fidelity
         self.slices = int(slices)
         self.compliance = compliance
         self.table_size = (int(table_size[0]), int(table_size[1]))
+        self.table_design_torque = float(table_design_torque)
         self._m = _native.MeshModel(
             self.pair.to_json(),
             fidelity,
             self.slices,
             None if compliance is None else compliance._c,
             *self.table_size,
+            self.table_design_torque,
         )
 
     def __reduce__(self):
         return (
             MeshModel,
-            (self.pair, self.fidelity, self.slices, self.compliance, self.table_size),
+            (
+                self.pair,
+                self.fidelity,
+                self.slices,
+                self.compliance,
+                self.table_size,
+                self.table_design_torque,
+            ),
         )
 
     def __repr__(self):
@@ -238,10 +266,17 @@ class MeshModel:
         return {k: out[k].reshape(shape) for k in OUTPUT_NAMES}
 
 
-def _model(pair_or_model, fidelity: str, slices: int, compliance: Compliance | None) -> MeshModel:
+def _model(
+    pair_or_model,
+    fidelity: str,
+    slices: int,
+    compliance: Compliance | None,
+    drive: DriveLine | None = None,
+) -> MeshModel:
     if isinstance(pair_or_model, MeshModel):
         return pair_or_model
-    return MeshModel(_pair(pair_or_model), fidelity, slices, compliance)
+    torque = _design_torque(_drive(drive))
+    return MeshModel(_pair(pair_or_model), fidelity, slices, compliance, (64, 48), torque)
 
 
 @dataclass(frozen=True)
@@ -292,13 +327,15 @@ def static_curve(
     pitches: int = 1,
     slices: int = 200,
     compliance: Compliance | None = None,
+    drive: DriveLine | None = None,
 ) -> StaticCurve:
     """Static TE of `pair` (or of a `MeshModel`, full fidelity recommended) at `torque` N·m
-    (default: the pair's ``drive.torque_nm``) on `points_per_pitch` angles per pinion pitch
-    over `pitches` pitches from φp = 0 (the library's ``mesh::static_curve``, as the CLI's
-    ``static``)."""
-    m = _model(pair, "full", slices, compliance)
-    t = m.pair.drive.torque_nm if torque is None else float(torque)
+    (default: the torque of `drive`, default Table 1's 100 N·m) on `points_per_pitch` angles
+    per pinion pitch over `pitches` pitches from φp = 0 (the library's ``mesh::static_curve``,
+    as the CLI's ``static``)."""
+    drive = _drive(drive)
+    m = _model(pair, "full", slices, compliance, drive)
+    t = drive.torque_nm if torque is None else float(torque)
     d = json.loads(m._m.static_curve_json(t, int(points_per_pitch), int(pitches)))
     return StaticCurve(
         torque_nm=d["torque_nm"],
@@ -370,6 +407,7 @@ def simulate(
     atol: float = 1e-12,
     slices: int = 200,
     compliance: Compliance | None = None,
+    drive: DriveLine | None = None,
 ) -> Trajectory:
     """One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
     (rad/s, ≥ 0: standstill and low speed are normal operation) to `t_end` (s), as the CLI's
@@ -377,11 +415,21 @@ def simulate(
     output interval). The default RK4 step is the library's step rule: the smaller of the mesh
     period / 128 and the period of the fastest linearised mode / 32, shortened to divide
     `t_end`. An explicit `dt` outside RK4's stability region for that mode, or a trajectory of
-    more than 2·10⁶ samples, raises `ParameterError` before anything runs. Drivetrain and mesh
-    damping from the pair."""
-    m = _model(pair, fidelity, slices, compliance)
+    more than 2·10⁶ samples, raises `ParameterError` before anything runs. Mesh damping and
+    gear bodies from the pair, the drive line (torque, inertias, shafts) from `drive`
+    (default Table 1's)."""
+    drive = _drive(drive)
+    m = _model(pair, fidelity, slices, compliance, drive)
     d = m._m.simulate(
-        m.pair.to_json(), float(w_p), float(t_end), dt, method, float(phi_p0), rtol, atol
+        m.pair.to_json(),
+        drive.to_json(),
+        float(w_p),
+        float(t_end),
+        dt,
+        method,
+        float(phi_p0),
+        rtol,
+        atol,
     )
     steps = d.pop("steps")
     evals = d.pop("mesh_evaluations")
@@ -455,20 +503,24 @@ def sweep(
     threads: int | None = None,
     slices: int = 200,
     compliance: Compliance | None = None,
+    drive: DriveLine | None = None,
 ) -> SweepResult:
     """Steady-state runs at every speed (rad/s; default a uniform grid of `points` from
     `w_from` to `w_to`) and the resonances, as the CLI's ``sweep`` (the library's
     ``dynamics::sweep``; `threads` worker threads, default one per core). Work is bounded
     before anything runs: at most 64 `refine_runs`, and per run at most 10⁸ RK4 steps
     (`max_periods` × steps per mesh period, raised at low speed to resolve the mesh mode), so
-    a sweep at 0.01 rad/s raises at once instead of running for hours."""
-    m = _model(pair, fidelity, slices, compliance)
+    a sweep at 0.01 rad/s raises at once instead of running for hours. The drive line
+    (torque, inertias, shafts) is `drive` (default Table 1's)."""
+    drive = _drive(drive)
+    m = _model(pair, fidelity, slices, compliance, drive)
     if speeds is None:
         speeds = np.linspace(w_from, w_to, int(points)) if points > 1 else np.array([w_from])
     sp = [float(s) for s in np.asarray(speeds, dtype=float).ravel()]
     d = json.loads(
         m._m.sweep_json(
             m.pair.to_json(),
+            drive.to_json(),
             sp,
             int(steps_per_period),
             int(max_periods),
@@ -504,12 +556,20 @@ def paper(
     slices: int = 200,
     threads: int | None = None,
     progress: bool = True,
+    drive: DriveLine | None = None,
 ) -> dict:
     """The whole paper run (static TE and Fig. 7, the sweeps of Fig. 9, Figs. 10–13, the
     resonances, separation, tip contact, sensitivity study) into `out_dir`, as the CLI's
-    ``paper``; returns the summary (also in ``out_dir/summary.json``). `quick`: a smoke run."""
+    ``paper``; returns the summary (also in ``out_dir/summary.json``). `quick`: a smoke run.
+    `drive`: the drive line (default Table 1's, the paper's)."""
     return json.loads(
         _native.paper_json(
-            _pair(pair).to_json(), os.fspath(out_dir), quick, int(slices), threads, progress
+            _pair(pair).to_json(),
+            _drive(drive).to_json(),
+            os.fspath(out_dir),
+            quick,
+            int(slices),
+            threads,
+            progress,
         )
     )

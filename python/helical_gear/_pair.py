@@ -1,11 +1,15 @@
-"""The gear-pair parameters: an immutable, JSON-backed value with attribute access.
+"""The gear-pair parameters and the drive line: immutable, JSON-backed values with attribute
+access.
 
 `GearPair` holds the nested JSON object of the library's gear-pair schema (the output of
 ``helical-gear params``), SI units, basic-rack quantities in units of the normal module. It is
-generic over that schema: every key, nested groups included (``material_p``, ``drive``, and
-``modifications`` once the library has it), is accepted and forwarded to the Rust side, which
-validates the whole pair at construction and raises `ParameterError` naming the value and the
-limit.
+generic over that schema: every key, nested groups included (``material_p``,
+``modifications``), is accepted and forwarded to the Rust side, which validates the whole pair
+at construction and raises `ParameterError` naming the value and the limit.
+
+`DriveLine` holds the drive line (torque, inertias, shafts of Eqs. 1–4; the output of
+``helical-gear params --drive``) in the same way. It is not part of the pair: the calls that
+need it take ``drive=`` (default: Table 1's drive line).
 """
 
 from __future__ import annotations
@@ -38,9 +42,11 @@ ISO_SYMBOLS: Mapping[str, str] = MappingProxyType(
         "j_n": "normal_backlash_mn",
         "d_bore": "bore_diameter_m",
         "d_mesh": "d_mesh_n_s_per_m",
-        "T1": "drive.torque_nm",
     }
 )
+
+#: Symbols accepted as keyword aliases of the drive-line JSON keys.
+DRIVE_SYMBOLS: Mapping[str, str] = MappingProxyType({"T1": "torque_nm"})
 
 
 def _freeze(value: Any) -> Any:
@@ -60,8 +66,8 @@ def _thaw(value: Any) -> Any:
 
 
 class Group(Mapping):
-    """A read-only nested group of parameters (e.g. ``pair.drive``): a mapping whose keys are
-    also attributes."""
+    """A read-only nested group of parameters (e.g. ``pair.material_p``): a mapping whose keys
+    are also attributes."""
 
     __slots__ = ("_d",)
 
@@ -118,22 +124,25 @@ def _coerce(default: Any, value: Any) -> Any:
     return value
 
 
-def _merge(base: dict, updates: Mapping[str, Any]) -> dict:
-    """`base` with `updates` applied: keys are JSON keys, dotted paths (``drive.torque_nm``) or
-    ISO symbols; a mapping value merges into the group."""
+def _merge(base: dict, updates: Mapping[str, Any], symbols=None, default=None) -> dict:
+    """`base` with `updates` applied: keys are JSON keys, dotted paths
+    (``material_p.poisson_ratio``) or symbols (`symbols`, default `ISO_SYMBOLS`); a mapping
+    value merges into the group. `default` gives the schema's defaults (for the types)."""
+    symbols = ISO_SYMBOLS if symbols is None else symbols
+    default_of = _default if default is None else default
     out = json.loads(json.dumps(base))
     for k, v in updates.items():
-        k = ISO_SYMBOLS.get(k, k)
+        k = symbols.get(k, k)
         v = _thaw(v)
         if isinstance(v, Mapping):
             for sk, sv in _flatten(v).items():
                 _set_path(out, f"{k}.{sk}", sv)
             continue
         try:
-            default = _get_path(_default(), k)  # for the type only (30.0 -> 30 for z_p)
+            dv = _get_path(default_of(), k)  # for the type only (30.0 -> 30 for z_p)
         except (KeyError, TypeError):
-            default = None
-        _set_path(out, k, _coerce(default, v))
+            dv = None
+        _set_path(out, k, _coerce(dv, v))
     return out
 
 
@@ -151,8 +160,9 @@ def _flatten(d: Mapping, prefix: str = "") -> dict:
 BOUNDS: Mapping[str, tuple[float, float, str]] = MappingProxyType(
     {k: (lo, hi, unit) for k, lo, hi, unit in _native.parameter_bounds()}
 )
-"""Inclusive range of every numeric gear-pair key (dotted for nested keys): ``(min, max, unit)``,
-the library's own bounds, the same as the FMUs' ``min``/``max``. A value inside may still be
+"""Inclusive range of every numeric gear-pair key (dotted for nested keys) and drive-line key
+(``drive.`` and the `DriveLine` key, the FMU parameter names): ``(min, max, unit)``, the
+library's own bounds, the same as the FMUs' ``min``/``max``. A value inside may still be
 refused in combination with others (undercut, pointed tooth, contact ratio …)."""
 
 
@@ -171,8 +181,10 @@ class GearPair:
 
     ``GearPair(**kw)`` starts from the defaults and applies ``kw``: JSON keys
     (``helix_angle_rad=0.2``), ISO symbols (``beta=0.2``, see `ISO_SYMBOLS`), nested groups as
-    mappings (``drive={"torque_nm": 50}``) or dotted paths through ``**{"drive.torque_nm": 50}``.
-    SI units: m, rad, Pa, N·m, kg·m², N·s/m; basic-rack quantities (``*_mn``) in units of m_n.
+    mappings (``material_p={"poisson_ratio": 0.29}``) or dotted paths through
+    ``**{"material_p.poisson_ratio": 0.29}``. The drive line is not part of the pair: see
+    `DriveLine` (a ``drive`` key is refused with a message saying so).
+    SI units: m, rad, Pa, N·s/m; basic-rack quantities (``*_mn``) in units of m_n.
     The pair is validated by the library at construction (`ParameterError` names the value and
     the limit), is immutable and hashable, compares by value, and pickles as its JSON.
     """
@@ -212,7 +224,8 @@ class GearPair:
         return json.loads(self._json)
 
     def flat(self) -> dict:
-        """Flat dict keyed by dotted paths (``drive.torque_nm``): the design-table columns."""
+        """Flat dict keyed by dotted paths (``material_p.poisson_ratio``): the design-table
+        columns."""
         return _flatten(json.loads(self._json))
 
     def replace(self, **kw: Any) -> "GearPair":
@@ -259,3 +272,97 @@ class GearPair:
     def compliance_key(self) -> str:
         """16 hex digits identifying every parameter that changes the FE compliance."""
         return _native.compliance_key(self._json)
+
+
+_DEFAULT_DRIVE: dict | None = None
+
+
+def _default_drive() -> dict:
+    global _DEFAULT_DRIVE
+    if _DEFAULT_DRIVE is None:
+        _DEFAULT_DRIVE = json.loads(_native.default_drive_json())
+    return _DEFAULT_DRIVE
+
+
+class DriveLine:
+    """The drive line of a gear pair (Eqs. 1–4; defaults: Table 1 of Andersson & Vedmar 2003):
+    driving torque ``torque_nm`` (N·m on J₁; the load on J₂ is M·z_g/z_p), inertias
+    ``j1_kgm2``, ``j2_kgm2`` (kg·m²), shaft stiffnesses ``c1_nm_per_rad``, ``c2_nm_per_rad``
+    (N·m/rad) and dampings ``d1_nms_per_rad``, ``d2_nms_per_rad`` (N·m·s/rad).
+
+    ``DriveLine(**kw)`` starts from the defaults and applies ``kw`` (JSON keys, or ``T1`` for
+    the torque, see `DRIVE_SYMBOLS`). The library checks every value against its range at
+    construction (`ParameterError` names the value and the limit). Immutable, hashable,
+    compares by value, pickles as its JSON. Pass it as ``drive=`` to the calls that need it.
+    """
+
+    __slots__ = ("_json", "_data")
+
+    def __init__(self, **kw: Any):
+        self._init(json.dumps(_merge({}, kw, DRIVE_SYMBOLS, _default_drive)))
+
+    def _init(self, text: str) -> None:
+        norm = _native.normalize_drive(text)
+        object.__setattr__(self, "_json", norm)
+        object.__setattr__(self, "_data", json.loads(norm))
+
+    @classmethod
+    def from_json(cls, text: str) -> "DriveLine":
+        """The drive line of a JSON text in the library's schema (missing keys from Table 1,
+        unknown keys refused by the library)."""
+        self = cls.__new__(cls)
+        self._init(text)
+        return self
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> "DriveLine":
+        """The drive line of a mapping in the JSON schema."""
+        return cls.from_json(json.dumps(dict(d)))
+
+    def to_json(self, indent: int | None = None) -> str:
+        """JSON in the library's schema (every key present)."""
+        if indent is None:
+            return self._json
+        return json.dumps(json.loads(self._json), indent=indent)
+
+    def to_dict(self) -> dict:
+        """A (mutable) dict copy of the values."""
+        return json.loads(self._json)
+
+    def replace(self, **kw: Any) -> "DriveLine":
+        """A copy with `kw` applied (the same keys as the constructor)."""
+        return DriveLine.from_json(
+            json.dumps(_merge(json.loads(self._json), kw, DRIVE_SYMBOLS, _default_drive))
+        )
+
+    def __getattr__(self, k: str) -> Any:
+        if k.startswith("_"):
+            raise AttributeError(k)
+        try:
+            return self._data[DRIVE_SYMBOLS.get(k, k)]
+        except KeyError:
+            raise AttributeError(k) from None
+
+    def __getitem__(self, k: str) -> Any:
+        return self._data[DRIVE_SYMBOLS.get(k, k)]
+
+    def __setattr__(self, k, v):
+        raise AttributeError("DriveLine is immutable: use DriveLine.replace(...)")
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, DriveLine) and other._json == self._json
+
+    def __hash__(self) -> int:
+        return hash(self._json)
+
+    def __reduce__(self):
+        return (DriveLine.from_json, (self._json,))
+
+    def __repr__(self) -> str:
+        default = _default_drive()
+        changed = {k: v for k, v in self._data.items() if default.get(k) != v}
+        args = ", ".join(f"{k}={v!r}" for k, v in changed.items())
+        return f"DriveLine({args})" if args else "DriveLine()  # Table 1"
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self._data) | set(DRIVE_SYMBOLS))

@@ -3,11 +3,12 @@ any ``dask.distributed`` cluster, written incrementally to Parquet.
 
 ``run(designs, analyses=("static", "sweep"), client=None, out=None, fe_density="default")``
 
-* `designs`: a pandas DataFrame, one row per design. Columns are gear-pair parameters named
-  like the FMU parameters, i.e. the `GearPair` JSON keys with nested keys joined by a dot
-  (``helix_angle_rad``, ``face_width_m``, ``tip_relief_depth_mn``, ``drive.torque_nm``,
-  ``modifications.…`` once the library has them); a missing column or an empty cell (NaN)
-  keeps the Table 1 default. The sweep's speed range can be set per design by the columns
+* `designs`: a pandas DataFrame, one row per design. Columns are parameters named like the
+  FMU parameters, i.e. the `GearPair` JSON keys with nested keys joined by a dot
+  (``helix_angle_rad``, ``face_width_m``, ``tip_relief_depth_mn``, ``modifications.…``) and
+  the drive line's `DriveLine` keys prefixed ``drive.`` (``drive.torque_nm``, routed to the
+  design's drive line, not the pair); a missing column or an empty cell (NaN) keeps the
+  Table 1 default. The sweep's speed range can be set per design by the columns
   ``omega_from_rad_s``, ``omega_to_rad_s``, ``omega_points`` (else the `sweep` argument). Any
   other column is forwarded to the library as a parameter (an unknown one gives that design an
   error row), except columns whose name starts with ``_`` (labels, kept as they are).
@@ -60,8 +61,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from ._api import Compliance, MeshModel, compliance, static_curve, sweep
-from ._pair import GearPair
+from ._api import Compliance, MeshModel, _design_torque, compliance, static_curve, sweep
+from ._pair import DriveLine, GearPair
 
 #: Result columns of the contract, in order.
 RESULT_COLUMNS = (
@@ -141,9 +142,32 @@ def _speed_range(rec: dict, default: tuple) -> tuple | str:
     return tuple(out)
 
 
+#: Prefix of the design-table columns of the drive line (the FMU parameter names).
+DRIVE_PREFIX = "drive."
+
+
 def design_pair(params: dict) -> GearPair:
-    """The gear pair of one design row (dotted keys, missing values keep the default)."""
-    return GearPair(**{k: v for k, v in params.items() if not _is_missing(v)})
+    """The gear pair of one design row (dotted keys, missing values keep the default; the
+    ``drive.*`` columns belong to `design_drive`)."""
+    return GearPair(
+        **{
+            k: v
+            for k, v in params.items()
+            if not _is_missing(v) and not str(k).startswith(DRIVE_PREFIX)
+        }
+    )
+
+
+def design_drive(params: dict) -> DriveLine:
+    """The drive line of one design row: its ``drive.*`` columns (missing values keep Table
+    1's)."""
+    return DriveLine(
+        **{
+            str(k)[len(DRIVE_PREFIX):]: v
+            for k, v in params.items()
+            if not _is_missing(v) and str(k).startswith(DRIVE_PREFIX)
+        }
+    )
 
 
 class _Failed:
@@ -168,8 +192,17 @@ def compliance_task(pair: GearPair, fe_density: str, cache_dir: str | None, key:
     return (c, time.perf_counter() - t0)
 
 
-def design_task(pair: GearPair, comp, speeds: tuple, settings: Settings, key: str) -> dict:
-    """The analyses of one design with its compliance `comp`: a dict of result columns."""
+def design_task(
+    pair: GearPair,
+    comp,
+    speeds: tuple,
+    settings: Settings,
+    key: str,
+    drive: DriveLine | None = None,
+) -> dict:
+    """The analyses of one design with its compliance `comp` and drive line `drive` (default
+    Table 1's): a dict of result columns."""
+    drive = DriveLine() if drive is None else drive
     _event("design", key)
     row: dict[str, Any] = {c: math.nan for c in RESULT_COLUMNS + TIMING_COLUMNS}
     row["error"] = None
@@ -182,14 +215,16 @@ def design_task(pair: GearPair, comp, speeds: tuple, settings: Settings, key: st
         if "static" in settings.analyses:
             t0 = time.perf_counter()
             m = MeshModel(pair, "full", settings.slices, c)
-            s = static_curve(m, points_per_pitch=settings.static_points)
+            s = static_curve(m, points_per_pitch=settings.static_points, drive=drive)
             row["ste_max_um"] = s.ste_max * 1e6
             row["ste_peak_to_peak_um"] = s.ste_peak_to_peak * 1e6
             row["mesh_stiffness_mean_n_per_um"] = s.mesh_stiffness_mean * 1e-6
             row["static_s"] = time.perf_counter() - t0
         if "sweep" in settings.analyses:
             t0 = time.perf_counter()
-            m = MeshModel(pair, "table", settings.slices, c, settings.table_size)
+            m = MeshModel(
+                pair, "table", settings.slices, c, settings.table_size, _design_torque(drive)
+            )
             t1 = time.perf_counter()
             row["table_s"] = t1 - t0
             w_from, w_to, points = speeds
@@ -202,6 +237,7 @@ def design_task(pair: GearPair, comp, speeds: tuple, settings: Settings, key: st
                 max_periods=settings.max_periods,
                 refine_runs=settings.refine_runs,
                 threads=1,
+                drive=drive,
             )
             row["omega_crit_rad_s"] = r.omega_crit
             row["peak_te_ratio"] = r.peak_te_ratio
@@ -338,7 +374,7 @@ def run(
     n = len(designs)
     records = designs.to_dict("records")
     keys: list[str] = []
-    jobs: dict[str, tuple] = {}  # design key -> (pair or error message, speeds)
+    jobs: dict[str, tuple] = {}  # design key -> (pair or error message, speeds, drive)
     for rec in records:
         params = {
             k: _plain(v)
@@ -353,12 +389,12 @@ def run(
         keys.append(key)
         if key not in jobs:
             if isinstance(speeds, str):
-                jobs[key] = (speeds, None)
+                jobs[key] = (speeds, None, None)
                 continue
             try:
-                jobs[key] = (design_pair(params), speeds)
+                jobs[key] = (design_pair(params), speeds, design_drive(params))
             except Exception as e:  # noqa: BLE001 - invalid design: an error row
-                jobs[key] = (_message(e), speeds)
+                jobs[key] = (_message(e), speeds, None)
 
     journal = _Journal(out, flush_seconds)
     results = journal.done()
@@ -376,7 +412,7 @@ def run(
 
     # Designs that failed to parse need no computation.
     for key in list(todo):
-        pair, _ = jobs[key]
+        pair, _, _ = jobs[key]
         if isinstance(pair, str):
             row = {c: math.nan for c in RESULT_COLUMNS + TIMING_COLUMNS}
             row["error"] = pair
@@ -394,11 +430,11 @@ def run(
         if client is None:
             cache: dict[str, Any] = {}
             for k in sorted(todo, key=lambda k: ckey[k]):
-                pair, speeds = jobs[k]
+                pair, speeds, drive = jobs[k]
                 ck = ckey[k]
                 if ck not in cache:
                     cache[ck] = compliance_task(pair, fe_density, settings.cache_dir, ck)
-                finished(k, design_task(pair, cache[ck], speeds, settings, k))
+                finished(k, design_task(pair, cache[ck], speeds, settings, k, drive))
                 needed[ck] -= 1
                 if needed[ck] == 0:
                     del cache[ck]
@@ -410,7 +446,7 @@ def run(
             comp_futures: dict[str, Any] = {}
             futures = {}
             for k in todo:
-                pair, speeds = jobs[k]
+                pair, speeds, drive = jobs[k]
                 ck = ckey[k]
                 if ck not in comp_futures:
                     comp_futures[ck] = client.submit(
@@ -418,7 +454,7 @@ def run(
                         key=f"helical-gear-compliance-{ck}", pure=False,
                     )
                 f = client.submit(
-                    design_task, pair, comp_futures[ck], speeds, settings, k,
+                    design_task, pair, comp_futures[ck], speeds, settings, k, drive,
                     key=f"helical-gear-design-{k}", pure=False,
                 )
                 futures[f] = k

@@ -38,7 +38,7 @@ use helical_gear_mesh::options::Integrator;
 use helical_gear_mesh::results::{
     ComplianceRecord, GeometryRecord, StaticCurveRecord, SweepRecord,
 };
-use helical_gear_mesh::{GearPair, PairGeometry, ParamError};
+use helical_gear_mesh::{DriveLine, GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
@@ -193,6 +193,13 @@ fn parse_pair(text: &str) -> Res<GearPair> {
     Ok(p)
 }
 
+/// Parses and checks drive-line JSON (missing keys from Table 1).
+fn parse_drive(text: &str) -> Res<DriveLine> {
+    let d = DriveLine::from_json(text).map_err(Failure::Param)?;
+    d.check()?;
+    Ok(d)
+}
+
 fn to_json_text(v: &impl serde::Serialize) -> Res<String> {
     serde_json::to_string(v).map_err(|e| Failure::Internal(format!("JSON: {e}")))
 }
@@ -223,6 +230,19 @@ fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
 #[pyfunction]
 fn default_pair_json(py: Python<'_>) -> PyResult<String> {
     run(py, || to_json_text(&GearPair::paper_table1()))
+}
+
+/// The Table 1 drive line of the paper as JSON.
+#[pyfunction]
+fn default_drive_json(py: Python<'_>) -> PyResult<String> {
+    run(py, || to_json_text(&DriveLine::paper_table1()))
+}
+
+/// Parses and checks drive-line JSON; returns it re-serialised with every key (missing keys
+/// from Table 1). Raises `ParameterError` naming the value and the limit.
+#[pyfunction]
+fn normalize_drive(py: Python<'_>, drive_json: &str) -> PyResult<String> {
+    run(py, || to_json_text(&parse_drive(drive_json)?))
 }
 
 /// Parses and validates gear-pair JSON; returns it re-serialised with every key (defaults of
@@ -332,13 +352,15 @@ impl Compliance {
 
     /// Summary as JSON, the library's `results::ComplianceRecord` (the keys of
     /// `helical-gear compliance --json`): source, density, FE sizes and times, fit quality, and
-    /// the tooth-pair stiffness at the pitch point of `pair_json` (200 slices).
-    fn summary_json(&self, py: Python<'_>, pair_json: &str) -> PyResult<String> {
+    /// the tooth-pair stiffness at the pitch point of `pair_json` (200 slices) under `torque`
+    /// N·m.
+    #[pyo3(signature = (pair_json, torque = 100.0))]
+    fn summary_json(&self, py: Python<'_>, pair_json: &str, torque: f64) -> PyResult<String> {
         let data = self.data.clone();
         run(py, move || {
             let p = parse_pair(pair_json)?;
             let geo = PairGeometry::new(&p)?;
-            let st = data.pair_stiffness(&geo, 200)?;
+            let st = data.pair_stiffness(&geo, 200, torque)?;
             let record = ComplianceRecord::new(&data, &st);
             record.check_finite().map_err(Failure::Solver)?;
             to_json_text(&record)
@@ -365,9 +387,11 @@ impl MeshModel {
     /// over the simultaneous contact lines, from `compliance` when given (it must belong to the
     /// pair) or from the library's default source ([`Compliance::for_pair`]). The table
     /// fidelity's resolution: `table_phase_points` per mesh period × `table_te_points` along TE
-    /// (the library's defaults 64 × 48).
+    /// (the library's defaults 64 × 48), its TE range sized for `table_design_torque` N·m
+    /// (default 100, Table 1's torque).
     #[new]
-    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48))]
+    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48, table_design_torque = 100.0))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         pair_json: &str,
@@ -376,6 +400,7 @@ impl MeshModel {
         compliance: Option<&Compliance>,
         table_phase_points: usize,
         table_te_points: usize,
+        table_design_torque: f64,
     ) -> PyResult<Self> {
         let data = compliance.map(|c| c.data.clone());
         run(py, move || {
@@ -385,6 +410,7 @@ impl MeshModel {
                 slices,
                 table_phase_points,
                 table_te_points,
+                table_design_torque_nm: table_design_torque,
                 ..MeshOptions::default()
             };
             let model = match data {
@@ -512,14 +538,16 @@ impl MeshModel {
     /// One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
     /// (rad/s, ≥ 0) to `t_end` (s), with RK4 steps `dt` (default: the library's step rule,
     /// `dynamics::default_rk4_step`, shortened to divide `t_end`) or adaptive DOPRI5 (`method="dopri5"`, `dt` = output interval); the
-    /// drivetrain and mesh damping from `pair_json`. Returns a dict of arrays: `time`, the eight
-    /// states, `TE`, `M_F_p`, `M_F_g`, `M_D_p`, `M_D_g`; and `steps`, `mesh_evaluations`.
-    #[pyo3(signature = (pair_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
+    /// mesh damping from `pair_json`, the drivetrain from `pair_json` and the drive line
+    /// `drive_json`. Returns a dict of arrays: `time`, the eight states, `TE`, `M_F_p`,
+    /// `M_F_g`, `M_D_p`, `M_D_g`; and `steps`, `mesh_evaluations`.
+    #[pyo3(signature = (pair_json, drive_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
         &self,
         py: Python<'py>,
         pair_json: &str,
+        drive_json: &str,
         w_p: f64,
         t_end: f64,
         dt: Option<f64>,
@@ -548,7 +576,7 @@ impl MeshModel {
                 return Err(Failure::Param(format!("phi_p0 = {phi_p0}: allowed finite (rad)")));
             }
             let pair = parse_pair(pair_json)?;
-            let drive = Drivetrain::from_pair(&pair)?;
+            let drive = Drivetrain::from_pair(&pair, &parse_drive(drive_json)?)?;
             let t_m = drive.mesh_period(w_p);
             let mut mesh = self.model.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
@@ -611,16 +639,18 @@ impl MeshModel {
     }
 
     /// Steady-state TE_max/STE_max at every speed of `speeds` (rad/s, > 0, ascending) with the
-    /// drivetrain and mesh damping of `pair_json`, and the located resonances (the library's
+    /// mesh damping of `pair_json`, the drivetrain of `pair_json` and the drive line
+    /// `drive_json`, and the located resonances (the library's
     /// `dynamics::sweep`): JSON of the library's `results::SweepRecord` (per-speed arrays,
     /// `resonances_rad_s`, `resonance_te_max_over_ste_max`, `ste_max_um`,
     /// `mesh_stiffness_n_per_um`, `warnings`).
-    #[pyo3(signature = (pair_json, speeds, steps_per_period = DEFAULT_STEPS_PER_MESH_PERIOD, max_periods = 3000, refine_runs = 6, min_prominence = 0.005, threads = None))]
+    #[pyo3(signature = (pair_json, drive_json, speeds, steps_per_period = DEFAULT_STEPS_PER_MESH_PERIOD, max_periods = 3000, refine_runs = 6, min_prominence = 0.005, threads = None))]
     #[allow(clippy::too_many_arguments)]
     fn sweep_json(
         &self,
         py: Python<'_>,
         pair_json: &str,
+        drive_json: &str,
         speeds: Vec<f64>,
         steps_per_period: usize,
         max_periods: usize,
@@ -630,7 +660,7 @@ impl MeshModel {
     ) -> PyResult<String> {
         run(py, || {
             let pair = parse_pair(pair_json)?;
-            let drive = Drivetrain::from_pair(&pair)?;
+            let drive = Drivetrain::from_pair(&pair, &parse_drive(drive_json)?)?;
             let mut mesh = self.model.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
             let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
@@ -662,12 +692,15 @@ impl MeshModel {
 }
 
 /// The whole paper run into `out_dir` (summary.json, summary.md, the CSV and PNG figures);
-/// returns the summary as JSON. `quick`: coarse speed grids, a smoke run.
+/// returns the summary as JSON. `quick`: coarse speed grids, a smoke run. The pair is driven
+/// by the drive line `drive_json`.
 #[pyfunction]
-#[pyo3(signature = (pair_json, out_dir, quick = false, slices = 200, threads = None, progress = true))]
+#[pyo3(signature = (pair_json, drive_json, out_dir, quick = false, slices = 200, threads = None, progress = true))]
+#[allow(clippy::too_many_arguments)]
 fn paper_json(
     py: Python<'_>,
     pair_json: &str,
+    drive_json: &str,
     out_dir: PathBuf,
     quick: bool,
     slices: usize,
@@ -679,8 +712,9 @@ fn paper_json(
             return Err(Failure::Param("threads = 0: allowed >= 1".into()));
         }
         let pair = parse_pair(pair_json)?;
+        let drive = parse_drive(drive_json)?;
         let opts = PaperOptions { quick, slices, threads, progress };
-        let s = run_paper(&pair, &out_dir, &opts).map_err(Failure::Solver)?;
+        let s = run_paper(&pair, &drive, &out_dir, &opts).map_err(Failure::Solver)?;
         let v: Value = serde_json::to_value(&s).map_err(|e| Failure::Internal(e.to_string()))?;
         to_json_text(&v)
     })
@@ -704,6 +738,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Compliance>()?;
     m.add_class::<MeshModel>()?;
     m.add_function(wrap_pyfunction!(default_pair_json, m)?)?;
+    m.add_function(wrap_pyfunction!(default_drive_json, m)?)?;
+    m.add_function(wrap_pyfunction!(normalize_drive, m)?)?;
     m.add_function(wrap_pyfunction!(parameter_bounds, m)?)?;
     m.add_function(wrap_pyfunction!(normalize_pair, m)?)?;
     m.add_function(wrap_pyfunction!(assumptions, m)?)?;

@@ -685,12 +685,14 @@ impl ComplianceData {
     }
 
     /// The tooth-pair stiffness at the pitch point ([`super::stiffness::pair_stiffness`]) of
-    /// `geo` with the interpolated same-tooth grids of these data and `slices` axial slices.
+    /// `geo` with the interpolated same-tooth grids of these data and `slices` axial slices,
+    /// loaded by the pinion torque `torque_nm` (N·m).
     /// Errors if the data do not match `geo`'s gear pair.
     pub fn pair_stiffness(
         &self,
         geo: &PairGeometry,
         slices: usize,
+        torque_nm: f64,
     ) -> Result<PairStiffness, ComplianceError> {
         if !self.matches(&geo.params) {
             return Err(ComplianceError::Input(
@@ -699,7 +701,7 @@ impl ComplianceData {
         }
         let p = self.interpolated(Member::Pinion)?;
         let g = self.interpolated(Member::Gear)?;
-        pair_stiffness(geo, &p, &g, slices)
+        pair_stiffness(geo, &p, &g, slices, torque_nm)
     }
 
     /// Consistency checks of stored data: format version, valid grids with the provenance's

@@ -7,7 +7,7 @@
 //! position the whole line lies on the involutes, well inside the path of contact. It is cut
 //! into `slices` equal axial slices (ζ_i at the slice centres, contact-line length per slice
 //! w = m_n·Δζ/cos β_b) and loaded with a uniform load intensity q (N per m of contact line)
-//! that carries the whole torque T = |`drive.torque_nm`| on this one pair: the transverse
+//! that carries the whole torque T = |`torque_nm`| (the argument, N·m) on this one pair: the transverse
 //! force at the pinion base circle is F_bt = T/r_bp, the normal force F_n = F_bt/cos β_b and
 //! the contact-line length L = b/cos β_b, so
 //!
@@ -116,25 +116,26 @@ impl PairStiffness {
 
 /// The single tooth-pair stiffness of `geo` at the pitch point (see the module docs) with the
 /// global same-tooth compliances `pinion` and `gear` (their depths h are used for the local
-/// term) and `slices` axial slices (≥ 2).
+/// term) and `slices` axial slices (≥ 2), loaded by the pinion torque `torque_nm` (N·m; its
+/// magnitude counts, e.g. the drive line's `torque_nm`; Table 1: 100 N·m).
 ///
-/// Errors: `slices` < 2, a zero torque, a slice where pair 0 has no involute/involute contact
+/// Errors: `slices` < 2, a zero or non-finite torque, a slice where pair 0 has no involute/involute contact
 /// at the load position, or a failing local term.
 pub fn pair_stiffness(
     geo: &PairGeometry,
     pinion: &dyn Compliance,
     gear: &dyn Compliance,
     slices: usize,
+    torque_nm: f64,
 ) -> Result<PairStiffness, ComplianceError> {
     if slices < 2 {
         return Err(ComplianceError::Input(format!("slices = {slices}: allowed >= 2")));
     }
     let p = &geo.params;
-    let torque = p.drive.torque_nm.abs();
+    let torque = torque_nm.abs();
     if !(torque > 0.0 && torque.is_finite()) {
         return Err(ComplianceError::Input(format!(
-            "drive.torque_nm = {}: the pair stiffness needs a non-zero finite torque",
-            p.drive.torque_nm
+            "torque_nm = {torque_nm:.3e}: the pair stiffness needs a non-zero finite torque"
         )));
     }
     let b = p.face_width_m;

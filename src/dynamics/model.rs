@@ -61,7 +61,7 @@ use crate::error::ParamError;
 use crate::geometry::PairGeometry;
 use crate::mesh::statics::{EquilibriumSettings, equilibrium};
 use crate::mesh::{MeshError, MeshOutputs, MeshState, MeshTorques, WarmStart};
-use crate::params::GearPair;
+use crate::params::{DriveLine, GearPair};
 
 /// Index of φ₁ (driving mass angle, rad) in the state vector.
 pub const PHI_1: usize = 0;
@@ -231,24 +231,31 @@ pub struct Drivetrain {
 }
 
 impl Drivetrain {
-    /// The drivetrain of a gear pair: M, J₁, J₂, c₁, c₂, d₁, d₂ from [`GearPair::drive`], J_p,
-    /// J_g of the gear bodies (teeth and web to the bore) from [`PairGeometry`].
-    pub fn from_pair(pair: &GearPair) -> Result<Self, ParamError> {
-        let g = PairGeometry::new(pair)?;
-        let d = &pair.drive;
+    /// The drivetrain of a gear pair with the drive line `drive`: M, J₁, J₂, c₁, c₂, d₁, d₂
+    /// from `drive` (checked against its bounds, [`DriveLine::check`]), J_p, J_g of the gear
+    /// bodies (teeth and web to the bore) and z_p, z_g from the validated geometry `geo`.
+    pub fn new(geo: &PairGeometry, drive: &DriveLine) -> Result<Self, ParamError> {
+        drive.check()?;
+        let d = drive;
         Ok(Self {
             torque: d.torque_nm,
             j1: d.j1_kgm2,
-            j_p: g.j_p,
-            j_g: g.j_g,
+            j_p: geo.j_p,
+            j_g: geo.j_g,
             j2: d.j2_kgm2,
             c1: d.c1_nm_per_rad,
             c2: d.c2_nm_per_rad,
             d1: d.d1_nms_per_rad,
             d2: d.d2_nms_per_rad,
-            z_p: pair.z_p,
-            z_g: pair.z_g,
+            z_p: geo.params.z_p,
+            z_g: geo.params.z_g,
         })
+    }
+
+    /// [`Drivetrain::new`] from the gear pair `pair` (validated and its geometry derived
+    /// here) and the drive line `drive`.
+    pub fn from_pair(pair: &GearPair, drive: &DriveLine) -> Result<Self, ParamError> {
+        Self::new(&PairGeometry::new(pair)?, drive)
     }
 
     /// Braking torque on J₂, M·z_g/z_p, N·m (enters Eq. 4 with a plus sign; see the module

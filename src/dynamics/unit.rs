@@ -240,7 +240,7 @@ pub const MAX_ANGLE_RAD: f64 = 1e15;
 /// running speed; beyond, the damping torques and the integrator's work per period explode).
 pub const MAX_SPEED_RAD_S: f64 = crate::mesh::validity::MAX_SPEED_RAD_S;
 
-/// Largest |torque| input of a unit, N·m (the range of the pair's `drive.torque_nm`).
+/// Largest |torque| input of a unit, N·m (the range of the drive line's `torque_nm`).
 pub const MAX_TORQUE_NM: f64 = 1e9;
 
 /// Checks `v` of the value named `name` against |v| ≤ `max` (finite).

@@ -18,8 +18,9 @@
 //! ([`MESH_OUTPUTS`], 10–21) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
-//! joined by a dot (`material_p.youngs_modulus_pa`, `drive.torque_nm`), so that a parameter
-//! error from the library (which names the JSON key) names the FMI variable too. The one
+//! joined by a dot (`material_p.youngs_modulus_pa`), the drive line's by `drive.` and their
+//! key in the drive-line JSON (`DriveLine`, [`Settings::drive`]: `drive.torque_nm`), so that
+//! a parameter error from the library (which names the JSON key) names the FMI variable too. The one
 //! exception is the mesh damping: JSON key `d_mesh_n_s_per_m`, FMI variable `d_mesh` (tunable).
 //!
 //! For compatibility the items of the `HelicalGearMesh` model are re-exported here
@@ -29,14 +30,17 @@ use crate::dynamics::HubCoupling;
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
 use crate::options::OptionEnum;
 
-use crate::params::{self as P, Bounds, GearPair};
+use crate::params::{self as P, Bounds, DriveLine, GearPair};
 
-/// Everything the parameters of an instance set: the gear pair, the mesh options and the
-/// options of the stateful models (unused by `HelicalGearMesh`).
+/// Everything the parameters of an instance set: the gear pair, the drive line, the mesh
+/// options and the options of the stateful models (the drive line and the unit options are
+/// unused by `HelicalGearMesh`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
-    /// Gear pair (geometry, materials, mesh damping, drive line).
+    /// Gear pair (geometry, materials, mesh damping).
     pub pair: GearPair,
+    /// Drive line (torque, inertias, shafts): the parameters `drive.*` of the stateful models.
+    pub drive: DriveLine,
     /// Options of the mesh model (fidelity, slices, compliance representation …).
     pub options: MeshOptions,
     /// Start and integration options of the stateful models.
@@ -44,11 +48,12 @@ pub struct Settings {
 }
 
 impl Default for Settings {
-    /// The paper's Table 1 gear pair with the default [`MeshOptions`] (full fidelity) and the
-    /// default [`UnitOptions`]: the start values of `HelicalGearMesh`.
+    /// The paper's Table 1 gear pair and drive line with the default [`MeshOptions`] (full
+    /// fidelity) and the default [`UnitOptions`]: the start values of `HelicalGearMesh`.
     fn default() -> Self {
         Self {
             pair: GearPair::paper_table1(),
+            drive: DriveLine::paper_table1(),
             options: MeshOptions::default(),
             unit: UnitOptions::default(),
         }
@@ -561,8 +566,17 @@ pub(crate) const NONE: Variable = Variable {
     derivative_of: None,
 };
 
-/// A Real `fixed` parameter stored in [`Settings::pair`].
+/// A Real `fixed` parameter stored in [`Settings::pair`] (`drive.<field>`: in
+/// [`Settings::drive`]).
 macro_rules! real_param {
+    // A drive-line parameter: a field of `Settings::drive`.
+    ($name:literal, $vr:expr, $group:expr, $bounds:expr, $unit:expr, $disp:expr, $q:expr,
+     $desc:literal, drive . $field:ident) => {
+        Variable {
+            access: Access::RealParam(|s| s.drive.$field, |s, v| s.drive.$field = v),
+            ..real_param!($name, $vr, $group, $bounds, $unit, $disp, $q, $desc, d_mesh_n_s_per_m)
+        }
+    };
     ($name:literal, $vr:expr, $group:expr, $bounds:expr, $unit:expr, $disp:expr, $q:expr,
      $desc:literal, $($field:ident).+) => {
         Variable {

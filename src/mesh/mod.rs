@@ -169,6 +169,12 @@ pub struct MeshOptions {
     pub table_phase_points: usize,
     /// Table resolution: points along TE.
     pub table_te_points: usize,
+    /// Table fidelity: the design torque on the pinion, N·m, whose static TE sizes the
+    /// table's TE range (driving flanks up to 4× the largest static TE at this torque; see
+    /// [`table`]). Its magnitude, in [`table::TABLE_DESIGN_TORQUE_NM`]; default 100 N·m, the
+    /// torque of Table 1. The drive-line units set it to max(|M|, 1 N·m) of their drive line's
+    /// torque M. Unused at full fidelity (still checked).
+    pub table_design_torque_nm: f64,
     /// A Winkler reference compliance instead of the FE data: the tooth-pair stiffness c′ per
     /// unit contact-line length, N/m² (1 N/(mm·µm) = 1e9 N/m²), pure linear springs along the
     /// line (each slice deflects under its own load only, no neighbour teeth), split equally
@@ -190,8 +196,18 @@ impl Default for MeshOptions {
             detail: false,
             table_phase_points: 64,
             table_te_points: 48,
+            table_design_torque_nm: 100.0,
             winkler_c_prime: None,
         }
+    }
+}
+
+impl MeshOptions {
+    /// These options with the table sized for the drive line `drive`:
+    /// [`MeshOptions::table_design_torque_nm`] = max(|M|, 1 N·m) of its torque M (the rule of
+    /// the drive-line units, the C API, the CLI and Python).
+    pub fn sized_for(self, drive: &crate::params::DriveLine) -> Self {
+        Self { table_design_torque_nm: drive.torque_nm.abs().max(1.0), ..self }
     }
 }
 
@@ -483,6 +499,7 @@ impl Mesh {
     fn check_options(options: &MeshOptions) -> Result<(), MeshError> {
         model::check_options(options)?;
         table::check_table_size(options.table_phase_points, options.table_te_points)?;
+        table::check_design_torque(options.table_design_torque_nm)?;
         Ok(())
     }
 
@@ -494,6 +511,7 @@ impl Mesh {
     pub fn from_model(model: Arc<MeshModel>) -> Result<Self, MeshError> {
         let o = model.options();
         table::check_table_size(o.table_phase_points, o.table_te_points)?;
+        table::check_design_torque(o.table_design_torque_nm)?;
         // The table needs the part of the modifications that repeats on every tooth to remove
         // material only (no contact below TE = 0); otherwise the mesh stays at full fidelity.
         // Tooth-by-tooth deviations are added per tooth pair on a per-pair table

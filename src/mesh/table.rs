@@ -7,7 +7,10 @@
 //!
 //! * phase: `table_phase_points` uniform nodes over one pinion pitch, periodic;
 //! * TE, driving flanks: `table_te_points` nodes on [0, TE_hi] with TE_hi = 4× the largest
-//!   static TE at the nominal torque (heavy overload: about 4–5× the torque);
+//!   static TE (over 8 phases) at the design torque `table_design_torque_nm` of
+//!   [`MeshOptions`](super::MeshOptions) (default 100 N·m, Table 1's torque; the drive-line
+//!   units set it to max(|M|, 1 N·m) of their torque M), the table's nominal torque (heavy
+//!   overload: about 4–5× the torque);
 //! * TE, back flanks: `table_te_points / 2` (at least 8) nodes on [−j_t − TE_hi/2, −j_t]
 //!   (j_t the backlash along the line of action).
 //!
@@ -116,6 +119,19 @@ pub fn check_table_size(
         ));
     }
     Ok(())
+}
+
+/// Design torque of the table `table_design_torque_nm` ([`super::MeshOptions`]): 1 N·m …
+/// 1e9 N·m (the drive line's torque limit, [`crate::params::DRIVE_TORQUE_NM`]; below 1 N·m
+/// the static TE of most designs is lost in the light-load grading, and the units round a
+/// smaller |M| up to 1 N·m), N·m.
+pub const TABLE_DESIGN_TORQUE_NM: crate::params::Bounds<f64> =
+    crate::params::Bounds::new(1.0, 1e9, "N.m");
+
+/// Checks the table's design torque against [`TABLE_DESIGN_TORQUE_NM`]; the error names the
+/// option `table_design_torque_nm`, its value and the range.
+pub fn check_design_torque(torque_nm: f64) -> Result<(), crate::error::ParamError> {
+    TABLE_DESIGN_TORQUE_NM.check("table_design_torque_nm", torque_nm)
 }
 
 /// Number of interpolated real-valued outputs per node.

@@ -64,11 +64,15 @@ impl Material {
     }
 }
 
-/// The parts connected to the gear set (paper Fig. 1 and Eqs. 1–4).
+/// The parts connected to the gear set (paper Fig. 1 and Eqs. 1–4): not part of the
+/// [`GearPair`] (the gear pair describes the gears; the mesh element does not depend on what
+/// drives it), given beside it to what needs it (CLI `--drive FILE`, Python `drive=`, the C
+/// API's `drive_json`, the FMU parameters `drive.*` of the stateful models).
 ///
 /// Sign convention: the driving torque `torque_nm` acts on the driving inertia J₁ in the positive
 /// rotational sense; the braking torque `torque_nm·z_g/z_p` acts on J₂ (Eq. 4). In JSON every
-/// key is optional (missing keys: [`DriveLine::paper_table1`]); unknown keys are an error.
+/// key is optional (missing keys: [`DriveLine::paper_table1`]); unknown keys are an error
+/// ([`DriveLine::from_json`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DriveLine {
@@ -109,14 +113,28 @@ impl DriveLine {
             d2_nms_per_rad: 0.04,
         }
     }
+
+    /// Reads a drive line from JSON text (the schema of this struct: missing keys from
+    /// [`DriveLine::paper_table1`], unknown keys an error naming the key, an array or any
+    /// other non-object an error).
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        const WHAT: &str = "drive-line JSON";
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| format!("{WHAT}: {e}"))?;
+        json_object(WHAT, &value, "(the drive line)", false)?;
+        serde_json::from_value(value).map_err(|e| format!("{WHAT}: {e}"))
+    }
 }
 
 /// All data of one helical gear pair (the JSON schema of `--params FILE`).
 ///
 /// Angles in rad, lengths in m, basic-rack quantities in units of m_n (keys ending `_mn`).
 ///
+/// The drive line (torque, inertias, shafts) is not part of the pair: it is a [`DriveLine`]
+/// given beside it.
+///
 /// In JSON every key is optional: a missing key takes its value from Table 1
-/// ([`GearPair::paper_table1`]; inside `material_p`, `material_g` and `drive` key by key), so
+/// ([`GearPair::paper_table1`]; inside `material_p` and `material_g` key by key), so
 /// `{"helix_angle_rad": 0.2}` is Table 1 with β = 0.2 rad. Unknown keys are an error naming
 /// the key. This is the one filling rule of every interface (CLI `--params`, Python, the C API).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -161,8 +179,6 @@ pub struct GearPair {
     pub material_g: Material,
     /// Mesh damping coefficient d_mesh of Eq. 14, N·s/m.
     pub d_mesh_n_s_per_m: f64,
-    /// The shafts and masses on both sides (Eqs. 1–4).
-    pub drive: DriveLine,
     /// Flank modifications, misalignment and tooth deviations ([`crate::modifications`]);
     /// all zero by default, and left out when serialised at the default.
     #[serde(skip_serializing_if = "Modifications::is_default")]
@@ -178,7 +194,7 @@ impl Default for GearPair {
 impl GearPair {
     /// The paper's Table 1 gear pair: z = 30/47, m_n = 3 mm, α_n = 20°, β = 10°, b = 15 mm,
     /// ρ_fP = 0.35·m_n, δ = 0.015·m_n, H = 0.5·m_n, tip rounding 0.05·m_n, bore 15 mm,
-    /// j_n = 0.0725·m_n, and the drive line of Table 1.
+    /// j_n = 0.0725·m_n (the drive line of Table 1 is [`DriveLine::paper_table1`]).
     ///
     /// Not given by the paper and assumed here (printed in every run summary): zero profile
     /// shift, ISO 53 addendum 1.0 and dedendum 1.25, steel (E = 206 GPa, ν = 0.3,
@@ -204,7 +220,6 @@ impl GearPair {
             material_p: Material::steel(),
             material_g: Material::steel(),
             d_mesh_n_s_per_m: 100.0,
-            drive: DriveLine::paper_table1(),
             modifications: Modifications::default(),
         }
     }
@@ -241,7 +256,9 @@ impl GearPair {
     }
 
     /// Reads a gear pair from JSON text (the schema of this struct: missing keys from Table 1,
-    /// unknown keys an error naming the key).
+    /// unknown keys an error naming the key). A `drive` key (the drive line, once part of the
+    /// pair) is refused with a message saying where the drive line goes now
+    /// ([`DRIVE_MOVED`]).
     /// Every object of the schema must be a JSON object: with missing keys filled in, serde
     /// would read an array (`[]`) as a struct of defaults, so an array where an object belongs
     /// is an error naming its key.
@@ -303,8 +320,7 @@ impl GearPair {
             POISSON_RATIO.check(&format!("{key}.poisson_ratio"), m.poisson_ratio)?;
             DENSITY_KG_M3.check(&format!("{key}.density_kg_m3"), m.density_kg_m3)?;
         }
-        check_d_mesh(self.d_mesh_n_s_per_m)?;
-        self.drive.check()
+        check_d_mesh(self.d_mesh_n_s_per_m)
     }
 }
 
@@ -453,8 +469,10 @@ pub const DRIVE_STIFFNESS_NM_PER_RAD: Bounds<f64> = Bounds::new(1e-9, 1e15, "N.m
 /// Shaft damping d₁, d₂: 0 … 1e12 N·m·s/rad.
 pub const DRIVE_DAMPING_NMS_PER_RAD: Bounds<f64> = Bounds::new(0.0, 1e12, "N.m.s/rad");
 
-/// Every numeric key of the gear-pair JSON with its range: (key, nested keys joined by a dot;
-/// min; max; unit), integers as `f64`. The list Python exposes as `helical_gear.BOUNDS`.
+/// Every numeric key of the gear-pair JSON and of the drive-line JSON (prefixed `drive.`, the
+/// names of the FMU parameters and of the design-table columns) with its range: (key, nested
+/// keys joined by a dot; min; max; unit), integers as `f64`. The list Python exposes as
+/// `helical_gear.BOUNDS`.
 pub fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
     let z = |b: Bounds<i64>| Bounds::new(b.min as f64, b.max as f64, b.unit);
     let mut v: Vec<(String, Bounds<f64>)> = vec![
@@ -491,6 +509,13 @@ pub fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
     v.into_iter().map(|(k, b)| (k, b.min, b.max, b.unit)).collect()
 }
 
+/// The refusal of a `drive` key in the gear-pair JSON: the drive line is not part of the
+/// pair; where it goes instead.
+pub const DRIVE_MOVED: &str = "`drive` is no longer part of the gear pair: give the drive line \
+     (torque_nm, j1_kgm2, j2_kgm2, c1_nm_per_rad, c2_nm_per_rad, d1_nms_per_rad, \
+     d2_nms_per_rad) as its own JSON object (CLI `--drive FILE`, Python `drive=`, C API \
+     `drive_json`)";
+
 /// Largest mesh damping coefficient d_mesh (Eq. 14), N·s/m: the range of the JSON key
 /// `d_mesh_n_s_per_m` (FMI parameter `d_mesh`) is [`D_MESH_N_S_PER_M`].
 pub const D_MESH_MAX_N_S_PER_M: f64 = 1e9;
@@ -506,13 +531,16 @@ pub fn check_d_mesh(d_mesh: f64) -> Result<(), ParamError> {
 }
 
 /// Checks that the gear-pair JSON `v` has an object wherever the schema has a struct (the pair
-/// itself, `material_p`, `material_g`, `drive`, `modifications` with its `pinion` and `gear`,
-/// their `end_relief`, `tip_relief` and `deviation_map`); `null` is allowed where the field is
-/// optional. The error names the key.
+/// itself, `material_p`, `material_g`, `modifications` with its `pinion` and `gear`, their
+/// `end_relief`, `tip_relief` and `deviation_map`); `null` is allowed where the field is
+/// optional. The error names the key. A `drive` key is refused with [`DRIVE_MOVED`].
 fn objects_where_structs(v: &serde_json::Value) -> Result<(), String> {
     const WHAT: &str = "gear-pair JSON";
     let Some(top) = json_object(WHAT, v, "(the gear pair)", false)? else { return Ok(()) };
-    for key in ["material_p", "material_g", "drive"] {
+    if top.contains_key("drive") {
+        return Err(format!("{WHAT}: {DRIVE_MOVED}"));
+    }
+    for key in ["material_p", "material_g"] {
         if let Some(x) = top.get(key) {
             json_object(WHAT, x, key, false)?;
         }

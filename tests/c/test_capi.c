@@ -65,14 +65,31 @@ static void test_capi(void) {
             " \"density_kg_m3\": 7850.0},"
             " \"material_g\": {\"youngs_modulus_pa\": 206e9, \"poisson_ratio\": 0.3,"
             " \"density_kg_m3\": 7850.0},"
-            " \"d_mesh_n_s_per_m\": 100.0,"
-            " \"drive\": {\"torque_nm\": 100.0, \"j1_kgm2\": 0.62, \"j2_kgm2\": 0.62,"
-            " \"c1_nm_per_rad\": 984.0, \"c2_nm_per_rad\": 984.0, \"d1_nms_per_rad\": 0.04,"
-            " \"d2_nms_per_rad\": 0.04}}";
+            " \"d_mesh_n_s_per_m\": 100.0}";
         CHECK(hgm_create_from_json(bad) == NULL, "z_p = 12 is below the undercut limit");
         CHECK(strstr(hgm_last_error(NULL), "`z_p` = 12") != NULL, "message: %s",
               hgm_last_error(NULL));
     }
+    /* The drive line is not part of the gear pair: a pair with `drive` is refused with a
+       message that says where it goes now. */
+    CHECK(hgm_create_from_json("{\"drive\": {\"torque_nm\": 50}}") == NULL, "pair with drive");
+    CHECK(strstr(hgm_last_error(NULL), "drive_json") != NULL, "message: %s",
+          hgm_last_error(NULL));
+    CHECK(hgm_unit_create(HGM_UNIT_KIND_DRIVE, "{\"drive\": {}}", NULL, HGM_FIDELITY_FULL, 128,
+                          0, 0) == NULL,
+          "unit pair with drive");
+    CHECK(strstr(hgm_unit_last_error(NULL), "drive_json") != NULL, "message: %s",
+          hgm_unit_last_error(NULL));
+    /* A drive line with an unknown key, or not an object, is refused naming it. */
+    CHECK(hgm_unit_create(HGM_UNIT_KIND_DRIVE, NULL, "{\"torque\": 1}", HGM_FIDELITY_FULL, 128,
+                          0, 0) == NULL,
+          "drive line with an unknown key");
+    CHECK(strstr(hgm_unit_last_error(NULL), "torque") != NULL, "message: %s",
+          hgm_unit_last_error(NULL));
+    CHECK(hgm_unit_create(HGM_UNIT_KIND_DRIVE, NULL, "[]", HGM_FIDELITY_FULL, 128, 0, 0) == NULL,
+          "drive line []");
+    CHECK(strstr(hgm_unit_last_error(NULL), "must be an object") != NULL, "message: %s",
+          hgm_unit_last_error(NULL));
     hgm_free(NULL);
 
     HgmModel *m = hgm_create_default();
@@ -138,21 +155,34 @@ static void test_units(void) {
     CHECK(hgm_unit_advance(NULL, 1e-4) == HGM_STATUS_INVALID_ARGUMENT, "NULL unit");
     CHECK(strstr(hgm_unit_last_error(NULL), "NULL") != NULL, "message: %s",
           hgm_unit_last_error(NULL));
-    CHECK(hgm_unit_create(HGM_UNIT_KIND_STAGE, NULL, HGM_FIDELITY_TABLE, 2, 0, 0) == NULL,
+    CHECK(hgm_unit_create(HGM_UNIT_KIND_STAGE, NULL, NULL, HGM_FIDELITY_TABLE, 2, 0, 0) == NULL,
           "too few steps per mesh period");
     CHECK(strstr(hgm_unit_last_error(NULL), "steps_per_mesh_period") != NULL, "message: %s",
           hgm_unit_last_error(NULL));
     /* The enum arguments are integers checked against their allowed values. */
-    CHECK(hgm_unit_create(3, NULL, HGM_FIDELITY_TABLE, 128, 0, 0) == NULL, "kind 3");
+    CHECK(hgm_unit_create(3, NULL, NULL, HGM_FIDELITY_TABLE, 128, 0, 0) == NULL, "kind 3");
     CHECK(strstr(hgm_unit_last_error(NULL), "`kind` = 3") != NULL, "message: %s",
           hgm_unit_last_error(NULL));
-    CHECK(hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, -1, 128, 0, 0) == NULL, "fidelity -1");
+    CHECK(hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, NULL, -1, 128, 0, 0) == NULL, "fidelity -1");
     CHECK(strstr(hgm_unit_last_error(NULL), "`fidelity` = -1") != NULL, "message: %s",
           hgm_unit_last_error(NULL));
     hgm_unit_free(NULL);
 
     /* The whole drive at 532 rad/s from its static equilibrium. */
-    HgmUnit *u = hgm_unit_create(HGM_UNIT_KIND_DRIVE, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+    /* A partial drive line (missing keys from Table 1): the static start carries its torque. */
+    HgmUnit *h = hgm_unit_create(HGM_UNIT_KIND_DRIVE, NULL, "{\"torque_nm\": 50}",
+                                 HGM_FIDELITY_FULL, 128, 0, 0);
+    CHECK(h != NULL, "drive unit at 50 N.m: %s", hgm_unit_last_error(NULL));
+    if (h != NULL) {
+        CHECK(hgm_unit_start_static(h, 0.0, 532.0) == HGM_STATUS_OK, "%s",
+              hgm_unit_last_error(h));
+        HgmUnitOutputs oh;
+        CHECK(hgm_unit_outputs(h, &oh) == HGM_STATUS_OK, "%s", hgm_unit_last_error(h));
+        CHECK(fabs(oh.tau_1 + 50.0) < 0.5, "static start at 50 N.m: tau_1 %g", oh.tau_1);
+        hgm_unit_free(h);
+    }
+
+    HgmUnit *u = hgm_unit_create(HGM_UNIT_KIND_DRIVE, NULL, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
     CHECK(u != NULL, "drive unit: %s", hgm_unit_last_error(NULL));
     CHECK(hgm_unit_start_static(u, 0.0, 532.0) == HGM_STATUS_OK, "%s", hgm_unit_last_error(u));
     HgmUnitOutputs out;
@@ -202,8 +232,8 @@ static void test_units(void) {
        straight-line torque ramp over one step. The impulse of a ramp r over H equals that of
        the torque held at its mid-step value, so the pinion speeds after the step agree to the
        change of the mesh torques over the step (far below the 0.05 rad/s checked). */
-    HgmUnit *p = hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
-    HgmUnit *q = hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+    HgmUnit *p = hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
+    HgmUnit *q = hgm_unit_create(HGM_UNIT_KIND_PAIR, NULL, NULL, HGM_FIDELITY_TABLE, 128, 0, 0);
     CHECK(p != NULL && q != NULL, "pair units: %s", hgm_unit_last_error(NULL));
     CHECK(hgm_unit_set_hub_coupling(p, -1.0, 0.0, 0.0, 0.0) == HGM_STATUS_INVALID_ARGUMENT,
           "negative coupling");

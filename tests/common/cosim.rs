@@ -27,7 +27,7 @@ pub fn table_mesh() -> (Mesh, Drivetrain) {
         let pair = GearPair::paper_table1();
         let options = MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() };
         let mesh = Mesh::new(&pair, options).unwrap();
-        (mesh, Drivetrain::from_pair(&pair).unwrap())
+        (mesh, Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap())
     });
     (m.clone(), *d)
 }

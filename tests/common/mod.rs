@@ -38,7 +38,11 @@ pub fn table1_geometry() -> PairGeometry {
 pub fn table1_drive_radii() -> (Drivetrain, f64, f64) {
     let pair = GearPair::paper_table1();
     let g = PairGeometry::new(&pair).unwrap();
-    (Drivetrain::from_pair(&pair).unwrap(), g.pinion.rb, g.gear.rb)
+    (
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap(),
+        g.pinion.rb,
+        g.gear.rb,
+    )
 }
 
 /// The angular pitch of the Table 1 pinion, 2π/z_p, rad.

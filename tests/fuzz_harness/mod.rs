@@ -244,19 +244,22 @@ fn check_mesh_outputs(what: &str, o: &MeshOutputs) {
 fn same_compliance_as_table1(p: &GearPair) -> bool {
     let t = GearPair::paper_table1();
     let mut q = p.clone();
-    q.drive = t.drive;
     q.d_mesh_n_s_per_m = t.d_mesh_n_s_per_m;
     q.modifications = t.modifications.clone();
     q == t
 }
 
 /// The gear-pair JSON of the bytes (as UTF-8, lossy), parsed and validated: geometry, the
-/// modifications against it and the drive line. Stops before any FE run.
+/// modifications against it and a drivetrain with Table 1's drive line; the same bytes read
+/// as a drive line. Stops before any FE run.
 ///
 /// Checked: no panic; a pair that validates has a finite derived geometry and survives a JSON
 /// round trip unchanged.
 pub fn gear_pair_json(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
+    if let Ok(d) = helical_gear_mesh::DriveLine::from_json(&text) {
+        let _ = d.check();
+    }
     let Ok(pair) = GearPair::from_json(&text) else { return };
     let Ok(geo) = PairGeometry::new(&pair) else { return };
     pair.validate().expect("validate agrees with PairGeometry::new");
@@ -274,7 +277,10 @@ pub fn gear_pair_json(data: &[u8]) {
     ] {
         finite(&format!("geometry {n}"), v);
     }
-    if let Ok(d) = helical_gear_mesh::dynamics::Drivetrain::from_pair(&pair) {
+    if let Ok(d) = helical_gear_mesh::dynamics::Drivetrain::from_pair(
+        &pair,
+        &helical_gear_mesh::DriveLine::paper_table1(),
+    ) {
         let _ = d.validate();
     }
     let _ = helical_gear_mesh::modifications::Separation::new(&geo);
@@ -360,16 +366,17 @@ pub fn mesh_evaluate(data: &[u8]) {
 // ---------------------------------------------------------------------------------------------
 
 /// `hgm_unit_create` with its enums as plain integers, as a C caller may pass them.
-type UnitCreateInts = unsafe extern "C" fn(i32, *const c_char, i32, u32, f64, f64) -> *mut HgmUnit;
+type UnitCreateInts =
+    unsafe extern "C" fn(i32, *const c_char, *const c_char, i32, u32, f64, f64) -> *mut HgmUnit;
 
-/// Table 1 gear-pair JSON with the drive line and d_mesh scaled by fuzzed factors (never a
-/// new geometry: no FE run), or the bytes' own text when it has Table 1's compliance data or
-/// does not read as a pair at all.
+/// Table 1 gear-pair JSON with d_mesh scaled by a fuzzed factor (never a new geometry: no FE
+/// run), or the bytes' own text when it has Table 1's compliance data or does not read as a
+/// pair at all.
 fn pair_json(b: &mut Bytes) -> CString {
     if b.u8() < 32 {
         let text = String::from_utf8_lossy(b.chunk(200)).into_owned();
         let ok = match GearPair::from_json(&text) {
-            Ok(p) => same_compliance_as_table1(&p) && drive_is_bounded(&p),
+            Ok(p) => same_compliance_as_table1(&p),
             Err(_) => true,
         };
         if ok {
@@ -377,15 +384,33 @@ fn pair_json(b: &mut Bytes) -> CString {
         }
     }
     let mut p = GearPair::paper_table1();
-    let d = &mut p.drive;
+    p.d_mesh_n_s_per_m = b.f64_near(p.d_mesh_n_s_per_m, 4.0);
+    CString::new(serde_json::to_string(&p).expect("serialises")).expect("no NUL")
+}
+
+/// Table 1's drive-line JSON with every value scaled by fuzzed factors, or the bytes' own text
+/// when it reads as a drive line within the harness's bounds or not at all.
+fn drive_json(b: &mut Bytes) -> CString {
+    use helical_gear_mesh::DriveLine;
+    if b.u8() < 32 {
+        let text = String::from_utf8_lossy(b.chunk(200)).into_owned();
+        let ok = match DriveLine::from_json(&text) {
+            Ok(d) => drive_is_bounded(&d),
+            Err(_) => true,
+        };
+        if ok {
+            return CString::new(text.replace('\0', " ")).unwrap_or_default();
+        }
+    }
+    let mut line = DriveLine::paper_table1();
+    let d = &mut line;
     for x in [&mut d.j1_kgm2, &mut d.j2_kgm2, &mut d.c1_nm_per_rad, &mut d.c2_nm_per_rad] {
         *x = bounded_scale(b, *x);
     }
     d.d1_nms_per_rad = bounded_scale(b, d.d1_nms_per_rad);
     d.d2_nms_per_rad = bounded_scale(b, d.d2_nms_per_rad);
     d.torque_nm = b.f64_near(d.torque_nm, 2.0);
-    p.d_mesh_n_s_per_m = b.f64_near(p.d_mesh_n_s_per_m, 4.0);
-    CString::new(serde_json::to_string(&p).expect("serialises")).expect("no NUL")
+    CString::new(serde_json::to_string(&line).expect("serialises")).expect("no NUL")
 }
 
 /// `x` scaled by a factor in [MIN_INERTIA, 1/MIN_INERTIA], or sometimes a value the
@@ -400,10 +425,9 @@ fn bounded_scale(b: &mut Bytes, x: f64) -> f64 {
     }
 }
 
-/// True when the drive line of `p` is within the harness's bounds (or invalid).
-fn drive_is_bounded(p: &GearPair) -> bool {
-    let t = GearPair::paper_table1().drive;
-    let d = &p.drive;
+/// True when the drive line `d` is within the harness's bounds (or invalid).
+fn drive_is_bounded(d: &helical_gear_mesh::DriveLine) -> bool {
+    let t = helical_gear_mesh::DriveLine::paper_table1();
     [
         (d.j1_kgm2, t.j1_kgm2),
         (d.j2_kgm2, t.j2_kgm2),
@@ -492,6 +516,8 @@ pub fn capi(data: &[u8]) {
         let kind = enum_int(&mut b, 3);
         let fidelity = enum_int(&mut b, 2);
         let json = if b.bool() { Some(pair_json(&mut b)) } else { None };
+        let drive = if b.bool() { Some(drive_json(&mut b)) } else { None };
+        let drive_ptr = drive.as_ref().map_or(null(), |j| j.as_ptr());
         let steps = match b.u8() {
             0..=63 => 0,
             x => u32::from(x) % MAX_RK4_STEPS as u32,
@@ -504,11 +530,12 @@ pub fn capi(data: &[u8]) {
         let fid_arg = if (0..2).contains(&fidelity) { HgmFidelity::Full as i32 } else { fidelity };
         let create: UnitCreateInts = hgm_unit_create;
         let u = if (0..3).contains(&kind) && (0..2).contains(&fid_arg) {
-            create(kind, json.as_ref().map_or(null(), |j| j.as_ptr()), fid_arg, steps, rtol, atol)
+            let pair_ptr = json.as_ref().map_or(null(), |j| j.as_ptr());
+            create(kind, pair_ptr, drive_ptr, fid_arg, steps, rtol, atol)
         } else if b.bool() {
             // Out of range: must be refused (NULL). The pair is Table 1's, so that a wrongly
             // accepted enum needs no FE run (a fidelity taken as the table still builds one).
-            let u = create(kind, null(), fid_arg, steps, rtol, atol);
+            let u = create(kind, null(), null(), fid_arg, steps, rtol, atol);
             if !u.is_null() {
                 hgm_unit_free(u);
                 panic!("hgm_unit_create accepted kind {kind}, fidelity {fid_arg}");

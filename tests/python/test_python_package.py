@@ -34,17 +34,47 @@ def test_gear_pair_defaults_round_trip_and_pickle():
     p = hg.GearPair()
     assert p.z_p == 30 and p.z_g == 47
     assert p.helix_angle_rad == pytest.approx(math.radians(10.0), rel=0, abs=1e-15)
-    assert p.drive.torque_nm == 100.0
+    assert hg.DriveLine().torque_nm == 100.0
     assert p.beta == p.helix_angle_rad and p.m_n == p.normal_module_m  # ISO symbols
     assert hg.GearPair.from_json(p.to_json()) == p
     assert pickle.loads(pickle.dumps(p)) == p
-    q = p.replace(beta=0.2, **{"drive.torque_nm": 50.0})
-    assert (q.helix_angle_rad, q.drive.torque_nm, q.z_p) == (0.2, 50.0, 30)
-    assert hg.GearPair(drive={"torque_nm": 50.0}, helix_angle_rad=0.2) == q
-    assert q.flat()["drive.torque_nm"] == 50.0
+    q = p.replace(beta=0.2, **{"material_g.poisson_ratio": 0.29})
+    assert (q.helix_angle_rad, q.material_g.poisson_ratio, q.z_p) == (0.2, 0.29, 30)
+    assert hg.GearPair(material_g={"poisson_ratio": 0.29}, helix_angle_rad=0.2) == q
+    assert q.flat()["material_g.poisson_ratio"] == 0.29
     assert hash(q) == hash(hg.GearPair.from_json(q.to_json()))
     with pytest.raises(AttributeError):
         p.z_p = 31
+
+
+def test_drive_line_defaults_partial_replace_and_pickle():
+    d = hg.DriveLine()
+    assert (d.torque_nm, d.j1_kgm2, d.c2_nm_per_rad, d.d1_nms_per_rad) == (100.0, 0.62, 984.0, 0.04)
+    q = d.replace(torque_nm=50.0)
+    assert (q.torque_nm, q.j1_kgm2) == (50.0, 0.62)
+    assert hg.DriveLine(T1=50.0) == q == hg.DriveLine.from_json('{"torque_nm": 50}')
+    assert json.loads(q.to_json())["torque_nm"] == 50.0
+    assert hg.DriveLine.from_json(q.to_json()) == q
+    assert pickle.loads(pickle.dumps(q)) == q and hash(q) == hash(hg.DriveLine(torque_nm=50.0))
+    with pytest.raises(AttributeError):
+        q.torque_nm = 1.0
+    with pytest.raises(hg.ParameterError, match="unknown field `torque`"):
+        hg.DriveLine(torque=1.0)
+    with pytest.raises(hg.ParameterError, match="drive.j1_kgm2"):
+        hg.DriveLine(j1_kgm2=0.0)
+    with pytest.raises(hg.ParameterError, match="must be an object"):
+        hg.DriveLine.from_json("[]")
+
+
+def test_pair_with_drive_is_refused_pointing_to_drive_line():
+    """The drive line is not part of the pair: a `drive` key names where it goes now."""
+    for bad in (lambda: hg.GearPair(drive={"torque_nm": 50.0}),
+                lambda: hg.GearPair(**{"drive.torque_nm": 50.0}),
+                lambda: hg.GearPair.from_json('{"drive": {}}')):
+        with pytest.raises(hg.ParameterError) as e:
+            bad()
+        msg = str(e.value)
+        assert "drive=" in msg and "--drive" in msg and "unknown field" not in msg, msg
 
 
 def test_invalid_parameters_raise_the_library_message():
@@ -171,13 +201,17 @@ def test_static_curve_equals_the_cli(tmp_path):
     cli = RELEASE / "helical-gear"
     if not cli.exists():
         pytest.fail(f"{cli} is missing: build it with `cargo build --release --bin helical-gear`")
-    pair = hg.GearPair(drive={"torque_nm": 80.0})
+    pair = hg.GearPair()
+    drive = hg.DriveLine(torque_nm=80.0)
     params = tmp_path / "pair.json"
     params.write_text(pair.to_json())
-    run = subprocess.run([str(cli), "static", "--params", str(params), "--json",
-                          "--points-per-pitch", "6"], capture_output=True, text=True, check=True)
+    drive_file = tmp_path / "drive.json"
+    drive_file.write_text(drive.to_json())
+    run = subprocess.run([str(cli), "static", "--params", str(params), "--drive",
+                          str(drive_file), "--json", "--points-per-pitch", "6"],
+                         capture_output=True, text=True, check=True)
     ref = json.loads(run.stdout)
-    c = hg.static_curve(pair, points_per_pitch=6)
+    c = hg.static_curve(pair, points_per_pitch=6, drive=drive)
     # Python reads the same record as the CLI prints (µm), in m.
     assert c.ste_max == ref["ste_max_um"] * 1e-6
     assert c.ste_peak_to_peak * 1e6 == pytest.approx(ref["ste_peak_to_peak_um"], rel=1e-12)
@@ -429,6 +463,20 @@ def test_killed_study_resumes_without_recomputing(tmp_path):
     assert not set(recomputed) & set(done["design_key"])
     assert table["error"].isna().all() and (table["ste_max_um"] > 0).all()
     assert len(pd.read_parquet(out)) == n and not parts.exists()
+
+
+def test_study_routes_drive_columns_to_the_drive_line():
+    """`drive.*` design columns are the design's drive line: the static analysis runs at its
+    torque, as `static_curve(..., drive=...)` does."""
+    designs = pd.DataFrame([{"_name": "T1"}, {"_name": "half", "drive.torque_nm": 50.0}])
+    table = hg.study.run(designs, analyses=("static",), static_points=6, slices=80,
+                         progress=False)
+    assert list(table["error"]) == [None, None]
+    for torque, ste in zip((100.0, 50.0), table["ste_max_um"]):
+        c = hg.static_curve(hg.GearPair(), points_per_pitch=6, slices=80,
+                            drive=hg.DriveLine(torque_nm=torque))
+        assert ste == c.ste_max * 1e6
+    assert table["ste_max_um"][1] < table["ste_max_um"][0]
 
 
 def test_bounds_are_the_library_ranges():

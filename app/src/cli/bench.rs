@@ -5,13 +5,15 @@
 use clap::Args;
 use helical_gear_app::bench::{BenchOptions, run_bench, write_bench_files};
 
-use super::{Common, load_params};
+use super::{Common, DriveArg, load_drive, load_params};
 
 /// Arguments of `helical-gear bench`.
 #[derive(Args, Clone)]
 pub struct BenchArgs {
     #[command(flatten)]
     common: Common,
+    #[command(flatten)]
+    drive: DriveArg,
     /// Also write the CSV tables, bench.json and the log–log plots (PNG) into DIR.
     #[arg(long, value_name = "DIR")]
     out: Option<std::path::PathBuf>,
@@ -26,8 +28,9 @@ pub struct BenchArgs {
 /// `helical-gear bench`.
 pub fn bench_cmd(a: &BenchArgs) -> Result<(), String> {
     let pair = load_params(&a.common)?;
+    let drive = load_drive(&a.drive)?;
     let opts = BenchOptions { quick: a.quick, paper: !a.no_paper, progress: true };
-    let r = run_bench(&pair, &opts)?;
+    let r = run_bench(&pair, &drive, &opts)?;
     if let Some(dir) = &a.out {
         for f in write_bench_files(&r, dir)? {
             eprintln!("wrote {}", f.display());

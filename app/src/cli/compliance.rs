@@ -7,7 +7,7 @@ use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
 use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
 use helical_gear_mesh::results::{ComplianceRecord, density_name};
 
-use super::{Common, load_params};
+use super::{Common, DriveArg, load_drive, load_params};
 
 /// FE mesh density presets of `compliance --density`.
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -35,14 +35,16 @@ const STIFFNESS_SLICES: usize = 200;
 
 /// Runs `helical-gear compliance`: loads (or, with `--write-cache` or a non-default density,
 /// computes) the FE compliance data, prints the fit quality and the tooth-pair stiffness at the
-/// pitch point (c′ in N/(mm·µm), with its split into global and local approach), as text or
-/// JSON.
+/// pitch point (c′ in N/(mm·µm), with its split into global and local approach) under the
+/// torque of the drive line of `--drive`, as text or JSON.
 pub fn compliance_cmd(
     common: &Common,
+    drive: &DriveArg,
     write_cache: Option<&std::path::Path>,
     density: DensityArg,
 ) -> Result<(), String> {
     let p = load_params(common)?;
+    let torque = load_drive(drive)?.torque_nm;
     let geo = PairGeometry::new(&p).map_err(|e| e.to_string())?;
     let data = if write_cache.is_some() || density != DensityArg::Default {
         let d = ComplianceData::compute(
@@ -61,7 +63,7 @@ pub fn compliance_cmd(
         data.write_file(path).map_err(|e| e.to_string())?;
         eprintln!("compliance data written to {}", path.display());
     }
-    let st = data.pair_stiffness(&geo, STIFFNESS_SLICES).map_err(|e| e.to_string())?;
+    let st = data.pair_stiffness(&geo, STIFFNESS_SLICES, torque).map_err(|e| e.to_string())?;
     let shares = st.shares();
     let (gp, gg) = (&data.pinion, &data.gear);
     let prov = &data.provenance;

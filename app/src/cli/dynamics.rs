@@ -14,7 +14,6 @@
 use std::io::Write;
 
 use clap::{Args, ValueEnum};
-use helical_gear_mesh::GearPair;
 use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
 use helical_gear_mesh::dynamics::steady::steady_max_periods;
 use helical_gear_mesh::dynamics::{
@@ -28,8 +27,9 @@ use helical_gear_mesh::mesh::{
 use helical_gear_mesh::results::{
     SweepRecord, SweepRunRecord, TrajectoryRecord, TrajectoryRunRecord,
 };
+use helical_gear_mesh::{DriveLine, GearPair};
 
-use super::{Common, load_params};
+use super::{Common, DriveArg, load_drive, load_params};
 
 /// Mesh evaluation fidelity on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -70,6 +70,8 @@ pub enum CliMethod {
 pub struct SimulateArgs {
     #[command(flatten)]
     common: Common,
+    #[command(flatten)]
+    drive: DriveArg,
     /// Nominal pinion speed ω_p, rad/s (> 0; low speeds are integrated with the step of the
     /// fastest mode); the gear turns at −ω_p·z_p/z_g.
     #[arg(long)]
@@ -112,6 +114,8 @@ pub struct SimulateArgs {
 pub struct SweepArgs {
     #[command(flatten)]
     common: Common,
+    #[command(flatten)]
+    drive: DriveArg,
     /// Lowest pinion speed, rad/s (> 0).
     #[arg(long)]
     from: f64,
@@ -145,18 +149,22 @@ pub struct SweepArgs {
 }
 
 /// The mesh model the dynamics run with: the full Andersson–Vedmar [`Mesh`] of `pair`
-/// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity`.
+/// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity`, a table sized for the drive
+/// line `drive`.
 fn build_mesh(
     pair: &GearPair,
+    drive: &DriveLine,
     fidelity: CliFidelity,
 ) -> Result<impl MeshTorques + Clone + Send + use<>, MeshError> {
-    Mesh::new(pair, MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() })
+    let options = MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() };
+    Mesh::new(pair, options.sized_for(drive))
 }
 
-/// Parameters with `--d-mesh` applied, the drivetrain, and the mesh model (building it may
-/// take a while: a note goes to stderr).
+/// Parameters with `--d-mesh` applied, the drivetrain of `--drive`, and the mesh model
+/// (building it may take a while: a note goes to stderr).
 fn setup(
     common: &Common,
+    drive: &DriveArg,
     d_mesh: Option<f64>,
     fidelity: CliFidelity,
 ) -> Result<(GearPair, Drivetrain, impl MeshTorques + Clone + Send + use<>), String> {
@@ -167,10 +175,11 @@ fn setup(
         }
         pair.d_mesh_n_s_per_m = d;
     }
-    let drive = Drivetrain::from_pair(&pair).map_err(|e| e.to_string())?;
+    let line = load_drive(drive)?;
+    let drive = Drivetrain::from_pair(&pair, &line).map_err(|e| e.to_string())?;
     eprintln!("building the mesh model ({} fidelity)…", fidelity.name());
     let t0 = std::time::Instant::now();
-    let mesh = build_mesh(&pair, fidelity).map_err(|e| format!("mesh model: {e}"))?;
+    let mesh = build_mesh(&pair, &line, fidelity).map_err(|e| format!("mesh model: {e}"))?;
     eprintln!("mesh model ready in {:.1} s", t0.elapsed().as_secs_f64());
     Ok((pair, drive, mesh))
 }
@@ -208,7 +217,7 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
         check_samples((a.t_end / dt).floor() + 1.0, "lower --t-end or raise --dt")
             .map_err(|e| e.to_string())?;
     }
-    let (_, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
+    let (_, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
     let t_m = drive.mesh_period(a.omega_p);
     let mut model = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
     let stepping = match a.method {
@@ -350,7 +359,7 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
             a.refine_runs
         ));
     }
-    let (pair, drive, mesh) = setup(&a.common, a.d_mesh, a.fidelity)?;
+    let (pair, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
     let speeds: Vec<f64> = if a.points == 1 {
         vec![a.from]
     } else {

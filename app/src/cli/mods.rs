@@ -7,7 +7,6 @@
 use clap::{Args, ValueEnum};
 use helical_gear_app::plot::PlotError;
 use helical_gear_app::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
-use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
     ComplianceModel, Mesh, MeshOptions, MeshState, StaticCurve, face_load, k_h_beta_iso,
     static_curve,
@@ -17,9 +16,10 @@ use helical_gear_mesh::numeric::amplitude_spectrum;
 use helical_gear_mesh::results::{
     DynamicSpectrumRecord, HarrisRecord, HarrisVariantRecord, SpectrumRecord, SteadyRunRecord,
 };
+use helical_gear_mesh::{DriveLine, GearPair};
 use serde::Deserialize;
 
-use super::{Common, load_params};
+use super::{Common, DriveArg, load_drive, load_params};
 
 /// `--compliance` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -288,8 +288,10 @@ pub struct SpectrumArgs {
     #[command(flatten)]
     common: Common,
     #[command(flatten)]
+    drive: DriveArg,
+    #[command(flatten)]
     model: ModelArgs,
-    /// Driving torque, N·m (default: the parameters' `drive.torque_nm`).
+    /// Driving torque, N·m (default: the drive line's `torque_nm`).
     #[arg(long)]
     torque: Option<f64>,
     /// Pinion angles per mesh period (the spectrum reaches half of this in mesh orders).
@@ -326,6 +328,7 @@ pub struct SpectrumArgs {
 fn dynamic_te(
     a: &SpectrumArgs,
     pair: &GearPair,
+    drive: &DriveLine,
     speed: f64,
 ) -> Result<(Vec<f64>, usize, SteadyRunRecord), String> {
     use helical_gear_mesh::dynamics::{
@@ -344,8 +347,8 @@ fn dynamic_te(
     options.detail = false;
     options.fidelity = helical_gear_mesh::mesh::Fidelity::Table;
     eprintln!("spectrum: building the table");
-    let mesh = Mesh::new(pair, options).map_err(|e| e.to_string())?;
-    let drive = Drivetrain::from_pair(pair).map_err(|e| e.to_string())?;
+    let mesh = Mesh::new(pair, options.sized_for(drive)).map_err(|e| e.to_string())?;
+    let drive = Drivetrain::new(mesh.geometry(), drive).map_err(|e| e.to_string())?;
     let mut dynm = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
     let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
     eprintln!("spectrum: dynamics at {speed} rad/s until TE repeats every {period} meshes");
@@ -367,7 +370,8 @@ fn dynamic_te(
 /// orders of the pinion rotation.
 pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     let pair = load_params(&a.common)?;
-    let torque = a.torque.unwrap_or(pair.drive.torque_nm);
+    let drive = load_drive(&a.drive)?;
+    let torque = a.torque.unwrap_or(drive.torque_nm);
     if !(torque.is_finite() && torque > 0.0) {
         return Err(format!("--torque = {torque} N·m: allowed > 0 and finite"));
     }
@@ -376,7 +380,7 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     }
     let t0 = std::time::Instant::now();
     if a.dynamic {
-        return dynamic_spectrum(a, &pair, t0);
+        return dynamic_spectrum(a, &pair, &drive, t0);
     }
     // One static equilibrium per sample: bounded before the model is built or memory reserved.
     let hunting = Modifications::hunting_meshes(pair.z_p, pair.z_g);
@@ -390,7 +394,7 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
             helical_gear_mesh::dynamics::MAX_SPECTRUM_SAMPLES as f64
         ));
     }
-    let mut options = a.model.options(a.slices);
+    let mut options = a.model.options(a.slices).sized_for(&drive);
     options.detail = false;
     let mut m = Mesh::new(&pair, options).map_err(|e| e.to_string())?;
     let pitch = m.geometry().pinion.angular_pitch();
@@ -477,10 +481,11 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
 fn dynamic_spectrum(
     a: &SpectrumArgs,
     pair: &GearPair,
+    drive: &DriveLine,
     t0: std::time::Instant,
 ) -> Result<(), String> {
     let speed = a.speed.unwrap_or(f64::NAN);
-    let (te, meshes, info) = dynamic_te(a, pair, speed)?;
+    let (te, meshes, info) = dynamic_te(a, pair, drive, speed)?;
     let revs = meshes as f64 / pair.z_p as f64;
     let amp = amplitude_spectrum(&te);
     let orders: Vec<f64> = (0..amp.len()).map(|j| j as f64 / revs).collect();

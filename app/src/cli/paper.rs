@@ -5,13 +5,15 @@
 use clap::Args;
 use helical_gear_app::paper::{PaperOptions, reference, run_paper};
 
-use super::{Common, load_params};
+use super::{Common, DriveArg, load_drive, load_params};
 
 /// Arguments of `helical-gear paper`.
 #[derive(Args, Clone)]
 pub struct PaperArgs {
     #[command(flatten)]
     common: Common,
+    #[command(flatten)]
+    drive: DriveArg,
     /// Output directory (created if missing): summary.json, summary.md and the CSV data of
     /// every figure.
     #[arg(long, value_name = "DIR")]
@@ -33,9 +35,10 @@ pub fn paper_cmd(a: &PaperArgs) -> Result<(), String> {
         return Err("--threads = 0: allowed >= 1".into());
     }
     let pair = load_params(&a.common)?;
+    let drive = load_drive(&a.drive)?;
     let opts =
         PaperOptions { quick: a.quick, slices: a.slices, threads: a.threads, progress: true };
-    let s = run_paper(&pair, &a.out, &opts)?;
+    let s = run_paper(&pair, &drive, &a.out, &opts)?;
     if a.common.json {
         println!("{}", serde_json::to_string(&s).map_err(|e| e.to_string())?);
         return Ok(());

@@ -5,13 +5,15 @@ use helical_gear_app::paper;
 use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
 use helical_gear_mesh::results::{StaticCurveRecord, StaticPointRecord, StaticRunRecord};
 
-use super::{Common, load_params, mods};
+use super::{Common, DriveArg, load_drive, load_params, mods};
 
 /// Runs `helical-gear static`: the static TE curve under `torque` (N·m on the pinion; default
-/// the parameters' drive torque) at `points_per_pitch` angles over `pitches` pinion pitches,
+/// the torque of the drive line of `--drive`) at `points_per_pitch` angles over `pitches` pinion pitches,
 /// the face load and K_Hβ per point, and with `plot` the CSV/PNG figures into that directory.
+#[allow(clippy::too_many_arguments)]
 pub fn static_cmd(
     common: &Common,
+    drive: &DriveArg,
     torque: Option<f64>,
     points_per_pitch: usize,
     pitches: usize,
@@ -20,7 +22,8 @@ pub fn static_cmd(
     model_args: &mods::ModelArgs,
 ) -> Result<(), String> {
     let p = load_params(common)?;
-    let torque = torque.unwrap_or(p.drive.torque_nm);
+    let drive = load_drive(drive)?;
+    let torque = torque.unwrap_or(drive.torque_nm);
     if !(torque.is_finite() && torque > 0.0) {
         return Err(format!("--torque = {torque} N·m: allowed > 0 and finite"));
     }
@@ -31,7 +34,7 @@ pub fn static_cmd(
         ));
     }
     let t0 = std::time::Instant::now();
-    let options = model_args.options(slices);
+    let options = model_args.options(slices).sized_for(&drive);
     let mut model = Mesh::new(&p, options).map_err(|e| e.to_string())?;
     let build_s = t0.elapsed().as_secs_f64();
     let geo = model.geometry().clone();

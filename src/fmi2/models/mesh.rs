@@ -6,11 +6,12 @@ use std::sync::OnceLock;
 
 use crate::fmi2::instance::ensure_finite;
 use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, OutputsCodec, StepFailure};
-use crate::fmi2::variables::{ANGLE, DEG, RAD};
+use crate::fmi2::variables::{ANGLE, DEG, NM, RAD, TORQUE, group};
 use crate::fmi2::variables::{
     Access, CALCULATED, Causality, Derived, GEAR_PARAMS, Inputs, MESH_OPTIONS, MESH_OUTPUTS, NONE,
     Outputs, Settings, Variability, Variable, concat, total_len,
 };
+use crate::mesh::table::TABLE_DESIGN_TORQUE_NM;
 use crate::mesh::{Mesh, MeshError, MeshOutputs, MeshState, MeshTorques, WarmStart};
 
 use Variable as V;
@@ -69,7 +70,29 @@ const INPUTS: [Variable; 4] = [
     },
 ];
 
-const PARTS: &[&[Variable]] = &[&INPUTS, &MESH_OUTPUTS, &CALCULATED, &GEAR_PARAMS, &MESH_OPTIONS];
+/// The table's design torque (value reference 207), `MeshOptions::table_design_torque_nm`:
+/// a parameter of the mesh element only (the stateful models size their table for their
+/// drive line's torque `drive.torque_nm`).
+const TABLE_DESIGN_TORQUE: [Variable; 1] = [Variable {
+    name: "table_design_torque_nm",
+    vr: 207,
+    description: "Table fidelity: design torque on the pinion, N.m, whose static TE sizes the \
+                  table's TE range (driving flanks up to 4 times the largest static TE at this \
+                  torque; outside the table: full); unused at full fidelity",
+    unit: NM,
+    quantity: TORQUE,
+    min: Some(TABLE_DESIGN_TORQUE_NM.min),
+    max: Some(TABLE_DESIGN_TORQUE_NM.max),
+    group: group::OPTIONS,
+    access: Access::RealParam(
+        |s| s.options.table_design_torque_nm,
+        |s, v| s.options.table_design_torque_nm = v,
+    ),
+    ..NONE
+}];
+
+const PARTS: &[&[Variable]] =
+    &[&INPUTS, &MESH_OUTPUTS, &CALCULATED, &GEAR_PARAMS, &MESH_OPTIONS, &TABLE_DESIGN_TORQUE];
 
 /// Every variable of `HelicalGearMesh`, in `modelDescription.xml` order (the ScalarVariable
 /// index is the position in this table plus one).
@@ -317,8 +340,9 @@ mod tests {
 
     #[test]
     fn the_table_is_inputs_outputs_calculated_parameters_options() {
-        // 24 gear-pair parameters: none of the drive line's seven (the element does not use them).
-        assert_eq!(VARIABLES.len(), 4 + 12 + 4 + 24 + 7);
+        // 24 gear-pair parameters: none of the drive line's seven (the element does not use
+        // them); 7 mesh options and the table's design torque.
+        assert_eq!(VARIABLES.len(), 4 + 12 + 4 + 24 + 7 + 1);
         assert_eq!(VARIABLES[0].name, "phi_p");
         assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
         assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));

@@ -631,8 +631,8 @@ fn unit_settings() -> Settings {
 }
 
 fn pair_inputs() -> Inputs {
-    let p = Settings::default().pair;
-    let m = p.drive.torque_nm;
+    let s = Settings::default();
+    let (p, m) = (s.pair, s.drive.torque_nm);
     Inputs { tau_p: m, tau_g: m * f64::from(p.z_g) / f64::from(p.z_p), ..Inputs::default() }
 }
 
@@ -643,7 +643,7 @@ fn stage_inputs() -> Inputs {
 }
 
 fn drive_inputs() -> Inputs {
-    Inputs { m: Settings::default().pair.drive.torque_nm, ..Inputs::default() }
+    Inputs { m: Settings::default().drive.torque_nm, ..Inputs::default() }
 }
 
 static PAIR_GUID: OnceLock<String> = OnceLock::new();
@@ -727,8 +727,12 @@ fn build_unit(kind: UnitKind, s: &Settings) -> Result<(Box<dyn Engine>, Derived)
         Integrator::Rk4 => UnitStepping::Rk4 { steps_per_mesh_period: u.rk4_steps_per_mesh_period },
         Integrator::Dopri5 => UnitStepping::Dopri5 { rtol: u.rtol, atol: u.atol },
     };
-    let (mesh, derived) = build_mesh(s)?;
-    let drive = Drivetrain::from_pair(&s.pair).map_err(|e| e.to_string())?;
+    s.drive.check().map_err(|e| e.to_string())?;
+    // The table's TE range is sized for the drive line's torque (at least 1 N·m).
+    let mut s = s.clone();
+    s.options = s.options.sized_for(&s.drive);
+    let (mesh, derived) = build_mesh(&s)?;
+    let drive = Drivetrain::new(mesh.geometry(), &s.drive).map_err(|e| e.to_string())?;
     let mut unit = DriveUnit::new(kind, mesh, drive, stepping)
         .map_err(|e| format!("{} unit: {e}", kind_name(kind)))?;
     let c = u.hub_coupling;

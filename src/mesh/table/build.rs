@@ -36,9 +36,11 @@ impl MeshTable {
         let np = opts.table_phase_points;
         let phase_h = pitch / np as f64;
         let phase_lo = -0.5 * pitch;
-        let torque = geo.params.drive.torque_nm.abs().max(1.0);
+        // The design torque (an option, checked against TABLE_DESIGN_TORQUE_NM before the
+        // build; `max(1)` keeps the old rule for a model built without that check).
+        let torque = opts.table_design_torque_nm.abs().max(1.0);
 
-        // Largest static TE at the nominal torque over a few phases.
+        // Largest static TE at the design torque over a few phases.
         let mut te_nom: f64 = 0.0;
         let mut guess = 1e-5;
         for k in 0..8 {
