@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every test suite of the project: formatting and lints, the Rust unit and integration
+# Runs every test suite of the project: formatting, lints and the API docs, the Rust unit and integration
 # tests, then the FMU suite: the release FMU and CLI are built, and pytest (with fmpy, in a
 # .venv this script creates) validates and drives the FMU, compares a Python RK4 master with
 # the CLI's RK4 reference, and compiles and runs the C test of tests/c with gcc (skipped when
@@ -15,6 +15,9 @@ cargo fmt --all -- --check
 
 echo "== cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
+
+echo "== cargo doc -D warnings (the workspace's crates, no dependencies)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
 echo "== cargo test"
 cargo test --workspace

@@ -5,7 +5,7 @@
 //!
 //! * [`paper`]: the paper run (static TE, speed sweeps, dynamic waterfalls, sensitivity) into
 //!   CSV, PNG, `summary.json` and `summary.md`;
-//! * [`bench`]: the work-precision benchmark (`helical-gear bench`);
+//! * [`bench`](mod@bench): the work-precision benchmark (`helical-gear bench`);
 //! * [`plot`]: PNG figures (plotters, embedded DejaVu Sans) and CSV tables; no physics.
 //!
 //! The `helical-gear` binary (`src/main.rs`, commands in `src/cli/`) and the Python package's

@@ -6,7 +6,7 @@
 //! * Gear pairs cross the boundary as JSON text in the schema of
 //!   [`helical_gear_mesh::GearPair`] (the Python `GearPair` keeps the JSON, so keys the Rust
 //!   side learns later pass through unchanged).
-//! * Every call runs through [`run`]: the GIL is released ([`Python::detach`]) for the Rust
+//! * Every call runs through `run` (below): the GIL is released ([`Python::detach`]) for the Rust
 //!   work, a panic is caught ([`std::panic::catch_unwind`]) and becomes
 //!   `helical_gear.GearMeshError`, and library errors become a subclass of it carrying the
 //!   library's message: `ParameterError` (invalid parameter or input),

@@ -116,7 +116,7 @@
 //! (serde_json with `float_roundtrip` keeps every f64 exactly). A restored warm start is
 //! checked ([`crate::mesh::WarmStart::check`]). Meshes without history (the table inside its
 //! range, the analytic meshes) have an empty warm start: for them a Drive unit stepped with
-//! RK4 at the step of [`super::simulate`] reproduces its trajectory bit for bit.
+//! RK4 at the step of [`super::simulate()`] reproduces its trajectory bit for bit.
 //!
 //! Carrying the warm start instead of restarting cold at every communication step (as
 //! earlier versions did) saves the cold solve's extra Newton iterations at the first
@@ -900,7 +900,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
     }
 
     /// Static equilibrium at nominal pinion speed `w_p_start` (rad/s, finite), φp = 0, under
-    /// the nominal torque `drive.torque` (as [`super::simulate`]'s start,
+    /// the nominal torque `drive.torque` (as [`super::simulate()`]'s start,
     /// [`GearDynamics::static_start`]): sets the time to `t0`, the state to the equilibrium's
     /// and the inputs to the ones that keep it (Pair: tau_p = M, tau_g = the shaft's torque on
     /// the gear hub; Stage: the far ends of the 8-state start; Drive: M = `drive.torque`).

@@ -1,4 +1,5 @@
-//! The exported `fmi2*` functions: C glue over [`super::instance::Instance`].
+//! The exported `fmi2*` functions: C glue over the FMU instance (`Instance` of the private
+//! module `fmi2::instance`).
 //!
 //! Every function runs its body inside `catch_unwind`: a panic becomes `fmi2Fatal` with a log
 //! message (the instance is then in the fatal state), never an unwinding across the C boundary.

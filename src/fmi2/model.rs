@@ -1,7 +1,7 @@
 //! What a model contributes to the one FMI layer: its description ([`ModelInfo`]: identifier,
 //! variable table, defaults, default experiment, documentation) and its physics ([`Engine`]).
 //!
-//! The FMI layer ([`super::instance`], [`super::exports`]) knows nothing of gears: it runs the
+//! The FMI layer (the private module `fmi2::instance`, [`super::exports`]) knows nothing of gears: it runs the
 //! state machine, dispatches value references through the model's variable table, logs, saves
 //! and restores FMU states, and calls the model's [`Engine`] to build, start, evaluate and step.
 //! Whatever depends on the physics is the model's: the check of its tunable parameters
@@ -118,7 +118,7 @@ pub struct Jacobian {
     pub rows: Vec<&'static str>,
     /// Knowns (variable names).
     pub cols: Vec<&'static str>,
-    /// `values[r * cols.len() + c]` = ∂rows[r]/∂cols[c].
+    /// `values[r * cols.len() + c]` = ∂`rows[r]`/∂`cols[c]`.
     pub values: Vec<f64>,
 }
 

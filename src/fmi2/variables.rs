@@ -23,8 +23,10 @@
 //! a parameter error from the library (which names the JSON key) names the FMI variable too. The one
 //! exception is the mesh damping: JSON key `d_mesh_n_s_per_m`, FMI variable `d_mesh` (tunable).
 //!
-//! For compatibility the items of the `HelicalGearMesh` model are re-exported here
-//! ([`VARIABLES`], [`by_name`], [`by_vr`], [`guid`], [`MODEL_IDENTIFIER`]).
+//! The items of the `HelicalGearMesh` model are in [`super::models::mesh`]
+//! ([`VARIABLES`](super::models::mesh::VARIABLES), [`by_name`](super::models::mesh::by_name),
+//! [`by_vr`](super::models::mesh::by_vr), [`guid`](super::models::mesh::guid),
+//! [`MODEL_IDENTIFIER`](super::models::mesh::MODEL_IDENTIFIER)).
 
 use crate::dynamics::HubCoupling;
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
@@ -1548,7 +1550,7 @@ pub const fn concat<const N: usize>(parts: &[&[Variable]]) -> [Variable; N] {
     out
 }
 
-/// Sum of the lengths of tables (for [`concat`]).
+/// Sum of the lengths of tables (for [`concat()`]).
 pub const fn total_len(parts: &[&[Variable]]) -> usize {
     let mut n = 0;
     let mut i = 0;

@@ -22,7 +22,7 @@
 //! overlap at the tip roundings, and beyond some TE the load problem is no longer well posed:
 //! the load solver proves the compliance of the slices it has to load is not a P-matrix, even
 //! after its continuation retry, and the full model reports the state out of range
-//! ([`MeshError::OutOfRange`](super::MeshError::OutOfRange)). A table row that meets such a node
+//! ([`MeshError::OutOfRange`]). A table row that meets such a node
 //! ends there, and the axis keeps the nodes every phase row reached; the first m of the n
 //! graded nodes are exactly an m-node axis, so nothing is resampled. The last node is then
 //! checked at every phase-cell centre, and the error check's cell centres are evaluated too; an
@@ -219,7 +219,7 @@ pub struct MeshTable {
 }
 
 /// A TE axis of the table that ends short of its designed extent because the full model is
-/// not well posed beyond ([`MeshError::OutOfRange`](super::MeshError::OutOfRange) at the next node of some phase row). The
+/// not well posed beyond ([`MeshError::OutOfRange`] at the next node of some phase row). The
 /// axis keeps the nodes every phase row reached, on the same graded grid; states beyond fall
 /// back to the full model, which reports them out of range.
 #[derive(Debug, Clone, PartialEq)]
