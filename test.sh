@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Runs every test suite of the project: formatting, lints and the API docs, the Rust unit and integration
-# tests, then the FMU suite: the release FMU and CLI are built, and pytest (with fmpy, in a
-# .venv this script creates) validates and drives the FMU, compares a Python RK4 master with
-# the CLI's RK4 reference, and compiles and runs the C test of tests/c with gcc (skipped when
-# gcc is missing), and once more under valgrind for memory errors and leaks (skipped with a
-# message when valgrind is missing). The FMU also carries a Windows DLL cross-compiled with
+# Runs every test suite of the project: formatting, lints and the API docs (cargo doc), the Rust
+# unit and integration tests, then the FMU suite: the release FMU and CLI are built, and pytest
+# (with fmpy, in a .venv this script creates) validates and drives the FMU, compares a Python RK4
+# master with the CLI's RK4 reference, and compiles and runs the C test of tests/c with gcc
+# (skipped when gcc is missing), and once more under valgrind for memory errors and leaks (skipped
+# with a message when valgrind is missing). The FMU also carries a Windows DLL cross-compiled with
 # MinGW-w64, which pytest runs under wine (skipped with a message when the Rust target, MinGW-w64
 # or wine cannot be installed). Installs what it needs itself; needs Rust and Python 3.
 set -euo pipefail

@@ -12,8 +12,8 @@
 //!   drivetrain data, the static-equilibrium start and the linearised natural frequencies.
 //! * [`simulate`](mod@simulate): trajectories and runs to the steady state.
 //! * [`sweep`](mod@sweep): speed sweeps in parallel, the static TE curve and the location of resonances.
-//! * [`unit`](mod@unit): stateful drive-line units (pair, stage, whole drive) with their own state and
-//!   integrator, for co-simulation and Model Exchange.
+//! * [`unit`](mod@unit): stateful drive-line units (pair, stage, whole drive) with their own
+//!   state and integrator, for co-simulation and Model Exchange.
 //! * [`relative`]: the relative coordinates (TE, shaft twists) in which a Model Exchange master
 //!   integrates a unit.
 //! * [`analytic_mesh`]: linear-spring mesh models with closed-form behaviour, for verification.

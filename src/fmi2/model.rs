@@ -1,9 +1,10 @@
 //! What a model contributes to the one FMI layer: its description ([`ModelInfo`]: identifier,
 //! variable table, defaults, default experiment, documentation) and its physics ([`Engine`]).
 //!
-//! The FMI layer (the private module `fmi2::instance`, [`super::exports`]) knows nothing of gears: it runs the
-//! state machine, dispatches value references through the model's variable table, logs, saves
-//! and restores FMU states, and calls the model's [`Engine`] to build, start, evaluate and step.
+//! The FMI layer (the private module `fmi2::instance`, [`super::exports`]) knows nothing of
+//! gears: it runs the state machine, dispatches value references through the model's variable
+//! table, logs, saves and restores FMU states, and calls the model's [`Engine`] to build, start,
+//! evaluate and step.
 //! Whatever depends on the physics is the model's: the check of its tunable parameters
 //! ([`ModelInfo::check_tunable`], before the engine exists) and their application without a
 //! rebuild ([`Engine::tune`]; the layer knows which parameters are tunable from the variable
