@@ -2,7 +2,8 @@
 //! FMU.
 //!
 //! * [`model_description`] — `modelDescription/<modelIdentifier>/modelDescription.xml`;
-//! * [`docs`] — the README's variable tables and each FMU's `documentation/index.html`;
+//! * [`docs`] — the FMU reference pages `docs/fmu/*.md` (one per model, the shared parameters,
+//!   an index) and each FMU's `documentation/index.html`;
 //! * [`headers`] — the C headers in `include/` (cbindgen) and the value-reference headers
 //!   `include/fmi2_models/<modelIdentifier>.h`;
 //! * [`pack`] — `target/fmu/<modelIdentifier>.fmu` for every model of the family, each with
@@ -35,11 +36,8 @@ pub fn workspace_root() -> PathBuf {
 }
 
 /// Every generated, checked-in file: path relative to the workspace root and current text.
-/// The README entry is the whole README with the variable table replaced.
 pub fn generated_files() -> Result<Vec<(String, String)>, String> {
     let root = workspace_root();
-    let readme = std::fs::read_to_string(root.join("README.md"))
-        .map_err(|e| format!("reading README.md: {e}"))?;
     let mut files = Vec::new();
     for m in MODELS {
         files.push((model_description_path(m), model_description::model_description_xml(m)));
@@ -47,7 +45,7 @@ pub fn generated_files() -> Result<Vec<(String, String)>, String> {
     }
     files.push((headers::CAPI_HEADER.into(), headers::capi_header(&root)?));
     files.push((headers::FMI2_HEADER.into(), headers::fmi2_header(&root)?));
-    files.push(("README.md".into(), docs::readme_with_tables(&readme)?));
+    files.extend(docs::pages());
     Ok(files)
 }
 

@@ -1,7 +1,7 @@
 //! `fmu-build`: builds the `helical_gear_mesh` cdylib in release mode and packs one FMU per
 //! model, `target/fmu/<modelIdentifier>.fmu`, each with the same library; with
 //! `--write-generated` it rewrites the generated, checked-in files instead (model
-//! descriptions, C headers, README variable tables).
+//! descriptions, C headers, the FMU reference pages in `docs/fmu/`).
 //!
 //! When the Rust target `x86_64-pc-windows-gnu` and the MinGW-w64 linker are installed, the
 //! cdylib is also cross-compiled for Windows and every FMU carries `binaries/win64/` beside the
@@ -24,7 +24,7 @@ const USAGE: &str = "usage: fmu-build [--require-win64 | --write-generated]\n\
     \n  --require-win64     the same, but a missing win64 build is an error (also when the\
     \n                      environment variable FMU_BUILD_REQUIRE_WIN64 is 1)\
     \n  --write-generated   rewrite modelDescription/<model>/modelDescription.xml, include/*.h\
-    \n                      and the README's FMU variable tables from the Rust sources";
+    \n                      and the FMU reference pages docs/fmu/*.md from the Rust sources";
 
 fn write_generated() -> Result<(), String> {
     let root = workspace_root();

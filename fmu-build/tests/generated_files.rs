@@ -1,4 +1,4 @@
-//! The checked-in generated files (model description, C headers, README variable table) must
+//! The checked-in generated files (model description, C headers, FMU reference pages) must
 //! equal what the code generates now.
 
 #[test]
@@ -51,17 +51,26 @@ fn every_model_has_its_own_guid_and_identifier() {
     }
 }
 
+/// Every variable of every model is on exactly one page: the model's own page or, when all
+/// models share it, `docs/fmu/parameters.md`; the model pages link the shared page.
 #[test]
-fn readme_table_replacement_needs_both_markers() {
-    use fmu_build::docs::{readme_begin, readme_end, readme_with_table};
-    use helical_gear_mesh::fmi2::models::mesh::INFO;
-    assert!(readme_with_table("no markers", &INFO).is_err());
-    let (begin, end) = (readme_begin(&INFO), readme_end(&INFO));
-    let text = format!("a\n{begin}\nold\n{end}\nb\n");
-    let new = readme_with_table(&text, &INFO).unwrap();
-    assert!(new.starts_with("a\n") && new.ends_with(&format!("{end}\nb\n")));
-    assert!(new.contains("| `phi_p` |") && !new.contains("old"));
-    assert_eq!(readme_with_table(&new, &INFO).unwrap(), new, "idempotent");
+fn every_variable_is_on_its_model_page_or_the_shared_parameters_page() {
+    use fmu_build::docs::{model_page, parameters_page, shared_variables};
+    use helical_gear_mesh::fmi2::models::MODELS;
+    let shared = shared_variables();
+    assert!(shared.iter().any(|v| v.name == "d_mesh"), "the gear-pair parameters are shared");
+    assert!(!shared.iter().any(|v| v.name == "phi_p"), "inputs are each model's own");
+    let params = parameters_page();
+    for m in MODELS {
+        let page = model_page(m);
+        assert!(page.contains("(parameters.md)"), "{}", m.identifier);
+        for v in m.variables {
+            let cell = format!("| `{}` | {} |", v.name, v.vr);
+            let (on_page, on_shared) = (page.matches(&cell).count(), params.matches(&cell).count());
+            assert_eq!(on_page + on_shared, 1, "{}: {} on one page", m.identifier, v.name);
+            assert_eq!(on_shared == 1, shared.iter().any(|s| s.name == v.name));
+        }
+    }
 }
 
 /// The C API's structs and enums are the library's `#[repr(C)]` types under their C names:

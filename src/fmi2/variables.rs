@@ -7,8 +7,8 @@
 //! value-reference dispatch of `fmi2Get*`/`fmi2Set*`, the start values (read from the model's
 //! default [`Settings`] and [`Inputs`], so they cannot drift from the Rust defaults), the
 //! serialised FMU state, `modelDescription.xml`, the GUID, the C header of value references,
-//! the HTML documentation inside the FMU and the README variable table are all derived from
-//! that table.
+//! the HTML documentation inside the FMU and the FMU reference pages `docs/fmu/` are all
+//! derived from that table.
 //!
 //! The same physical quantity has the same name and value reference in every model: the
 //! gear-pair parameters ([`GEAR_PARAMS`], 100–122 and 130, the String `modifications`), the
