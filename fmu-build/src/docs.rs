@@ -142,6 +142,7 @@ pub fn model_page(model: &ModelInfo) -> String {
     };
     let own = own_variables(model);
     let shared = model.variables.len() - own.len();
+    let desc = format!("{}.", model.description.trim_end_matches('.'));
     let md_link = format!("../../modelDescription/{id}/modelDescription.xml");
     let h_link = format!("../../include/fmi2_models/{id}.h");
     let kind = if model.stateful {
@@ -173,7 +174,6 @@ pub fn model_page(model: &ModelInfo) -> String {
          {n} variables: the {shared} parameters shared by every model of the family, listed \
          once in [parameters.md](parameters.md), and these {own_n}:\n\n\
          {table}",
-        desc = format!("{}.", model.description.trim_end_matches('.')),
         doc = doc_markdown(model.doc_html),
         guid = model.guid(),
         start = format_real(e.start),
