@@ -71,7 +71,7 @@ fn stage_cut_cosimulation_follows_the_whole_model() {
 /// The cut at the hubs does NOT reach 1e-4 at H = 1e-4 s: the hubs' rigid mode on the shafts
 /// (J_p and J_g turning together against c₁ and c₂, ≈ 710 rad/s for Table 1) takes its whole
 /// stiffness from the master, which the held shaft torques give with a delay, so the error is
-/// of first order in H (measured 1.6e-3 at 300 rad/s and 5.3e-3 at 532 rad/s, see the README).
+/// of first order in H (measured 1.6e-3 at 300 rad/s and 5.3e-3 at 532 rad/s, see docs/fmus.md).
 /// Asserted: bounded at both steps and first-order convergence.
 #[test]
 fn pair_cut_cosimulation_is_bounded_and_converges_at_first_order() {

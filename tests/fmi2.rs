@@ -15,7 +15,7 @@ use helical_gear_mesh::fmi2::types::*;
 use common::fmi::{Fmu, vr};
 
 const OUTS: [&str; 5] = ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"];
-/// A loaded state of the Table 1 pair: TE = +20 µm (README worked example), rolling.
+/// A loaded state of the Table 1 pair: TE = +20 µm (docs/conventions.md, worked example), rolling.
 const LOADED: [f64; 4] = [0.01, -0.0060851, 100.0, -100.0 * 30.0 / 47.0];
 
 fn set_loaded(f: &Fmu) {
@@ -447,7 +447,7 @@ fn unsupported_functions_are_errors() {
     }
 }
 
-/// The String parameter `modifications` (the JSON object of the README, "Modifications"): a
+/// The String parameter `modifications` (the JSON object of docs/modifications.md): a
 /// pinion pitch deviation set through `fmi2SetString` gives exactly the outputs of the library model of the
 /// same pair (so the same static TE), differs from the perfect pair on the deviated tooth,
 /// survives an FMU state round trip; malformed JSON or an unknown key is refused by

@@ -143,7 +143,7 @@ fn states_and_derivatives_are_the_co_simulation_model_in_relative_coordinates() 
         let b = me.get(&["a_p", "a_g", "TE", "w_p"]);
         assert!(rel(&a, &b, 0.0) < 1e-9, "{}: CS {a:?} ME {b:?}", m.identifier);
         assert!((dx[ix("w_p")] - a[0]).abs() <= 1e-9 * a[0].abs().max(1.0));
-        // No event indicators (a measured contact-loss run gained nothing from them: README).
+        // No event indicators (a measured contact-loss run gained nothing from them: docs/fmus.md).
         assert_eq!(m.event_indicators, 0);
         assert_eq!(
             unsafe { fmi2GetEventIndicators(me.0, std::ptr::null_mut(), 0) },

@@ -435,8 +435,8 @@ fn one_pair_deviation_is_exact_on_uncoupled_pairs() {
     assert!(coarse < 5e-3 && fine < 5e-3, "{coarse:.3e}, {fine:.3e}");
 }
 
-/// A Harris variant's modifications are merged into the base key by key (README,
-/// "Modifications, misalignment and deviations", "merged"): keys of the variant replace the base's, nested objects merge, the rest stays;
+/// A Harris variant's modifications are merged into the base key by key (docs/modifications.md,
+/// "merged"): keys of the variant replace the base's, nested objects merge, the rest stays;
 /// an unknown key is an error naming it.
 #[test]
 fn variant_modifications_merge_key_by_key() {
@@ -513,7 +513,7 @@ fn dynamic_spectrum_with_pinion_deviations_has_pinion_orders_only() {
 }
 
 /// The C API takes the modifications in the gear-pair JSON (`hgm_create_from_json`, the
-/// `modifications` key of the README's "Modifications" section): a pair with a pinion pitch
+/// `modifications` key of docs/modifications.md): a pair with a pinion pitch
 /// deviation evaluates exactly as the library model of the same pair, and differs from the
 /// perfect pair on the deviated tooth; a misspelt or out-of-range key gives NULL and a message naming it.
 #[test]

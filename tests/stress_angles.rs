@@ -1,4 +1,4 @@
-//! Stress test: huge hub angles lose no precision (README "Numerical robustness").
+//! Stress test: huge hub angles lose no precision (docs/robustness.md, "Stress tests").
 //!
 //! The reference is independent of `helical_gear_mesh::numeric`: TE = Φp·g_p + Φg·g_g exactly
 //! in i128 integer arithmetic on the doubles' mantissas, and the pinion phase Φp mod 2π/z_p in

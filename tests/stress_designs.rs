@@ -1,4 +1,4 @@
-//! Stress test: random gear designs (README "Numerical robustness").
+//! Stress test: random gear designs (docs/robustness.md, "Stress tests").
 //!
 //! A seeded xorshift generator draws designs over z 12–150, β 0–35°, m_n 1–10 mm, tip relief
 //! 0–3·δ_Table1, tip rounding 0–0.15·m_n, face widths 4–40·m_n, profile shifts −0.3…0.6 and

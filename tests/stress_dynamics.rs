@@ -1,4 +1,4 @@
-//! Stress test: Eqs. 1–4 from slow running to 3·ω_crit (README "Numerical robustness").
+//! Stress test: Eqs. 1–4 from slow running to 3·ω_crit (docs/robustness.md, "Stress tests").
 //!
 //! A mesh-periodic linear spring (k(φp) = k₀·(1 + a·cos z_p·φp), a = 0.1) with a small
 //! backlash puts the mesh mode near the paper's (ω_crit ≈ 660 rad/s): around ω_crit and its

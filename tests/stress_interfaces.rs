@@ -1,5 +1,5 @@
-//! Stress test: extreme inputs through the FMU functions and the C API (README "Numerical
-//! robustness"): NaN and ±Inf in every input, 10¹² rad angles, zero and negative speeds,
+//! Stress test: extreme inputs through the FMU functions and the C API (docs/robustness.md,
+//! "Stress tests"): NaN and ±Inf in every input, 10¹² rad angles, zero and negative speeds,
 //! NULL and garbage pointers' contents, illegal call orders, corrupt serialized FMU states,
 //! and 1 000 instantiate/free cycles. Every failure must be a status (fmi2Error, an HGM error
 //! code), never a crash; the instance stays recoverable. The log texts are checked by the C

@@ -12,7 +12,7 @@ fn cli(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).expect("one JSON object")
 }
 
-/// The contract keys of `static` (Winkler flags, K_Hβ) and `harris` (README, "Modifications, misalignment and deviations").
+/// The contract keys of `static` (Winkler flags, K_Hβ) and `harris` (docs/modifications.md).
 #[test]
 fn cli_static_and_harris_keys() {
     let dir = std::env::temp_dir().join(format!("hg_mods_cli_{}", std::process::id()));

@@ -40,7 +40,7 @@
 //! The Pair's hub torques come from shafts the master integrates, and they depend on the
 //! hub motion the unit computes within the step. Held, they miss the hub's vibration at the
 //! mesh frequency, which a communication step of T_m/4 samples too coarsely (the error of the
-//! hub cut, README "Using the FMUs in a drivetrain"). With a [`HubCoupling`] — the stiffness
+//! hub cut, docs/fmus.md). With a [`HubCoupling`] — the stiffness
 //! and damping of the master's connection, the interface Jacobian −∂tau/∂(φ, φ̇) of the
 //! interface-Jacobian co-simulation methods — the unit corrects the held torques by its own
 //! motion relative to the motion it had when the inputs were set (the reference r: hub angle,
@@ -232,7 +232,7 @@ pub struct HeldInputs {
 }
 
 /// Largest |angle| of a unit's inputs and state, rad. The mesh reduces angles by whole pitches
-/// exactly (README "Numerical robustness"), so 10¹⁵ rad still give finite outputs; beyond, an
+/// exactly (docs/robustness.md), so 10¹⁵ rad still give finite outputs; beyond, an
 /// angle is no longer an operating point but a corrupted number.
 pub const MAX_ANGLE_RAD: f64 = 1e15;
 

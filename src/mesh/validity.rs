@@ -61,7 +61,7 @@
 //! [`MeshError::AngleOutOfRange`](super::MeshError::AngleOutOfRange), naming the angle and the
 //! bound. The gear angle needs no bound of its own: it enters only through TE (computed
 //! exactly from any finite angles, [`crate::numeric::dot2`]), whose range is the one above.
-//! Angles of 10¹² rad lose no digits (README, "Numerical robustness").
+//! Angles of 10¹² rad lose no digits (docs/robustness.md, "Precision at huge angles").
 
 use crate::geometry::PairGeometry;
 use crate::numeric::Pitch;

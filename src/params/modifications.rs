@@ -162,8 +162,7 @@ impl Modifications {
         *self == Self::default()
     }
 
-    /// Parses a `modifications` JSON object (the schema of the README, "Modifications,
-    /// misalignment and deviations"; every key optional, missing = zero). Errors name the unknown or ill-typed key as serde reports it. Values are validated
+    /// Parses a `modifications` JSON object (the schema of docs/modifications.md; every key optional, missing = zero). Errors name the unknown or ill-typed key as serde reports it. Values are validated
     /// against the geometry later, by [`Modifications::validate`].
     /// An array where an object belongs (`[]`, which serde would read as all zero) is an
     /// error naming the key.

@@ -1,6 +1,6 @@
 /*
  * Cost of one hgm_evaluate call (Table 1, default options) over one mesh period at a static
- * TE of 31 µm, the states a drivetrain simulation visits. Not a test; see the README.
+ * TE of 31 µm, the states a drivetrain simulation visits. Not a test; see docs/c-api.md.
  *
  *   gcc -O2 -Iinclude tests/c/bench_capi.c -Ltarget/release -lhelical_gear_mesh \
  *       -Wl,-rpath,$PWD/target/release -o /tmp/bench_capi && /tmp/bench_capi

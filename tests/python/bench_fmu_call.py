@@ -1,7 +1,7 @@
 """Cost of one setReal + getReal through fmpy (Table 1, default options): the inputs change at
 every call (a full mesh evaluation), over one mesh period at a static TE of 31 µm; and, for
-comparison, the call overhead alone (inputs unchanged, outputs cached). Not a test; see the
-README. Run: .venv/bin/python tests/python/bench_fmu_call.py"""
+comparison, the call overhead alone (inputs unchanged, outputs cached). Not a test; see
+docs/c-api.md. Run: .venv/bin/python tests/python/bench_fmu_call.py"""
 
 import math
 import time

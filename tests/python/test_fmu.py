@@ -12,7 +12,7 @@ from fmpy.validation import validate_fmu
 
 from conftest import ROOT, FMICallException, Instance
 
-# The README's worked example (Table 1): TE = +20 µm, both gears rolling.
+# The worked example of docs/conventions.md (Table 1): TE = +20 µm, both gears rolling.
 LOADED = dict(phi_p=0.01, phi_g=-0.0060851, w_p=100.0, w_g=-100.0 * 30 / 47)
 OUTPUTS = ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"]
 

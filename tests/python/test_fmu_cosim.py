@@ -11,7 +11,7 @@ points t_k = k·H.
   H = T_m/32 but not at H = 1e-4 s ≈ T_m/4 at 532 rad/s. With the shafts' stiffness and
   damping also given to the FMU (``hub_coupling.*`` parameters: it corrects the held torques
   by its own hub motion within the step) the hub cut is within 1e-4 at H = 1e-4 s and bounded
-  (< 1e-3) at H = 1e-3 s, like the stage cut (README, "Using the FMUs in a drivetrain").
+  (< 1e-3) at H = 1e-3 s, like the stage cut (docs/fmus.md).
 
 Reference: ``helical-gear simulate`` (the whole 4-DOF model, table fidelity, RK4 at ≤ T_m/256)
 sampled at the t_k. Error: largest |TE − TE_ref| over the largest |TE_ref|, over about 30 mesh

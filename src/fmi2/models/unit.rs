@@ -1,5 +1,5 @@
 //! The stateful models `HelicalGearPair`, `HelicalGearStage` and `HelicalGearDrive`: a
-//! [`DriveUnit`] of the matching [`UnitKind`] behind the FMI layer (README, "Using the FMUs in a drivetrain").
+//! [`DriveUnit`] of the matching [`UnitKind`] behind the FMI layer (docs/fmus.md).
 //!
 //! * `HelicalGearPair` — J_p, J_g and the mesh. Inputs `tau_p`, `tau_g`, the torques the shafts
 //!   exert on the hubs (J_p·φp'' = tau_p − M_F_p − M_D_p); outputs the kinematics of both
