@@ -199,8 +199,7 @@ fmi2Status fmi2SetBoolean(fmi2Component c,
                           const fmi2Boolean *value);
 
 /**
- * Sets String parameters (`modifications`: the JSON object of the README, "Modifications,
- * misalignment and deviations"). Malformed JSON or an unknown key is an error naming it; the
+ * Sets String parameters (`modifications`: the JSON object of `docs/modifications.md`). Malformed JSON or an unknown key is an error naming it; the
  * values are checked against the geometry at `fmi2ExitInitializationMode` (errors name the
  * key, e.g. `modifications.pinion.lead_crowning_m`).
  *
@@ -391,8 +390,8 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real *derivatives, size_t nx)
 
 /**
  * The model's event indicators (`numberOfEventIndicators`; none in the current models: state
- * events at a change of contact kind were measured not to help an importer's solver, see the
- * README).
+ * events at a change of contact kind were measured not to help an importer's solver, see
+ * `docs/fmus.md`).
  *
  * # Safety
  * `c` from `fmi2Instantiate`; `event_indicators` with `ni` writable elements.

@@ -603,8 +603,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     })
 }
 
-/// Sets String parameters (`modifications`: the JSON object of the README, "Modifications,
-/// misalignment and deviations"). Malformed JSON or an unknown key is an error naming it; the
+/// Sets String parameters (`modifications`: the JSON object of `docs/modifications.md`). Malformed JSON or an unknown key is an error naming it; the
 /// values are checked against the geometry at `fmi2ExitInitializationMode` (errors name the
 /// key, e.g. `modifications.pinion.lead_crowning_m`).
 ///
@@ -965,8 +964,8 @@ pub unsafe extern "C" fn fmi2GetDerivatives(
 }
 
 /// The model's event indicators (`numberOfEventIndicators`; none in the current models: state
-/// events at a change of contact kind were measured not to help an importer's solver, see the
-/// README).
+/// events at a change of contact kind were measured not to help an importer's solver, see
+/// `docs/fmus.md`).
 ///
 /// # Safety
 /// `c` from `fmi2Instantiate`; `event_indicators` with `ni` writable elements.

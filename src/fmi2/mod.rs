@@ -9,8 +9,8 @@
 //! lazily, on the first read after an input changed. `fmi2DoStep` only advances the time.
 //!
 //! * [`variables`] — the one variable table (names, value references, units, start values);
-//!   `modelDescription.xml`, the GUID, the documentation and the README table are generated
-//!   from it.
+//!   `modelDescription.xml`, the GUID, the documentation and the reference pages `docs/fmu/`
+//!   are generated from it.
 //! * [`exports`] — the 34 exported `fmi2*` functions (common and co-simulation).
 //! * [`types`] — the C types of the standard.
 //! * [`uri`] — decoding of the resource-location URI.
