@@ -27,6 +27,7 @@ pub mod dynamics;
 pub mod error;
 pub mod fmi2;
 pub mod geometry;
+pub mod iso6336;
 pub mod load;
 pub mod mesh;
 pub mod modifications;

@@ -27,6 +27,7 @@ use crate::contact::{ContactPoint, FlankSide};
 use crate::dynamics::model::{N_STATES, STATE_NAMES};
 use crate::dynamics::{SteadyResponse, SweepResult, Trajectory};
 use crate::geometry::PairGeometry;
+use crate::iso6336::{IsoRootStress, nominal_root_stress};
 use crate::mesh::statics::StaticCurve;
 use crate::params::GearPair;
 
@@ -962,6 +963,10 @@ pub struct StaticRunRecord {
     pub model_build_s: f64,
     /// Wall time of the run, s.
     pub seconds: f64,
+    /// ISO 6336-3 method B at the run's torque ([`IsoRootStressSummary`], its keys at the top
+    /// level).
+    #[serde(flatten)]
+    pub iso: IsoRootStressSummary,
     /// The points with their face load.
     pub points: Vec<StaticPointRecord>,
 }
@@ -981,6 +986,7 @@ impl StaticRunRecord {
         ] {
             finite(name, v)?;
         }
+        self.iso.check_finite()?;
         for (i, p) in self.points.iter().enumerate() {
             for (name, v) in [
                 ("phi_p_rad", p.phi_p_rad),
@@ -992,6 +998,70 @@ impl StaticRunRecord {
                 ("line_load_mean_n_per_mm", p.line_load_mean_n_per_mm),
             ] {
                 finite(&format!("points[{i}].{name}"), v)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The nominal tooth-root stress of ISO 6336-3:2006 method B ([`crate::iso6336`]) beside a
+/// static run (`helical-gear static --json`, Python's `static_curve`): σ_F0 of both gears at
+/// the run's pinion torque and the factors behind it. When the method cannot rate the pair
+/// (ε_αn < 1, a rim thinner than half a tooth depth, …) the three are `null` and
+/// `iso6336_error` says why; the run itself is not refused.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IsoRootStressSummary {
+    /// Nominal tooth-root stress σ_F0 of the pinion, Pa (≥ 0).
+    pub root_stress_iso_p_pa: Option<f64>,
+    /// Nominal tooth-root stress σ_F0 of the gear, Pa (≥ 0).
+    pub root_stress_iso_g_pa: Option<f64>,
+    /// F_t (N) and, per gear (`pinion`, `gear`), Y_F, Y_S, Y_β, Y_B, Y_DT, s_Fn (m), h_Fe (m),
+    /// ρ_F (m), α_Fen (rad), z_n and σ_F0 (Pa): [`IsoRootStress`].
+    pub iso6336: Option<IsoRootStress>,
+    /// Why the method does not apply (the library's message), `null` when it does.
+    pub iso6336_error: Option<String>,
+}
+
+impl IsoRootStressSummary {
+    /// The rating of `geometry`'s pair at the pinion torque `torque_nm` (N·m; |T| is used).
+    pub fn new(geometry: &PairGeometry, torque_nm: f64) -> Self {
+        match nominal_root_stress(&geometry.params, geometry, torque_nm) {
+            Ok(r) => Self {
+                root_stress_iso_p_pa: Some(r.pinion.sigma_f0_pa),
+                root_stress_iso_g_pa: Some(r.gear.sigma_f0_pa),
+                iso6336: Some(r),
+                iso6336_error: None,
+            },
+            Err(e) => Self {
+                root_stress_iso_p_pa: None,
+                root_stress_iso_g_pa: None,
+                iso6336: None,
+                iso6336_error: Some(e.to_string()),
+            },
+        }
+    }
+
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite_opt("root_stress_iso_p_pa", self.root_stress_iso_p_pa)?;
+        finite_opt("root_stress_iso_g_pa", self.root_stress_iso_g_pa)?;
+        let Some(r) = &self.iso6336 else { return Ok(()) };
+        finite("iso6336.tangential_force_n", r.tangential_force_n)?;
+        for (gear, g) in [("pinion", &r.pinion), ("gear", &r.gear)] {
+            for (name, v) in [
+                ("y_f", g.y_f),
+                ("y_s", g.y_s),
+                ("y_beta", g.y_beta),
+                ("y_b", g.y_b),
+                ("y_dt", g.y_dt),
+                ("s_fn_m", g.s_fn_m),
+                ("h_fe_m", g.h_fe_m),
+                ("rho_f_m", g.rho_f_m),
+                ("alpha_fen_rad", g.alpha_fen_rad),
+                ("z_n", g.z_n),
+                ("sigma_f0_pa", g.sigma_f0_pa),
+            ] {
+                finite(&format!("iso6336.{gear}.{name}"), v)?;
             }
         }
         Ok(())

@@ -163,8 +163,9 @@ fn keys<T: Serialize>(r: &T) -> Vec<String> {
 #[test]
 fn run_records_round_trip_with_their_keys() {
     use helical_gear_mesh::results::{
-        DynamicSpectrumRecord, HarrisRecord, HarrisVariantRecord, SpectrumRecord,
-        StaticPointRecord, StaticRunRecord, SteadyRunRecord, SweepRunRecord, TrajectoryRunRecord,
+        DynamicSpectrumRecord, HarrisRecord, HarrisVariantRecord, IsoRootStressSummary,
+        SpectrumRecord, StaticPointRecord, StaticRunRecord, SteadyRunRecord, SweepRunRecord,
+        TrajectoryRunRecord,
     };
     let point = StaticPointRecord {
         phi_p_rad: 0.01,
@@ -187,6 +188,10 @@ fn run_records_round_trip_with_their_keys() {
         c_gamma_n_per_mm_per_um: 18.0,
         model_build_s: 0.5,
         seconds: 1.0,
+        iso: IsoRootStressSummary::new(
+            &PairGeometry::new(&GearPair::paper_table1()).unwrap(),
+            100.0,
+        ),
         points: vec![point],
     };
     round_trip(&st);
@@ -202,6 +207,10 @@ fn run_records_round_trip_with_their_keys() {
             "c_gamma_n_per_mm_per_um",
             "model_build_s",
             "seconds",
+            "root_stress_iso_p_pa",
+            "root_stress_iso_g_pa",
+            "iso6336",
+            "iso6336_error",
             "points",
         ]
         .map(String::from),

@@ -11,6 +11,7 @@
 //! | `cosim` | `cosimulation.md`, `cosimulation.csv` | TE error of the co-simulated drive line (cut at the shafts or at the hubs, zero- or first-order hold, hub coupling) against the whole model, H from T_m/16 to 1 ms, at 300 and 532 rad/s | ≈ 40 s |
 //! | `units` | `units.md`, `units.csv` | in-process speed of the Drive unit at table fidelity (RK4 sub-steps, DOPRI5 tolerances) with its TE error, and of the Drive and Pair units at full fidelity with the warm start carried or emptied every step | a few minutes |
 //! | `jacobian` | `jacobian.md` | cost of one `mesh_jacobian` against one `evaluate`, full and table fidelity | ≈ 30 s |
+//! | `iso` | `iso6336.md` | ISO 6336-3 method B nominal root stress σ_F0 and its factors for Table 1 at 100 N·m and two other designs (geometry only, no FE) | < 1 s |
 //! | `all` | all of them | | |
 //!
 //! Every page names the command that regenerates it, the date (UTC), the machine's core count
@@ -29,6 +30,7 @@ use helical_gear_mesh::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence
 use helical_gear_mesh::dynamics::{DriveUnit, Drivetrain, UnitKind, UnitStepping};
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::geometry::inertia::polygon_area;
+use helical_gear_mesh::iso6336::nominal_root_stress;
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshOptions, MeshState, MeshTorques, WarmStart};
 use helical_gear_mesh::params::GearPair;
@@ -40,7 +42,7 @@ mod cosim;
 #[path = "../../tests/common/fe.rs"]
 mod fe_checks;
 
-const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|all> [--out DIR]";
+const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|iso|all> [--out DIR]";
 
 fn main() {
     if let Err(e) = run() {
@@ -68,8 +70,8 @@ fn run() -> Result<(), String> {
     let study = study.ok_or(USAGE)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let studies: Vec<&str> = match study.as_str() {
-        "all" => vec!["fe", "cosim", "units", "jacobian"],
-        s @ ("fe" | "cosim" | "units" | "jacobian") => vec![s],
+        "all" => vec!["fe", "cosim", "units", "jacobian", "iso"],
+        s @ ("fe" | "cosim" | "units" | "jacobian" | "iso") => vec![s],
         s => return Err(format!("unknown study {s:?}; {USAGE}")),
     };
     for s in studies {
@@ -78,6 +80,7 @@ fn run() -> Result<(), String> {
             "fe" => fe(&out)?,
             "cosim" => cosimulation(&out)?,
             "units" => units(&out)?,
+            "iso" => iso(&out)?,
             _ => jacobian(&out)?,
         };
         for f in files {
@@ -444,4 +447,84 @@ fn jacobian(dir: &Path) -> Result<Vec<PathBuf>, String> {
         eprintln!("jacobian: {fidelity:?}: evaluate {e:.3} µs, mesh_jacobian {j:.3} µs");
     }
     Ok(vec![write(dir, "jacobian.md", &md)?])
+}
+
+/// ISO 6336-3:2006 method B (the library's `iso6336`) for Table 1 and two other designs at
+/// 100 N·m on the pinion: σ_F0 and every factor, per gear.
+fn iso(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut md = header("ISO 6336-3 method B: nominal tooth-root stress", "iso");
+    md.push_str(
+        "σ_F0 = F_t/(b·m_n)·Y_F·Y_S·Y_β·Y_B·Y_DT of ISO 6336-3:2006 method B (the library's \
+         `iso6336::nominal_root_stress`, `helical-gear static --json` keys \
+         `root_stress_iso_p_pa`, `root_stress_iso_g_pa` and `iso6336`) at a pinion torque of \
+         100 N·m, from each pair's basic rack and nominal profile shifts. The designs: Table 1 \
+         of the paper (its unstated data as assumed in every run summary); the same pair as a \
+         spur pair (β = 0, so Y_β = 1 and z_n = z); and a pair with fewer pinion teeth, \
+         profile shift and a larger helix angle (z = 19/61, x = +0.4/−0.4, β = 20°, \
+         b = 25 mm, otherwise Table 1). Geometry only: no FE, no load distribution.\n\n",
+    );
+    let table1 = GearPair::paper_table1();
+    let designs = [
+        ("Table 1", table1.clone()),
+        ("Table 1, spur (β = 0)", GearPair { helix_angle_rad: 0.0, ..table1.clone() }),
+        (
+            "z = 19/61, x = +0.4/−0.4, β = 20°, b = 25 mm",
+            GearPair {
+                z_p: 19,
+                z_g: 61,
+                profile_shift_p: 0.4,
+                profile_shift_g: -0.4,
+                helix_angle_rad: 20f64.to_radians(),
+                face_width_m: 25e-3,
+                ..table1.clone()
+            },
+        ),
+    ];
+    for (name, p) in designs {
+        let geo = PairGeometry::new(&p).map_err(|e| format!("{name}: {e}"))?;
+        let r = nominal_root_stress(&p, &geo, 100.0).map_err(|e| format!("{name}: {e}"))?;
+        writeln!(
+            md,
+            "## {name}\n\nz = {}/{}, m_n = {} mm, β = {:.1}°, b = {} mm, ε_α = {:.4}, \
+             ε_β = {:.4}; F_t = {:.1} N.\n\n| quantity | pinion | gear |\n| --- | --- | --- |",
+            p.z_p,
+            p.z_g,
+            p.normal_module_m * 1e3,
+            p.helix_angle_rad.to_degrees(),
+            p.face_width_m * 1e3,
+            geo.eps_alpha,
+            geo.eps_beta,
+            r.tangential_force_n
+        )
+        .ok();
+        let (a, b) = (&r.pinion, &r.gear);
+        for (q, x, y) in [
+            ("virtual number of teeth z_n", a.z_n, b.z_n),
+            ("root chord s_Fn, mm", a.s_fn_m * 1e3, b.s_fn_m * 1e3),
+            ("fillet radius ρ_F, mm", a.rho_f_m * 1e3, b.rho_f_m * 1e3),
+            ("bending arm h_Fe, mm", a.h_fe_m * 1e3, b.h_fe_m * 1e3),
+            ("load angle α_Fen, °", a.alpha_fen_rad.to_degrees(), b.alpha_fen_rad.to_degrees()),
+            ("tooth form factor Y_F", a.y_f, b.y_f),
+            ("stress correction factor Y_S", a.y_s, b.y_s),
+            ("helix angle factor Y_β", a.y_beta, b.y_beta),
+            ("rim thickness factor Y_B", a.y_b, b.y_b),
+            ("deep tooth factor Y_DT", a.y_dt, b.y_dt),
+            ("nominal root stress σ_F0, MPa", a.sigma_f0_pa * 1e-6, b.sigma_f0_pa * 1e-6),
+        ] {
+            writeln!(md, "| {q} | {x:.4} | {y:.4} |").ok();
+        }
+        md.push('\n');
+        eprintln!(
+            "iso: {name}: sigma_F0 {:.2} / {:.2} MPa",
+            a.sigma_f0_pa * 1e-6,
+            b.sigma_f0_pa * 1e-6
+        );
+    }
+    md.push_str(
+        "σ_F0 is proportional to the torque (the factors are geometry): at T N·m multiply by \
+         T/100. The agreement with a published rating (KISSsoft reports of ISO 6336:2006 \
+         method B) and the check of s_Fn and ρ_F against the generated fillet are tests \
+         (`tests/iso6336.rs`).\n",
+    );
+    Ok(vec![write(dir, "iso6336.md", &md)?])
 }

@@ -461,3 +461,50 @@ fn drive_line_is_its_own_file() {
     assert!(stderr.contains("drive.json"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `static --json` carries ISO 6336-3 method B at the run's torque: `root_stress_iso_p_pa`,
+/// `root_stress_iso_g_pa` and the factors in `iso6336`, the library's `iso6336` numbers
+/// bit for bit, proportional to the torque.
+#[test]
+fn static_json_reports_the_iso_6336_root_stress_at_the_run_torque() {
+    use helical_gear_mesh::iso6336::nominal_root_stress;
+    use helical_gear_mesh::{GearPair, PairGeometry};
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).unwrap();
+    let mut sigma = Vec::new();
+    for torque in [100.0, 50.0] {
+        let t = format!("{torque}");
+        let args =
+            ["static", "--json", "--torque", &t, "--points-per-pitch", "2", "--slices", "40"];
+        let (ok, stdout, stderr) = run(&args);
+        assert!(ok, "{stderr}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+        let lib = nominal_root_stress(&p, &geo, torque).unwrap();
+        assert_eq!(v["root_stress_iso_p_pa"].as_f64(), Some(lib.pinion.sigma_f0_pa));
+        assert_eq!(v["root_stress_iso_g_pa"].as_f64(), Some(lib.gear.sigma_f0_pa));
+        assert!(v["iso6336_error"].is_null());
+        let iso = &v["iso6336"];
+        assert_eq!(iso["tangential_force_n"].as_f64(), Some(lib.tangential_force_n));
+        for (gear, g) in [("pinion", &lib.pinion), ("gear", &lib.gear)] {
+            for (key, want) in [
+                ("y_f", g.y_f),
+                ("y_s", g.y_s),
+                ("y_beta", g.y_beta),
+                ("y_b", g.y_b),
+                ("y_dt", g.y_dt),
+                ("s_fn_m", g.s_fn_m),
+                ("h_fe_m", g.h_fe_m),
+                ("rho_f_m", g.rho_f_m),
+                ("alpha_fen_rad", g.alpha_fen_rad),
+                ("z_n", g.z_n),
+                ("sigma_f0_pa", g.sigma_f0_pa),
+            ] {
+                assert_eq!(iso[gear][key].as_f64(), Some(want), "iso6336.{gear}.{key}");
+            }
+        }
+        sigma.push(lib.pinion.sigma_f0_pa);
+    }
+    assert!((sigma[1] - 0.5 * sigma[0]).abs() <= 1e-12 * sigma[0], "linear in the torque");
+    // The Table 1 pinion at 100 N·m: about 128 MPa (Y_F ≈ 1.34, Y_S ≈ 2.00).
+    assert!((sigma[0] * 1e-6 - 127.6).abs() < 0.5, "{}", sigma[0]);
+}

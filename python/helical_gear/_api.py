@@ -303,6 +303,14 @@ class StaticCurve(_Result):
     ste_mean: float
     #: Mean mesh stiffness along the line of action, N/m.
     mesh_stiffness_mean: float
+    #: ISO 6336-3 method B nominal tooth-root stress σ_F0 of pinion and gear at `torque_nm`,
+    #: Pa (None when the method does not apply; the reason in ``iso6336_error``).
+    root_stress_iso_p_pa: float | None = None
+    root_stress_iso_g_pa: float | None = None
+    #: The factors behind them (`iso_root_stress`'s dict), or None.
+    iso6336: dict | None = None
+    #: Why ISO 6336-3 method B does not apply to the pair, or None.
+    iso6336_error: str | None = None
     _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length")
 
     @property
@@ -332,11 +340,14 @@ def static_curve(
     """Static TE of `pair` (or of a `MeshModel`, full fidelity recommended) at `torque` N·m
     (default: the torque of `drive`, default Table 1's 100 N·m) on `points_per_pitch` angles
     per pinion pitch over `pitches` pitches from φp = 0 (the library's ``mesh::static_curve``,
-    as the CLI's ``static``)."""
+    as the CLI's ``static``), with the ISO 6336-3 method B root stress at that torque
+    (``root_stress_iso_p_pa``, ``root_stress_iso_g_pa``, ``iso6336``: the keys of
+    ``helical-gear static --json``)."""
     drive = _drive(drive)
     m = _model(pair, "full", slices, compliance, drive)
     t = drive.torque_nm if torque is None else float(torque)
     d = json.loads(m._m.static_curve_json(t, int(points_per_pitch), int(pitches)))
+    iso = json.loads(_native.iso_root_stress_summary_json(m.pair.to_json(), t))
     return StaticCurve(
         torque_nm=d["torque_nm"],
         phi_p=np.array(d["phi_p_rad"]),
@@ -349,7 +360,22 @@ def static_curve(
         ste_min=d["ste_min_um"] * 1e-6,
         ste_mean=d["ste_mean_um"] * 1e-6,
         mesh_stiffness_mean=d["mesh_stiffness_mean_n_per_um"] * 1e6,
+        root_stress_iso_p_pa=iso["root_stress_iso_p_pa"],
+        root_stress_iso_g_pa=iso["root_stress_iso_g_pa"],
+        iso6336=iso["iso6336"],
+        iso6336_error=iso["iso6336_error"],
     )
+
+
+def iso_root_stress(pair: GearPair | None = None, torque: float = 100.0) -> dict:
+    """Nominal tooth-root stress of ISO 6336-3:2006 method B for `pair` (default Table 1) at
+    the pinion torque `torque` N·m (its sign is ignored), as the library's ``iso6336``
+    computes it: a dict with ``tangential_force_n`` (N) and, for ``"pinion"`` and ``"gear"``,
+    the factors ``y_f``, ``y_s``, ``y_beta``, ``y_b``, ``y_dt``, the section ``s_fn_m``,
+    ``h_fe_m``, ``rho_f_m`` (m), ``alpha_fen_rad``, ``z_n`` and ``sigma_f0_pa`` (Pa). A pair the
+    method cannot rate (virtual contact ratio below 1, a rim under half a tooth depth, …)
+    raises `ParameterError` naming the key to change."""
+    return json.loads(_native.iso_root_stress_json(_pair(pair).to_json(), float(torque)))
 
 
 #: The eight states of Eqs. 1–4 as `Trajectory` keys (the library's names: angles rad, rates

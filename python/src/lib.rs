@@ -30,13 +30,14 @@ use helical_gear_mesh::dynamics::{
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions,
     default_rk4_step, simulate, sweep,
 };
+use helical_gear_mesh::iso6336::nominal_root_stress;
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
     static_curve,
 };
 use helical_gear_mesh::options::Integrator;
 use helical_gear_mesh::results::{
-    ComplianceRecord, GeometryRecord, StaticCurveRecord, SweepRecord,
+    ComplianceRecord, GeometryRecord, IsoRootStressSummary, StaticCurveRecord, SweepRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -266,6 +267,35 @@ fn geometry_json(py: Python<'_>, pair_json: &str) -> PyResult<String> {
         let p = parse_pair(pair_json)?;
         let g = PairGeometry::new(&p)?;
         let record = GeometryRecord::new(&g, &p);
+        record.check_finite().map_err(Failure::Solver)?;
+        to_json_text(&record)
+    })
+}
+
+/// ISO 6336-3:2006 method B for the pair `pair_json` at the pinion torque `torque` (N·m; its
+/// sign is ignored): JSON of the library's `iso6336::IsoRootStress` (`tangential_force_n`;
+/// per gear `pinion`, `gear`: `y_f`, `y_s`, `y_beta`, `y_b`, `y_dt`, `s_fn_m`, `h_fe_m`,
+/// `rho_f_m`, `alpha_fen_rad`, `z_n`, `sigma_f0_pa`). A pair the method cannot rate is a
+/// `ParameterError` with the library's message.
+#[pyfunction]
+fn iso_root_stress_json(py: Python<'_>, pair_json: &str, torque: f64) -> PyResult<String> {
+    run(py, || {
+        let p = parse_pair(pair_json)?;
+        let g = PairGeometry::new(&p)?;
+        to_json_text(&nominal_root_stress(&p, &g, torque)?)
+    })
+}
+
+/// The ISO 6336-3 keys of a static run at `torque` (N·m): JSON of the library's
+/// `results::IsoRootStressSummary` (`root_stress_iso_p_pa`, `root_stress_iso_g_pa`,
+/// `iso6336`, `iso6336_error`; the first three `null` and the reason in the last when the
+/// method does not apply), the keys of `helical-gear static --json`.
+#[pyfunction]
+fn iso_root_stress_summary_json(py: Python<'_>, pair_json: &str, torque: f64) -> PyResult<String> {
+    run(py, || {
+        let p = parse_pair(pair_json)?;
+        let g = PairGeometry::new(&p)?;
+        let record = IsoRootStressSummary::new(&g, torque);
         record.check_finite().map_err(Failure::Solver)?;
         to_json_text(&record)
     })
@@ -744,6 +774,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(normalize_pair, m)?)?;
     m.add_function(wrap_pyfunction!(assumptions, m)?)?;
     m.add_function(wrap_pyfunction!(geometry_json, m)?)?;
+    m.add_function(wrap_pyfunction!(iso_root_stress_json, m)?)?;
+    m.add_function(wrap_pyfunction!(iso_root_stress_summary_json, m)?)?;
     m.add_function(wrap_pyfunction!(compliance_key, m)?)?;
     m.add_function(wrap_pyfunction!(paper_json, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;

@@ -222,6 +222,33 @@ def test_static_curve_equals_the_cli(tmp_path):
     assert list(df.columns)[:2] == ["phi_p", "ste"] and len(df) == 6
 
 
+
+def test_iso_root_stress_is_the_cli_static_iso_keys(tmp_path):
+    """ISO 6336-3 method B from Python (`iso_root_stress`, `static_curve`'s summary) is the
+    record the CLI's ``static --json`` prints, linear in |torque|, and a pair the method cannot
+    rate is a ParameterError naming the key."""
+    cli = RELEASE / "helical-gear"
+    if not cli.exists():
+        pytest.fail(f"{cli} is missing: build it with `cargo build --release --bin helical-gear`")
+    run = subprocess.run([str(cli), "static", "--json", "--torque", "80", "--points-per-pitch",
+                          "2", "--slices", "40"], capture_output=True, text=True, check=True)
+    ref = json.loads(run.stdout)
+    iso = hg.iso_root_stress(hg.GearPair(), 80.0)
+    assert iso == ref["iso6336"]
+    assert iso["pinion"]["sigma_f0_pa"] == ref["root_stress_iso_p_pa"]
+    assert iso["gear"]["sigma_f0_pa"] == ref["root_stress_iso_g_pa"]
+    assert set(iso["pinion"]) == {"y_f", "y_s", "y_beta", "y_b", "y_dt", "s_fn_m", "h_fe_m",
+                                  "rho_f_m", "alpha_fen_rad", "z_n", "sigma_f0_pa"}
+    c = hg.static_curve(points_per_pitch=2, slices=40, torque=80.0)
+    assert c.root_stress_iso_p_pa == ref["root_stress_iso_p_pa"]
+    assert c.root_stress_iso_g_pa == ref["root_stress_iso_g_pa"]
+    assert c.iso6336 == iso and c.iso6336_error is None
+    half = hg.iso_root_stress(torque=-40.0)
+    assert half["gear"]["sigma_f0_pa"] == pytest.approx(0.5 * iso["gear"]["sigma_f0_pa"],
+                                                        rel=1e-14)
+    with pytest.raises(hg.ParameterError, match="addendum_mn"):
+        hg.iso_root_stress(hg.GearPair(h_aP=0.5, b=0.06))
+
 def test_long_calls_release_the_gil():
     import sys
     import threading

@@ -3,7 +3,9 @@
 
 use helical_gear_app::paper;
 use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
-use helical_gear_mesh::results::{StaticCurveRecord, StaticPointRecord, StaticRunRecord};
+use helical_gear_mesh::results::{
+    IsoRootStressSummary, StaticCurveRecord, StaticPointRecord, StaticRunRecord,
+};
 
 use super::{Common, DriveArg, load_drive, load_params, mods};
 
@@ -82,6 +84,7 @@ pub fn static_cmd(
         c_gamma_n_per_mm_per_um: fl.c_gamma_n_per_mm_um,
         model_build_s: build_s,
         seconds,
+        iso: IsoRootStressSummary::new(&geo, torque),
         points,
     };
     record.check_finite()?;
@@ -101,6 +104,23 @@ pub fn static_cmd(
         );
         println!("  mean mesh stiffness {:.2} N/µm along the line of action", stiffness * 1e-6);
         println!("  tip-rounding contact: {}", curve.tip_rounding_contact());
+        match (&record.iso.iso6336, &record.iso.iso6336_error) {
+            (Some(r), _) => println!(
+                "  ISO 6336-3 method B nominal root stress σ_F0: pinion {:.2} MPa (Y_F {:.4}, \
+                 Y_S {:.4}), gear {:.2} MPa (Y_F {:.4}, Y_S {:.4}); Y_β {:.4}",
+                r.pinion.sigma_f0_pa * 1e-6,
+                r.pinion.y_f,
+                r.pinion.y_s,
+                r.gear.sigma_f0_pa * 1e-6,
+                r.gear.y_f,
+                r.gear.y_s,
+                r.pinion.y_beta
+            ),
+            (None, e) => println!(
+                "  ISO 6336-3 method B: not applicable ({})",
+                e.as_deref().unwrap_or("no reason given")
+            ),
+        }
         println!(
             "  K_Hβ max {:.4}, of the cycle-averaged line load {:.4}; ISO 6336-1 method C {:.4} \
              (F_βy = {:.2} µm, c_γ = {:.2} N/(mm·µm))",
