@@ -4,7 +4,7 @@
 //!
 //! Slots: the inputs φp, φg, φ̇p, φ̇g are input slots 0–3 (a [`MeshState`]; their time
 //! derivatives are accepted and not used), the outputs the shared mesh outputs
-//! ([`super::write_mesh_outputs`]). A serialised FMU state carries the cached outputs (the
+//! (`super::write_mesh_outputs`). A serialised FMU state carries the cached outputs (the
 //! element evaluates lazily) and the load solver's warm start.
 
 use std::sync::OnceLock;

@@ -6,7 +6,7 @@
 //! [`InputValues`] each input is (and whether its time derivative is used), which slot of
 //! [`OutputValues`] each output is, and the map from those slots to its physics. The mesh
 //! outputs every model has (the shared table [`MESH_OUTPUTS`]) take the first slots and are
-//! written by one function, [`write_mesh_outputs`].
+//! written by one function, `write_mesh_outputs`.
 
 pub mod mesh;
 pub mod unit;
