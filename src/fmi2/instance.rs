@@ -5,7 +5,13 @@
 //! into calls of these methods. Every operation returns `Ok(status)` or `Err(message)`; the
 //! caller logs the message, moves the instance to the error state and returns `fmi2Error`.
 //! Nothing here knows a model: the variable table, the defaults and the physics come from the
-//! instance's [`ModelInfo`].
+//! instance's [`ModelInfo`]. The instance owns the values as generic slots: the inputs in an
+//! [`InputValues`] (values, the time derivatives the model uses, the `fresh` flag), the
+//! outputs of the last evaluation in an [`OutputValues`]; a variable's [`Access`] names its
+//! slot, and the model's [`Engine`] reads the input slots and fills the output slots. Which
+//! inputs' derivatives are kept (`fmi2SetRealInputDerivatives`) is the variable's flag
+//! (`Access::Input { derivative }`); the state derivatives of Model Exchange are the Real
+//! slots of the model's derivative variables.
 //!
 //! Boundaries: an input is checked against its stated range when set or restored
 //! ([`Variable::check_input`]: |angle| ≤ 1e15 rad, |speed| ≤ 1e5 rad/s, |torque| ≤ 1e9 N·m),
@@ -21,7 +27,7 @@ use std::path::PathBuf;
 use super::model::{Engine, Jacobian, MAX_STATES, ModelInfo, StepFailure};
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use super::variables::{
-    Access, Causality, Derived, InputRates, Inputs, LOG_CATEGORIES, Outputs, Settings, Variability,
+    Access, Causality, Derived, InputValues, LOG_CATEGORIES, OutputValues, Settings, Variability,
     Variable,
 };
 use crate::error::short_num;
@@ -227,11 +233,11 @@ pub(crate) struct Data {
     pub(crate) start_time: f64,
     pub(crate) stop_time: Option<f64>,
     pub(crate) settings: Settings,
-    pub(crate) inputs: Inputs,
+    pub(crate) inputs: InputValues,
     built: Option<Built>,
     /// Outputs for the current inputs and state; `None` when an input, a parameter or the
     /// state changed since.
-    outputs: Option<Outputs>,
+    outputs: Option<OutputValues>,
 }
 
 impl Data {
@@ -472,7 +478,7 @@ impl Instance {
 
     /// The outputs for the current inputs and state, evaluating the model if anything
     /// changed.
-    fn ensure_outputs(&mut self) -> Result<Outputs, String> {
+    fn ensure_outputs(&mut self) -> Result<OutputValues, String> {
         if let Some(o) = self.data.outputs {
             return Ok(o);
         }
@@ -510,8 +516,8 @@ impl Instance {
         let d = &self.data;
         match v.access {
             Access::RealParam(get, _) => get(&d.settings),
-            Access::Input(get, _) => get(&d.inputs),
-            Access::RealOutput(get) => d.outputs.as_ref().map_or(f64::NAN, get),
+            Access::Input { slot, .. } => d.inputs.values[slot],
+            Access::RealOutput(slot) => d.outputs.as_ref().map_or(f64::NAN, |o| o.reals[slot]),
             Access::Calculated(get) => d.built.as_ref().map_or(f64::NAN, |b| get(&b.derived)),
             _ => f64::NAN,
         }
@@ -537,7 +543,7 @@ impl Instance {
         for (o, v) in out.iter_mut().zip(&vars) {
             *o = match v.access {
                 Access::IntParam(get, _) => get(&self.data.settings),
-                Access::IntOutput(get) => self.data.outputs.as_ref().map_or(0, get),
+                Access::IntOutput(slot) => self.data.outputs.as_ref().map_or(0, |o| o.ints[slot]),
                 _ => 0,
             };
         }
@@ -554,7 +560,9 @@ impl Instance {
         for (o, v) in out.iter_mut().zip(&vars) {
             *o = match v.access {
                 Access::BoolParam(get, _) => get(&self.data.settings),
-                Access::BoolOutput(get) => self.data.outputs.as_ref().is_some_and(get),
+                Access::BoolOutput(slot) => {
+                    self.data.outputs.as_ref().is_some_and(|o| o.bools[slot])
+                }
                 _ => false,
             };
         }
@@ -626,14 +634,15 @@ impl Instance {
             let v = self.lookup(r, "Real")?;
             self.check_settable(v)?;
             match v.access {
-                Access::Input(get, set) => {
+                Access::Input { slot, derivative } => {
                     v.check_input(x)?;
-                    self.data.inputs.fresh = true;
-                    if let Some(r) = self.data.inputs.rates.slot(v.name) {
-                        *r = 0.0;
+                    let inputs = &mut self.data.inputs;
+                    inputs.fresh = true;
+                    if derivative {
+                        inputs.rates[slot] = 0.0;
                     }
-                    if get(&self.data.inputs).to_bits() != x.to_bits() {
-                        set(&mut self.data.inputs, x);
+                    if inputs.values[slot].to_bits() != x.to_bits() {
+                        inputs.values[slot] = x;
                         self.data.outputs = None;
                     }
                 }
@@ -784,8 +793,8 @@ impl Instance {
                 return Err(format!("derivative of input `{}` = {x} is not finite", v.name));
             }
             self.data.inputs.fresh = true;
-            if let Some(slot) = self.data.inputs.rates.slot(v.name) {
-                *slot = x;
+            if let Access::Input { slot, derivative: true } = v.access {
+                self.data.inputs.rates[slot] = x;
             }
         }
         Ok(fmi2Status::Ok)
@@ -854,7 +863,12 @@ impl Instance {
     pub(crate) fn me_get_derivatives(&mut self, dx: &mut [f64]) -> Result<fmi2Status, String> {
         self.check_nx(dx.len(), "fmi2GetDerivatives")?;
         let o = self.ensure_outputs()?;
-        dx.copy_from_slice(&o.dx[..dx.len()]);
+        for (d, v) in dx.iter_mut().zip(self.model.derivatives()) {
+            *d = match v.access {
+                Access::RealOutput(slot) => o.reals[slot],
+                _ => f64::NAN,
+            };
+        }
         // The names are looked up only for the message (no allocation per call).
         ensure_finite("fmi2GetDerivatives", dx, |i| {
             self.model
@@ -1081,23 +1095,28 @@ pub(crate) fn log_to(
 //
 // Layout (little endian): magic `HGMSTATE`, format version u32, GUID (u32 length + bytes),
 // state-machine state u8 (its bit position), time f64, start time f64, stop time (u8 flag +
-// f64), then every parameter and input in table order (Real f64, Integer i32, Boolean u8);
-// then the engine's state (u32 length, 0 before the start or when it has none, + bytes: a
-// unit's snapshot text, warm start included; the mesh element's load-solver warm start,
-// `mesh::WarmStart::to_bytes`, so that a restored element evaluates bit for bit as the
-// original); last the cached outputs (u8 flag, then the model's bytes,
-// `ModelInfo::cached_outputs`: the mesh element's twelve mesh-output fields; models without
-// such a codec, the stateful ones, always write 0: their outputs follow from the state).
-// The engine itself (the mesh model) is
-// not serialised: it is rebuilt from the parameters (or cloned from the instance's last build
-// with the same parameters). The last 8 bytes are the 64-bit FNV-1a checksum
-// (`numeric::fnv1a_64`) of everything before them. A state is refused whole when the magic,
-// the version, the GUID or the checksum does not match, and every value read is checked:
-// finite times and parameters (their ranges when the model is rebuilt), inputs within their
-// stated ranges (`Variable::check_input`), cached outputs as the model's codec checks them.
+// f64), then every parameter and input in table order (Real f64, Integer i32, Boolean u8,
+// String u32 length + UTF-8 bytes), then the time derivative (f64) of every input whose
+// variable says the model uses it (`Access::Input { derivative: true }`), in table order, and
+// the `fresh` flag (u8); then the engine's state (u32 length, 0 before the start or when it
+// has none, + bytes: a unit's snapshot text, warm start included; the mesh element's
+// load-solver warm start, `mesh::WarmStart::to_bytes`, so that a restored element evaluates
+// bit for bit as the original); last the cached outputs (u8 flag, then, for a model with
+// `ModelInfo::cached_outputs`, the value of every output and local variable in table order:
+// Real f64, Integer i32, Boolean u8; models without, the stateful ones, always write 0: their
+// outputs follow from the state). The engine itself (the mesh model) is not serialised: it is
+// rebuilt from the parameters (or cloned from the instance's last build with the same
+// parameters). The last 8 bytes are the 64-bit FNV-1a checksum (`numeric::fnv1a_64`) of
+// everything before them. A state is refused whole when the magic, the version, the GUID or
+// the checksum does not match, and every value read is checked: finite times, parameters and
+// input derivatives (the parameters' ranges when the model is rebuilt), inputs within their
+// stated ranges (`Variable::check_input`), cached outputs finite and flags 0 or 1.
+//
+// Version 6: the input derivatives are those the model's variables flag, in table order
+// (version 5 wrote five named derivatives for every model).
 
 const MAGIC: &[u8; 8] = b"HGMSTATE";
-const FORMAT_VERSION: u32 = 5;
+const FORMAT_VERSION: u32 = 6;
 
 fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     let mut b = Vec::with_capacity(512);
@@ -1116,7 +1135,7 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
             Access::RealParam(get, _) => b.extend_from_slice(&get(&d.settings).to_le_bytes()),
             Access::IntParam(get, _) => b.extend_from_slice(&get(&d.settings).to_le_bytes()),
             Access::BoolParam(get, _) => b.push(u8::from(get(&d.settings))),
-            Access::Input(get, _) => b.extend_from_slice(&get(&d.inputs).to_le_bytes()),
+            Access::Input { slot, .. } => b.extend_from_slice(&d.inputs.values[slot].to_le_bytes()),
             Access::StringParam(get, _) => {
                 let text = get(&d.settings);
                 b.extend_from_slice(&(text.len() as u32).to_le_bytes());
@@ -1125,10 +1144,10 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
             _ => {}
         }
     }
-    let mut rates = d.inputs.rates;
-    for name in InputRates::NAMES {
-        let x = *rates.slot(name).expect("a named rate");
-        b.extend_from_slice(&x.to_le_bytes());
+    for v in model.variables {
+        if let Access::Input { slot, derivative: true } = v.access {
+            b.extend_from_slice(&d.inputs.rates[slot].to_le_bytes());
+        }
     }
     b.push(u8::from(d.inputs.fresh));
     let state = match &d.built {
@@ -1137,16 +1156,79 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     };
     b.extend_from_slice(&(state.len() as u32).to_le_bytes());
     b.extend_from_slice(&state);
-    match (&d.outputs, model.cached_outputs) {
-        (Some(o), Some(codec)) => {
+    match &d.outputs {
+        Some(o) if model.cached_outputs => {
             b.push(1);
-            (codec.save)(o, &mut b);
+            save_outputs(model, o, &mut b);
         }
         _ => b.push(0),
     }
     let sum = crate::numeric::fnv1a_64(&b);
     b.extend_from_slice(&sum.to_le_bytes());
     b
+}
+
+/// Appends the cached outputs `o` of `model` (every output and local variable of its table, in
+/// table order: Real f64, Integer i32, Boolean u8, little endian).
+pub(crate) fn save_outputs(model: &ModelInfo, o: &OutputValues, b: &mut Vec<u8>) {
+    for v in model.variables {
+        match v.access {
+            Access::RealOutput(slot) => b.extend_from_slice(&o.reals[slot].to_le_bytes()),
+            Access::IntOutput(slot) => b.extend_from_slice(&o.ints[slot].to_le_bytes()),
+            Access::BoolOutput(slot) => b.push(u8::from(o.bools[slot])),
+            _ => {}
+        }
+    }
+}
+
+/// Number of bytes [`save_outputs`] writes for `model`.
+fn outputs_len(model: &ModelInfo) -> usize {
+    (model.variables.iter())
+        .map(|v| match v.access {
+            Access::RealOutput(_) => 8,
+            Access::IntOutput(_) => 4,
+            Access::BoolOutput(_) => 1,
+            _ => 0,
+        })
+        .sum()
+}
+
+/// Reads the cached outputs written by [`save_outputs`] from the start of `bytes` (the rest
+/// of the state follows) and returns them with the number of bytes read; every Real is
+/// checked finite, every flag 0 or 1, a short input is refused as truncated.
+pub(crate) fn load_outputs(
+    model: &ModelInfo,
+    bytes: &[u8],
+) -> Result<(OutputValues, usize), String> {
+    let len = outputs_len(model);
+    let b = bytes.get(..len).ok_or_else(|| {
+        format!("serialised state truncated in the cached outputs ({} of {len} bytes)", bytes.len())
+    })?;
+    let mut r = Reader { b, at: 0 };
+    let mut o = OutputValues::default();
+    for v in model.variables {
+        match v.access {
+            Access::RealOutput(slot) => {
+                let x = r.f64()?;
+                ensure_finite("serialised state: cached output", &[x], |_| v.name.to_string())?;
+                o.reals[slot] = x;
+            }
+            Access::IntOutput(slot) => o.ints[slot] = r.i32()?,
+            Access::BoolOutput(slot) => {
+                o.bools[slot] = match r.u8()? {
+                    0 => false,
+                    1 => true,
+                    x => {
+                        return Err(format!(
+                            "serialised state: cached output flag byte {x} (allowed 0 or 1)"
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok((o, len))
 }
 
 struct Reader<'a> {
@@ -1251,10 +1333,10 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
                 })?;
             }
             Access::BoolParam(_, set) => set(&mut d.settings, r.bool()?),
-            Access::Input(_, set) => {
+            Access::Input { slot, .. } => {
                 let x = r.f64()?;
                 v.check_input(x).map_err(|e| format!("serialised state: {e}"))?;
-                set(&mut d.inputs, x)
+                d.inputs.values[slot] = x;
             }
             Access::StringParam(_, set) => {
                 let n = r.u32()? as usize;
@@ -1269,14 +1351,17 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
             _ => {}
         }
     }
-    for name in InputRates::NAMES {
-        let x = r.f64()?;
-        if !x.is_finite() {
-            return Err(format!(
-                "serialised state: derivative of input `{name}` = {x} is not finite"
-            ));
+    for v in model.variables {
+        if let Access::Input { slot, derivative: true } = v.access {
+            let x = r.f64()?;
+            if !x.is_finite() {
+                return Err(format!(
+                    "serialised state: derivative of input `{}` = {x} is not finite",
+                    v.name
+                ));
+            }
+            d.inputs.rates[slot] = x;
         }
-        *d.inputs.rates.slot(name).expect("a named rate") = x;
     }
     d.inputs.fresh = r.bool()?;
     for (name, t) in [("time", d.time), ("start time", d.start_time), ("stop time", stop)] {
@@ -1292,10 +1377,13 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         engine_state = Some(s.to_vec());
     }
     if r.bool()? {
-        let codec = model.cached_outputs.ok_or_else(|| {
-            format!("serialised state: cached outputs in a state of {}", model.identifier)
-        })?;
-        let (o, n) = (codec.load)(&r.b[r.at..])?;
+        if !model.cached_outputs {
+            return Err(format!(
+                "serialised state: cached outputs in a state of {}",
+                model.identifier
+            ));
+        }
+        let (o, n) = load_outputs(model, &r.b[r.at..])?;
         r.at += n;
         d.outputs = Some(o);
     }
@@ -1307,4 +1395,54 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         ));
     }
     Ok((d, engine_state))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi2::models::unit::{PAIR, STAGE};
+
+    /// The input derivatives a model uses travel in a serialised state and come back bit for
+    /// bit; the state re-serialises to the same bytes.
+    #[test]
+    fn serialised_state_carries_the_input_derivatives_a_model_uses_bit_for_bit() {
+        for model in [&PAIR, &STAGE] {
+            let mut d = Data::start(model);
+            d.time = 0.125;
+            d.inputs.fresh = true;
+            let mut k = 0.0;
+            for v in model.variables {
+                if let Access::Input { slot, derivative } = v.access {
+                    k += 1.0;
+                    d.inputs.values[slot] = 0.1 * k + 1e-17;
+                    if derivative {
+                        d.inputs.rates[slot] = -3.0 * k + 1e-13;
+                    }
+                }
+            }
+            assert!(
+                d.inputs.rates.iter().filter(|&&r| r != 0.0).count() == 2,
+                "{}",
+                model.identifier
+            );
+            let b = serialize(model, &d);
+            let (back, engine) = deserialize(model, &b).unwrap();
+            assert!(engine.is_none());
+            assert_eq!(back.inputs, d.inputs, "{}", model.identifier);
+            assert_eq!(back.time.to_bits(), d.time.to_bits());
+            assert_eq!(serialize(model, &back), b, "{}", model.identifier);
+        }
+    }
+
+    /// A state of another format version is refused with a message naming both versions.
+    #[test]
+    fn serialised_state_of_format_version_5_is_refused_naming_both_versions() {
+        let mut b = serialize(&PAIR, &Data::start(&PAIR));
+        b[8..12].copy_from_slice(&5u32.to_le_bytes());
+        let n = b.len() - 8;
+        let sum = crate::numeric::fnv1a_64(&b[..n]);
+        b[n..].copy_from_slice(&sum.to_le_bytes());
+        let e = deserialize(&PAIR, &b).err().expect("refused");
+        assert!(e.contains("format version 5") && e.contains("reads version 6"), "{e}");
+    }
 }

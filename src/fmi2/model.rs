@@ -8,22 +8,24 @@
 //! Whatever depends on the physics is the model's: the check of its tunable parameters
 //! ([`ModelInfo::check_tunable`], before the engine exists) and their application without a
 //! rebuild ([`Engine::tune`]; the layer knows which parameters are tunable from the variable
-//! table's variability), the bytes of its state ([`Engine::save`], [`Engine::load`]) and of its
-//! cached outputs in a serialised FMU state ([`ModelInfo::cached_outputs`]), and, for Model
-//! Exchange, its states, nominals and exact Jacobian (rows and columns named by the variable
-//! names of its table). A new model is one file under `fmi2/models/` with its variable table,
-//! its [`ModelInfo`] and its [`Engine`].
+//! table's variability), the bytes of its state ([`Engine::save`], [`Engine::load`]), whether
+//! a serialised FMU state carries its cached outputs ([`ModelInfo::cached_outputs`]), the
+//! meaning of its input and output slots (its variable table names a slot of the generic
+//! [`InputValues`] / [`OutputValues`] for each input and output, and which inputs' time
+//! derivatives it uses; the engine reads and fills those slots), and, for Model Exchange, its
+//! states, nominals and exact Jacobian (rows and columns named by the variable names of its
+//! table). A new model is one file under `fmi2/models/` with its variable table, its
+//! [`ModelInfo`] and its [`Engine`].
 
 use std::sync::OnceLock;
 
 use super::variables::{
-    CS_CAPABILITIES, Derived, Inputs, LOG_CATEGORIES, MODEL_VERSION, Outputs, Settings, UNITS,
-    Variable,
+    CS_CAPABILITIES, Derived, InputValues, LOG_CATEGORIES, MODEL_VERSION, OutputValues, Settings,
+    UNITS, Variable,
 };
 
-/// Model Exchange: the most continuous states a model may have (the length of the outputs'
-/// state vectors, [`Outputs::x`] and [`Outputs::dx`]); the instance's buffers are this long, so
-/// that a step allocates nothing.
+/// Model Exchange: the most continuous states a model may have; the instance's state buffers
+/// are this long, so that a step allocates nothing.
 pub const MAX_STATES: usize = 8;
 
 /// The default experiment of a model (`<DefaultExperiment>`), s.
@@ -59,11 +61,18 @@ pub trait Engine: Send {
     /// Puts the engine at its start (time `t0`, s) from the parameters; may overwrite the
     /// inputs with values consistent with the start (the static equilibrium of the stateful
     /// models).
-    fn start(&mut self, settings: &Settings, inputs: &mut Inputs, t0: f64) -> Result<(), String>;
-    /// The outputs at the current time and state for `inputs`.
-    fn outputs(&mut self, inputs: &Inputs) -> Result<Outputs, String>;
+    fn start(
+        &mut self,
+        settings: &Settings,
+        inputs: &mut InputValues,
+        t0: f64,
+    ) -> Result<(), String>;
+    /// The outputs at the current time and state for `inputs`: the model fills the slots its
+    /// output variables name (the others stay 0), the Model Exchange states and state
+    /// derivatives included.
+    fn outputs(&mut self, inputs: &InputValues) -> Result<OutputValues, String>;
     /// Advances from `t` by `h` (s) with `inputs` held over the step.
-    fn step(&mut self, inputs: &Inputs, t: f64, h: f64) -> Result<(), StepFailure>;
+    fn step(&mut self, inputs: &InputValues, t: f64, h: f64) -> Result<(), StepFailure>;
     /// The engine's own state (beyond parameters and inputs) as bytes, empty for a stateless
     /// model.
     fn save(&self) -> Vec<u8>;
@@ -107,7 +116,7 @@ pub trait Engine: Send {
     /// The exact partial derivatives of the model's outputs and state derivatives with respect
     /// to its continuous states and inputs at the current time, state and `inputs`
     /// (`fmi2GetDirectionalDerivative`).
-    fn jacobian(&mut self, inputs: &Inputs) -> Result<Jacobian, String>;
+    fn jacobian(&mut self, inputs: &InputValues) -> Result<Jacobian, String>;
 }
 
 /// Partial derivatives ∂row/∂col of some of a model's unknowns (outputs, state derivatives)
@@ -129,21 +138,6 @@ impl Clone for Box<dyn Engine> {
     }
 }
 
-/// A model's cached outputs as bytes in a serialised FMU state: the model alone knows which of
-/// its outputs it evaluates and how to check them.
-#[derive(Debug, Clone, Copy)]
-pub struct OutputsCodec {
-    /// Appends the outputs' bytes.
-    pub save: fn(&Outputs, &mut Vec<u8>),
-    /// Reads outputs written by `save` from the start of the bytes (the rest of the state)
-    /// and returns them with the number of bytes read; every value is checked (finite,
-    /// flags 0 or 1), a short input is refused as truncated.
-    pub load: LoadOutputsFn,
-}
-
-/// Reads cached outputs from bytes ([`OutputsCodec::load`]): the outputs and the bytes read.
-pub type LoadOutputsFn = fn(&[u8]) -> Result<(Outputs, usize), String>;
-
 /// Builds the engine of a model and the calculated parameters from the parameters.
 pub type BuildFn = fn(&Settings) -> Result<(Box<dyn Engine>, Derived), String>;
 
@@ -160,7 +154,7 @@ pub struct ModelInfo {
     /// Default parameter values (the start values of the parameters).
     pub default_settings: fn() -> Settings,
     /// Default input values (the start values of the inputs).
-    pub default_inputs: fn() -> Inputs,
+    pub default_inputs: fn() -> InputValues,
     /// The default experiment.
     pub experiment: Experiment,
     /// Model Exchange: number of event indicators (`numberOfEventIndicators`).
@@ -168,10 +162,11 @@ pub struct ModelInfo {
     /// True when the engine has a state of its own (stateful models): a communication step
     /// advances it ([`Engine::step`]) and a serialised FMU state carries it ([`Engine::save`]).
     pub stateful: bool,
-    /// How a serialised FMU state carries the cached outputs (the values of the last
-    /// evaluation, kept so that a restored instance reads them without evaluating again);
-    /// `None` when they are not serialised because they follow from the engine's state.
-    pub cached_outputs: Option<OutputsCodec>,
+    /// True when a serialised FMU state carries the cached outputs (the values of the last
+    /// evaluation, kept so that a restored instance reads them without evaluating again: the
+    /// value of every output variable of the table, in table order); false when they are not
+    /// serialised because they follow from the engine's state.
+    pub cached_outputs: bool,
     /// Builds the engine.
     pub build: BuildFn,
     /// Checks the values of the tunable parameters in the given settings against their ranges

@@ -5,10 +5,18 @@
 //! variability, type, unit, description, and how an instance reads and writes it
 //! ([`Access`]). Each model ([`super::models`]) lists its variables in one static table; the
 //! value-reference dispatch of `fmi2Get*`/`fmi2Set*`, the start values (read from the model's
-//! default [`Settings`] and [`Inputs`], so they cannot drift from the Rust defaults), the
+//! default [`Settings`] and [`InputValues`], so they cannot drift from the Rust defaults), the
 //! serialised FMU state, `modelDescription.xml`, the GUID, the C header of value references,
 //! the HTML documentation inside the FMU and the FMU reference pages `docs/fmu/` are all
 //! derived from that table.
+//!
+//! Inputs and outputs are generic: an input variable names a slot of the instance's
+//! [`InputValues`] (and whether the model uses its time derivative), an output variable a
+//! slot of its [`OutputValues`] (Real, Integer or Boolean). The instance stores, checks,
+//! serialises and hands out those values without knowing what they are; each model maps its
+//! slots to its physics in its own file (`fmi2/models/`). Nothing here names a model's input
+//! or output quantity except the shared mesh-output table [`MESH_OUTPUTS`], whose values one
+//! function of `fmi2::models` writes.
 //!
 //! The same physical quantity has the same name and value reference in every model: the
 //! gear-pair parameters ([`GEAR_PARAMS`], 100–122 and 130, the String `modifications`), the
@@ -29,7 +37,7 @@
 //! [`MODEL_IDENTIFIER`](super::models::mesh::MODEL_IDENTIFIER)).
 
 use crate::dynamics::HubCoupling;
-use crate::mesh::{ComplianceModel, Fidelity, MeshOptions, MeshOutputs};
+use crate::mesh::{ComplianceModel, Fidelity, MeshOptions};
 use crate::options::OptionEnum;
 
 use crate::params::{self as P, Bounds, DriveLine, GearPair};
@@ -165,112 +173,86 @@ impl UnitOptions {
     }
 }
 
-/// The input values of an instance (every model reads only its own inputs). Each input is
-/// checked against its range when set or restored ([`Variable::check_input`]).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Inputs {
-    /// `HelicalGearMesh`: pinion hub angle, rad.
-    pub phi_p: f64,
-    /// `HelicalGearMesh`: gear hub angle, rad.
-    pub phi_g: f64,
-    /// `HelicalGearMesh`: pinion speed, rad/s.
-    pub w_p: f64,
-    /// `HelicalGearMesh`: gear speed, rad/s.
-    pub w_g: f64,
-    /// `HelicalGearPair`: torque of the pinion shaft on the pinion hub, N·m.
-    pub tau_p: f64,
-    /// `HelicalGearPair`: torque of the gear shaft on the gear hub, N·m.
-    pub tau_g: f64,
-    /// `HelicalGearStage`: angle of the pinion shaft's far end (J1 side), rad.
-    pub phi_1: f64,
-    /// `HelicalGearStage`: rate of the pinion shaft's far end, rad/s.
-    pub w_1: f64,
-    /// `HelicalGearStage`: angle of the gear shaft's far end (J2 side), rad.
-    pub phi_2: f64,
-    /// `HelicalGearStage`: rate of the gear shaft's far end, rad/s.
-    pub w_2: f64,
-    /// `HelicalGearDrive`: driving torque M on J1, N·m.
-    pub m: f64,
+/// The most Real inputs a model may have: the length of [`InputValues`]' arrays. Each
+/// model's input variables name their slot ([`Access::Input`]); a test holds every model's
+/// slots below this bound.
+pub const MAX_INPUTS: usize = 8;
+/// The most Real outputs (outputs and Model Exchange locals) a model may have: the length of
+/// [`OutputValues::reals`].
+pub const MAX_REAL_OUTPUTS: usize = 64;
+/// The most Integer outputs a model may have: the length of [`OutputValues::ints`].
+pub const MAX_INT_OUTPUTS: usize = 4;
+/// The most Boolean outputs a model may have: the length of [`OutputValues::bools`].
+pub const MAX_BOOL_OUTPUTS: usize = 8;
+
+/// The input values of an instance, by slot: the input variable with
+/// `Access::Input { slot, .. }` is `values[slot]` (SI units, as the variable states). The
+/// instance owns them and knows nothing of their meaning; the model reads its own slots. Each
+/// input is checked against its range when set or restored ([`Variable::check_input`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InputValues {
+    /// The values, by slot; slots that no variable of the model names stay 0.
+    pub values: [f64; MAX_INPUTS],
     /// First time derivatives of the inputs over the next communication step
-    /// (`fmi2SetRealInputDerivatives`, first-order hold); 0 unless set, reset to 0 when the
-    /// input's value is set.
-    pub rates: InputRates,
+    /// (`fmi2SetRealInputDerivatives`, first-order hold), SI per second, by slot: kept only for
+    /// the inputs whose variable says the model uses them (`derivative: true`), 0 unless set,
+    /// reset to 0 when the input's value is set. Derivatives of the other inputs are accepted
+    /// and not used.
+    pub rates: [f64; MAX_INPUTS],
     /// True when an input value or derivative was set since the last communication step: the
-    /// next step holds the inputs from its start (otherwise the stateful models keep holding
-    /// them from the time they were last set, so the Stage's far ends keep turning).
+    /// next step holds the inputs from its start (otherwise a stateful model keeps holding
+    /// them from the time they were last set).
     pub fresh: bool,
 }
 
-/// Time derivatives of the inputs that the stateful models extrapolate (SI per second). The
-/// derivatives of the Stage's angles `phi_1`, `phi_2` are their rate inputs `w_1`, `w_2`, and
-/// the mesh element has no state between communication points: derivatives of those inputs
-/// are accepted and not used.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct InputRates {
-    /// d tau_p/dt, N·m/s.
-    pub tau_p: f64,
-    /// d tau_g/dt, N·m/s.
-    pub tau_g: f64,
-    /// d w_1/dt (far-end acceleration), rad/s².
-    pub w_1: f64,
-    /// d w_2/dt, rad/s².
-    pub w_2: f64,
-    /// d M/dt, N·m/s.
-    pub m: f64,
+impl Default for InputValues {
+    /// Every value and derivative 0, not fresh.
+    fn default() -> Self {
+        Self { values: [0.0; MAX_INPUTS], rates: [0.0; MAX_INPUTS], fresh: false }
+    }
 }
 
-impl InputRates {
-    /// Names of the inputs whose derivatives are used, in serialisation order.
-    pub const NAMES: [&'static str; 5] = ["tau_p", "tau_g", "w_1", "w_2", "M"];
+/// The output values of an instance, by slot: the variable with `Access::RealOutput(slot)` is
+/// `reals[slot]`, `Access::IntOutput(slot)` is `ints[slot]`, `Access::BoolOutput(slot)` is
+/// `bools[slot]`. A model's [`super::model::Engine::outputs`] fills its own slots (the rest
+/// stay 0); the instance caches them until an input, a parameter or the state changes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputValues {
+    /// Real outputs and Model Exchange locals (states in the model's coordinates, state
+    /// derivatives), SI units.
+    pub reals: [f64; MAX_REAL_OUTPUTS],
+    /// Integer outputs.
+    pub ints: [i32; MAX_INT_OUTPUTS],
+    /// Boolean outputs.
+    pub bools: [bool; MAX_BOOL_OUTPUTS],
+}
 
-    /// The derivative of the input named `name`, if it is used.
-    pub fn slot(&mut self, name: &str) -> Option<&mut f64> {
-        match name {
-            "tau_p" => Some(&mut self.tau_p),
-            "tau_g" => Some(&mut self.tau_g),
-            "w_1" => Some(&mut self.w_1),
-            "w_2" => Some(&mut self.w_2),
-            "M" => Some(&mut self.m),
-            _ => None,
+impl Default for OutputValues {
+    /// Every value 0 (false).
+    fn default() -> Self {
+        Self {
+            reals: [0.0; MAX_REAL_OUTPUTS],
+            ints: [0; MAX_INT_OUTPUTS],
+            bools: [false; MAX_BOOL_OUTPUTS],
         }
     }
 }
 
-/// The output values of an instance: the mesh outputs and, for the stateful models, the
-/// kinematics and shaft torques (0 where a model does not hold them).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Outputs {
-    /// Mesh torques, TE, force, contact length, pressure and flags.
-    pub mesh: MeshOutputs,
-    /// Angles φ1, φp, φg, φ2, rad.
-    pub phi_1: f64,
-    /// See `phi_1`.
-    pub phi_p: f64,
-    /// See `phi_1`.
-    pub phi_g: f64,
-    /// See `phi_1`.
-    pub phi_2: f64,
-    /// Rates φ̇1, φ̇p, φ̇g, φ̇2, rad/s.
-    pub w_1: f64,
-    /// See `w_1`.
-    pub w_p: f64,
-    /// See `w_1`.
-    pub w_g: f64,
-    /// See `w_1`.
-    pub w_2: f64,
-    /// Angular accelerations of the pinion and gear bodies, rad/s².
-    pub a_p: f64,
-    /// See `a_p`.
-    pub a_g: f64,
-    /// Torques the shafts exert on J1 and J2, N·m.
-    pub tau_1: f64,
-    /// See `tau_1`.
-    pub tau_2: f64,
-    /// Model Exchange: the continuous states in the model's relative coordinates
-    /// ([`crate::dynamics::relative`]; unused entries 0).
-    pub x: [f64; 8],
-    /// Model Exchange: their time derivatives.
-    pub dx: [f64; 8],
+/// One past the largest Real output slot of `vars` (0 when it has none): the number of Real
+/// slots a table uses, so that a model can place its own outputs after a shared table's
+/// (e.g. after [`MESH_OUTPUTS`]).
+pub const fn real_output_slots(vars: &[Variable]) -> usize {
+    let mut n = 0;
+    let mut i = 0;
+    while i < vars.len() {
+        if let Access::RealOutput(slot) = vars[i].access
+            && slot + 1 > n
+        {
+            n = slot + 1;
+        }
+        i += 1;
+    }
+    n
 }
 
 /// Quantities derived from the parameters when the model is built (calculated parameters).
@@ -379,14 +361,22 @@ pub enum Access {
     IntParam(fn(&Settings) -> i32, fn(&mut Settings, i32) -> Result<(), &'static str>),
     /// Boolean parameter stored in [`Settings`].
     BoolParam(fn(&Settings) -> bool, fn(&mut Settings, bool)),
-    /// Real input stored in [`Inputs`].
-    Input(fn(&Inputs) -> f64, fn(&mut Inputs, f64)),
-    /// Real output of [`Outputs`].
-    RealOutput(fn(&Outputs) -> f64),
-    /// Integer output of [`Outputs`].
-    IntOutput(fn(&Outputs) -> i32),
-    /// Boolean output of [`Outputs`].
-    BoolOutput(fn(&Outputs) -> bool),
+    /// Real input: slot `slot` of [`InputValues`]; `derivative` is true when the model uses
+    /// the input's first time derivative (`fmi2SetRealInputDerivatives`, kept in
+    /// [`InputValues::rates`] and carried in FMU states), false when a derivative is accepted
+    /// and not used.
+    Input {
+        /// Index into [`InputValues::values`] (and `rates`), below [`MAX_INPUTS`].
+        slot: usize,
+        /// The model uses the input's first time derivative.
+        derivative: bool,
+    },
+    /// Real output (or Model Exchange local): slot of [`OutputValues::reals`].
+    RealOutput(usize),
+    /// Integer output: slot of [`OutputValues::ints`].
+    IntOutput(usize),
+    /// Boolean output: slot of [`OutputValues::bools`].
+    BoolOutput(usize),
     /// Calculated parameter of [`Derived`].
     Calculated(fn(&Derived) -> f64),
     /// String parameter stored in [`Settings`]: the getter gives the text, the setter parses
@@ -472,7 +462,7 @@ impl Variable {
     pub fn var_type(&self) -> VarType {
         match self.access {
             Access::RealParam(..)
-            | Access::Input(..)
+            | Access::Input { .. }
             | Access::RealOutput(_)
             | Access::Calculated(_) => VarType::Real,
             Access::IntParam(..) | Access::IntOutput(_) => VarType::Integer,
@@ -482,19 +472,19 @@ impl Variable {
     }
 
     /// The start value of `HelicalGearMesh` (parameters and inputs), from
-    /// [`Settings::default`] and [`Inputs::default`].
+    /// [`Settings::default`] and [`InputValues::default`] (every input 0).
     pub fn start(&self) -> Option<String> {
-        self.start_in(&Settings::default(), &Inputs::default())
+        self.start_in(&Settings::default(), &InputValues::default())
     }
 
     /// The start value as it appears in `modelDescription.xml` (parameters and inputs) of a
     /// model whose defaults are `s` and `i`.
-    pub fn start_in(&self, s: &Settings, i: &Inputs) -> Option<String> {
+    pub fn start_in(&self, s: &Settings, i: &InputValues) -> Option<String> {
         match self.access {
             Access::RealParam(get, _) => Some(format_real(get(s))),
             Access::IntParam(get, _) => Some(get(s).to_string()),
             Access::BoolParam(get, _) => Some(get(s).to_string()),
-            Access::Input(get, _) => Some(format_real(get(i))),
+            Access::Input { slot, .. } => Some(format_real(i.values[slot])),
             Access::StringParam(get, _) => Some(get(s)),
             _ => None,
         }
@@ -564,7 +554,7 @@ pub(crate) const NONE: Variable = Variable {
     max: None,
     group: 0,
     depends: None,
-    access: Access::RealOutput(|_| 0.0),
+    access: Access::RealOutput(0),
     derivative_of: None,
 };
 
@@ -647,9 +637,11 @@ pub(crate) const ANGLE: Option<&str> = Some("Angle");
 pub(crate) const LENGTH: Option<&str> = Some("Length");
 pub(crate) const TORQUE: Option<&str> = Some("Torque");
 
-/// Every variable of the FMU, in `modelDescription.xml` order (the ScalarVariable index is the
-/// position in this table plus one).
-/// The mesh outputs (value references 10–21) with their dependencies in `HelicalGearMesh`.
+/// The mesh outputs (value references 10–21) with their dependencies in `HelicalGearMesh`,
+/// shared by every model. Their values sit in the first slots of [`OutputValues`] (Real slots
+/// 0, 1, 2 … in table order, likewise Integer and Boolean), written from a
+/// [`crate::mesh::MeshOutputs`] by one function, `fmi2::models::write_mesh_outputs`: a new
+/// mesh output is one entry here (with the next free slot) and one line there.
 pub const MESH_OUTPUTS: [Variable; 12] = [
     output!(
         "M_F_p",
@@ -662,7 +654,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
          minus sign: J_p*phi_p'' = c1*(phi_1 - phi_p) + ... - M_F_p - M_D_p; positive in \
          normal drive",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.mesh.m_f_p)
+        Access::RealOutput(0)
     ),
     output!(
         "M_F_g",
@@ -674,7 +666,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         "Elastic mesh torque on the gear (Eq. 13), N.m; enters the gear equation with a minus \
          sign; M_F_g/M_F_p = g_g/g_p in the plane of action",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.mesh.m_f_g)
+        Access::RealOutput(1)
     ),
     output!(
         "M_D_p",
@@ -690,7 +682,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::DAMPING,
         },
-        Access::RealOutput(|o| o.mesh.m_d_p)
+        Access::RealOutput(2)
     ),
     output!(
         "M_D_g",
@@ -706,7 +698,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::DAMPING,
         },
-        Access::RealOutput(|o| o.mesh.m_d_g)
+        Access::RealOutput(3)
     ),
     output!(
         "TE",
@@ -718,7 +710,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         "Transmission error TE = phi_p*g_p + phi_g*g_g (Eq. 16), m; 0 when ideal unloaded \
          driving flanks just touch, > 0 when the teeth must deform",
         Depends { inputs: ANGLES, linear_fixed: true, groups: group::GEOMETRY },
-        Access::RealOutput(|o| o.mesh.te)
+        Access::RealOutput(4)
     ),
     output!(
         "F_n",
@@ -729,7 +721,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         Some("Force"),
         "Total normal contact force of all loaded flanks, N (elastic part, >= 0)",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.mesh.f_n)
+        Access::RealOutput(5)
     ),
     output!(
         "contact_length",
@@ -740,7 +732,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         LENGTH,
         "Total length of the loaded contact lines, m",
         ELASTIC_DEPS,
-        Access::RealOutput(|o| o.mesh.contact_length)
+        Access::RealOutput(6)
     ),
     output!(
         "p_max",
@@ -756,7 +748,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::PRESSURE,
         },
-        Access::RealOutput(|o| o.mesh.p_max)
+        Access::RealOutput(7)
     ),
     output!(
         "n_pairs",
@@ -767,7 +759,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         None,
         "Number of tooth pairs carrying load",
         ELASTIC_DEPS,
-        Access::IntOutput(|o| u32_to_i32(o.mesh.n_pairs))
+        Access::IntOutput(0)
     ),
     output!(
         "tip_contact",
@@ -778,7 +770,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         None,
         "True when a loaded contact lies on the tip rounding (or tip edge) of either gear",
         ELASTIC_DEPS,
-        Access::BoolOutput(|o| o.mesh.tip_contact)
+        Access::BoolOutput(0)
     ),
     output!(
         "separated",
@@ -789,7 +781,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         None,
         "True when no flank carries load (loss of contact)",
         ELASTIC_DEPS,
-        Access::BoolOutput(|o| o.mesh.separated)
+        Access::BoolOutput(1)
     ),
     output!(
         "back_contact",
@@ -801,7 +793,7 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
         "True when the back flanks carry load (TE below minus the backlash); the mesh torques \
          are then negative",
         ELASTIC_DEPS,
-        Access::BoolOutput(|o| o.mesh.back_contact)
+        Access::BoolOutput(2)
     ),
 ];
 

@@ -1,20 +1,37 @@
 //! `HelicalGearMesh`: the mesh element without state. Inputs are the hub angles and speeds
 //! (φp, φg, φ̇p, φ̇g), outputs the mesh torques of Eqs. 13–14 with diagnostics, every output
 //! a direct function of the inputs (direct feedthrough); `fmi2DoStep` only advances the time.
+//!
+//! Slots: the inputs φp, φg, φ̇p, φ̇g are input slots 0–3 (a [`MeshState`]; their time
+//! derivatives are accepted and not used), the outputs the shared mesh outputs
+//! (`super::write_mesh_outputs`). A serialised FMU state carries the cached outputs (the
+//! element evaluates lazily) and the load solver's warm start.
 
 use std::sync::OnceLock;
 
-use crate::fmi2::instance::ensure_finite;
-use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, OutputsCodec, StepFailure};
+use super::write_mesh_outputs;
+use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
 use crate::fmi2::variables::{ANGLE, DEG, NM, RAD, TORQUE, group};
 use crate::fmi2::variables::{
-    Access, CALCULATED, Causality, Derived, GEAR_PARAMS, Inputs, MESH_OPTIONS, MESH_OUTPUTS, NONE,
-    Outputs, Settings, Variability, Variable, concat, total_len,
+    Access, CALCULATED, Causality, Derived, GEAR_PARAMS, InputValues, MESH_OPTIONS, MESH_OUTPUTS,
+    NONE, OutputValues, Settings, Variability, Variable, concat, total_len,
 };
 use crate::mesh::table::TABLE_DESIGN_TORQUE_NM;
-use crate::mesh::{Mesh, MeshError, MeshOutputs, MeshState, MeshTorques, WarmStart};
+use crate::mesh::{Mesh, MeshError, MeshState, MeshTorques, WarmStart};
 
 use Variable as V;
+
+/// Input slots of φp, φg, φ̇p, φ̇g.
+const PHI_P: usize = 0;
+const PHI_G: usize = 1;
+const W_P: usize = 2;
+const W_G: usize = 3;
+
+/// The mesh state the inputs hold.
+fn mesh_state(i: &InputValues) -> MeshState {
+    let v = &i.values;
+    MeshState { phi_p: v[PHI_P], phi_g: v[PHI_G], w_p: v[W_P], w_g: v[W_G] }
+}
 
 /// The inputs of the mesh element (value references 0–3).
 const INPUTS: [Variable; 4] = [
@@ -28,7 +45,7 @@ const INPUTS: [Variable; 4] = [
         unit: RAD,
         display_unit: DEG,
         quantity: ANGLE,
-        access: Access::Input(|s| s.phi_p, |s, v| s.phi_p = v),
+        access: Access::Input { slot: PHI_P, derivative: false },
         ..NONE
     },
     Variable {
@@ -41,7 +58,7 @@ const INPUTS: [Variable; 4] = [
         unit: RAD,
         display_unit: DEG,
         quantity: ANGLE,
-        access: Access::Input(|s| s.phi_g, |s, v| s.phi_g = v),
+        access: Access::Input { slot: PHI_G, derivative: false },
         ..NONE
     },
     Variable {
@@ -53,7 +70,7 @@ const INPUTS: [Variable; 4] = [
         unit: Some("rad/s"),
         display_unit: Some("rpm"),
         quantity: Some("AngularVelocity"),
-        access: Access::Input(|s| s.w_p, |s, v| s.w_p = v),
+        access: Access::Input { slot: W_P, derivative: false },
         ..NONE
     },
     Variable {
@@ -65,7 +82,7 @@ const INPUTS: [Variable; 4] = [
         unit: Some("rad/s"),
         display_unit: Some("rpm"),
         quantity: Some("AngularVelocity"),
-        access: Access::Input(|s| s.w_g, |s, v| s.w_g = v),
+        access: Access::Input { slot: W_G, derivative: false },
         ..NONE
     },
 ];
@@ -114,13 +131,13 @@ pub static INFO: ModelInfo = ModelInfo {
     doc_html: DOC,
     variables: VARIABLES,
     default_settings: Settings::default,
-    default_inputs: Inputs::default,
+    default_inputs: InputValues::default,
     experiment: Experiment { start: 0.0, stop: 0.1, step: 1e-5 },
     stateful: false,
     event_indicators: 0,
     build,
     check_tunable,
-    cached_outputs: Some(CACHED_OUTPUTS),
+    cached_outputs: true,
     guid_cell: &GUID,
 };
 
@@ -180,71 +197,6 @@ fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
     Ok((Box::new(MeshEngine(model)), derived))
 }
 
-/// The element's cached outputs in a serialised FMU state (it evaluates lazily, so a state
-/// taken after a read carries the evaluation): the eight Real mesh outputs (M_F_p, M_F_g,
-/// M_D_p, M_D_g, TE, F_n, contact_length, p_max) as f64, `n_pairs` as u32 and the flags
-/// `tip_contact`, `separated`, `back_contact` as one byte each, little endian (75 bytes).
-const CACHED_OUTPUTS: OutputsCodec = OutputsCodec { save: save_outputs, load: load_outputs };
-
-/// Length of [`CACHED_OUTPUTS`]' bytes.
-const CACHED_LEN: usize = 8 * 8 + 4 + 3;
-
-fn save_outputs(o: &Outputs, b: &mut Vec<u8>) {
-    let MeshOutputs {
-        m_f_p,
-        m_f_g,
-        m_d_p,
-        m_d_g,
-        te,
-        f_n,
-        contact_length,
-        p_max,
-        n_pairs,
-        tip_contact,
-        separated,
-        back_contact,
-    } = o.mesh;
-    for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
-        b.extend_from_slice(&x.to_le_bytes());
-    }
-    b.extend_from_slice(&n_pairs.to_le_bytes());
-    b.extend_from_slice(&[u8::from(tip_contact), u8::from(separated), u8::from(back_contact)]);
-}
-
-fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
-    let b = bytes.get(..CACHED_LEN).ok_or_else(|| {
-        format!(
-            "serialised state truncated in the cached outputs ({} of {CACHED_LEN} bytes)",
-            bytes.len()
-        )
-    })?;
-    let x: [f64; 8] =
-        std::array::from_fn(|i| f64::from_le_bytes(b[8 * i..8 * i + 8].try_into().expect("8")));
-    const NAMES: [&str; 8] =
-        ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
-    ensure_finite("serialised state: cached output", &x, |i| NAMES[i].to_string())?;
-    let flag = |i: usize| match b[68 + i] {
-        0 => Ok(false),
-        1 => Ok(true),
-        v => Err(format!("serialised state: cached output flag byte {v} (allowed 0 or 1)")),
-    };
-    let mesh = MeshOutputs {
-        m_f_p: x[0],
-        m_f_g: x[1],
-        m_d_p: x[2],
-        m_d_g: x[3],
-        te: x[4],
-        f_n: x[5],
-        contact_length: x[6],
-        p_max: x[7],
-        n_pairs: u32::from_le_bytes(b[64..68].try_into().expect("4")),
-        tip_contact: flag(0)?,
-        separated: flag(1)?,
-        back_contact: flag(2)?,
-    };
-    Ok((Outputs { mesh, ..Outputs::default() }, CACHED_LEN))
-}
-
 /// The mesh model as an [`Engine`] without dynamic state. Its load solver's warm start (the
 /// loads of the previous evaluation, [`WarmStart`]) is carried in FMU states (copied with
 /// `fmi2GetFMUstate`, serialised by `fmi2SerializeFMUstate`), so that a restored element
@@ -278,19 +230,21 @@ impl Engine for MeshEngine {
         self.0.set_d_mesh(s.pair.d_mesh_n_s_per_m).map_err(|e| mesh_error_text(&e))
     }
 
-    fn start(&mut self, _: &Settings, _: &mut Inputs, _: f64) -> Result<(), String> {
+    fn start(&mut self, _: &Settings, _: &mut InputValues, _: f64) -> Result<(), String> {
         Ok(())
     }
 
-    fn outputs(&mut self, i: &Inputs) -> Result<Outputs, String> {
-        let s = MeshState { phi_p: i.phi_p, phi_g: i.phi_g, w_p: i.w_p, w_g: i.w_g };
+    fn outputs(&mut self, i: &InputValues) -> Result<OutputValues, String> {
+        let s = mesh_state(i);
         let mesh = self.0.evaluate(&s).map_err(|e| {
             format!("mesh evaluation at {}: {}", state_text(&s), mesh_error_text(&e))
         })?;
-        Ok(Outputs { mesh, ..Outputs::default() })
+        let mut o = OutputValues::default();
+        write_mesh_outputs(&mesh, &mut o);
+        Ok(o)
     }
 
-    fn step(&mut self, _: &Inputs, _: f64, _: f64) -> Result<(), StepFailure> {
+    fn step(&mut self, _: &InputValues, _: f64, _: f64) -> Result<(), StepFailure> {
         Ok(())
     }
 
@@ -314,8 +268,8 @@ impl Engine for MeshEngine {
     /// ∂(M_F_p, M_F_g, M_D_p, M_D_g, TE)/∂(phi_p, phi_g, w_p, w_g): the mesh stiffness and
     /// damping from [`MeshTorques::mesh_jacobian`] (table interpolant or load-solution
     /// sensitivity), TE = g_p·phi_p + g_g·phi_g exactly.
-    fn jacobian(&mut self, i: &Inputs) -> Result<Jacobian, String> {
-        let s = MeshState { phi_p: i.phi_p, phi_g: i.phi_g, w_p: i.w_p, w_g: i.w_g };
+    fn jacobian(&mut self, i: &InputValues) -> Result<Jacobian, String> {
+        let s = mesh_state(i);
         let (_, j) = self
             .0
             .mesh_jacobian(&s)
@@ -349,37 +303,41 @@ mod tests {
         let _ = NONE;
     }
 
+    /// The cached outputs in a serialised state: the mesh outputs in table order (Real f64,
+    /// Integer i32, flag bytes), read back bit for bit; a short, non-finite or bad flag is
+    /// refused.
     #[test]
     fn cached_outputs_round_trip_bit_for_bit_and_refuse_short_or_bad_bytes() {
-        let mesh = MeshOutputs {
-            m_f_p: 101.25,
-            m_f_g: 160.5,
-            m_d_p: -0.125,
-            m_d_g: 1e-300,
-            te: 1.5e-5,
-            f_n: 3.2e3,
-            contact_length: 0.041,
-            p_max: 1.1e9,
-            n_pairs: 2,
-            tip_contact: true,
-            separated: false,
-            back_contact: true,
-        };
-        let o = Outputs { mesh, ..Outputs::default() };
+        use crate::fmi2::instance::{load_outputs, save_outputs};
+        let count = |f: fn(&Access) -> bool| MESH_OUTPUTS.iter().filter(|v| f(&v.access)).count();
+        let reals = count(|a| matches!(a, Access::RealOutput(_)));
+        let ints = count(|a| matches!(a, Access::IntOutput(_)));
+        let bools = count(|a| matches!(a, Access::BoolOutput(_)));
+        let cached_len = 8 * reals + 4 * ints + bools;
+        assert!(cached_len >= 8 * 8 + 4 + 3);
+        let mut o = OutputValues::default();
+        for (k, x) in o.reals[..reals].iter_mut().enumerate() {
+            *x = [101.25, 160.5, -0.125, 1e-300, 1.5e-5, 3.2e3, 0.041, 1.1e9][k % 8]
+                * (k + 1) as f64;
+        }
+        o.ints[..ints].fill(2);
+        for (k, f) in o.bools[..bools].iter_mut().enumerate() {
+            *f = k % 2 == 0;
+        }
         let mut b = vec![7];
-        (CACHED_OUTPUTS.save)(&o, &mut b);
-        assert_eq!(b.len(), 1 + CACHED_LEN);
+        save_outputs(&INFO, &o, &mut b);
+        assert_eq!(b.len(), 1 + cached_len);
         b.push(9); // what follows is not read
-        let (back, n) = (CACHED_OUTPUTS.load)(&b[1..]).unwrap();
-        assert_eq!((back, n), (o, CACHED_LEN));
-        let e = (CACHED_OUTPUTS.load)(&b[1..CACHED_LEN]).unwrap_err();
+        let (back, n) = load_outputs(&INFO, &b[1..]).unwrap();
+        assert_eq!((back, n), (o, cached_len));
+        let e = load_outputs(&INFO, &b[1..cached_len]).unwrap_err();
         assert!(e.contains("truncated"), "{e}");
         let mut bad = b.clone();
         bad[1 + 8 * 4..1 + 8 * 5].copy_from_slice(&f64::NAN.to_le_bytes());
-        let e = (CACHED_OUTPUTS.load)(&bad[1..]).unwrap_err();
+        let e = load_outputs(&INFO, &bad[1..]).unwrap_err();
         assert!(e.contains("`TE`"), "{e}");
         let mut bad = b;
-        bad[1 + 68] = 2;
-        assert!((CACHED_OUTPUTS.load)(&bad[1..]).is_err());
+        bad[1 + 8 * reals + 4 * ints] = 2;
+        assert!(load_outputs(&INFO, &bad[1..]).is_err());
     }
 }

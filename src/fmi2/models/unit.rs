@@ -26,6 +26,14 @@
 //! `theta_2`, `w_theta_1`, `w_theta_2`) are states besides `phi_p`, `TE` and `w_p`, with
 //! derivatives `der(…)`; `fmi2SetTime` re-anchors the held inputs at the new time (ME inputs are
 //! the values at that time, never extrapolated).
+//!
+//! Slots (this file's map between the generic FMI values and the unit): an input is the slot
+//! of its [`UnitInputs`] field (`slot`); the time derivatives of `tau_p`, `tau_g`, `w_1`,
+//! `w_2` and `M` are used (their variables say `derivative: true`; the [`UnitInputRates`]),
+//! those of `phi_1`, `phi_2` are accepted and not used (their rates are the inputs `w_1`,
+//! `w_2`). The Real outputs are the mesh outputs' slots, then one slot per field of the
+//! unit's outputs (`out`), then the Model Exchange state in relative coordinates and its time
+//! derivative (`out::X` + i, `out::DX` + i).
 
 use std::sync::OnceLock;
 
@@ -35,13 +43,14 @@ use crate::dynamics::unit::{
     DriveUnit, UnitInputRates, UnitInputs, UnitKind, UnitLinearization, UnitQuantity, UnitSnapshot,
     UnitStepping,
 };
-use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
+use crate::fmi2::model::{Engine, Experiment, Jacobian, MAX_STATES, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
+use crate::fmi2::models::write_mesh_outputs;
 use crate::fmi2::variables::{
     ANGLE, Access, CALCULATED, Causality, DEG, DRIVE_INERTIAS, DRIVE_SHAFTS, DRIVE_TORQUE, Depends,
-    Derived, GEAR_PARAMS, Inputs, Integrator, MESH_OPTIONS, MESH_OUTPUTS, NM, NONE, Outputs, RAD,
-    START_OUTER, START_PAIR, Settings, TORQUE, UNIT_OPTIONS, Variability, Variable, concat, group,
-    total_len, with_depends,
+    Derived, GEAR_PARAMS, InputValues, Integrator, MESH_OPTIONS, MESH_OUTPUTS, NM, NONE,
+    OutputValues, RAD, START_OUTER, START_PAIR, Settings, TORQUE, UNIT_OPTIONS, Variability,
+    Variable, concat, group, real_output_slots, total_len, with_depends,
 };
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::{Fidelity, Mesh};
@@ -62,8 +71,56 @@ const DRIVE_KNOWN: [&str; 9] =
     ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2", "M"];
 const UNIT_MESH_OUTPUTS: [Variable; 12] = with_depends(MESH_OUTPUTS, STATE_ONLY);
 
+/// Input slots of the stateful models: one per field of [`UnitInputs`] (each model's table
+/// names only its own; the others stay 0, as the unit's unused inputs are).
+mod slot {
+    /// [`super::UnitInputs::tau_p`].
+    pub const TAU_P: usize = 0;
+    /// [`super::UnitInputs::tau_g`].
+    pub const TAU_G: usize = 1;
+    /// [`super::UnitInputs::phi_1`].
+    pub const PHI_1: usize = 2;
+    /// [`super::UnitInputs::w_1`].
+    pub const W_1: usize = 3;
+    /// [`super::UnitInputs::phi_2`].
+    pub const PHI_2: usize = 4;
+    /// [`super::UnitInputs::w_2`].
+    pub const W_2: usize = 5;
+    /// [`super::UnitInputs::torque`].
+    pub const TORQUE: usize = 6;
+}
+
+/// Real output slots of the stateful models: the mesh outputs' first
+/// ([`write_mesh_outputs`]), then one per field of [`crate::dynamics::unit::UnitOutputs`]
+/// that a table names, then the Model Exchange state in relative coordinates ([`X`]) and its
+/// time derivative ([`DX`]).
+mod out {
+    use super::{MAX_STATES, MESH_OUTPUTS, real_output_slots};
+    /// The Real slots the mesh outputs take.
+    const K: usize = real_output_slots(&MESH_OUTPUTS);
+    // The fields of `UnitOutputs` of the same names (rad, rad/s, rad/s², N·m).
+    pub const PHI_1: usize = K;
+    pub const PHI_P: usize = K + 1;
+    pub const PHI_G: usize = K + 2;
+    pub const PHI_2: usize = K + 3;
+    pub const W_1: usize = K + 4;
+    pub const W_P: usize = K + 5;
+    pub const W_G: usize = K + 6;
+    pub const W_2: usize = K + 7;
+    pub const A_P: usize = K + 8;
+    pub const A_G: usize = K + 9;
+    pub const TAU_1: usize = K + 10;
+    pub const TAU_2: usize = K + 11;
+    /// Model Exchange: state `i` in relative coordinates is slot `X + i`.
+    pub const X: usize = K + 12;
+    /// Model Exchange: the time derivative of state `i` is slot `DX + i`.
+    pub const DX: usize = X + MAX_STATES;
+}
+use out::{DX, X};
+
 macro_rules! input {
-    ($name:literal, $vr:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal, $field:ident) => {
+    ($name:literal, $vr:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal, $slot:expr,
+     $derivative:expr) => {
         Variable {
             name: $name,
             vr: $vr,
@@ -73,7 +130,7 @@ macro_rules! input {
             unit: $unit,
             display_unit: $disp,
             quantity: $q,
-            access: crate::fmi2::variables::Access::Input(|s| s.$field, |s, v| s.$field = v),
+            access: crate::fmi2::variables::Access::Input { slot: $slot, derivative: $derivative },
             ..NONE
         }
     };
@@ -81,7 +138,7 @@ macro_rules! input {
 
 macro_rules! kin {
     ($name:literal, $vr:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal, $deps:expr,
-     $field:ident) => {
+     $slot:expr) => {
         Variable {
             name: $name,
             vr: $vr,
@@ -92,7 +149,7 @@ macro_rules! kin {
             display_unit: $disp,
             quantity: $q,
             depends: Some(Depends { inputs: $deps, linear_fixed: false, groups: group::ALL }),
-            access: crate::fmi2::variables::Access::RealOutput(|o| o.$field),
+            access: crate::fmi2::variables::Access::RealOutput($slot),
             ..NONE
         }
     };
@@ -106,8 +163,8 @@ const ACC: Option<&str> = Some("AngularAcceleration");
 
 /// φp, φ̇p, φ̇g, φg (functions of the state).
 const HUBS: [Variable; 4] = [
-    kin!("phi_p", 40, RAD, DEG, ANGLE, "Pinion hub angle, rad (state)", &["phi_p"], phi_p),
-    kin!("w_p", 41, RAD_S, RPM, W, "Pinion speed, rad/s (state)", &["w_p"], w_p),
+    kin!("phi_p", 40, RAD, DEG, ANGLE, "Pinion hub angle, rad (state)", &["phi_p"], out::PHI_P),
+    kin!("w_p", 41, RAD_S, RPM, W, "Pinion speed, rad/s (state)", &["w_p"], out::W_P),
     kin!(
         "phi_g",
         43,
@@ -116,7 +173,7 @@ const HUBS: [Variable; 4] = [
         ANGLE,
         "Gear hub angle, rad (state; negative in normal running)",
         &["phi_p", "TE"],
-        phi_g
+        out::PHI_G
     ),
     kin!(
         "w_g",
@@ -126,7 +183,7 @@ const HUBS: [Variable; 4] = [
         W,
         "Gear speed, rad/s (state; negative in normal running)",
         &["w_p", "v_TE"],
-        w_g
+        out::W_G
     ),
 ];
 
@@ -139,7 +196,8 @@ const PAIR_IO: [Variable; 4] = [
         TORQUE,
         "Torque the pinion shaft exerts on the pinion hub, N.m: J_p*phi_p'' = tau_p - M_F_p - \
          M_D_p (steady running: tau_p = M)",
-        tau_p
+        slot::TAU_P,
+        true
     ),
     input!(
         "tau_g",
@@ -149,7 +207,8 @@ const PAIR_IO: [Variable; 4] = [
         TORQUE,
         "Torque the gear shaft exerts on the gear hub, N.m: J_g*phi_g'' = tau_g - M_F_g - M_D_g \
          (steady running: tau_g = M*z_g/z_p)",
-        tau_g
+        slot::TAU_G,
+        true
     ),
     kin!(
         "a_p",
@@ -159,7 +218,7 @@ const PAIR_IO: [Variable; 4] = [
         ACC,
         "Pinion angular acceleration phi_p'', rad/s2",
         &["phi_p", "TE", "w_p", "v_TE", "tau_p"],
-        a_p
+        out::A_P
     ),
     kin!(
         "a_g",
@@ -169,7 +228,7 @@ const PAIR_IO: [Variable; 4] = [
         ACC,
         "Gear angular acceleration phi_g'', rad/s2",
         &["phi_p", "TE", "w_p", "v_TE", "tau_g"],
-        a_g
+        out::A_G
     ),
 ];
 
@@ -181,9 +240,10 @@ const STAGE_IO: [Variable; 8] = [
         DEG,
         ANGLE,
         "Angle of the pinion shaft's far end (J1 side), rad; held at the rate w_1 over a step",
-        phi_1
+        slot::PHI_1,
+        false
     ),
-    input!("w_1", 7, RAD_S, RPM, W, "Rate of the pinion shaft's far end, rad/s", w_1),
+    input!("w_1", 7, RAD_S, RPM, W, "Rate of the pinion shaft's far end, rad/s", slot::W_1, true),
     input!(
         "phi_2",
         8,
@@ -191,9 +251,10 @@ const STAGE_IO: [Variable; 8] = [
         DEG,
         ANGLE,
         "Angle of the gear shaft's far end (J2 side), rad; held at the rate w_2 over a step",
-        phi_2
+        slot::PHI_2,
+        false
     ),
-    input!("w_2", 9, RAD_S, RPM, W, "Rate of the gear shaft's far end, rad/s", w_2),
+    input!("w_2", 9, RAD_S, RPM, W, "Rate of the gear shaft's far end, rad/s", slot::W_2, true),
     kin!(
         "tau_1",
         46,
@@ -203,7 +264,7 @@ const STAGE_IO: [Variable; 8] = [
         "Torque the pinion shaft exerts on J1, N.m: J1*phi_1'' = M + tau_1 (steady running: \
          tau_1 = -M)",
         &["phi_p", "w_p", "phi_1", "w_1"],
-        tau_1
+        out::TAU_1
     ),
     kin!(
         "tau_2",
@@ -213,7 +274,7 @@ const STAGE_IO: [Variable; 8] = [
         TORQUE,
         "Torque the gear shaft exerts on J2, N.m: J2*phi_2'' = M*z_g/z_p + tau_2",
         &["phi_p", "TE", "w_p", "v_TE", "phi_2", "w_2"],
-        tau_2
+        out::TAU_2
     ),
     kin!(
         "a_p",
@@ -223,7 +284,7 @@ const STAGE_IO: [Variable; 8] = [
         ACC,
         "Pinion angular acceleration phi_p'', rad/s2",
         &["phi_p", "TE", "w_p", "v_TE", "phi_1", "w_1"],
-        a_p
+        out::A_P
     ),
     kin!(
         "a_g",
@@ -233,7 +294,7 @@ const STAGE_IO: [Variable; 8] = [
         ACC,
         "Gear angular acceleration phi_g'', rad/s2",
         &["phi_p", "TE", "w_p", "v_TE", "phi_2", "w_2"],
-        a_g
+        out::A_G
     ),
 ];
 
@@ -245,9 +306,19 @@ const DRIVE_IO: [Variable; 7] = [
         None,
         TORQUE,
         "Driving torque M on J1, N.m (the load on J2 is M*z_g/z_p, Eq. 4)",
-        m
+        slot::TORQUE,
+        true
     ),
-    kin!("phi_1", 48, RAD, DEG, ANGLE, "Angle of J1, rad (state)", &["phi_p", "theta_1"], phi_1),
+    kin!(
+        "phi_1",
+        48,
+        RAD,
+        DEG,
+        ANGLE,
+        "Angle of J1, rad (state)",
+        &["phi_p", "theta_1"],
+        out::PHI_1
+    ),
     kin!(
         "phi_2",
         50,
@@ -256,9 +327,9 @@ const DRIVE_IO: [Variable; 7] = [
         ANGLE,
         "Angle of J2, rad (state)",
         &["phi_p", "TE", "theta_2"],
-        phi_2
+        out::PHI_2
     ),
-    kin!("w_1", 49, RAD_S, RPM, W, "Speed of J1, rad/s (state)", &["w_p", "w_theta_1"], w_1),
+    kin!("w_1", 49, RAD_S, RPM, W, "Speed of J1, rad/s (state)", &["w_p", "w_theta_1"], out::W_1),
     kin!(
         "w_2",
         51,
@@ -267,7 +338,7 @@ const DRIVE_IO: [Variable; 7] = [
         W,
         "Speed of J2, rad/s (state)",
         &["w_p", "v_TE", "w_theta_2"],
-        w_2
+        out::W_2
     ),
     kin!(
         "a_p",
@@ -277,7 +348,7 @@ const DRIVE_IO: [Variable; 7] = [
         ACC,
         "Pinion angular acceleration phi_p'', rad/s2",
         &DRIVE_STATES,
-        a_p
+        out::A_P
     ),
     kin!(
         "a_g",
@@ -287,15 +358,15 @@ const DRIVE_IO: [Variable; 7] = [
         ACC,
         "Gear angular acceleration phi_g'', rad/s2",
         &DRIVE_STATES,
-        a_g
+        out::A_G
     ),
 ];
 
-/// A Model Exchange local: a relative-coordinate state or a state derivative, read from
-/// [`Outputs::x`] / [`Outputs::dx`].
+/// A Model Exchange local: a relative-coordinate state or a state derivative, read from its
+/// slot ([`X`] + i or [`DX`] + i).
 macro_rules! me_local {
     ($name:literal, $vr:expr, $unit:expr, $q:expr, $desc:literal, $deps:expr, $linear:expr,
-     $der_of:expr, $get:expr) => {
+     $der_of:expr, $slot:expr) => {
         Variable {
             name: $name,
             vr: $vr,
@@ -305,7 +376,7 @@ macro_rules! me_local {
             unit: $unit,
             quantity: $q,
             depends: Some(Depends { inputs: $deps, linear_fixed: $linear, groups: group::ALL }),
-            access: crate::fmi2::variables::Access::RealOutput($get),
+            access: crate::fmi2::variables::Access::RealOutput($slot),
             derivative_of: $der_of,
             ..NONE
         }
@@ -327,7 +398,7 @@ const DER_PHI_P: Variable = me_local!(
     &["w_p"],
     true,
     Some("phi_p"),
-    |o| o.dx[0]
+    DX
 );
 
 /// Model Exchange states and derivatives of the Pair and the Stage: x = (φp, TE, φ̇p, v_TE).
@@ -342,7 +413,7 @@ const fn me_pair(known: &'static [&'static str]) -> [Variable; 5] {
             &[],
             false,
             None,
-            |o| o.x[3]
+            X + 3
         ),
         DER_PHI_P,
         me_local!(
@@ -354,7 +425,7 @@ const fn me_pair(known: &'static [&'static str]) -> [Variable; 5] {
             &["v_TE"],
             true,
             Some("TE"),
-            |o| o.dx[1]
+            DX + 1
         ),
         me_local!(
             "der(w_p)",
@@ -365,7 +436,7 @@ const fn me_pair(known: &'static [&'static str]) -> [Variable; 5] {
             known,
             false,
             Some("w_p"),
-            |o| o.dx[2]
+            DX + 2
         ),
         me_local!(
             "der(v_TE)",
@@ -376,7 +447,7 @@ const fn me_pair(known: &'static [&'static str]) -> [Variable; 5] {
             known,
             false,
             Some("v_TE"),
-            |o| o.dx[3]
+            DX + 3
         ),
     ]
 }
@@ -396,7 +467,7 @@ const ME_DRIVE: [Variable; 13] = [
         &[],
         false,
         None,
-        |o| o.x[1]
+        X + 1
     ),
     me_local!(
         "theta_2",
@@ -407,7 +478,7 @@ const ME_DRIVE: [Variable; 13] = [
         &[],
         false,
         None,
-        |o| o.x[3]
+        X + 3
     ),
     me_local!(
         "w_theta_1",
@@ -418,7 +489,7 @@ const ME_DRIVE: [Variable; 13] = [
         &[],
         false,
         None,
-        |o| o.x[5]
+        X + 5
     ),
     me_local!(
         "v_TE",
@@ -429,7 +500,7 @@ const ME_DRIVE: [Variable; 13] = [
         &[],
         false,
         None,
-        |o| o.x[6]
+        X + 6
     ),
     me_local!(
         "w_theta_2",
@@ -440,7 +511,7 @@ const ME_DRIVE: [Variable; 13] = [
         &[],
         false,
         None,
-        |o| o.x[7]
+        X + 7
     ),
     DER_PHI_P,
     me_local!(
@@ -452,7 +523,7 @@ const ME_DRIVE: [Variable; 13] = [
         &["w_theta_1"],
         true,
         Some("theta_1"),
-        |o| o.dx[1]
+        DX + 1
     ),
     me_local!(
         "der(TE)",
@@ -463,7 +534,7 @@ const ME_DRIVE: [Variable; 13] = [
         &["v_TE"],
         true,
         Some("TE"),
-        |o| o.dx[2]
+        DX + 2
     ),
     me_local!(
         "der(theta_2)",
@@ -474,7 +545,7 @@ const ME_DRIVE: [Variable; 13] = [
         &["w_theta_2"],
         true,
         Some("theta_2"),
-        |o| o.dx[3]
+        DX + 3
     ),
     me_local!(
         "der(w_p)",
@@ -485,7 +556,7 @@ const ME_DRIVE: [Variable; 13] = [
         &DRIVE_STATES,
         false,
         Some("w_p"),
-        |o| o.dx[4]
+        DX + 4
     ),
     me_local!(
         "der(w_theta_1)",
@@ -496,7 +567,7 @@ const ME_DRIVE: [Variable; 13] = [
         &DRIVE_KNOWN,
         false,
         Some("w_theta_1"),
-        |o| o.dx[5]
+        DX + 5
     ),
     me_local!(
         "der(v_TE)",
@@ -507,7 +578,7 @@ const ME_DRIVE: [Variable; 13] = [
         &DRIVE_STATES,
         false,
         Some("v_TE"),
-        |o| o.dx[6]
+        DX + 6
     ),
     me_local!(
         "der(w_theta_2)",
@@ -518,7 +589,7 @@ const ME_DRIVE: [Variable; 13] = [
         &DRIVE_KNOWN,
         false,
         Some("w_theta_2"),
-        |o| o.dx[7]
+        DX + 7
     ),
 ];
 
@@ -630,20 +701,31 @@ fn unit_settings() -> Settings {
     s
 }
 
-fn pair_inputs() -> Inputs {
+/// The Pair's start inputs: the shaft torques of steady running at the default torque.
+fn pair_inputs() -> InputValues {
     let s = Settings::default();
     let (p, m) = (s.pair, s.drive.torque_nm);
-    Inputs { tau_p: m, tau_g: m * f64::from(p.z_g) / f64::from(p.z_p), ..Inputs::default() }
+    let mut i = InputValues::default();
+    i.values[slot::TAU_P] = m;
+    i.values[slot::TAU_G] = m * f64::from(p.z_g) / f64::from(p.z_p);
+    i
 }
 
-fn stage_inputs() -> Inputs {
+/// The Stage's start inputs: far-end rates of steady running at `w_p_start`.
+fn stage_inputs() -> InputValues {
     let s = Settings::default();
     let w = s.unit.w_p_start;
-    Inputs { w_1: w, w_2: -w * f64::from(s.pair.z_p) / f64::from(s.pair.z_g), ..Inputs::default() }
+    let mut i = InputValues::default();
+    i.values[slot::W_1] = w;
+    i.values[slot::W_2] = -w * f64::from(s.pair.z_p) / f64::from(s.pair.z_g);
+    i
 }
 
-fn drive_inputs() -> Inputs {
-    Inputs { m: Settings::default().drive.torque_nm, ..Inputs::default() }
+/// The Drive's start input: the default driving torque.
+fn drive_inputs() -> InputValues {
+    let mut i = InputValues::default();
+    i.values[slot::TORQUE] = Settings::default().drive.torque_nm;
+    i
 }
 
 static PAIR_GUID: OnceLock<String> = OnceLock::new();
@@ -669,7 +751,7 @@ pub static PAIR: ModelInfo = ModelInfo {
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Pair, s),
     check_tunable: super::mesh::check_tunable,
-    cached_outputs: None,
+    cached_outputs: false,
     guid_cell: &PAIR_GUID,
 };
 
@@ -693,7 +775,7 @@ pub static STAGE: ModelInfo = ModelInfo {
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Stage, s),
     check_tunable: super::mesh::check_tunable,
-    cached_outputs: None,
+    cached_outputs: false,
     guid_cell: &STAGE_GUID,
 };
 
@@ -716,7 +798,7 @@ pub static DRIVE: ModelInfo = ModelInfo {
     event_indicators: 0,
     build: |s| build_unit(UnitKind::Drive, s),
     check_tunable: super::mesh::check_tunable,
-    cached_outputs: None,
+    cached_outputs: false,
     guid_cell: &DRIVE_GUID,
 };
 
@@ -762,22 +844,25 @@ fn kind_name(kind: UnitKind) -> &'static str {
     }
 }
 
-fn unit_inputs(i: &Inputs) -> (UnitInputs, UnitInputRates) {
+/// The unit's inputs and their rates from the input slots ([`slot`]; the derivatives of the
+/// Stage's angles `phi_1`, `phi_2` are their rate inputs `w_1`, `w_2`, so no slot holds them).
+fn unit_inputs(i: &InputValues) -> (UnitInputs, UnitInputRates) {
+    let (v, r) = (&i.values, &i.rates);
     let u = UnitInputs {
-        tau_p: i.tau_p,
-        tau_g: i.tau_g,
-        phi_1: i.phi_1,
-        w_1: i.w_1,
-        phi_2: i.phi_2,
-        w_2: i.w_2,
-        torque: i.m,
+        tau_p: v[slot::TAU_P],
+        tau_g: v[slot::TAU_G],
+        phi_1: v[slot::PHI_1],
+        w_1: v[slot::W_1],
+        phi_2: v[slot::PHI_2],
+        w_2: v[slot::W_2],
+        torque: v[slot::TORQUE],
     };
     let r = UnitInputRates {
-        tau_p_rate: i.rates.tau_p,
-        tau_g_rate: i.rates.tau_g,
-        w_1_rate: i.rates.w_1,
-        w_2_rate: i.rates.w_2,
-        torque_rate: i.rates.m,
+        tau_p_rate: r[slot::TAU_P],
+        tau_g_rate: r[slot::TAU_G],
+        w_1_rate: r[slot::W_1],
+        w_2_rate: r[slot::W_2],
+        torque_rate: r[slot::TORQUE],
     };
     (u, r)
 }
@@ -845,7 +930,7 @@ impl UnitEngine {
     /// Passes the inputs to the unit when they differ from the ones it holds or were set since
     /// the last step (so the unit's input time, the origin of the held inputs' extrapolation,
     /// is that of the last setting).
-    fn sync(&mut self, i: &Inputs) -> Result<(), String> {
+    fn sync(&mut self, i: &InputValues) -> Result<(), String> {
         let (u, r) = unit_inputs(i);
         if i.fresh || *self.unit.inputs() != u || *self.unit.input_rates() != r {
             self.unit.set_inputs(u).map_err(|e| e.to_string())?;
@@ -868,20 +953,21 @@ impl Engine for UnitEngine {
             .map_err(|e| super::mesh::mesh_error_text(&e))
     }
 
-    fn start(&mut self, s: &Settings, inputs: &mut Inputs, t0: f64) -> Result<(), String> {
+    fn start(&mut self, s: &Settings, inputs: &mut InputValues, t0: f64) -> Result<(), String> {
         let u = &s.unit;
         if u.start_from_equilibrium {
             self.unit.start_static(t0, u.w_p_start, &EquilibriumSettings::default()).map_err(
                 |e| format!("static-equilibrium start at w_p_start = {}: {e}", u.w_p_start),
             )?;
             let ui = *self.unit.inputs();
+            let v = &mut inputs.values;
             match self.unit.kind() {
-                UnitKind::Pair => (inputs.tau_p, inputs.tau_g) = (ui.tau_p, ui.tau_g),
+                UnitKind::Pair => (v[slot::TAU_P], v[slot::TAU_G]) = (ui.tau_p, ui.tau_g),
                 UnitKind::Stage => {
-                    (inputs.phi_1, inputs.w_1, inputs.phi_2, inputs.w_2) =
+                    (v[slot::PHI_1], v[slot::W_1], v[slot::PHI_2], v[slot::W_2]) =
                         (ui.phi_1, ui.w_1, ui.phi_2, ui.w_2)
                 }
-                UnitKind::Drive => inputs.m = ui.torque,
+                UnitKind::Drive => v[slot::TORQUE] = ui.torque,
             }
         } else {
             let y = &u.start;
@@ -898,33 +984,25 @@ impl Engine for UnitEngine {
         Ok(())
     }
 
-    fn outputs(&mut self, inputs: &Inputs) -> Result<Outputs, String> {
+    /// The mesh outputs, the unit's outputs and the Model Exchange state and derivative in
+    /// relative coordinates into their slots ([`out`]).
+    fn outputs(&mut self, inputs: &InputValues) -> Result<OutputValues, String> {
         self.sync(inputs)?;
         let o = self.unit.outputs().map_err(|e| format!("outputs: {e}"))?;
+        let mut v = OutputValues::default();
+        write_mesh_outputs(&o.mesh, &mut v);
+        let r = &mut v.reals;
+        (r[out::PHI_1], r[out::PHI_P], r[out::PHI_G], r[out::PHI_2]) =
+            (o.phi_1, o.phi_p, o.phi_g, o.phi_2);
+        (r[out::W_1], r[out::W_P], r[out::W_G], r[out::W_2]) = (o.w_1, o.w_p, o.w_g, o.w_2);
+        (r[out::A_P], r[out::A_G], r[out::TAU_1], r[out::TAU_2]) = (o.a_p, o.a_g, o.tau_1, o.tau_2);
         let n = self.rel.n();
-        let (mut x, mut dx) = ([0.0; 8], [0.0; 8]);
-        self.rel.to_relative(self.unit.state(), &mut x[..n]);
-        self.rel.to_relative(&o.dydt[..n], &mut dx[..n]);
-        Ok(Outputs {
-            x,
-            dx,
-            mesh: o.mesh,
-            phi_1: o.phi_1,
-            phi_p: o.phi_p,
-            phi_g: o.phi_g,
-            phi_2: o.phi_2,
-            w_1: o.w_1,
-            w_p: o.w_p,
-            w_g: o.w_g,
-            w_2: o.w_2,
-            a_p: o.a_p,
-            a_g: o.a_g,
-            tau_1: o.tau_1,
-            tau_2: o.tau_2,
-        })
+        self.rel.to_relative(self.unit.state(), &mut r[X..X + n]);
+        self.rel.to_relative(&o.dydt[..n], &mut r[DX..DX + n]);
+        Ok(v)
     }
 
-    fn step(&mut self, inputs: &Inputs, t: f64, h: f64) -> Result<(), StepFailure> {
+    fn step(&mut self, inputs: &InputValues, t: f64, h: f64) -> Result<(), StepFailure> {
         self.sync(inputs).map_err(StepFailure::Error)?;
         self.unit.advance(h).map_err(|e| {
             StepFailure::Discard(format!(
@@ -983,7 +1061,7 @@ impl Engine for UnitEngine {
     /// Rows: the outputs of [`UnitLinearization::outputs`] and the state derivatives; columns:
     /// the states (relative coordinates) and the inputs. From [`DriveUnit::linearize`] (the
     /// mesh Jacobian: table interpolant or load-solution sensitivity), transformed exactly.
-    fn jacobian(&mut self, inputs: &Inputs) -> Result<Jacobian, String> {
+    fn jacobian(&mut self, inputs: &InputValues) -> Result<Jacobian, String> {
         // Only when they changed: a Co-Simulation master asking between steps must not move
         // the origin of the Stage's held far-end motion.
         self.sync(inputs)?;
