@@ -12,6 +12,7 @@
 //! | `units` | `units.md`, `units.csv` | in-process speed of the Drive unit at table fidelity (RK4 sub-steps, DOPRI5 tolerances) with its TE error, and of the Drive and Pair units at full fidelity with the warm start carried or emptied every step | a few minutes |
 //! | `jacobian` | `jacobian.md` | cost of one `mesh_jacobian` against one `evaluate`, full and table fidelity | ≈ 30 s |
 //! | `all` | all of them | | |
+//! | `pages` | `docs/performance.md`, `docs/validation.md` | no measurement: renders the performance page from `docs/bench/bench.json` and the paper-run section of the validation page from `docs/paper/summary.json` ([`helical_gear_app::pages`]; run from the repository root) | instant |
 //!
 //! Every page names the command that regenerates it, the date (UTC), the machine's core count
 //! and CPU. Times are wall time on the calling thread (the FE factorisation may use more);
@@ -40,7 +41,7 @@ mod cosim;
 #[path = "../../tests/common/fe.rs"]
 mod fe_checks;
 
-const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|all> [--out DIR]";
+const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|all|pages> [--out DIR]";
 
 fn main() {
     if let Err(e) = run() {
@@ -66,6 +67,14 @@ fn run() -> Result<(), String> {
         }
     }
     let study = study.ok_or(USAGE)?;
+    if study == "pages" {
+        for (path, text) in helical_gear_app::pages::rendered_pages(Path::new("."))? {
+            std::fs::write(&path, text)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            eprintln!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let studies: Vec<&str> = match study.as_str() {
         "all" => vec!["fe", "cosim", "units", "jacobian"],

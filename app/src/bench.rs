@@ -212,7 +212,8 @@ pub fn run_bench(
             eprintln!("bench: {s}");
         }
     };
-    let (date_utc, load_average) = (utc_now(), load_average());
+    // The machine and the code as the run starts (later edits to the tree are not measured).
+    let (commit, date_utc, load_average) = (git_commit(), utc_now(), load_average());
     let q = opts.quick;
     let err = |e: helical_gear_mesh::mesh::MeshError| e.to_string();
     let base = MeshOptions::default().sized_for(drive);
@@ -392,7 +393,7 @@ pub fn run_bench(
         cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
         cpu: cpu_model(),
         version: env!("CARGO_PKG_VERSION").into(),
-        commit: git_commit(),
+        commit,
         date_utc,
         load_average,
     })
