@@ -13,6 +13,7 @@
 //! | `jacobian` | `jacobian.md` | cost of one `mesh_jacobian` against one `evaluate`, full and table fidelity | ≈ 30 s |
 //! | `iso` | `iso6336.md` | ISO 6336-3 method B nominal root stress σ_F0 and its factors for Table 1 at 100 N·m and two other designs (geometry only, no FE) | < 1 s |
 //! | `all` | all of them | | |
+//! | `pages` | `docs/performance.md`, `docs/validation.md` | no measurement: renders the performance page from `docs/bench/bench.json` and the paper-run section of the validation page from `docs/paper/summary.json` ([`helical_gear_app::pages`]; run from the repository root) | instant |
 //!
 //! Every page names the command that regenerates it, the date (UTC), the machine's core count
 //! and CPU. Times are wall time on the calling thread (the FE factorisation may use more);
@@ -42,7 +43,7 @@ mod cosim;
 #[path = "../../tests/common/fe.rs"]
 mod fe_checks;
 
-const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|iso|all> [--out DIR]";
+const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|iso|all|pages> [--out DIR]";
 
 fn main() {
     if let Err(e) = run() {
@@ -68,6 +69,14 @@ fn run() -> Result<(), String> {
         }
     }
     let study = study.ok_or(USAGE)?;
+    if study == "pages" {
+        for (path, text) in helical_gear_app::pages::rendered_pages(Path::new("."))? {
+            std::fs::write(&path, text)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            eprintln!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let studies: Vec<&str> = match study.as_str() {
         "all" => vec!["fe", "cosim", "units", "jacobian", "iso"],

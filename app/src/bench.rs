@@ -188,6 +188,15 @@ pub struct BenchReport {
     pub cpu: String,
     /// Crate version.
     pub version: String,
+    /// The commit measured: `git rev-parse --short HEAD` in the working directory, with
+    /// `-dirty` when tracked files had uncommitted changes ("unknown" without git).
+    pub commit: String,
+    /// When the run started (UTC), `YYYY-MM-DD HH:MM`.
+    pub date_utc: String,
+    /// The machine's load averages over 1, 5 and 15 minutes (`/proc/loadavg`) when the run
+    /// started ("unknown" where it cannot be read): other work on the machine makes every time
+    /// longer.
+    pub load_average: String,
 }
 
 /// Runs the benchmark on `pair` driven by `drive` (tables sized for its torque; the paper's
@@ -203,6 +212,8 @@ pub fn run_bench(
             eprintln!("bench: {s}");
         }
     };
+    // The machine and the code as the run starts (later edits to the tree are not measured).
+    let (commit, date_utc, load_average) = (git_commit(), utc_now(), load_average());
     let q = opts.quick;
     let err = |e: helical_gear_mesh::mesh::MeshError| e.to_string();
     let base = MeshOptions::default().sized_for(drive);
@@ -382,7 +393,58 @@ pub fn run_bench(
         cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
         cpu: cpu_model(),
         version: env!("CARGO_PKG_VERSION").into(),
+        commit,
+        date_utc,
+        load_average,
     })
+}
+
+/// The short hash of `HEAD`, with `-dirty` when tracked files differ from it ("unknown" when
+/// git or the repository is missing).
+pub fn git_commit() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match git(&["rev-parse", "--short", "HEAD"]) {
+        Some(hash) if !hash.is_empty() => {
+            let dirty = git(&["status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
+            if dirty { format!("{hash}-dirty") } else { hash }
+        }
+        _ => "unknown".into(),
+    }
+}
+
+/// The current time (UTC) as `YYYY-MM-DD HH:MM`, from the system clock (civil from days).
+pub fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()) as i64;
+    let z = secs.div_euclid(86_400) + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    let (hh, mm) = (secs.rem_euclid(86_400) / 3600, secs.rem_euclid(3600) / 60);
+    format!("{y:04}-{m:02}-{d:02} {hh:02}:{mm:02}")
+}
+
+/// The load averages over 1, 5 and 15 minutes from `/proc/loadavg`, or "unknown".
+pub fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "unknown".into())
 }
 
 /// The benchmark states: three TE levels, each a sweep of `n_phase` phases over one pitch (a

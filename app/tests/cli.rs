@@ -324,6 +324,10 @@ fn bench_quick_reports_the_contract_keys() {
     let e = v["table_max_rel_err"].as_f64().unwrap();
     assert!(e.is_finite() && e < 0.01, "table error {e}");
     assert!(v["paper_runtime_s"].is_null());
+    // What the performance page's header states: the commit, the date and the load.
+    for key in ["commit", "date_utc", "load_average"] {
+        assert!(v[key].as_str().is_some_and(|s| !s.is_empty()), "missing {key}: {}", v[key]);
+    }
     // Full fidelity, interpolated compliance: the error against the reference falls with the
     // number of slices.
     let full: Vec<(u64, f64)> = v["mesh"]

@@ -1,6 +1,7 @@
 //! Tests of `plot`: every chart kind writes a PNG of the requested size, bad data (NaN, ±∞,
 //! non-positive values on log axes, empty series) neither panics nor fails, invalid requests
-//! give errors naming the file, and CSV tables read back to the same numbers.
+//! give errors naming the file, a waterfall's text (title, axis and scale descriptions) lies
+//! inside the image, and CSV tables read back to the same numbers.
 //!
 //! The images go to the system temp directory and are removed afterwards; set
 //! `PLOT_TEST_KEEP=1` to keep them (their paths are printed) for a look.
@@ -10,7 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use helical_gear_app::plot::{
     Heatmap, LineChart, PlotError, Series, SeriesStyle, Waterfall, heatmap, line_chart, waterfall,
-    write_csv,
+    waterfall_rgb, write_csv,
 };
 
 /// A fresh file name in the temp directory, unique per process and call.
@@ -374,4 +375,55 @@ fn csv_round_trip_keeps_every_bit() {
     let missing = temp_file("no-such-dir").join("t.csv");
     let e = write_csv(&missing, &["a"], [vec![1.0]]).expect_err("missing directory");
     assert!(matches!(e, PlotError::Io { .. }) && e.to_string().contains("t.csv"), "{e}");
+}
+
+/// Rows and columns of `rgb` (width `w`) that hold a dark pixel (any channel below 128).
+fn ink(rgb: &[u8], (w, h): (u32, u32)) -> (Vec<bool>, Vec<bool>) {
+    let (mut rows, mut cols) = (vec![false; h as usize], vec![false; w as usize]);
+    for (i, px) in rgb.chunks_exact(3).enumerate() {
+        if px.iter().any(|&c| c < 128) {
+            rows[i / w as usize] = true;
+            cols[i % w as usize] = true;
+        }
+    }
+    (rows, cols)
+}
+
+#[test]
+fn waterfall_text_lies_inside_the_image() {
+    // The paper run's dynamic waterfalls at 1000 × 800 px: a long title, and long axis and
+    // scale descriptions. The text must not touch the image's edges (clipped text does), and
+    // the title band must hold ink away from both sides.
+    let long = Waterfall {
+        title: "Contact pressure at ω_p = 532 rad/s (this model's omega_crit resonance)".into(),
+        x_label: "ζ = z/m_n".into(),
+        y_label: "time (ms)".into(),
+        z_label: "contact pressure (MPa)".into(),
+        curves: pressure_curves().into_iter().map(|(o, p)| (1e3 * o, p)).collect(),
+    };
+    let longer = Waterfall {
+        title: "A title far longer than any image is wide: ".repeat(3),
+        curves: pressure_curves().into_iter().map(|(o, p)| (-123.456 + o, p)).collect(),
+        ..long.clone()
+    };
+    for (w, size) in [(&long, (1000, 800)), (&long, (400, 300)), (&longer, (1000, 800))] {
+        let rgb = waterfall_rgb(w, size).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(rgb.len(), 3 * (size.0 * size.1) as usize);
+        let (rows, cols) = ink(&rgb, size);
+        let edge = 2;
+        let margin = |v: &[bool]| v[..edge].iter().chain(&v[v.len() - edge..]).any(|&b| b);
+        assert!(!margin(&cols), "{size:?}: ink in the left or right edge columns: {:.40}", w.title);
+        assert!(!margin(&rows), "{size:?}: ink in the top or bottom edge rows: {:.40}", w.title);
+        // The title band (the top tenth of the image) holds the title, inside the edges.
+        let band = size.1 as usize / 10;
+        let (mut left, mut right) = (usize::MAX, 0);
+        for (i, px) in rgb[..3 * size.0 as usize * band].chunks_exact(3).enumerate() {
+            if px.iter().any(|&c| c < 128) {
+                left = left.min(i % size.0 as usize);
+                right = right.max(i % size.0 as usize);
+            }
+        }
+        assert!(left < right, "{size:?}: no title drawn");
+        assert!(left > edge && right < size.0 as usize - edge, "{size:?}: title {left}..{right}");
+    }
 }

@@ -25,7 +25,7 @@ mod waterfall;
 pub use csv::write_csv;
 pub use heatmap::{Heatmap, heatmap};
 pub use line::{LineChart, Series, SeriesStyle, line_chart};
-pub use waterfall::{Waterfall, waterfall};
+pub use waterfall::{Waterfall, waterfall, waterfall_rgb};
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -156,6 +156,34 @@ pub(crate) fn render_png(
     root.fill(&WHITE).map_err(|e| PlotError::draw(path, e))?;
     draw(&root, Fonts::for_size(size)).map_err(|e| PlotError::draw(path, e))?;
     root.present().map_err(|e| PlotError::draw(path, e))
+}
+
+/// Renders with `draw` into an in-memory RGB bitmap of `size` (3 bytes a pixel, rows from the
+/// top) instead of a file; errors name the pseudo-file `(in memory)`. The same checks and
+/// fonts as [`render_png`], for tests that look at the pixels.
+pub(crate) fn render_rgb(
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>, Fonts) -> DrawResult,
+) -> Result<Vec<u8>, PlotError> {
+    let path = Path::new("(in memory)");
+    let (w, h) = size;
+    if !(MIN_SIDE..=MAX_SIDE).contains(&w) || !(MIN_SIDE..=MAX_SIDE).contains(&h) {
+        return Err(PlotError::invalid(
+            path,
+            format!("image size {w}×{h} px: each side must be in {MIN_SIDE}..={MAX_SIDE}"),
+        ));
+    }
+    if !font_registered() {
+        return Err(PlotError::Font { path: path.to_path_buf() });
+    }
+    let mut buffer = vec![0u8; 3 * w as usize * h as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buffer, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| PlotError::draw(path, e))?;
+        draw(&root, Fonts::for_size(size)).map_err(|e| PlotError::draw(path, e))?;
+        root.present().map_err(|e| PlotError::draw(path, e))?;
+    }
+    Ok(buffer)
 }
 
 /// Font sizes (px) scaled to the image, so large images stay legible.

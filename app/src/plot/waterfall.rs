@@ -8,7 +8,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{
     Clip, DrawResult, Fonts, PlotError, auto_range, linear_tick_label, log_tick_label, render_png,
-    runs,
+    render_rgb, runs,
 };
 
 /// A stack of curves `value(x)`, one per offset (e.g. contact pressure along ζ for successive
@@ -100,10 +100,22 @@ impl Layout {
 /// their baseline, so nearer curves hide farther ones. A scale bar at the right gives the
 /// value scale and `z_label`.
 ///
+/// The margins come from the text's measured extents: the title is centred on the whole
+/// width and set smaller when it would not fit, the y label area takes the widest tick label
+/// and the right margin the scale bar's label and the rotated `z_label`, so all text lies
+/// inside the image at any size.
+///
 /// Curves with a non-finite offset and non-finite points are skipped (a skipped point breaks
 /// the curve); no curves give empty axes. Errors as for [`line_chart`](super::line_chart).
 pub fn waterfall(path: &Path, w: &Waterfall, size: (u32, u32)) -> Result<(), PlotError> {
     render_png(path, size, |root, fonts| draw(root, fonts, w))
+}
+
+/// Draws `w` as [`waterfall`] does into an in-memory RGB bitmap of `size` (width, height)
+/// pixels: 3 bytes a pixel, rows from the top. For checks of the layout; errors as for
+/// [`waterfall`].
+pub fn waterfall_rgb(w: &Waterfall, size: (u32, u32)) -> Result<Vec<u8>, PlotError> {
+    render_rgb(size, |root, fonts| draw(root, fonts, w))
 }
 
 fn draw(root: &DrawingArea<BitMapBackend<'_>, Shift>, fonts: Fonts, w: &Waterfall) -> DrawResult {
@@ -125,18 +137,34 @@ fn draw(root: &DrawingArea<BitMapBackend<'_>, Shift>, fonts: Fonts, w: &Waterfal
     let (x0, x1) = auto_range(xs, false);
     let (y0, y1) = auto_range(ys, false);
 
-    let mut builder = ChartBuilder::on(root);
-    if !w.title.is_empty() {
-        builder.caption(&w.title, Fonts::style(fonts.title));
-    }
-    let mut chart = builder
-        .margin(fonts.tick as i32)
-        .margin_right((6.0 * fonts.tick) as i32)
-        .x_label_area_size((3.2 * fonts.tick) as i32)
-        .y_label_area_size((5.5 * fonts.tick) as i32)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
     let x_labels = |v: &f64| linear_tick_label(*v, (x0, x1));
     let y_labels = |v: &f64| linear_tick_label(*v, (y0, y1));
+    let v_max = w
+        .curves
+        .iter()
+        .filter(|c| c.0.is_finite())
+        .flat_map(|c| c.1.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .map(|p| p.1.abs())
+        .fold(0.0, f64::max);
+    let bar = (layout.scale > 0.0).then(|| nice_below(v_max));
+    let bar_label = bar.map(log_tick_label);
+    let text = TextLayout::new(root, fonts, w, (y0, y1), bar_label.as_deref())?;
+
+    // The title centred on the whole image width (a chart caption would centre it between
+    // the margins, which are not symmetric here).
+    let area = if w.title.is_empty() {
+        root.clone()
+    } else {
+        let top = (0.5 * fonts.tick) as i32;
+        root.margin(top, 0, 0, 0).titled(&w.title, Fonts::style(text.title_px))?
+    };
+    let mut chart = ChartBuilder::on(&area)
+        .margin(fonts.tick as i32)
+        .margin_right(text.right_margin)
+        .x_label_area_size((3.2 * fonts.tick) as i32)
+        .y_label_area_size(text.y_label_area)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -170,16 +198,7 @@ fn draw(root: &DrawingArea<BitMapBackend<'_>, Shift>, fonts: Fonts, w: &Waterfal
     }
 
     // Scale bar in the right margin: a nice value below the largest |value|.
-    let v_max = w
-        .curves
-        .iter()
-        .filter(|c| c.0.is_finite())
-        .flat_map(|c| c.1.iter())
-        .filter(|p| p.0.is_finite() && p.1.is_finite())
-        .map(|p| p.1.abs())
-        .fold(0.0, f64::max);
-    if layout.scale > 0.0 {
-        let bar = nice_below(v_max);
+    if let (Some(bar), Some(bar_label)) = (bar, bar_label) {
         let base = clip.clamp((x1, layout.offset_min));
         let top = clip.clamp((x1, layout.offset_min + layout.scale * bar));
         let (px_right, py_base) = chart.backend_coord(&base);
@@ -191,15 +210,80 @@ fn draw(root: &DrawingArea<BitMapBackend<'_>, Shift>, fonts: Fonts, w: &Waterfal
         root.draw(&PathElement::new(vec![(px - tick, py_base), (px + tick, py_base)], style))?;
         root.draw(&PathElement::new(vec![(px - tick, py_top), (px + tick, py_top)], style))?;
         let label = Fonts::style(fonts.tick).pos(Pos::new(HPos::Left, VPos::Center));
-        root.draw(&Text::new(log_tick_label(bar), (px + 2 * tick, (py_base + py_top) / 2), label))?;
+        root.draw(&Text::new(bar_label, (px + 2 * tick, (py_base + py_top) / 2), label))?;
         let (_, py_range) = chart.plotting_area().get_pixel_range();
         let desc = Fonts::style(fonts.axis)
             .transform(FontTransform::Rotate90)
             .pos(Pos::new(HPos::Center, VPos::Top));
-        let pz = px + (3.3 * fonts.tick) as i32;
+        let pz = px + text.z_label_offset;
         root.draw(&Text::new(w.z_label.clone(), (pz, (py_range.start + py_range.end) / 2), desc))?;
     }
     Ok(())
+}
+
+/// Text sizes and margins measured from the text itself (plotters' estimate of each string's
+/// extent in the embedded font), so that the title, the axis descriptions, the tick labels and
+/// the scale bar's label all lie inside the image at any image size and any text length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct TextLayout {
+    /// Title size, px: `fonts.title`, reduced so that the title fits the image width less a
+    /// margin of one tick-label size on each side.
+    title_px: f64,
+    /// Right margin, px: the gap to the scale bar, the bar's label, the rotated `z_label` and a
+    /// margin.
+    right_margin: i32,
+    /// Width of the y label area, px: the widest y tick label, the rotated `y_label` and gaps.
+    y_label_area: i32,
+    /// Distance from the plotting area's right edge to the rotated `z_label`'s anchor, px.
+    z_label_offset: i32,
+}
+
+impl TextLayout {
+    fn new(
+        root: &DrawingArea<BitMapBackend<'_>, Shift>,
+        fonts: Fonts,
+        w: &Waterfall,
+        (y0, y1): (f64, f64),
+        bar_label: Option<&str>,
+    ) -> Result<Self, Box<dyn std::error::Error>> {
+        let size = |text: &str, px: f64| -> Result<(f64, f64), Box<dyn std::error::Error>> {
+            if text.is_empty() {
+                return Ok((0.0, 0.0));
+            }
+            let (w, h) = root.estimate_text_size(text, &Fonts::style(px))?;
+            Ok((f64::from(w), f64::from(h)))
+        };
+        let (width, _) = root.dim_in_pixel();
+        let tick = fonts.tick;
+        let available = f64::from(width) - 2.0 * tick;
+        let (title_w, _) = size(&w.title, fonts.title)?;
+        let title_px = if title_w > available && title_w > 0.0 {
+            // Text width scales with the font size; 2 % below the exact fit for rounding.
+            (fonts.title * 0.98 * available / title_w).max(1.0)
+        } else {
+            fonts.title
+        };
+        // The line height of the axis descriptions (rotated: their width on the page).
+        let (_, axis_h) = size("Ág", fonts.axis)?;
+        // The widest y tick label at eleven evenly spread values (plotters picks its ticks
+        // among round values of the range; their labels are no wider than these).
+        let mut tick_w: f64 = 0.0;
+        for k in 0..=10 {
+            let v = y0 + (y1 - y0) * f64::from(k) / 10.0;
+            tick_w = tick_w.max(size(&linear_tick_label(v, (y0, y1)), tick)?.0);
+        }
+        let y_label_area = (tick_w + axis_h + 1.5 * tick).max(5.5 * tick).ceil() as i32;
+        // Scale bar: 0.8·tick right of the plot, its label 0.6·tick right of the bar, the
+        // z description 0.5·tick right of the label, then one tick size of margin.
+        let (bar_w, _) = size(bar_label.unwrap_or(""), tick)?;
+        let z_label_offset = (0.8 * tick + 0.6 * tick + bar_w + 0.5 * tick).ceil() as i32;
+        let right_margin = if bar_label.is_some() {
+            (f64::from(z_label_offset) + axis_h + tick).ceil() as i32
+        } else {
+            tick.ceil() as i32
+        };
+        Ok(Self { title_px, right_margin, y_label_area, z_label_offset })
+    }
 }
 
 /// The largest 1, 2 or 5 × 10ᵏ not above `v` (`v` > 0 and finite).
