@@ -679,6 +679,20 @@ pub fn paper_section(summary: &Value) -> Result<String, String> {
     Ok(p)
 }
 
+/// The argument the paper run writes from its own numbers into its `summary.md`, section
+/// "Deviations beyond 10 % from the paper", as a subsection of the generated paper-run
+/// section (a blank line, its heading one level lower, its text verbatim). An error says that
+/// the summary has no such section.
+pub fn deviations_section(summary_md: &str) -> Result<String, String> {
+    const HEADING: &str = "## Deviations beyond 10 % from the paper";
+    let start = summary_md
+        .find(HEADING)
+        .ok_or_else(|| format!("docs/paper/summary.md has no section `{HEADING}`"))?;
+    let body = &summary_md[start + HEADING.len()..];
+    let end = body.find("\n## ").map_or(body.len(), |i| i + 1);
+    Ok(format!("\n#{HEADING}\n\n{}\n", body[..end].trim()))
+}
+
 /// `page` with the lines between the line `begin` and the line `end` replaced by `body`
 /// (which should end in a newline); an error names a missing marker.
 pub fn replace_section(page: &str, begin: &str, end: &str, body: &str) -> Result<String, String> {
@@ -702,7 +716,8 @@ pub fn rendered_pages(root: &std::path::Path) -> Result<Vec<(std::path::PathBuf,
         serde_json::from_str(&read(rel)?).map_err(|e| format!("{rel} is not JSON: {e}"))
     };
     let performance = performance_page(&json("docs/bench/bench.json")?)?;
-    let section = paper_section(&json("docs/paper/summary.json")?)?;
+    let mut section = paper_section(&json("docs/paper/summary.json")?)?;
+    section.push_str(&deviations_section(&read("docs/paper/summary.md")?)?);
     let validation =
         replace_section(&read("docs/validation.md")?, PAPER_BEGIN, PAPER_END, &section)?;
     Ok(vec![
