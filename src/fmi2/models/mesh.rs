@@ -183,11 +183,12 @@ fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
 /// The element's cached outputs in a serialised FMU state (it evaluates lazily, so a state
 /// taken after a read carries the evaluation): the eight Real mesh outputs (M_F_p, M_F_g,
 /// M_D_p, M_D_g, TE, F_n, contact_length, p_max) as f64, `n_pairs` as u32 and the flags
-/// `tip_contact`, `separated`, `back_contact` as one byte each, little endian (75 bytes).
+/// `tip_contact`, `separated`, `back_contact` as one byte each, then the force and moments
+/// (F_p x, y, z, M_p x, y, F_g x, y, z, M_g x, y) as f64, little endian (155 bytes).
 const CACHED_OUTPUTS: OutputsCodec = OutputsCodec { save: save_outputs, load: load_outputs };
 
 /// Length of [`CACHED_OUTPUTS`]' bytes.
-const CACHED_LEN: usize = 8 * 8 + 4 + 3;
+const CACHED_LEN: usize = 8 * 8 + 4 + 3 + 10 * 8;
 
 fn save_outputs(o: &Outputs, b: &mut Vec<u8>) {
     let MeshOutputs {
@@ -203,12 +204,19 @@ fn save_outputs(o: &Outputs, b: &mut Vec<u8>) {
         tip_contact,
         separated,
         back_contact,
+        force_p,
+        moment_p,
+        force_g,
+        moment_g,
     } = o.mesh;
     for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
         b.extend_from_slice(&x.to_le_bytes());
     }
     b.extend_from_slice(&n_pairs.to_le_bytes());
     b.extend_from_slice(&[u8::from(tip_contact), u8::from(separated), u8::from(back_contact)]);
+    for x in force_p.into_iter().chain(moment_p).chain(force_g).chain(moment_g) {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
 }
 
 fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
@@ -223,6 +231,12 @@ fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
     const NAMES: [&str; 8] =
         ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
     ensure_finite("serialised state: cached output", &x, |i| NAMES[i].to_string())?;
+    let w: [f64; 10] = std::array::from_fn(|i| {
+        f64::from_le_bytes(b[71 + 8 * i..79 + 8 * i].try_into().expect("8"))
+    });
+    const FORCE_NAMES: [&str; 10] =
+        ["F_p_x", "F_p_y", "F_p_z", "M_p_x", "M_p_y", "F_g_x", "F_g_y", "F_g_z", "M_g_x", "M_g_y"];
+    ensure_finite("serialised state: cached output", &w, |i| FORCE_NAMES[i].to_string())?;
     let flag = |i: usize| match b[68 + i] {
         0 => Ok(false),
         1 => Ok(true),
@@ -241,6 +255,10 @@ fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
         tip_contact: flag(0)?,
         separated: flag(1)?,
         back_contact: flag(2)?,
+        force_p: [w[0], w[1], w[2]],
+        moment_p: [w[3], w[4]],
+        force_g: [w[5], w[6], w[7]],
+        moment_g: [w[8], w[9]],
     };
     Ok((Outputs { mesh, ..Outputs::default() }, CACHED_LEN))
 }
@@ -342,7 +360,7 @@ mod tests {
     fn the_table_is_inputs_outputs_calculated_parameters_options() {
         // 24 gear-pair parameters: none of the drive line's seven (the element does not use
         // them); 7 mesh options and the table's design torque.
-        assert_eq!(VARIABLES.len(), 4 + 12 + 4 + 24 + 7 + 1);
+        assert_eq!(VARIABLES.len(), 4 + 22 + 4 + 24 + 7 + 1);
         assert_eq!(VARIABLES[0].name, "phi_p");
         assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
         assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));
@@ -364,6 +382,10 @@ mod tests {
             tip_contact: true,
             separated: false,
             back_contact: true,
+            force_p: [-1.5e3, -4.25e3, 1.375e3],
+            moment_p: [2.5, -7.75],
+            force_g: [1.5e3, 4.25e3, -1.375e3],
+            moment_g: [-2.5, 0.0625],
         };
         let o = Outputs { mesh, ..Outputs::default() };
         let mut b = vec![7];
