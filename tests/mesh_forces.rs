@@ -292,3 +292,124 @@ fn hgm_outputs_carry_the_force_and_moments_after_the_flags_at_fixed_c_offsets() 
     assert_eq!(offset_of!(HgmOutputs, moment_g), 136);
     assert_eq!(std::mem::size_of::<HgmOutputs>(), 152);
 }
+
+// Bearing loads (`mesh::bearings`): a rigid shaft on a locating and a floating bearing.
+
+/// Statics of the shaft: the reactions and the mesh load sum to zero force, and to zero
+/// moment about an arbitrary point of the axis (here z = 0.3 m, not the centre).
+#[test]
+fn bearing_reactions_hold_the_shaft_in_equilibrium() {
+    use helical_gear_mesh::mesh::bearings::BearingArrangement;
+    let arrangement =
+        BearingArrangement::from_json(include_str!("../docs/loads/bearings_table1.json")).unwrap();
+    let mut m = table1(Fidelity::Full);
+    let b = m.pair().face_width_m;
+    let c = 0.5 * b;
+    for s in states(&m, 25e-6) {
+        let o = m.evaluate(&s).unwrap();
+        let r = arrangement.reactions(b, &o);
+        let zs = arrangement.labels().map(|l| l.2);
+        for (shaft, force, moment) in [(0, o.force_p, o.moment_p), (1, o.force_g, o.moment_g)] {
+            let (rl, rf) = (r[2 * shaft], r[2 * shaft + 1]);
+            let (zl, zf) = (zs[2 * shaft], zs[2 * shaft + 1]);
+            let scale = force.iter().map(|f| f.abs()).fold(0.0, f64::max);
+            for k in 0..3 {
+                assert!((rl[k] + rf[k] + force[k]).abs() <= 1e-12 * scale);
+            }
+            assert_eq!(rf[2], 0.0, "the floating bearing takes no axial load");
+            // Moments about (x_axis, 0, z0) of forces on the axis at z: (0, 0, z − z0) × R.
+            let z0 = 0.3;
+            let mx = -(zl - z0) * rl[1] - (zf - z0) * rf[1] - (c - z0) * force[1] + moment[0];
+            let my = (zl - z0) * rl[0] + (zf - z0) * rf[0] + (c - z0) * force[0] + moment[1];
+            assert!(mx.abs() <= 1e-11 * scale && my.abs() <= 1e-11 * scale, "{mx} {my}");
+        }
+    }
+}
+
+/// A simply supported beam: a radial load F at distances a from the locating and b from the
+/// floating bearing loads them with −F·b/(a + b) and −F·a/(a + b); a pure tilting moment M_y
+/// with ±M_y/L; the axial load goes to the locating bearing alone.
+#[test]
+fn two_bearing_shaft_matches_the_simply_supported_beam() {
+    use helical_gear_mesh::mesh::bearings::ShaftBearings;
+    let (a, b, c) = (0.03, 0.05, 0.0075);
+    let shaft = ShaftBearings { locating_z_m: c - a, floating_z_m: c + b };
+    let [l, f] = shaft.reactions(c, [800.0, -2000.0, 350.0], [0.0, 0.0]);
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs().max(1.0);
+    assert!(close(l[0], -800.0 * b / (a + b)) && close(f[0], -800.0 * a / (a + b)));
+    assert!(close(l[1], 2000.0 * b / (a + b)) && close(f[1], 2000.0 * a / (a + b)));
+    assert!(close(l[2], -350.0) && f[2] == 0.0);
+    // M_y alone: d_L·R_L,x + d_F·R_F,x = −M_y with R_F,x = −R_L,x and d_F − d_L = a + b.
+    let [l, f] = shaft.reactions(c, [0.0; 3], [0.0, 12.0]);
+    assert!(close(l[0], 12.0 / (a + b)) && close(f[0], -12.0 / (a + b)));
+    // M_x alone: −d_L·R_L,y − d_F·R_F,y = −M_x with R_F,y = −R_L,y.
+    let [l, f] = shaft.reactions(c, [0.0; 3], [-9.0, 0.0]);
+    assert!(close(l[1], 9.0 / (a + b)) && close(f[1], -9.0 / (a + b)));
+}
+
+#[test]
+fn bearing_arrangement_errors_name_the_key_and_the_limit() {
+    use helical_gear_mesh::mesh::bearings::BearingArrangement;
+    let bad = |json: &str| BearingArrangement::from_json(json).unwrap_err().to_string();
+    let same = r#"{"pinion": {"locating_z_m": 0.01, "floating_z_m": 0.01},
+                  "gear": {"locating_z_m": -0.02, "floating_z_m": 0.035}}"#;
+    let e = bad(same);
+    assert!(e.contains("pinion.floating_z_m") && e.contains("1e-6"), "{e}");
+    let far = r#"{"pinion": {"locating_z_m": 0.01, "floating_z_m": 0.05},
+                  "gear": {"locating_z_m": -2e3, "floating_z_m": 0.035}}"#;
+    assert!(bad(far).contains("gear.locating_z_m"), "{}", bad(far));
+    let e = bad(r#"{"pinion": {"locating_z_m": 0.01}}"#);
+    assert!(e.contains("floating_z_m"), "{e}");
+}
+
+#[test]
+fn order_amplitudes_recover_a_sampled_harmonic() {
+    use helical_gear_mesh::mesh::bearings::order_amplitudes;
+    // 2 pitches of 20 points: 3.0 + 2.5·cos(2π·order 1) + 0.75·sin(2π·order 3).
+    let n = 40;
+    let x: Vec<f64> = (0..n)
+        .map(|i| {
+            let t = i as f64 / 20.0;
+            3.0 + 2.5 * (std::f64::consts::TAU * t).cos()
+                + 0.75 * (3.0 * std::f64::consts::TAU * t).sin()
+        })
+        .collect();
+    let a = order_amplitudes(&x, 2, 10);
+    assert_eq!(a.len(), 10);
+    for (k, want) in [(0, 2.5), (1, 0.0), (2, 0.75), (3, 0.0)] {
+        assert!((a[k] - want).abs() < 1e-12, "order {}: {}", k + 1, a[k]);
+    }
+}
+
+/// The HelicalGearMesh FMU reports the force and moments (value references 400–409) as the
+/// library computes them: Newton's third law, the transfer formula between the centres, and
+/// the tangential force of the torque at the pitch radius.
+#[test]
+fn fmu_outputs_carry_the_force_and_moments() {
+    use common::fmi::{Fmu, vr};
+    let names =
+        ["F_p_x", "F_p_y", "F_p_z", "M_p_x", "M_p_y", "F_g_x", "F_g_y", "F_g_z", "M_g_x", "M_g_y"];
+    for (k, n) in names.iter().enumerate() {
+        assert_eq!(vr(n), 400 + k as u32);
+    }
+    let g = common::table1_geometry();
+    let fmu = Fmu::initialised();
+    let phi_p = 0.02;
+    let phi_g = g.phi_g_for_te(phi_p, 20e-6);
+    assert_eq!(fmu.set(&["phi_p", "phi_g", "w_p", "w_g"], &[phi_p, phi_g, 0.0, 0.0]), fmi2ok());
+    let v = fmu.get(&names).unwrap();
+    let m = fmu.get(&["M_F_p"]).unwrap()[0];
+    assert!(v[0] < 0.0 && v[1] < 0.0 && v[2] > 0.0, "{v:?}");
+    for k in 0..3 {
+        assert_eq!(v[5 + k], -v[k]);
+    }
+    let a = g.center_distance;
+    assert!((v[8] + v[3]).abs() <= 1e-9 * v[3].abs().max(1.0));
+    assert!((v[9] + v[4] + a * v[2]).abs() <= 1e-9 * (a * v[2]).abs());
+    let r_wp = g.pinion.rb / g.alpha_wt.cos();
+    assert!((-v[1] * r_wp / m - 1.0).abs() < 0.05, "{} vs {m}", -v[1] * r_wp);
+}
+
+fn fmi2ok() -> helical_gear_mesh::fmi2::types::fmi2Status {
+    helical_gear_mesh::fmi2::types::fmi2Status::Ok
+}

@@ -35,7 +35,23 @@ OUTPUT_NAMES = (
     "tip_contact",
     "separated",
     "back_contact",
+    "F_p_x",
+    "F_p_y",
+    "F_p_z",
+    "M_p_x",
+    "M_p_y",
+    "F_g_x",
+    "F_g_y",
+    "F_g_z",
+    "M_g_x",
+    "M_g_y",
 )
+
+#: The 3D force and moments (the FMU output names): the force of the mesh on the pinion
+#: ``F_p_*`` and on the gear ``F_g_* = -F_p_*`` (N), the tilting moments about each gear's
+#: centre at mid-face ``M_p_*``, ``M_g_*`` (N·m), in the housing frame of docs/loads.md
+#: (x from the pinion axis to the gear axis, z along the pinion axis, y = z × x).
+FORCE_NAMES = OUTPUT_NAMES[-10:]
 
 FE_DENSITIES = ("coarse", "default", "refined")
 
@@ -303,7 +319,16 @@ class StaticCurve(_Result):
     ste_mean: float
     #: Mean mesh stiffness along the line of action, N/m.
     mesh_stiffness_mean: float
-    _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length")
+    #: The force and moments per point (`FORCE_NAMES`: N, N·m), keyed by name; also
+    #: attributes (``curve.F_p_x``) and columns of `to_dataframe()`.
+    forces: dict = field(default_factory=dict, repr=False)
+    _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length") + FORCE_NAMES
+
+    def __getattr__(self, k):
+        forces = self.__dict__.get("forces", {})
+        if k in forces:
+            return forces[k]
+        raise AttributeError(k)
 
     @property
     def ste_peak_to_peak(self) -> float:
@@ -349,7 +374,24 @@ def static_curve(
         ste_min=d["ste_min_um"] * 1e-6,
         ste_mean=d["ste_mean_um"] * 1e-6,
         mesh_stiffness_mean=d["mesh_stiffness_mean_n_per_um"] * 1e6,
+        forces=_force_columns(d),
     )
+
+
+def _force_columns(d: Mapping[str, Any]) -> dict:
+    """`FORCE_NAMES` → arrays from a static record's ``force_p_n``, ``moment_p_nm``,
+    ``force_g_n``, ``moment_g_nm`` (per-point lists of components)."""
+    out = {}
+    for key, prefix, axes in (
+        ("force_p_n", "F_p", "xyz"),
+        ("moment_p_nm", "M_p", "xy"),
+        ("force_g_n", "F_g", "xyz"),
+        ("moment_g_nm", "M_g", "xy"),
+    ):
+        a = np.array(d[key], dtype=float).reshape(-1, len(axes))
+        for k, ax in enumerate(axes):
+            out[f"{prefix}_{ax}"] = a[:, k]
+    return out
 
 
 #: The eight states of Eqs. 1–4 as `Trajectory` keys (the library's names: angles rad, rates

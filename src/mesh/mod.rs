@@ -45,6 +45,7 @@
 //! range and the overlap against the module; a pinion angle beyond the exact range is
 //! [`MeshError::AngleOutOfRange`]. Never "separated" for teeth that passed through each other.
 
+pub mod bearings;
 pub mod face_load;
 pub mod forces;
 pub mod model;
