@@ -413,3 +413,33 @@ fn fmu_outputs_carry_the_force_and_moments() {
 fn fmi2ok() -> helical_gear_mesh::fmi2::types::fmi2Status {
     helical_gear_mesh::fmi2::types::fmi2Status::Ok
 }
+
+/// The sweep's dynamic factor of the mesh force: max |F_p| over each speed's steady window
+/// against the largest static |F_p| over a mesh cycle at the same torque. Near standstill the
+/// response is quasi-static (the factor tends to 1 from above, as TE_max/STE_max does);
+/// it follows TE_max/STE_max, since the force is the mesh's stiffness times TE.
+#[test]
+fn sweep_reports_the_peak_mesh_force_over_the_static_peak() {
+    use helical_gear_mesh::DriveLine;
+    use helical_gear_mesh::dynamics::{Drivetrain, SweepOptions, sweep};
+    let pair = GearPair::paper_table1();
+    let mesh = Mesh::new(&pair, common::small_table_options()).unwrap();
+    let drive = Drivetrain::from_pair(&pair, &DriveLine::paper_table1()).unwrap();
+    let mut opts =
+        SweepOptions { static_points: 16, refine_runs: 0, threads: Some(2), ..Default::default() };
+    opts.run.max_periods = 300;
+    let speeds = [60.0, 450.0];
+    let r = sweep(&mesh, &drive, &speeds, &opts).unwrap();
+    for p in &r.points {
+        let f = p.over_static.mesh_force.expect("a mesh with contact geometry");
+        eprintln!(
+            "ω_p {}: F_max/F_static {f:.4}, TE_max/STE_max {:.4}",
+            p.omega_p, p.te_max_over_ste_max
+        );
+        assert!(f.is_finite() && f > 0.9, "{f}");
+        assert!((f - p.te_max_over_ste_max).abs() < 0.1 * p.te_max_over_ste_max, "{f}");
+    }
+    let record = helical_gear_mesh::results::SweepRecord::new(&r, &speeds);
+    assert_eq!(record.mesh_force_max_over_static.len(), 2);
+    record.check_finite().unwrap();
+}

@@ -394,6 +394,53 @@ def _force_columns(d: Mapping[str, Any]) -> dict:
     return out
 
 
+@dataclass(frozen=True)
+class BearingLoads(_Result):
+    """The reactions of the four bearings (force of each bearing on its shaft, N, in the housing
+    frame of docs/loads.md) per sample of a static curve or trajectory, keyed
+    ``<shaft>_<bearing>_<x|y|z>`` (``pinion_locating_x`` …, ``gear_floating_z``), as
+    attributes (numpy arrays) and in ``arrays``; `mean()` and `peak_to_peak()` per key."""
+
+    arrays: dict = field(repr=False)
+
+    def __getattr__(self, k):
+        try:
+            return self.__dict__["arrays"][k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+    @property
+    def _columns(self):
+        return tuple(self.arrays)
+
+    def mean(self) -> dict:
+        """Mean of each reaction component over the samples, N."""
+        return {k: float(np.mean(v)) for k, v in self.arrays.items()}
+
+    def peak_to_peak(self) -> dict:
+        """max − min of each reaction component over the samples, N."""
+        return {k: float(np.ptp(v)) for k, v in self.arrays.items()}
+
+
+def bearing_loads(result, bearings, pair: GearPair | None = None) -> BearingLoads:
+    """Bearing loads along a `StaticCurve` or a `Trajectory` (its force and moment columns
+    ``F_p_x`` … ``M_g_y``): each shaft rigid on a locating bearing (radial and axial load) and a
+    floating one (radial), at the axial positions of `bearings` (a dict, a JSON string or a path
+    to a JSON file: ``{"pinion": {"locating_z_m": …, "floating_z_m": …}, "gear": {…}}``, z in
+    m from the end face ζ = 0); the gears' centres at z = b/2 with b the face width of `pair`
+    (default Table 1's). The statics are the library's (``mesh::bearings``)."""
+    if isinstance(bearings, Mapping):
+        text = json.dumps(dict(bearings))
+    elif isinstance(bearings, (str, os.PathLike)) and os.path.exists(bearings):
+        with open(bearings, encoding="utf-8") as f:
+            text = f.read()
+    else:
+        text = str(bearings)
+    b = json.loads(_pair(pair).to_json())["face_width_m"]
+    cols = [np.ascontiguousarray(getattr(result, n), dtype=float) for n in FORCE_NAMES]
+    return BearingLoads(arrays=dict(_native.bearing_reactions(text, float(b), cols)))
+
+
 #: The eight states of Eqs. 1–4 as `Trajectory` keys (the library's names: angles rad, rates
 #: rad/s): φ₁, φp, φg, φ₂, φ̇₁, φ̇p, φ̇g, φ̇₂.
 STATE_NAMES = (

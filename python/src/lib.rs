@@ -30,6 +30,7 @@ use helical_gear_mesh::dynamics::{
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions,
     default_rk4_step, simulate, sweep,
 };
+use helical_gear_mesh::mesh::bearings::BearingArrangement;
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
     static_curve,
@@ -235,6 +236,72 @@ fn fidelity(name: &str) -> Res<Fidelity> {
 #[pyfunction]
 fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
     helical_gear_mesh::params::parameter_bounds()
+}
+
+/// The bearing reactions (the library's `mesh::bearings`) to the force and moments
+/// `columns` (the ten arrays of `FORCE_NAMES`, equally long) of a gear pair of face width
+/// `face_width_m` (m) on the bearing arrangement `bearings_json`: a dict of arrays keyed
+/// `<shaft>_<bearing>_<x|y|z>` (N, force of the bearing on the shaft). Raises `ParameterError`
+/// naming the key and the limit.
+#[pyfunction]
+fn bearing_reactions<'py>(
+    py: Python<'py>,
+    bearings_json: &str,
+    face_width_m: f64,
+    columns: Vec<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let cols: Vec<Vec<f64>> = columns.iter().map(|c| c.as_array().to_vec()).collect();
+    let (labels, out) = run(py, || {
+        let arrangement = BearingArrangement::from_json(bearings_json)?;
+        if !(face_width_m.is_finite() && face_width_m > 0.0) {
+            return Err(Failure::Param(format!(
+                "face_width_m = {face_width_m:.3e} m: allowed finite and > 0"
+            )));
+        }
+        if cols.len() != FORCE_NAMES.len() {
+            return Err(Failure::Param(format!(
+                "bearing_reactions: {} force columns given, {} needed ({})",
+                cols.len(),
+                FORCE_NAMES.len(),
+                FORCE_NAMES.join(", ")
+            )));
+        }
+        let n = cols[0].len();
+        if cols.iter().any(|c| c.len() != n) {
+            return Err(Failure::Param(
+                "bearing_reactions: the force columns differ in length".into(),
+            ));
+        }
+        let mut out: Vec<Vec<f64>> = vec![Vec::with_capacity(n); 12];
+        for i in 0..n {
+            let v: Vec<f64> = cols.iter().map(|c| c[i]).collect();
+            finite(&format!("sample {i}"), &FORCE_NAMES, &v)?;
+            let o = helical_gear_mesh::mesh::MeshOutputs {
+                force_p: [v[0], v[1], v[2]],
+                moment_p: [v[3], v[4]],
+                force_g: [v[5], v[6], v[7]],
+                moment_g: [v[8], v[9]],
+                ..Default::default()
+            };
+            for (b, r) in arrangement.reactions(face_width_m, &o).iter().enumerate() {
+                for (k, x) in r.iter().enumerate() {
+                    out[3 * b + k].push(*x);
+                }
+            }
+        }
+        Ok((arrangement.labels(), out))
+    })?;
+    let d = PyDict::new(py);
+    let mut cols = out.into_iter();
+    for (shaft, bearing, _) in labels {
+        for axis in ["x", "y", "z"] {
+            d.set_item(
+                format!("{shaft}_{bearing}_{axis}"),
+                array(py, cols.next().unwrap_or_default()),
+            )?;
+        }
+    }
+    Ok(d)
 }
 
 /// The Table 1 gear pair of the paper as JSON.
@@ -773,6 +840,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(geometry_json, m)?)?;
     m.add_function(wrap_pyfunction!(compliance_key, m)?)?;
     m.add_function(wrap_pyfunction!(paper_json, m)?)?;
+    m.add_function(wrap_pyfunction!(bearing_reactions, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }
