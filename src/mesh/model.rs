@@ -50,6 +50,12 @@
 //! code). This assembles the matrix 2–3 times faster than the general interpolation
 //! ([`FullMesh::use_slice_kernel`] switches between them; the benchmark reports both).
 //!
+//! # Force and moments
+//! Beside the torques each loaded slice's 3D force and its moments about both gears' centres
+//! are summed ([`super::forces`]: along the pinion helicoid's normal at P1), with the damping
+//! of Eq. 14 distributed by the loaded extent per flank side; the whole wrench of the last
+//! evaluation, z components included, stays in the workspace ([`MeshWorkspace::wrench`]).
+//!
 //! # Corner contacts
 //! Where the contact lies on the convex corner between involute and tip relief the transverse
 //! radius of curvature is 0 and Eqs. 10, 11 and 15 have no meaning. The corner turns the normal

@@ -51,6 +51,17 @@
 //! values per output. The discrete outputs (number of pairs, tip and back contact) are taken
 //! from the nearest node.
 //!
+//! # Force and moments
+//! The 3D force and tilting moments ([`super::forces`]) are one block of node values beside
+//! the torques: the elastic force on the pinion F_p (x, y, z) and its tilting moment about the
+//! pinion centre (x, y), as secants over δ like M_F, and the first axial moment of the loaded
+//! extent Z₁ = Σ ζ·Δζ (no δ factor, like the extent). The damping part follows from the
+//! current speeds, the extent and Z₁ exactly as in the full model (its flank side is the
+//! axis's), and the gear's moments from the transfer formula M_g = −M_p − (C_p − C_g) × F_p.
+//! Being linear in the node values, the interpolated force keeps every linear relation that
+//! holds at all the nodes it uses (on the involute: F_x/F_y = tan α_wt, F_z/|F_t| = tan β_b).
+//! The right-hand side's torques-only path does not read the block.
+//!
 //! # Tooth deviations
 //! Pitch deviations and runout (`crate::modifications`) make the mesh repeat only after the
 //! hunting period, but they are constant over each tooth's flank: tooth pair k is moved as a
