@@ -272,7 +272,7 @@ fn bearing_reactions<'py>(
                 "bearing_reactions: the force columns differ in length".into(),
             ));
         }
-        let mut out: Vec<Vec<f64>> = vec![Vec::with_capacity(n); 12];
+        let mut out: Vec<Vec<f64>> = (0..12).map(|_| Vec::with_capacity(n)).collect();
         for i in 0..n {
             let v: Vec<f64> = cols.iter().map(|c| c[i]).collect();
             finite(&format!("sample {i}"), &FORCE_NAMES, &v)?;
