@@ -60,7 +60,11 @@
 //! axis's), and the gear's moments from the transfer formula M_g = −M_p − (C_p − C_g) × F_p.
 //! Being linear in the node values, the interpolated force keeps every linear relation that
 //! holds at all the nodes it uses (on the involute: F_x/F_y = tan α_wt, F_z/|F_t| = tan β_b).
-//! The right-hand side's torques-only path does not read the block.
+//! The right-hand side's torques-only path does not read the block. With tooth deviations
+//! the block is kept per tooth pair like the torques; the neglected coupling between pairs
+//! moves load between pairs, which lie at different places on the face, so the tilting
+//! moments are less accurate than the torques there (Table 1's pitch errors: 2.3e-2 of
+//! F_nominal·b against 7.2e-3 of the nominal torque, `tests/mesh_forces.rs`).
 //!
 //! # Tooth deviations
 //! Pitch deviations and runout (`crate::modifications`) make the mesh repeat only after the
