@@ -133,6 +133,29 @@ typedef struct {
    * then negative).
    */
   bool back_contact;
+  /**
+   * Force of all contacts on the pinion F_p = (x, y, z), N, in the housing frame of
+   * `mesh::forces` and docs/loads.md (x from the pinion axis to the gear axis, z along the
+   * pinion axis towards ζ = b₀, y = z × x); elastic part (Eq. 13) plus damping part
+   * (Eq. 14). In normal drive
+   * F_p,x < 0 (the gears are pushed apart), F_p,y < 0 and, with the right-hand pinion,
+   * F_p,z > 0.
+   */
+  double force_p[3];
+  /**
+   * Tilting moments of F_p about the pinion centre at mid-face (0, 0, b/2), (x, y), N·m;
+   * the z component is −(M_F,p + M_D,p).
+   */
+  double moment_p[2];
+  /**
+   * Force of all contacts on the gear F_g = −F_p (x, y, z), N, same frame.
+   */
+  double force_g[3];
+  /**
+   * Tilting moments of F_g about the gear centre at mid-face (a, 0, b/2), (x, y), N·m;
+   * the z component is −(M_F,g + M_D,g).
+   */
+  double moment_g[2];
 } HgmOutputs;
 
 /**

@@ -210,6 +210,19 @@ pub struct StaticCurveRecord {
     pub mesh_stiffness_mean_n_per_um: f64,
     /// True if any point has a loaded contact on a tip rounding.
     pub tip_rounding_contact: bool,
+    /// Force of the mesh on the pinion at each point (x, y, z), N, in the housing frame of
+    /// `mesh::forces` (docs/loads.md); the gear's is its negative.
+    pub force_p_n: Vec<[f64; 3]>,
+    /// Tilting moment of that force about the pinion centre at mid-face (x, y), N·m.
+    pub moment_p_nm: Vec<[f64; 2]>,
+    /// Force of the mesh on the gear at each point (x, y, z), N (= −`force_p_n`).
+    pub force_g_n: Vec<[f64; 3]>,
+    /// Tilting moment about the gear centre at mid-face (x, y), N·m.
+    pub moment_g_nm: Vec<[f64; 2]>,
+    /// Mean of each component of the pinion force over the points, N.
+    pub force_p_mean_n: [f64; 3],
+    /// Peak-to-peak (max − min) of each component of the pinion force over the points, N.
+    pub force_p_peak_to_peak_n: [f64; 3],
 }
 
 impl StaticCurveRecord {
@@ -230,6 +243,14 @@ impl StaticCurveRecord {
             ste_peak_to_peak_um: (curve.max() - curve.min()) * UM,
             mesh_stiffness_mean_n_per_um: curve.mean_stiffness(base_radius_p) * 1e-6,
             tip_rounding_contact: curve.tip_rounding_contact(),
+            force_p_n: pts.iter().map(|e| e.outputs.force_p).collect(),
+            moment_p_nm: pts.iter().map(|e| e.outputs.moment_p).collect(),
+            force_g_n: pts.iter().map(|e| e.outputs.force_g).collect(),
+            moment_g_nm: pts.iter().map(|e| e.outputs.moment_g).collect(),
+            force_p_mean_n: std::array::from_fn(|k| mean(pts.iter().map(|e| e.outputs.force_p[k]))),
+            force_p_peak_to_peak_n: std::array::from_fn(|k| {
+                peak_to_peak(pts.iter().map(|e| e.outputs.force_p[k]))
+            }),
         }
     }
 
@@ -244,8 +265,28 @@ impl StaticCurveRecord {
         finite("ste_min_um", self.ste_min_um)?;
         finite("ste_mean_um", self.ste_mean_um)?;
         finite("ste_peak_to_peak_um", self.ste_peak_to_peak_um)?;
-        finite("mesh_stiffness_mean_n_per_um", self.mesh_stiffness_mean_n_per_um)
+        finite("mesh_stiffness_mean_n_per_um", self.mesh_stiffness_mean_n_per_um)?;
+        let flat3 = |v: &[[f64; 3]]| v.iter().flatten().copied().collect::<Vec<f64>>();
+        let flat2 = |v: &[[f64; 2]]| v.iter().flatten().copied().collect::<Vec<f64>>();
+        finite_all("force_p_n", &flat3(&self.force_p_n))?;
+        finite_all("moment_p_nm", &flat2(&self.moment_p_nm))?;
+        finite_all("force_g_n", &flat3(&self.force_g_n))?;
+        finite_all("moment_g_nm", &flat2(&self.moment_g_nm))?;
+        finite_all("force_p_mean_n", &self.force_p_mean_n)?;
+        finite_all("force_p_peak_to_peak_n", &self.force_p_peak_to_peak_n)
     }
+}
+
+/// Mean of `v` (0 for none).
+fn mean(v: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// max − min of `v` (0 for none).
+fn peak_to_peak(v: impl Iterator<Item = f64>) -> f64 {
+    let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    if hi >= lo { hi - lo } else { 0.0 }
 }
 
 /// A speed sweep (the library's `dynamics::sweep`): per-speed arrays in the order of the
@@ -267,6 +308,10 @@ pub struct SweepRecord {
     pub tip_contact: Vec<bool>,
     /// Steady state detected (otherwise see `warnings`).
     pub steady: Vec<bool>,
+    /// Peak |F_p| of the mesh force over the steady window / the largest static |F_p| over a
+    /// mesh cycle at the same torque, at each speed (the dynamic factor to compare with
+    /// ISO 6336-1's K_v); null for a mesh without contact geometry.
+    pub mesh_force_max_over_static: Vec<Option<f64>>,
     /// Period of the steady TE in mesh periods.
     pub period_multiple: Vec<usize>,
     /// Mesh periods integrated at each speed.
@@ -305,6 +350,7 @@ impl SweepRecord {
             back_contact: pts.iter().map(|p| p.back_contact).collect(),
             tip_contact: pts.iter().map(|p| p.tip_contact).collect(),
             steady: pts.iter().map(|p| p.steady).collect(),
+            mesh_force_max_over_static: pts.iter().map(|p| p.over_static.mesh_force).collect(),
             period_multiple: pts.iter().map(|p| p.period_multiple).collect(),
             periods: pts.iter().map(|p| p.periods).collect(),
             resonances_rad_s: r.resonances.iter().map(|x| x.omega_p).collect(),
@@ -336,6 +382,8 @@ impl SweepRecord {
         finite_all("speeds_rad_s", &self.speeds_rad_s)?;
         finite_all("te_max_over_ste_max", &self.te_max_over_ste_max)?;
         finite_all("te_min_over_ste_max", &self.te_min_over_ste_max)?;
+        let ratios: Vec<f64> = self.mesh_force_max_over_static.iter().flatten().copied().collect();
+        finite_all("mesh_force_max_over_static", &ratios)?;
         finite_all("periods", &self.periods)?;
         finite_all("resonances_rad_s", &self.resonances_rad_s)?;
         finite_all("resonance_te_max_over_ste_max", &self.resonance_te_max_over_ste_max)?;
@@ -382,6 +430,26 @@ pub struct TrajectoryRecord {
     pub m_d_p_nm: Vec<f64>,
     /// Mesh damping torque on the gear M_D,g (Eq. 14), N·m.
     pub m_d_g_nm: Vec<f64>,
+    /// Force of the mesh on the pinion, x component, N (housing frame of `mesh::forces`).
+    pub force_p_x_n: Vec<f64>,
+    /// Force on the pinion, y component, N.
+    pub force_p_y_n: Vec<f64>,
+    /// Force on the pinion, z (axial) component, N.
+    pub force_p_z_n: Vec<f64>,
+    /// Tilting moment on the pinion about its centre at mid-face, x component, N·m.
+    pub moment_p_x_nm: Vec<f64>,
+    /// Tilting moment on the pinion, y component, N·m.
+    pub moment_p_y_nm: Vec<f64>,
+    /// Force of the mesh on the gear, x component, N (= −`force_p_x_n`).
+    pub force_g_x_n: Vec<f64>,
+    /// Force on the gear, y component, N.
+    pub force_g_y_n: Vec<f64>,
+    /// Force on the gear, z (axial) component, N.
+    pub force_g_z_n: Vec<f64>,
+    /// Tilting moment on the gear about its centre at mid-face, x component, N·m.
+    pub moment_g_x_nm: Vec<f64>,
+    /// Tilting moment on the gear, y component, N·m.
+    pub moment_g_y_nm: Vec<f64>,
     /// Integration steps taken.
     pub steps: usize,
     /// Mesh evaluations.
@@ -408,13 +476,24 @@ impl TrajectoryRecord {
             m_f_g_nm: o(|x| x.m_f_g),
             m_d_p_nm: o(|x| x.m_d_p),
             m_d_g_nm: o(|x| x.m_d_g),
+            force_p_x_n: o(|x| x.force_p[0]),
+            force_p_y_n: o(|x| x.force_p[1]),
+            force_p_z_n: o(|x| x.force_p[2]),
+            moment_p_x_nm: o(|x| x.moment_p[0]),
+            moment_p_y_nm: o(|x| x.moment_p[1]),
+            force_g_x_n: o(|x| x.force_g[0]),
+            force_g_y_n: o(|x| x.force_g[1]),
+            force_g_z_n: o(|x| x.force_g[2]),
+            moment_g_x_nm: o(|x| x.moment_g[0]),
+            moment_g_y_nm: o(|x| x.moment_g[1]),
             steps: tr.steps,
             mesh_evaluations: tr.mesh_evaluations,
         }
     }
 
     /// The columns in output order with their names: `time_s`, the states in state order
-    /// ([`STATE_NAMES`]), `te_m`, `m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`.
+    /// ([`STATE_NAMES`]), `te_m`, `m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`, then the
+    /// force and moments `force_p_x_n` … `moment_g_y_nm`.
     pub fn columns(&self) -> Vec<(&'static str, &[f64])> {
         let states: [&[f64]; N_STATES] = [
             &self.phi_1_rad,
@@ -434,6 +513,16 @@ impl TrajectoryRecord {
             ("m_f_g_nm", &self.m_f_g_nm),
             ("m_d_p_nm", &self.m_d_p_nm),
             ("m_d_g_nm", &self.m_d_g_nm),
+            ("force_p_x_n", &self.force_p_x_n),
+            ("force_p_y_n", &self.force_p_y_n),
+            ("force_p_z_n", &self.force_p_z_n),
+            ("moment_p_x_nm", &self.moment_p_x_nm),
+            ("moment_p_y_nm", &self.moment_p_y_nm),
+            ("force_g_x_n", &self.force_g_x_n),
+            ("force_g_y_n", &self.force_g_y_n),
+            ("force_g_z_n", &self.force_g_z_n),
+            ("moment_g_x_nm", &self.moment_g_x_nm),
+            ("moment_g_y_nm", &self.moment_g_y_nm),
         ]);
         c
     }
@@ -938,6 +1027,14 @@ pub struct StaticPointRecord {
     pub line_load_max_n_per_mm: f64,
     /// Mean line load across the face, N/mm.
     pub line_load_mean_n_per_mm: f64,
+    /// Force of the mesh on the pinion (x, y, z), N (housing frame of `mesh::forces`).
+    pub force_p_n: [f64; 3],
+    /// Tilting moment on the pinion about its centre at mid-face (x, y), N·m.
+    pub moment_p_nm: [f64; 2],
+    /// Force of the mesh on the gear (x, y, z), N.
+    pub force_g_n: [f64; 3],
+    /// Tilting moment on the gear about its centre at mid-face (x, y), N·m.
+    pub moment_g_nm: [f64; 2],
 }
 
 /// `helical-gear static --json`: the static curve ([`StaticCurveRecord`], its keys at the top
@@ -969,6 +1066,74 @@ pub struct StaticRunRecord {
     pub iso: IsoRootStressSummary,
     /// The points with their face load.
     pub points: Vec<StaticPointRecord>,
+    /// The bearing loads over the points (with `--bearings`; absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bearings: Option<Vec<BearingLoadRecord>>,
+}
+
+/// The load of one bearing over a static curve (`helical-gear static --bearings`): the
+/// reaction of the bearing on its shaft (x, y, z, N; z only at the locating bearing) in the
+/// housing frame of `mesh::forces`, from `mesh::bearings`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BearingLoadRecord {
+    /// `pinion` or `gear`.
+    pub shaft: String,
+    /// `locating` or `floating`.
+    pub bearing: String,
+    /// Axial position of the bearing, m.
+    pub z_m: f64,
+    /// Mean reaction over the points, N.
+    pub reaction_mean_n: [f64; 3],
+    /// Peak-to-peak (max − min) of each component over the points, N.
+    pub reaction_peak_to_peak_n: [f64; 3],
+    /// Single-sided amplitude of each component at the mesh orders 1, 2, … (one entry per
+    /// order up to the points' Nyquist limit, at most 10), N.
+    pub reaction_order_amplitudes_n: Vec<[f64; 3]>,
+}
+
+impl BearingLoadRecord {
+    /// The records of the four bearings of `arrangement` over the mesh outputs `outs` (uniform
+    /// pinion angles over `pitches` whole pinion pitches), face width `face_width_m` (m).
+    pub fn over_cycle(
+        arrangement: &crate::mesh::bearings::BearingArrangement,
+        face_width_m: f64,
+        outs: &[crate::mesh::MeshOutputs],
+        pitches: usize,
+    ) -> Vec<Self> {
+        use crate::mesh::bearings::order_amplitudes;
+        let reactions: Vec<[[f64; 3]; 4]> =
+            outs.iter().map(|o| arrangement.reactions(face_width_m, o)).collect();
+        arrangement
+            .labels()
+            .iter()
+            .enumerate()
+            .map(|(b, &(shaft, bearing, z))| {
+                let comp = |k: usize| reactions.iter().map(move |r| r[b][k]);
+                let amps: [Vec<f64>; 3] = std::array::from_fn(|k| {
+                    order_amplitudes(&comp(k).collect::<Vec<_>>(), pitches.max(1), 10)
+                });
+                Self {
+                    shaft: shaft.into(),
+                    bearing: bearing.into(),
+                    z_m: z,
+                    reaction_mean_n: std::array::from_fn(|k| mean(comp(k))),
+                    reaction_peak_to_peak_n: std::array::from_fn(|k| peak_to_peak(comp(k))),
+                    reaction_order_amplitudes_n: (0..amps[0].len())
+                        .map(|j| [amps[0][j], amps[1][j], amps[2][j]])
+                        .collect(),
+                }
+            })
+            .collect()
+    }
+
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite("z_m", self.z_m)?;
+        finite_all("reaction_mean_n", &self.reaction_mean_n)?;
+        finite_all("reaction_peak_to_peak_n", &self.reaction_peak_to_peak_n)?;
+        let a: Vec<f64> = self.reaction_order_amplitudes_n.iter().flatten().copied().collect();
+        finite_all("reaction_order_amplitudes_n", &a)
+    }
 }
 
 impl StaticRunRecord {
@@ -999,6 +1164,13 @@ impl StaticRunRecord {
             ] {
                 finite(&format!("points[{i}].{name}"), v)?;
             }
+            let f = p.force_p_n.iter().chain(&p.moment_p_nm).chain(&p.force_g_n);
+            for (k, v) in f.chain(&p.moment_g_nm).enumerate() {
+                finite(&format!("points[{i}].force_moment[{k}]"), *v)?;
+            }
+        }
+        for b in self.bearings.iter().flatten() {
+            b.check_finite().map_err(|e| format!("bearings ({} {}): {e}", b.shaft, b.bearing))?;
         }
         Ok(())
     }

@@ -177,6 +177,10 @@ fn run_records_round_trip_with_their_keys() {
         k_h_beta: 1.2,
         line_load_max_n_per_mm: 300.0,
         line_load_mean_n_per_mm: 250.0,
+        force_p_n: [-1.2e3, -3.4e3, 0.6e3],
+        moment_p_nm: [1.5, -2.5],
+        force_g_n: [1.2e3, 3.4e3, -0.6e3],
+        moment_g_nm: [-1.5, 6.0],
     };
     let st = StaticRunRecord {
         curve: static_record(),
@@ -193,6 +197,7 @@ fn run_records_round_trip_with_their_keys() {
             100.0,
         ),
         points: vec![point],
+        bearings: None,
     };
     round_trip(&st);
     st.check_finite().unwrap();

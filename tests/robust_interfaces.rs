@@ -113,13 +113,16 @@ fn restored_state_with_non_finite_cached_outputs_is_refused() {
     assert_eq!(f.set(&["phi_p", "phi_g", "w_p", "w_g"], &LOADED), fmi2Status::Ok);
     let before = f.get(&OUTS).unwrap();
     let b = f.serialize();
-    // The cached outputs: flag, 8 f64, u32, 3 flags, then the checksum.
-    let first = b.len() - 8 - 3 - 4 - 8 * 8;
-    for k in 0..8 {
+    // The cached outputs: flag, 8 f64, u32, 3 flags, 10 f64 (force and moments), then the
+    // checksum.
+    let forces = b.len() - 8 - 10 * 8;
+    let first = forces - 3 - 4 - 8 * 8;
+    let offsets = (0..8).map(|k| first + 8 * k).chain((0..10).map(|k| forces + 8 * k));
+    for (k, at) in offsets.enumerate() {
         for x in [f64::NAN, f64::INFINITY] {
             let mut c = b.clone();
             for (j, byte) in x.to_le_bytes().iter().enumerate() {
-                c[first + 8 * k + j] = *byte as fmi2Byte;
+                c[at + j] = *byte as fmi2Byte;
             }
             // Unsealed: the checksum refuses it; resealed: the value check does.
             assert_eq!(f.restore(&c), fmi2Status::Error, "output {k} unsealed");

@@ -12,6 +12,7 @@
 //! | `units` | `units.md`, `units.csv` | in-process speed of the Drive unit at table fidelity (RK4 sub-steps, DOPRI5 tolerances) with its TE error, and of the Drive and Pair units at full fidelity with the warm start carried or emptied every step | a few minutes |
 //! | `jacobian` | `jacobian.md` | cost of one `mesh_jacobian` against one `evaluate`, full and table fidelity | ≈ 30 s |
 //! | `iso` | `iso6336.md` | ISO 6336-3 method B nominal root stress σ_F0 and its factors for Table 1 at 100 N·m and two other designs (geometry only, no FE) | < 1 s |
+//! | `loads` | `loads.md` | Table 1 at 100 N·m: mean and peak-to-peak of each component of the mesh force and tilting moments over a mesh cycle, full and table fidelity, and the bearing loads of `docs/loads/bearings_table1.json` | ≈ 10 s |
 //! | `all` | all of them | | |
 //! | `pages` | `docs/performance.md`, `docs/validation.md` | no measurement: renders the performance page from `docs/bench/bench.json` and the paper-run section of the validation page from `docs/paper/summary.json` ([`helical_gear_app::pages`]; run from the repository root) | instant |
 //!
@@ -43,7 +44,7 @@ mod cosim;
 #[path = "../../tests/common/fe.rs"]
 mod fe_checks;
 
-const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|iso|all|pages> [--out DIR]";
+const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|iso|loads|all|pages> [--out DIR]";
 
 fn main() {
     if let Err(e) = run() {
@@ -79,8 +80,8 @@ fn run() -> Result<(), String> {
     }
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let studies: Vec<&str> = match study.as_str() {
-        "all" => vec!["fe", "cosim", "units", "jacobian", "iso"],
-        s @ ("fe" | "cosim" | "units" | "jacobian" | "iso") => vec![s],
+        "all" => vec!["fe", "cosim", "units", "jacobian", "iso", "loads"],
+        s @ ("fe" | "cosim" | "units" | "jacobian" | "iso" | "loads") => vec![s],
         s => return Err(format!("unknown study {s:?}; {USAGE}")),
     };
     for s in studies {
@@ -90,6 +91,7 @@ fn run() -> Result<(), String> {
             "cosim" => cosimulation(&out)?,
             "units" => units(&out)?,
             "iso" => iso(&out)?,
+            "loads" => loads(&out)?,
             _ => jacobian(&out)?,
         };
         for f in files {
@@ -536,4 +538,90 @@ fn iso(dir: &Path) -> Result<Vec<PathBuf>, String> {
          (`tests/iso6336.rs`).\n",
     );
     Ok(vec![write(dir, "iso6336.md", &md)?])
+}
+
+/// The mesh force and moments of Table 1 at 100 N·m over a mesh cycle (static curve, full and
+/// table fidelity) and the loads of the bearings of `docs/loads/bearings_table1.json`.
+fn loads(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    use helical_gear_mesh::mesh::bearings::BearingArrangement;
+    use helical_gear_mesh::mesh::static_curve;
+    use helical_gear_mesh::results::{BearingLoadRecord, StaticCurveRecord};
+    let mut md = header("Mesh force, tilting moments and bearing loads of Table 1", "loads");
+    let (torque, points) = (100.0, 40);
+    md.push_str(&format!(
+        "Table 1 at M = {torque} N·m on the pinion, static equilibrium at {points} pinion \
+         angles over one pitch (`mesh::static_curve`, default options: 200 slices; the table \
+         64 × 48). Frame and signs: [the guide](../loads.md) (x from the pinion axis to the \
+         gear axis, z along the pinion axis, y = z × x; moments about each gear's centre at \
+         mid-face). The gear's force is the pinion's negated.\n\n"
+    ));
+    let p = GearPair::paper_table1();
+    let text = std::fs::read_to_string("docs/loads/bearings_table1.json")
+        .map_err(|e| format!("docs/loads/bearings_table1.json: {e}"))?;
+    let arrangement = BearingArrangement::from_json(&text).map_err(|e| e.to_string())?;
+    let mut full_curve = None;
+    for fidelity in [Fidelity::Full, Fidelity::Table] {
+        let mut m = Mesh::new(&p, MeshOptions { fidelity, ..MeshOptions::default() })
+            .map_err(|e| e.to_string())?;
+        let geo = m.geometry().clone();
+        let pitch = geo.pinion.angular_pitch();
+        let curve =
+            static_curve(&mut m, torque, 0.0, pitch, points, 1).map_err(|e| e.to_string())?;
+        let rec = StaticCurveRecord::new(&curve, geo.pinion.rb);
+        writeln!(md, "## {fidelity:?} fidelity\n").ok();
+        md.push_str("| component | mean | peak-to-peak |\n| --- | --- | --- |\n");
+        let comp = |v: Vec<f64>| {
+            let mean = v.iter().sum::<f64>() / v.len() as f64;
+            let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            (mean, hi - lo)
+        };
+        let rows: [(&str, Vec<f64>); 10] = [
+            ("F_p,x (N)", rec.force_p_n.iter().map(|f| f[0]).collect()),
+            ("F_p,y (N)", rec.force_p_n.iter().map(|f| f[1]).collect()),
+            ("F_p,z (N)", rec.force_p_n.iter().map(|f| f[2]).collect()),
+            ("M_p,x (N·m)", rec.moment_p_nm.iter().map(|f| f[0]).collect()),
+            ("M_p,y (N·m)", rec.moment_p_nm.iter().map(|f| f[1]).collect()),
+            ("F_g,x (N)", rec.force_g_n.iter().map(|f| f[0]).collect()),
+            ("F_g,y (N)", rec.force_g_n.iter().map(|f| f[1]).collect()),
+            ("F_g,z (N)", rec.force_g_n.iter().map(|f| f[2]).collect()),
+            ("M_g,x (N·m)", rec.moment_g_nm.iter().map(|f| f[0]).collect()),
+            ("M_g,y (N·m)", rec.moment_g_nm.iter().map(|f| f[1]).collect()),
+        ];
+        for (name, v) in rows {
+            let (mean, ptp) = comp(v);
+            writeln!(md, "| {name} | {mean:.4} | {ptp:.4} |").ok();
+        }
+        md.push('\n');
+        if fidelity == Fidelity::Full {
+            full_curve = Some((curve, p.face_width_m));
+        }
+    }
+    let (curve, b) = full_curve.expect("full fidelity ran");
+    let outs: Vec<_> = curve.points.iter().map(|e| e.outputs).collect();
+    md.push_str(&format!(
+        "## Bearing loads\n\nThe arrangement `docs/loads/bearings_table1.json` (each shaft: \
+         locating bearing at z = {:.3} m, floating at z = {:.3} m, 20 mm outside the end \
+         faces; `mesh::bearings`), full fidelity. Reaction of each bearing on its shaft, N; \
+         order 1 is the amplitude at the mesh frequency.\n\n\
+         | shaft | bearing | z, m | mean (x, y, z) | peak-to-peak (x, y, z) | order 1 (x, y, z) |\n\
+         | --- | --- | --- | --- | --- | --- |\n",
+        arrangement.pinion.locating_z_m, arrangement.pinion.floating_z_m
+    ));
+    let v3 = |v: [f64; 3]| format!("{:.2}, {:.2}, {:.2}", v[0], v[1], v[2]);
+    for r in BearingLoadRecord::over_cycle(&arrangement, b, &outs, 1) {
+        let o1 = r.reaction_order_amplitudes_n.first().copied().unwrap_or([0.0; 3]);
+        writeln!(
+            md,
+            "| {} | {} | {:.3} | {} | {} | {} |",
+            r.shaft,
+            r.bearing,
+            r.z_m,
+            v3(r.reaction_mean_n),
+            v3(r.reaction_peak_to_peak_n),
+            v3(o1)
+        )
+        .ok();
+    }
+    Ok(vec![write(dir, "loads.md", &md)?])
 }

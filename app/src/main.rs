@@ -88,6 +88,10 @@ enum Command {
         /// Write the STE curve and the pressure waterfall (Fig. 7) as CSV and PNG into DIR.
         #[arg(long, value_name = "DIR")]
         plot: Option<std::path::PathBuf>,
+        /// Bearing arrangement (JSON: `{"pinion": {"locating_z_m": …, "floating_z_m": …},
+        /// "gear": {…}}`, docs/loads.md): adds the bearing loads over the mesh cycle.
+        #[arg(long, value_name = "FILE")]
+        bearings: Option<std::path::PathBuf>,
         #[command(flatten)]
         model: mods::ModelArgs,
     },
@@ -146,6 +150,7 @@ fn main() -> ExitCode {
             pitches,
             slices,
             plot,
+            bearings,
             model,
         } => statics::static_cmd(
             common,
@@ -155,6 +160,7 @@ fn main() -> ExitCode {
             *pitches,
             *slices,
             plot.as_deref(),
+            bearings.as_deref(),
             model,
         ),
         Command::Harris(args) => mods::harris_cmd(args),

@@ -512,3 +512,55 @@ fn static_json_reports_the_iso_6336_root_stress_at_the_run_torque() {
     // The Table 1 pinion at 100 N·m: about 128 MPa (Y_F ≈ 1.34, Y_S ≈ 2.00).
     assert!((sigma[0] * 1e-6 - 127.6).abs() < 0.5, "{}", sigma[0]);
 }
+
+/// `static --json` reports the mesh force and moments per point and over the cycle, and with
+/// `--bearings` the loads of the four bearings of the arrangement (docs/loads.md); a bad
+/// arrangement is refused naming the key.
+#[test]
+fn static_json_has_the_force_and_bearing_keys() {
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/loads/bearings_table1.json");
+    let args =
+        ["static", "--json", "--slices", "40", "--points-per-pitch", "8", "--bearings", file];
+    let (ok, stdout, stderr) = run(&args);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    for key in ["force_p_mean_n", "force_p_peak_to_peak_n"] {
+        assert_eq!(v[key].as_array().unwrap_or_else(|| panic!("{key}")).len(), 3);
+    }
+    let p = &v["points"][0];
+    for (key, n) in [("force_p_n", 3), ("moment_p_nm", 2), ("force_g_n", 3), ("moment_g_nm", 2)] {
+        assert_eq!(p[key].as_array().unwrap_or_else(|| panic!("{key}")).len(), n);
+    }
+    let b = v["bearings"].as_array().expect("bearings");
+    assert_eq!(b.len(), 4);
+    for (r, (shaft, bearing)) in b.iter().zip([
+        ("pinion", "locating"),
+        ("pinion", "floating"),
+        ("gear", "locating"),
+        ("gear", "floating"),
+    ]) {
+        assert_eq!((r["shaft"].as_str(), r["bearing"].as_str()), (Some(shaft), Some(bearing)));
+        for key in ["reaction_mean_n", "reaction_peak_to_peak_n"] {
+            assert_eq!(r[key].as_array().unwrap().len(), 3);
+        }
+        assert!(!r["reaction_order_amplitudes_n"].as_array().unwrap().is_empty());
+    }
+    // The pinion's bearings carry the mean mesh force on the pinion, with opposite sign.
+    let mean = |x: &serde_json::Value, k: usize| x["reaction_mean_n"][k].as_f64().unwrap();
+    for k in 0..3 {
+        let f = v["force_p_mean_n"][k].as_f64().unwrap();
+        assert!((mean(&b[0], k) + mean(&b[1], k) + f).abs() <= 1e-9 * f.abs().max(1.0));
+    }
+
+    let dir = std::env::temp_dir().join(format!("hg-bearings-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("same.json");
+    std::fs::write(
+        &bad,
+        r#"{"pinion": {"locating_z_m": 0.01, "floating_z_m": 0.01}, "gear": {"locating_z_m": 0, "floating_z_m": 0.05}}"#,
+    )
+    .unwrap();
+    let (ok, _, stderr) = run(&["static", "--json", "--bearings", bad.to_str().unwrap()]);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(!ok && stderr.contains("pinion.floating_z_m"), "{stderr}");
+}

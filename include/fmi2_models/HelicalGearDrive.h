@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{d86c3947-8692-8d09-8404-3a4bf4c1c900}"
+#define HelicalGearDrive_GUID "{11d673ad-5f59-8f2f-a1de-8f1f307d1926}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -29,6 +29,16 @@ typedef enum {
     HelicalGearDrive_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearDrive_vr_separated = 20, /* output Boolean  */
     HelicalGearDrive_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearDrive_vr_F_p_x = 400, /* output Real N */
+    HelicalGearDrive_vr_F_p_y = 401, /* output Real N */
+    HelicalGearDrive_vr_F_p_z = 402, /* output Real N */
+    HelicalGearDrive_vr_M_p_x = 403, /* output Real N.m */
+    HelicalGearDrive_vr_M_p_y = 404, /* output Real N.m */
+    HelicalGearDrive_vr_F_g_x = 405, /* output Real N */
+    HelicalGearDrive_vr_F_g_y = 406, /* output Real N */
+    HelicalGearDrive_vr_F_g_z = 407, /* output Real N */
+    HelicalGearDrive_vr_M_g_x = 408, /* output Real N.m */
+    HelicalGearDrive_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearDrive_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearDrive_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearDrive_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

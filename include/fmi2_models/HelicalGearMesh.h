@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{91438406-47d1-8554-8def-d3dbc20567f1}"
+#define HelicalGearMesh_GUID "{64d42e3e-00b3-8f93-863c-8d5b66a172dd}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -22,6 +22,16 @@ typedef enum {
     HelicalGearMesh_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearMesh_vr_separated = 20, /* output Boolean  */
     HelicalGearMesh_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearMesh_vr_F_p_x = 400, /* output Real N */
+    HelicalGearMesh_vr_F_p_y = 401, /* output Real N */
+    HelicalGearMesh_vr_F_p_z = 402, /* output Real N */
+    HelicalGearMesh_vr_M_p_x = 403, /* output Real N.m */
+    HelicalGearMesh_vr_M_p_y = 404, /* output Real N.m */
+    HelicalGearMesh_vr_F_g_x = 405, /* output Real N */
+    HelicalGearMesh_vr_F_g_y = 406, /* output Real N */
+    HelicalGearMesh_vr_F_g_z = 407, /* output Real N */
+    HelicalGearMesh_vr_M_g_x = 408, /* output Real N.m */
+    HelicalGearMesh_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearMesh_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearMesh_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearMesh_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

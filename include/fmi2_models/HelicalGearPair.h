@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{2e9d8d07-e1f8-8067-b1ef-c6cce1450a52}"
+#define HelicalGearPair_GUID "{dc69b8b7-d00a-8ae5-9420-64d6c991590c}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -26,6 +26,16 @@ typedef enum {
     HelicalGearPair_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearPair_vr_separated = 20, /* output Boolean  */
     HelicalGearPair_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearPair_vr_F_p_x = 400, /* output Real N */
+    HelicalGearPair_vr_F_p_y = 401, /* output Real N */
+    HelicalGearPair_vr_F_p_z = 402, /* output Real N */
+    HelicalGearPair_vr_M_p_x = 403, /* output Real N.m */
+    HelicalGearPair_vr_M_p_y = 404, /* output Real N.m */
+    HelicalGearPair_vr_F_g_x = 405, /* output Real N */
+    HelicalGearPair_vr_F_g_y = 406, /* output Real N */
+    HelicalGearPair_vr_F_g_z = 407, /* output Real N */
+    HelicalGearPair_vr_M_g_x = 408, /* output Real N.m */
+    HelicalGearPair_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearPair_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearPair_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearPair_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

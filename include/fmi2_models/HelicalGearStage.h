@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{9c0c212d-685e-859b-b9b1-b50f32877945}"
+#define HelicalGearStage_GUID "{fd4ca884-2cfa-8f13-ab14-930bea5ea0db}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -30,6 +30,16 @@ typedef enum {
     HelicalGearStage_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearStage_vr_separated = 20, /* output Boolean  */
     HelicalGearStage_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearStage_vr_F_p_x = 400, /* output Real N */
+    HelicalGearStage_vr_F_p_y = 401, /* output Real N */
+    HelicalGearStage_vr_F_p_z = 402, /* output Real N */
+    HelicalGearStage_vr_M_p_x = 403, /* output Real N.m */
+    HelicalGearStage_vr_M_p_y = 404, /* output Real N.m */
+    HelicalGearStage_vr_F_g_x = 405, /* output Real N */
+    HelicalGearStage_vr_F_g_y = 406, /* output Real N */
+    HelicalGearStage_vr_F_g_z = 407, /* output Real N */
+    HelicalGearStage_vr_M_g_x = 408, /* output Real N.m */
+    HelicalGearStage_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearStage_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearStage_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearStage_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

@@ -24,14 +24,17 @@ from ._native import (
 )
 from ._pair import BOUNDS, DRIVE_SYMBOLS, ISO_SYMBOLS, DriveLine, GearPair, Group
 from ._api import (
+    FORCE_NAMES,
     OUTPUT_NAMES,
     STATE_NAMES,
     Compliance,
     Geometry,
     MeshModel,
+    BearingLoads,
     StaticCurve,
     SweepResult,
     Trajectory,
+    bearing_loads,
     compliance,
     geometry,
     iso_root_stress,
@@ -47,10 +50,12 @@ __version__ = LIBRARY_VERSION
 
 __all__ = [
     "BOUNDS",
+    "BearingLoads",
     "Compliance",
     "ComplianceError",
     "DRIVE_SYMBOLS",
     "DriveLine",
+    "FORCE_NAMES",
     "GearMeshError",
     "GearPair",
     "Geometry",
@@ -64,6 +69,7 @@ __all__ = [
     "StaticCurve",
     "SweepResult",
     "Trajectory",
+    "bearing_loads",
     "compliance",
     "geometry",
     "iso_root_stress",

@@ -35,7 +35,23 @@ OUTPUT_NAMES = (
     "tip_contact",
     "separated",
     "back_contact",
+    "F_p_x",
+    "F_p_y",
+    "F_p_z",
+    "M_p_x",
+    "M_p_y",
+    "F_g_x",
+    "F_g_y",
+    "F_g_z",
+    "M_g_x",
+    "M_g_y",
 )
+
+#: The 3D force and moments (the FMU output names): the force of the mesh on the pinion
+#: ``F_p_*`` and on the gear ``F_g_* = -F_p_*`` (N), the tilting moments about each gear's
+#: centre at mid-face ``M_p_*``, ``M_g_*`` (N·m), in the housing frame of docs/loads.md
+#: (x from the pinion axis to the gear axis, z along the pinion axis, y = z × x).
+FORCE_NAMES = OUTPUT_NAMES[-10:]
 
 FE_DENSITIES = ("coarse", "default", "refined")
 
@@ -311,7 +327,16 @@ class StaticCurve(_Result):
     iso6336: dict | None = None
     #: Why ISO 6336-3 method B does not apply to the pair, or None.
     iso6336_error: str | None = None
-    _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length")
+    #: The force and moments per point (`FORCE_NAMES`: N, N·m), keyed by name; also
+    #: attributes (``curve.F_p_x``) and columns of `to_dataframe()`.
+    forces: dict = field(default_factory=dict, repr=False)
+    _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length") + FORCE_NAMES
+
+    def __getattr__(self, k):
+        forces = self.__dict__.get("forces", {})
+        if k in forces:
+            return forces[k]
+        raise AttributeError(k)
 
     @property
     def ste_peak_to_peak(self) -> float:
@@ -364,6 +389,7 @@ def static_curve(
         root_stress_iso_g_pa=iso["root_stress_iso_g_pa"],
         iso6336=iso["iso6336"],
         iso6336_error=iso["iso6336_error"],
+        forces=_force_columns(d),
     )
 
 
@@ -376,6 +402,69 @@ def iso_root_stress(pair: GearPair | None = None, torque: float = 100.0) -> dict
     method cannot rate (virtual contact ratio below 1, a rim under half a tooth depth, …)
     raises `ParameterError` naming the key to change."""
     return json.loads(_native.iso_root_stress_json(_pair(pair).to_json(), float(torque)))
+
+
+def _force_columns(d: Mapping[str, Any]) -> dict:
+    """`FORCE_NAMES` → arrays from a static record's ``force_p_n``, ``moment_p_nm``,
+    ``force_g_n``, ``moment_g_nm`` (per-point lists of components)."""
+    out = {}
+    for key, prefix, axes in (
+        ("force_p_n", "F_p", "xyz"),
+        ("moment_p_nm", "M_p", "xy"),
+        ("force_g_n", "F_g", "xyz"),
+        ("moment_g_nm", "M_g", "xy"),
+    ):
+        a = np.array(d[key], dtype=float).reshape(-1, len(axes))
+        for k, ax in enumerate(axes):
+            out[f"{prefix}_{ax}"] = a[:, k]
+    return out
+
+
+@dataclass(frozen=True)
+class BearingLoads(_Result):
+    """The reactions of the four bearings (force of each bearing on its shaft, N, in the housing
+    frame of docs/loads.md) per sample of a static curve or trajectory, keyed
+    ``<shaft>_<bearing>_<x|y|z>`` (``pinion_locating_x`` …, ``gear_floating_z``), as
+    attributes (numpy arrays) and in ``arrays``; `mean()` and `peak_to_peak()` per key."""
+
+    arrays: dict = field(repr=False)
+
+    def __getattr__(self, k):
+        try:
+            return self.__dict__["arrays"][k]
+        except KeyError:
+            raise AttributeError(k) from None
+
+    @property
+    def _columns(self):
+        return tuple(self.arrays)
+
+    def mean(self) -> dict:
+        """Mean of each reaction component over the samples, N."""
+        return {k: float(np.mean(v)) for k, v in self.arrays.items()}
+
+    def peak_to_peak(self) -> dict:
+        """max − min of each reaction component over the samples, N."""
+        return {k: float(np.ptp(v)) for k, v in self.arrays.items()}
+
+
+def bearing_loads(result, bearings, pair: GearPair | None = None) -> BearingLoads:
+    """Bearing loads along a `StaticCurve` or a `Trajectory` (its force and moment columns
+    ``F_p_x`` … ``M_g_y``): each shaft rigid on a locating bearing (radial and axial load) and a
+    floating one (radial), at the axial positions of `bearings` (a dict, a JSON string or a path
+    to a JSON file: ``{"pinion": {"locating_z_m": …, "floating_z_m": …}, "gear": {…}}``, z in
+    m from the end face ζ = 0); the gears' centres at z = b/2 with b the face width of `pair`
+    (default Table 1's). The statics are the library's (``mesh::bearings``)."""
+    if isinstance(bearings, Mapping):
+        text = json.dumps(dict(bearings))
+    elif isinstance(bearings, (str, os.PathLike)) and os.path.exists(bearings):
+        with open(bearings, encoding="utf-8") as f:
+            text = f.read()
+    else:
+        text = str(bearings)
+    b = json.loads(_pair(pair).to_json())["face_width_m"]
+    cols = [np.ascontiguousarray(getattr(result, n), dtype=float) for n in FORCE_NAMES]
+    return BearingLoads(arrays=dict(_native.bearing_reactions(text, float(b), cols)))
 
 
 #: The eight states of Eqs. 1–4 as `Trajectory` keys (the library's names: angles rad, rates

@@ -31,6 +31,7 @@ use helical_gear_mesh::dynamics::{
     default_rk4_step, simulate, sweep,
 };
 use helical_gear_mesh::iso6336::nominal_root_stress;
+use helical_gear_mesh::mesh::bearings::BearingArrangement;
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
     static_curve,
@@ -153,6 +154,17 @@ fn run<T: Send>(py: Python<'_>, f: impl FnOnce() -> Res<T> + Send) -> PyResult<T
 const OUTPUT_NAMES: [&str; 8] =
     ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
 
+/// The 3D force and moments handed to Python (the FMU output names), in order: F_p (x, y, z,
+/// N), M_p (x, y, N·m), F_g, M_g, in the housing frame of the library's `mesh::forces`.
+const FORCE_NAMES: [&str; 10] =
+    ["F_p_x", "F_p_y", "F_p_z", "M_p_x", "M_p_y", "F_g_x", "F_g_y", "F_g_z", "M_g_x", "M_g_y"];
+
+/// The values of [`FORCE_NAMES`] of `o`.
+fn force_values(o: &helical_gear_mesh::mesh::MeshOutputs) -> [f64; 10] {
+    let (f, m, fg, mg) = (o.force_p, o.moment_p, o.force_g, o.moment_g);
+    [f[0], f[1], f[2], m[0], m[1], fg[0], fg[1], fg[2], mg[0], mg[1]]
+}
+
 /// The one check on every number handed to Python: a non-finite value is a solver error naming
 /// where (`at`) and which value, never a result.
 fn finite(at: &str, names: &[&str], values: &[f64]) -> Res<()> {
@@ -225,6 +237,72 @@ fn fidelity(name: &str) -> Res<Fidelity> {
 #[pyfunction]
 fn parameter_bounds() -> Vec<(String, f64, f64, &'static str)> {
     helical_gear_mesh::params::parameter_bounds()
+}
+
+/// The bearing reactions (the library's `mesh::bearings`) to the force and moments
+/// `columns` (the ten arrays of `FORCE_NAMES`, equally long) of a gear pair of face width
+/// `face_width_m` (m) on the bearing arrangement `bearings_json`: a dict of arrays keyed
+/// `<shaft>_<bearing>_<x|y|z>` (N, force of the bearing on the shaft). Raises `ParameterError`
+/// naming the key and the limit.
+#[pyfunction]
+fn bearing_reactions<'py>(
+    py: Python<'py>,
+    bearings_json: &str,
+    face_width_m: f64,
+    columns: Vec<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let cols: Vec<Vec<f64>> = columns.iter().map(|c| c.as_array().to_vec()).collect();
+    let (labels, out) = run(py, || {
+        let arrangement = BearingArrangement::from_json(bearings_json)?;
+        if !(face_width_m.is_finite() && face_width_m > 0.0) {
+            return Err(Failure::Param(format!(
+                "face_width_m = {face_width_m:.3e} m: allowed finite and > 0"
+            )));
+        }
+        if cols.len() != FORCE_NAMES.len() {
+            return Err(Failure::Param(format!(
+                "bearing_reactions: {} force columns given, {} needed ({})",
+                cols.len(),
+                FORCE_NAMES.len(),
+                FORCE_NAMES.join(", ")
+            )));
+        }
+        let n = cols[0].len();
+        if cols.iter().any(|c| c.len() != n) {
+            return Err(Failure::Param(
+                "bearing_reactions: the force columns differ in length".into(),
+            ));
+        }
+        let mut out: Vec<Vec<f64>> = (0..12).map(|_| Vec::with_capacity(n)).collect();
+        for i in 0..n {
+            let v: Vec<f64> = cols.iter().map(|c| c[i]).collect();
+            finite(&format!("sample {i}"), &FORCE_NAMES, &v)?;
+            let o = helical_gear_mesh::mesh::MeshOutputs {
+                force_p: [v[0], v[1], v[2]],
+                moment_p: [v[3], v[4]],
+                force_g: [v[5], v[6], v[7]],
+                moment_g: [v[8], v[9]],
+                ..Default::default()
+            };
+            for (b, r) in arrangement.reactions(face_width_m, &o).iter().enumerate() {
+                for (k, x) in r.iter().enumerate() {
+                    out[3 * b + k].push(*x);
+                }
+            }
+        }
+        Ok((arrangement.labels(), out))
+    })?;
+    let d = PyDict::new(py);
+    let mut cols = out.into_iter();
+    for (shaft, bearing, _) in labels {
+        for axis in ["x", "y", "z"] {
+            d.set_item(
+                format!("{shaft}_{bearing}_{axis}"),
+                array(py, cols.next().unwrap_or_default()),
+            )?;
+        }
+    }
+    Ok(d)
 }
 
 /// The Table 1 gear pair of the paper as JSON.
@@ -486,6 +564,7 @@ impl MeshModel {
             let mut m = self.model.clone();
             let mut cols: [Vec<f64>; 8] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut flags: [Vec<bool>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
+            let mut forces: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut pairs = Vec::with_capacity(n);
             for (i, s) in states.iter().enumerate() {
                 check_state(i, s)?;
@@ -514,11 +593,16 @@ impl MeshModel {
                 for (c, v) in flags.iter_mut().zip([o.tip_contact, o.separated, o.back_contact]) {
                     c.push(v);
                 }
+                let fv = force_values(&o);
+                finite(&format!("state {i}"), &FORCE_NAMES, &fv)?;
+                for (c, v) in forces.iter_mut().zip(fv) {
+                    c.push(v);
+                }
                 pairs.push(o.n_pairs);
             }
-            Ok((cols, flags, pairs))
+            Ok((cols, flags, pairs, forces))
         })?;
-        let (cols, flags, pairs) = out;
+        let (cols, flags, pairs, forces) = out;
         let d = PyDict::new(py);
         for (name, c) in OUTPUT_NAMES.into_iter().zip(cols) {
             d.set_item(name, array(py, c))?;
@@ -527,14 +611,19 @@ impl MeshModel {
         for (name, c) in ["tip_contact", "separated", "back_contact"].into_iter().zip(flags) {
             d.set_item(name, PyArray1::from_vec(py, c))?;
         }
+        for (name, c) in FORCE_NAMES.into_iter().zip(forces) {
+            d.set_item(name, array(py, c))?;
+        }
         Ok(d)
     }
 
     /// Static transmission error (Eq. 16) at torque `torque` (N·m) on `points_per_pitch`
     /// pinion angles per pitch over `pitches` pitches from φp = 0: JSON of the library's
     /// `results::StaticCurveRecord` (per-point arrays `phi_p_rad`, `ste_um`, `n_pairs`,
-    /// `p_max_pa`, `tip_contact`, `contact_length_m`; summary `ste_max_um`, `ste_min_um`,
-    /// `ste_mean_um`, `ste_peak_to_peak_um`, `mesh_stiffness_mean_n_per_um`).
+    /// `p_max_pa`, `tip_contact`, `contact_length_m`, `force_p_n`, `moment_p_nm`, `force_g_n`,
+    /// `moment_g_nm`; summary `ste_max_um`, `ste_min_um`, `ste_mean_um`,
+    /// `ste_peak_to_peak_um`, `mesh_stiffness_mean_n_per_um`, `force_p_mean_n`,
+    /// `force_p_peak_to_peak_n`).
     #[pyo3(signature = (torque, points_per_pitch = 20, pitches = 1))]
     fn static_curve_json(
         &self,
@@ -570,7 +659,8 @@ impl MeshModel {
     /// `dynamics::default_rk4_step`, shortened to divide `t_end`) or adaptive DOPRI5 (`method="dopri5"`, `dt` = output interval); the
     /// mesh damping from `pair_json`, the drivetrain from `pair_json` and the drive line
     /// `drive_json`. Returns a dict of arrays: `time`, the eight states, `TE`, `M_F_p`,
-    /// `M_F_g`, `M_D_p`, `M_D_g`; and `steps`, `mesh_evaluations`.
+    /// `M_F_g`, `M_D_p`, `M_D_g`, the force and moments `F_p_x` … `M_g_y`; and `steps`,
+    /// `mesh_evaluations`.
     #[pyo3(signature = (pair_json, drive_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
@@ -650,6 +740,7 @@ impl MeshModel {
                     &["TE", "M_F_p", "M_F_g", "M_D_p", "M_D_g"],
                     &[o.te, o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g],
                 )?;
+                finite(&at, &FORCE_NAMES, &force_values(o))?;
             }
             Ok((tr.time, tr.states, tr.outputs, tr.steps, tr.mesh_evaluations))
         })?;
@@ -663,6 +754,9 @@ impl MeshModel {
         d.set_item("M_F_g", array(py, outs.iter().map(|o| o.m_f_g).collect()))?;
         d.set_item("M_D_p", array(py, outs.iter().map(|o| o.m_d_p).collect()))?;
         d.set_item("M_D_g", array(py, outs.iter().map(|o| o.m_d_g).collect()))?;
+        for (k, name) in FORCE_NAMES.iter().enumerate() {
+            d.set_item(*name, array(py, outs.iter().map(|o| force_values(o)[k]).collect()))?;
+        }
         d.set_item("steps", steps)?;
         d.set_item("mesh_evaluations", evals)?;
         Ok(d)
@@ -778,6 +872,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(iso_root_stress_summary_json, m)?)?;
     m.add_function(wrap_pyfunction!(compliance_key, m)?)?;
     m.add_function(wrap_pyfunction!(paper_json, m)?)?;
+    m.add_function(wrap_pyfunction!(bearing_reactions, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

@@ -97,6 +97,8 @@ fn spring_outputs(k: f64, d: f64, gp: f64, gg: f64, c: Clearance, s: &MeshState)
         tip_contact: false,
         separated: !contact,
         back_contact: back,
+        // A lumped spring has no contact geometry: no 3D force or moments.
+        ..MeshOutputs::default()
     }
 }
 

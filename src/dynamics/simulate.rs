@@ -471,6 +471,10 @@ pub struct SteadyResponse {
     pub tip_contact: bool,
     /// True when the back flanks are in contact anywhere in the steady window.
     pub back_contact: bool,
+    /// Largest magnitude |F_p| of the mesh force on the pinion over the recorded points of the
+    /// steady window (the samples that give `te_max` and `te_min`), N (0 for a mesh without
+    /// contact geometry, e.g. the analytic test meshes).
+    pub force_p_max: f64,
     /// Recorded points of the steady window (RK4: every step; DOPRI5: every accepted step);
     /// empty unless [`SteadyRunOptions::keep_window`].
     pub window: Vec<WindowSample>,
@@ -731,6 +735,7 @@ pub fn run_to_steady<M: MeshTorques>(
     let t_from = t_end - k as f64 * t_m * (1.0 + 1e-9);
     let mut window = Vec::new();
     let (mut separated, mut tip_contact, mut back_contact) = (false, false, false);
+    let mut force_p_max: f64 = 0.0;
     for (t, ys, o) in ring.iter().filter(|r| r.0 >= t_from) {
         let o = match o {
             Some(o) => *o,
@@ -739,6 +744,7 @@ pub fn run_to_steady<M: MeshTorques>(
         separated |= o.separated;
         tip_contact |= o.tip_contact;
         back_contact |= o.back_contact;
+        force_p_max = force_p_max.max(norm3(o.force_p));
         if opts.keep_window {
             window.push(WindowSample { t: *t, y: *ys, outputs: o });
         }
@@ -757,6 +763,7 @@ pub fn run_to_steady<M: MeshTorques>(
         separated,
         tip_contact,
         back_contact,
+        force_p_max,
         window,
         steps,
         samples_per_period: n,
@@ -764,6 +771,11 @@ pub fn run_to_steady<M: MeshTorques>(
         y_end: y,
         te_by_angle: by_angle.into(),
     })
+}
+
+/// |v|, the Euclidean norm of a 3-vector.
+pub(crate) fn norm3(v: [f64; 3]) -> f64 {
+    v[0].hypot(v[1]).hypot(v[2])
 }
 
 /// TE at pinion angle `phi` between the states `a` and `b` of one step (φp(a) < phi ≤

@@ -130,11 +130,51 @@ pub struct SweepPoint {
     pub periods: f64,
     /// Mesh evaluations of the run.
     pub mesh_evaluations: usize,
+    /// Peak outputs over the steady window against their static values at the same torque.
+    pub over_static: PeakOverStatic,
+}
+
+/// The static peaks of a sweep's outputs over a mesh cycle at the sweep's torque (from the
+/// static curve), against which each speed's steady peaks are reported ([`PeakOverStatic`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StaticPeaks {
+    /// Largest |F_p| over the static curve, N (0 for a mesh without contact geometry).
+    pub force_p_max: f64,
+}
+
+impl StaticPeaks {
+    /// The peaks of `curve`.
+    pub fn of(curve: &StaticCurve) -> Self {
+        let force_p_max = curve
+            .points
+            .iter()
+            .map(|e| super::simulate::norm3(e.outputs.force_p))
+            .fold(0.0, f64::max);
+        Self { force_p_max }
+    }
+}
+
+/// The peak of each output over one speed's steady window divided by its static peak over a
+/// mesh cycle at the same torque ([`StaticPeaks`]): the dynamic factors engineers compare with
+/// ISO 6336-1's K_v. `None` where the static peak is 0 (a mesh without contact geometry).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PeakOverStatic {
+    /// max |F_p| over the steady window / max |F_p| over the static curve.
+    pub mesh_force: Option<f64>,
+}
+
+impl PeakOverStatic {
+    /// The ratios of the steady response `r` against `statics`.
+    pub fn new(r: &SteadyResponse, statics: &StaticPeaks) -> Self {
+        let ratio = |peak: f64, reference: f64| (reference > 0.0).then(|| peak / reference);
+        Self { mesh_force: ratio(r.force_p_max, statics.force_p_max) }
+    }
 }
 
 impl SweepPoint {
-    fn from_response(r: &SteadyResponse, ste_max: f64) -> Self {
+    fn from_response(r: &SteadyResponse, ste_max: f64, statics: &StaticPeaks) -> Self {
         Self {
+            over_static: PeakOverStatic::new(r, statics),
             omega_p: r.omega_p,
             te_max_over_ste_max: r.te_max / ste_max,
             te_min_over_ste_max: r.te_min / ste_max,
@@ -319,6 +359,7 @@ where
     let ste = static_te_curve(&mut proto, drive.torque, drive.z_p, opts.static_points)
         .map_err(mesh_err)?;
     let ste_max = ste.max();
+    let statics = StaticPeaks::of(&ste);
     if ste_max.is_nan() || ste_max <= 0.0 {
         return Err(invalid("ste_max", ste_max, "> 0 (m): the torque must load the teeth"));
     }
@@ -368,7 +409,7 @@ where
         model.set_warm_start(&WarmStart::default());
         let r = run_to_steady(model, w, &run)
             .map_err(|e| DynamicsError::AtSpeed { omega_p: w, source: Box::new(e) })?;
-        let p = SweepPoint::from_response(&r, ste_max);
+        let p = SweepPoint::from_response(&r, ste_max, &statics);
         if opts.progress {
             let (label, k, total) = match refining {
                 None => ("", done.fetch_add(1, Ordering::Relaxed) + 1, speeds.len()),
@@ -473,6 +514,7 @@ mod tests {
                 period_multiple: 1,
                 periods: 0.0,
                 mesh_evaluations: 0,
+                over_static: PeakOverStatic::default(),
             })
         };
         let (best, (a, c), made) = golden_max((1.0, 1.2, 1.6), f(1.2).unwrap(), 20, f).unwrap();

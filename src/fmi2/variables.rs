@@ -23,7 +23,8 @@
 //! drive line's ([`DRIVE_TORQUE`], [`DRIVE_INERTIAS`], [`DRIVE_SHAFTS`], 123–129; each model
 //! lists only those it uses: the mesh element none, the Pair the torque of its static start,
 //! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
-//! ([`MESH_OUTPUTS`], 10–21) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
+//! ([`MESH_OUTPUTS`], 10–21; the 3D force and moments 400–409) and the options of the
+//! stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
 //! joined by a dot (`material_p.youngs_modulus_pa`), the drive line's by `drive.` and their
@@ -617,6 +618,14 @@ const ELASTIC_DEPS: Depends = Depends {
     groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS,
 };
 
+/// Dependencies of the 3D force and moments (elastic and damping parts): those of the
+/// damping torques.
+const FORCE_DEPS: Depends = Depends {
+    inputs: ALL_INPUTS,
+    linear_fixed: false,
+    groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::DAMPING,
+};
+
 pub(crate) fn u32_to_i32(v: u32) -> i32 {
     i32::try_from(v).unwrap_or(i32::MAX)
 }
@@ -637,12 +646,13 @@ pub(crate) const ANGLE: Option<&str> = Some("Angle");
 pub(crate) const LENGTH: Option<&str> = Some("Length");
 pub(crate) const TORQUE: Option<&str> = Some("Torque");
 
-/// The mesh outputs (value references 10–21) with their dependencies in `HelicalGearMesh`,
-/// shared by every model. Their values sit in the first slots of [`OutputValues`] (Real slots
-/// 0, 1, 2 … in table order, likewise Integer and Boolean), written from a
-/// [`crate::mesh::MeshOutputs`] by one function, `fmi2::models::write_mesh_outputs`: a new
-/// mesh output is one entry here (with the next free slot) and one line there.
-pub const MESH_OUTPUTS: [Variable; 12] = [
+/// The mesh outputs (value references 10–21 and 400–409) with their dependencies in
+/// `HelicalGearMesh`, shared by every model. Their values sit in the first slots of
+/// [`OutputValues`] (Real slots 0, 1, 2 … in table order, likewise Integer and Boolean),
+/// written from a [`crate::mesh::MeshOutputs`] by one function,
+/// `fmi2::models::write_mesh_outputs`: a new mesh output is one entry here (with the next free
+/// slot) and one line there.
+pub const MESH_OUTPUTS: [Variable; 22] = [
     output!(
         "M_F_p",
         10,
@@ -794,6 +804,122 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
          are then negative",
         ELASTIC_DEPS,
         Access::BoolOutput(2)
+    ),
+    output!(
+        "F_p_x",
+        400,
+        Continuous,
+        Some("N"),
+        None,
+        Some("Force"),
+        "Force of the mesh on the pinion, x component (from the pinion axis to the gear \
+         axis; < 0 in normal drive: the gears are pushed apart), N (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(8)
+    ),
+    output!(
+        "F_p_y",
+        401,
+        Continuous,
+        Some("N"),
+        None,
+        Some("Force"),
+        "Force of the mesh on the pinion, y component (y = z x x; < 0 in normal drive), N (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(9)
+    ),
+    output!(
+        "F_p_z",
+        402,
+        Continuous,
+        Some("N"),
+        None,
+        Some("Force"),
+        "Force of the mesh on the pinion, z component (axial, along the pinion axis \
+         towards the face end zeta = b; > 0 in normal drive, right-hand pinion), N (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(10)
+    ),
+    output!(
+        "M_p_x",
+        403,
+        Continuous,
+        NM,
+        None,
+        TORQUE,
+        "Tilting moment of the mesh force on the pinion about its centre at mid-face, x \
+         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(11)
+    ),
+    output!(
+        "M_p_y",
+        404,
+        Continuous,
+        NM,
+        None,
+        TORQUE,
+        "Tilting moment of the mesh force on the pinion about its centre at mid-face, y \
+         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(12)
+    ),
+    output!(
+        "F_g_x",
+        405,
+        Continuous,
+        Some("N"),
+        None,
+        Some("Force"),
+        "Force of the mesh on the gear, x component (F_g = -F_p), N (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(13)
+    ),
+    output!(
+        "F_g_y",
+        406,
+        Continuous,
+        Some("N"),
+        None,
+        Some("Force"),
+        "Force of the mesh on the gear, y component (F_g = -F_p), N (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(14)
+    ),
+    output!(
+        "F_g_z",
+        407,
+        Continuous,
+        Some("N"),
+        None,
+        Some("Force"),
+        "Force of the mesh on the gear, z component (axial; F_g = -F_p), N (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(15)
+    ),
+    output!(
+        "M_g_x",
+        408,
+        Continuous,
+        NM,
+        None,
+        TORQUE,
+        "Tilting moment of the mesh force on the gear about its centre at mid-face, x \
+         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(16)
+    ),
+    output!(
+        "M_g_y",
+        409,
+        Continuous,
+        NM,
+        None,
+        TORQUE,
+        "Tilting moment of the mesh force on the gear about its centre at mid-face, y \
+         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
+        FORCE_DEPS,
+        Access::RealOutput(17)
     ),
 ];
 

@@ -45,7 +45,9 @@
 //! range and the overlap against the module; a pinion angle beyond the exact range is
 //! [`MeshError::AngleOutOfRange`]. Never "separated" for teeth that passed through each other.
 
+pub mod bearings;
 pub mod face_load;
+pub mod forces;
 pub mod model;
 pub mod statics;
 pub mod table;
@@ -63,6 +65,7 @@ use crate::load::LoadError;
 use crate::params::GearPair;
 
 pub use face_load::{FaceLoad, face_load, k_h_beta_crowned, k_h_beta_iso};
+pub use forces::{ForceFrame, MeshWrench};
 pub use model::{
     FullMesh, GearCompliance, MAX_WARM_LOADS, MeshModel, MeshWorkspace, SolveStats, WarmLoad,
     WarmStart,
@@ -116,6 +119,21 @@ pub struct MeshOutputs {
     /// True when the back flanks carry load (TE below minus the backlash; the torques are
     /// then negative).
     pub back_contact: bool,
+    /// Force of all contacts on the pinion F_p = (x, y, z), N, in the housing frame of
+    /// `mesh::forces` and docs/loads.md (x from the pinion axis to the gear axis, z along the
+    /// pinion axis towards ζ = b₀, y = z × x); elastic part (Eq. 13) plus damping part
+    /// (Eq. 14). In normal drive
+    /// F_p,x < 0 (the gears are pushed apart), F_p,y < 0 and, with the right-hand pinion,
+    /// F_p,z > 0.
+    pub force_p: [f64; 3],
+    /// Tilting moments of F_p about the pinion centre at mid-face (0, 0, b/2), (x, y), N·m;
+    /// the z component is −(M_F,p + M_D,p).
+    pub moment_p: [f64; 2],
+    /// Force of all contacts on the gear F_g = −F_p (x, y, z), N, same frame.
+    pub force_g: [f64; 3],
+    /// Tilting moments of F_g about the gear centre at mid-face (a, 0, b/2), (x, y), N·m;
+    /// the z component is −(M_F,g + M_D,g).
+    pub moment_g: [f64; 2],
 }
 
 /// How each evaluation is computed (the C API's `HgmFidelity`: the values of

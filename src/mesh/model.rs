@@ -50,6 +50,12 @@
 //! code). This assembles the matrix 2–3 times faster than the general interpolation
 //! ([`FullMesh::use_slice_kernel`] switches between them; the benchmark reports both).
 //!
+//! # Force and moments
+//! Beside the torques each loaded slice's 3D force and its moments about both gears' centres
+//! are summed ([`super::forces`]: along the pinion helicoid's normal at P1), with the damping
+//! of Eq. 14 distributed by the loaded extent per flank side; the whole wrench of the last
+//! evaluation, z components included, stays in the workspace ([`MeshWorkspace::wrench`]).
+//!
 //! # Corner contacts
 //! Where the contact lies on the convex corner between involute and tip relief the transverse
 //! radius of curvature is 0 and Eqs. 10, 11 and 15 have no meaning. The corner turns the normal
@@ -99,6 +105,7 @@ use std::sync::Arc;
 
 use faer::Mat;
 
+use super::forces::{ForceFrame, MeshWrench};
 use super::validity::ValidityRange;
 use super::{MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
 use crate::compliance::fitted::FittedInfluence;
@@ -232,6 +239,8 @@ pub struct MeshModel {
     cos_theta: f64,
     /// Flank modifications and deviations ([`crate::modifications`]); `None` without any.
     separation: Option<Arc<Separation>>,
+    /// The frame of the 3D force and moments ([`super::forces`]).
+    frame: ForceFrame,
 }
 
 // The model is shared between threads by `Arc` (Python, sweeps, the table build).
@@ -273,6 +282,10 @@ pub struct MeshWorkspace {
     record_pairs: bool,
     /// Per loaded driving-flank tooth pair of the last full evaluation (when `record_pairs`).
     pair_sums: Vec<PairSum>,
+    /// The whole wrench (z components included) of the last full evaluation.
+    wrench: MeshWrench,
+    /// Σ ζ_i·Δζ over the loaded slices of the last full evaluation, m_n².
+    first_moment: f64,
 }
 
 impl MeshWorkspace {
@@ -303,7 +316,21 @@ impl MeshWorkspace {
             slice_kernel: true,
             record_pairs: false,
             pair_sums: Vec::with_capacity(8),
+            wrench: MeshWrench::default(),
+            first_moment: 0.0,
         }
+    }
+
+    /// The force and moments of the last full evaluation with their z components (the
+    /// reported outputs carry x and y of the moments; see [`super::forces`]).
+    pub fn wrench(&self) -> &MeshWrench {
+        &self.wrench
+    }
+
+    /// First axial moment Z₁ = Σ ζ_i·Δζ of the loaded slices of the last full evaluation,
+    /// units of m_n² (the table carries it beside the extent for the damping's moments).
+    pub fn first_moment(&self) -> f64 {
+        self.first_moment
     }
 
     /// Per-slice detail of the last evaluation (empty unless the detail is on).
@@ -489,6 +516,11 @@ pub(crate) struct PairSum {
     pub pair: i64,
     /// M_F,p, M_F,g (N·m), F_n (N), loaded axial extent (units of m_n), p_max² (Pa²).
     pub values: [f64; 5],
+    /// The pair's elastic force on the pinion (x, y, z, N) and its tilting moment about the
+    /// pinion centre (x, y, N·m), [`super::forces`].
+    pub wrench: [f64; 5],
+    /// Σ ζ_i·Δζ over the pair's loaded slices, m_n².
+    pub first_moment: f64,
     /// True when a loaded contact of the pair lies on a tip.
     pub tip: bool,
 }
@@ -564,6 +596,7 @@ impl MeshModel {
         let cos_theta = geo.base_helix_angle.cos();
         let validity = ValidityRange::of(&geo);
         let separation = Separation::new(&geo).map(Arc::new);
+        let frame = ForceFrame::new(&geo);
         Ok(Self {
             pair: pair.clone(),
             geo: Arc::new(geo),
@@ -578,6 +611,7 @@ impl MeshModel {
             dzeta,
             cos_theta,
             separation,
+            frame,
         })
     }
 
@@ -723,6 +757,8 @@ impl MeshModel {
             ws.detail.clear();
         }
         ws.pair_sums.clear();
+        ws.wrench = MeshWrench::default();
+        ws.first_moment = 0.0;
         if n == 0 {
             warm.loads.clear();
             return Ok(out);
@@ -860,6 +896,10 @@ impl MeshModel {
         let mut pairs: [(bool, i64); 8] = [(false, 0); 8];
         let mut n_pairs = 0usize;
         let mut extent = 0.0;
+        // Elastic wrench, and extent and first axial moment per flank side (driving, back)
+        // for the damping's (module docs of `forces`).
+        let mut wrench = MeshWrench::default();
+        let mut side_extent = [[0.0; 2]; 2];
         warm.loads.clear();
         for (i, s) in ws.slices.iter().enumerate() {
             let c = &s.contact;
@@ -869,6 +909,11 @@ impl MeshModel {
                 out.f_n += q[i] * ws.line_length[i];
                 out.contact_length += ws.line_length[i];
                 extent += self.dzeta;
+                let slice_wrench = MeshWrench::of_contact(&self.frame, c, q[i] * axial);
+                wrench.add(&slice_wrench);
+                let se = &mut side_extent[usize::from(c.side == FlankSide::Back)];
+                se[0] += self.dzeta;
+                se[1] += c.zeta * self.dzeta;
                 let key = (c.side == FlankSide::Back, c.pair);
                 if !pairs[..n_pairs].contains(&key) && n_pairs < pairs.len() {
                     pairs[n_pairs] = key;
@@ -889,13 +934,24 @@ impl MeshModel {
                 if ws.record_pairs && c.side == FlankSide::Drive {
                     // Slices come in ascending (side, pair, slice) order: pairs are contiguous.
                     if ws.pair_sums.last().is_none_or(|p| p.pair != c.pair) {
-                        ws.pair_sums.push(PairSum { pair: c.pair, values: [0.0; 5], tip: false });
+                        ws.pair_sums.push(PairSum {
+                            pair: c.pair,
+                            values: [0.0; 5],
+                            wrench: [0.0; 5],
+                            first_moment: 0.0,
+                            tip: false,
+                        });
                     }
                     let ps = ws.pair_sums.last_mut().expect("pushed above");
                     ps.values[0] += c.arm_p_m * q[i] * axial;
                     ps.values[1] += c.arm_g_m * q[i] * axial;
                     ps.values[2] += q[i] * ws.line_length[i];
                     ps.values[3] += self.dzeta;
+                    let (f, m) = (&slice_wrench.force_p, &slice_wrench.moment_p);
+                    for (acc, v) in ps.wrench.iter_mut().zip([f[0], f[1], f[2], m[0], m[1]]) {
+                        *acc += v;
+                    }
+                    ps.first_moment += c.zeta * self.dzeta;
                     if self.options.pressure {
                         let p = self.local.max_pressure(q[i], ws.rho[i]).unwrap_or(0.0);
                         ps.values[4] = ps.values[4].max(p * p);
@@ -924,7 +980,40 @@ impl MeshModel {
         out.n_pairs = n_pairs as u32;
         out.separated = n_pairs == 0;
         (out.m_d_p, out.m_d_g) = self.damping_for(state, extent);
+        for (side, [e, z1]) in [FlankSide::Drive, FlankSide::Back].into_iter().zip(side_extent) {
+            if let Some(w) = self.damping_wrench(state, side, e, z1) {
+                wrench.add(&w);
+            }
+        }
+        wrench.write(&mut out);
+        ws.wrench = wrench;
+        ws.first_moment = side_extent[0][1] + side_extent[1][1];
         Ok(out)
+    }
+
+    /// The damping part of the wrench (Eq. 14 distributed as in the module docs of
+    /// [`super::forces`]) on flank side `side` with loaded extent `extent` (m_n) and first
+    /// axial moment `first_moment` (m_n²) at `state`; `None` when damping is off or nothing
+    /// is loaded on that side.
+    pub(crate) fn damping_wrench(
+        &self,
+        state: &MeshState,
+        side: FlankSide,
+        extent: f64,
+        first_moment: f64,
+    ) -> Option<MeshWrench> {
+        if !self.options.damping || extent <= 0.0 {
+            return None;
+        }
+        let g = &self.geo;
+        let rate = state.w_p * g.pinion.rb + state.w_g * g.gear.rb;
+        let f = self.d_mesh * rate;
+        Some(MeshWrench::of_damping(&self.frame, side, f, extent, first_moment))
+    }
+
+    /// The frame of the 3D force and moments ([`super::forces`]).
+    pub fn force_frame(&self) -> &ForceFrame {
+        &self.frame
     }
 
     /// Damping torques (Eq. 14) for a loaded axial extent `extent` (Σ(ζ_e − ζ_b), units of

@@ -51,6 +51,21 @@
 //! values per output. The discrete outputs (number of pairs, tip and back contact) are taken
 //! from the nearest node.
 //!
+//! # Force and moments
+//! The 3D force and tilting moments ([`super::forces`]) are one block of node values beside
+//! the torques: the elastic force on the pinion F_p (x, y, z) and its tilting moment about the
+//! pinion centre (x, y), as secants over δ like M_F, and the first axial moment of the loaded
+//! extent Z₁ = Σ ζ·Δζ (no δ factor, like the extent). The damping part follows from the
+//! current speeds, the extent and Z₁ exactly as in the full model (its flank side is the
+//! axis's), and the gear's moments from the transfer formula M_g = −M_p − (C_p − C_g) × F_p.
+//! Being linear in the node values, the interpolated force keeps every linear relation that
+//! holds at all the nodes it uses (on the involute: F_x/F_y = tan α_wt, F_z/|F_t| = tan β_b).
+//! The right-hand side's torques-only path does not read the block. With tooth deviations
+//! the block is kept per tooth pair like the torques; the neglected coupling between pairs
+//! moves load between pairs, which lie at different places on the face, so the tilting
+//! moments are less accurate than the torques there (Table 1's pitch errors: 2.3e-2 of
+//! F_nominal·b against 7.2e-3 of the nominal torque, `tests/mesh_forces.rs`).
+//!
 //! # Tooth deviations
 //! Pitch deviations and runout (`crate::modifications`) make the mesh repeat only after the
 //! hunting period, but they are constant over each tooth's flank: tooth pair k is moved as a
@@ -78,8 +93,10 @@
 
 use std::sync::Arc;
 
+use super::forces::MeshWrench;
 use super::model::{FullMesh, MeshModel, PairSum, WarmStart, damping_rows};
 use super::{MeshError, MeshJacobian, MeshOutputs, MeshState, MeshTorques};
+use crate::contact::FlankSide;
 use crate::modifications::Separation;
 
 mod build;
@@ -134,8 +151,16 @@ pub fn check_design_torque(torque_nm: f64) -> Result<(), crate::error::ParamErro
     TABLE_DESIGN_TORQUE_NM.check("table_design_torque_nm", torque_nm)
 }
 
+// Node values: 0 M_F,p/δ, 1 M_F,g/δ, 2 F_n/δ, 3 loaded extent, 4 p_max²/δ, then the block of
+// the 3D force and moments (module docs, "Force and moments").
+/// Node values 5, 6, 7: the elastic force on the pinion F_p (x, y, z) over δ.
+const V_FORCE_P: usize = 5;
+/// Node values 8, 9: the elastic tilting moment on the pinion M_p (x, y) over δ.
+const V_MOMENT_P: usize = 8;
+/// Node value 10: the first axial moment of the loaded extent Z₁ = Σζ·Δζ (no δ factor).
+const V_FIRST_MOMENT: usize = 10;
 /// Number of interpolated real-valued outputs per node.
-const NV: usize = 5;
+const NV: usize = 11;
 
 /// One TE axis (driving or back flanks) of the table: nodes graded towards the onset and the
 /// node values. Node k lies at distance δ_k = range·(k/(n − 1))² from the onset.
@@ -267,13 +292,17 @@ impl PairTable {
             let dist = drive.node_distance(it);
             let slot = (ip * n + it) * nr + (ps.pair - r_lo) as usize;
             let v = &ps.values;
-            values[slot * NV..(slot + 1) * NV].copy_from_slice(&[
+            values[slot * NV..slot * NV + 5].copy_from_slice(&[
                 v[0] / dist,
                 v[1] / dist,
                 v[2] / dist,
                 v[3],
                 v[4] / dist,
             ]);
+            for (k, w) in ps.wrench.iter().enumerate() {
+                values[slot * NV + V_FORCE_P + k] = w / dist;
+            }
+            values[slot * NV + V_FIRST_MOMENT] = ps.first_moment;
             flags[slot] = 1 | if ps.tip { 2 } else { 0 };
         }
         Self { sep, r_lo, nr, values, flags }
@@ -515,6 +544,10 @@ impl MeshTable {
             v[2] += u[2] * dist;
             v[3] += u[3].max(0.0);
             v[4] = v[4].max(u[4] * dist);
+            for k in V_FORCE_P..V_FIRST_MOMENT {
+                v[k] += u[k] * dist;
+            }
+            v[V_FIRST_MOMENT] += u[V_FIRST_MOMENT].max(0.0);
             if let Some((ip, rr)) = slot(ipn) {
                 let itn = (xt.round() as usize).min(axis.n - 1);
                 let f = pt.flags[(ip * axis.n + itn) * pt.nr + rr];
@@ -541,6 +574,11 @@ impl MeshTable {
         out.n_pairs = n_pairs;
         out.tip_contact = tip;
         out.separated = n_pairs == 0;
+        let mut wrench = elastic_wrench(model, &v);
+        if let Some(w) = model.damping_wrench(state, FlankSide::Drive, v[3], v[V_FIRST_MOMENT]) {
+            wrench.add(&w);
+        }
+        wrench.write(&mut out);
         Some(out)
     }
 
@@ -553,7 +591,7 @@ impl MeshTable {
         state: &MeshState,
     ) -> Option<MeshOutputs> {
         // Node values interpolated: all, or M_F,p, M_F,g and the extent.
-        let ks: &[usize] = if ALL { &[0, 1, 2, 3, 4] } else { &[0, 1, 3] };
+        let ks: &[usize] = if ALL { &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10] } else { &[0, 1, 3] };
         // The reduction of ContactSolver::reduce (exact in the given doubles, see
         // crate::numeric), with the constants kept here.
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
@@ -600,6 +638,9 @@ impl MeshTable {
                     if ALL {
                         r[2] += wb * x[2];
                         r[4] += wb * x[4];
+                        for k in V_FORCE_P..NV {
+                            r[k] += wb * x[k];
+                        }
                     }
                 }
                 v[0] += wa * r[0];
@@ -608,6 +649,9 @@ impl MeshTable {
                 if ALL {
                     v[2] += wa * r[2];
                     v[4] += wa * r[4];
+                    for k in V_FORCE_P..NV {
+                        v[k] += wa * r[k];
+                    }
                 }
                 continue;
             }
@@ -629,7 +673,7 @@ impl MeshTable {
         };
         let extent = v[3].max(0.0);
         let (m_d_p, m_d_g) = model.damping_for(state, extent);
-        Some(MeshOutputs {
+        let mut out = MeshOutputs {
             m_f_p: v[0] * dist,
             m_f_g: v[1] * dist,
             m_d_p,
@@ -646,7 +690,22 @@ impl MeshTable {
             tip_contact: f & 0x100 != 0,
             separated: ALL && f & 0xff == 0,
             back_contact: f & 0x200 != 0,
-        })
+            ..MeshOutputs::default()
+        };
+        if ALL {
+            let mut scaled = v;
+            for x in &mut scaled[V_FORCE_P..V_FIRST_MOMENT] {
+                *x *= dist;
+            }
+            scaled[0] *= dist;
+            let mut wrench = elastic_wrench(model, &scaled);
+            let side = if axis.dir > 0.0 { FlankSide::Drive } else { FlankSide::Back };
+            if let Some(w) = model.damping_wrench(state, side, extent, v[V_FIRST_MOMENT].max(0.0)) {
+                wrench.add(&w);
+            }
+            wrench.write(&mut out);
+        }
+        Some(out)
     }
 
     /// Table evaluation at `state` with the exact partial derivatives of the interpolant
@@ -828,4 +887,14 @@ impl MeshTorques for TableMesh {
         }
         self.full.jacobian(state)
     }
+}
+
+/// The elastic wrench of interpolated node values `v` already multiplied by δ (force and
+/// tilting moment of the pinion at [`V_FORCE_P`], [`V_MOMENT_P`]); the pinion's moment about
+/// its axis is not carried, its z component is set from M_F,p (−M_F,p, `v[0]`), and the gear's
+/// moment follows by the transfer formula ([`super::forces`]).
+fn elastic_wrench(model: &MeshModel, v: &[f64; NV]) -> MeshWrench {
+    let f = [v[V_FORCE_P], v[V_FORCE_P + 1], v[V_FORCE_P + 2]];
+    let m = [v[V_MOMENT_P], v[V_MOMENT_P + 1], -v[0]];
+    MeshWrench::from_pinion(model.force_frame(), f, m)
 }

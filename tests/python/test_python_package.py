@@ -112,7 +112,9 @@ class HgmOutputs(ctypes.Structure):
     _fields_ = [(n, ctypes.c_double) for n in (
         "m_f_p", "m_f_g", "m_d_p", "m_d_g", "te", "f_n", "contact_length", "p_max")] + [
         ("n_pairs", ctypes.c_uint32), ("tip_contact", ctypes.c_bool),
-        ("separated", ctypes.c_bool), ("back_contact", ctypes.c_bool)]
+        ("separated", ctypes.c_bool), ("back_contact", ctypes.c_bool),
+        ("force_p", ctypes.c_double * 3), ("moment_p", ctypes.c_double * 2),
+        ("force_g", ctypes.c_double * 3), ("moment_g", ctypes.c_double * 2)]
 
 
 @pytest.fixture(scope="module")
@@ -154,6 +156,10 @@ def test_vectorised_evaluate_equals_the_c_api_bit_for_bit(capi):
                                     ("M_D_g", "m_d_g"), ("TE", "te"), ("F_n", "f_n"),
                                     ("contact_length", "contact_length"), ("p_max", "p_max")]:
                 a, b = out[py_name][idx], getattr(o, c_name)
+                assert a.tobytes() == np.float64(b).tobytes(), (py_name, idx, a, b)
+            forces = list(o.force_p) + list(o.moment_p) + list(o.force_g) + list(o.moment_g)
+            for py_name, b in zip(hg.FORCE_NAMES, forces):
+                a = out[py_name][idx]
                 assert a.tobytes() == np.float64(b).tobytes(), (py_name, idx, a, b)
             assert out["n_pairs"][idx] == o.n_pairs
             assert bool(out["tip_contact"][idx]) == o.tip_contact

@@ -2,9 +2,10 @@
 //! load distribution and, with `--plot`, the pressure waterfall (Fig. 7).
 
 use helical_gear_app::paper;
+use helical_gear_mesh::mesh::bearings::BearingArrangement;
 use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
 use helical_gear_mesh::results::{
-    IsoRootStressSummary, StaticCurveRecord, StaticPointRecord, StaticRunRecord,
+    BearingLoadRecord, IsoRootStressSummary, StaticCurveRecord, StaticPointRecord, StaticRunRecord,
 };
 
 use super::{Common, DriveArg, load_drive, load_params, mods};
@@ -21,8 +22,21 @@ pub fn static_cmd(
     pitches: usize,
     slices: usize,
     plot: Option<&std::path::Path>,
+    bearings: Option<&std::path::Path>,
     model_args: &mods::ModelArgs,
 ) -> Result<(), String> {
+    // The bearing arrangement is read and checked before anything is computed.
+    let bearings = match bearings {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("--bearings {}: {e}", path.display()))?;
+            Some(
+                BearingArrangement::from_json(&text)
+                    .map_err(|e| format!("--bearings {}: {e}", path.display()))?,
+            )
+        }
+        None => None,
+    };
     let p = load_params(common)?;
     let drive = load_drive(drive)?;
     let torque = torque.unwrap_or(drive.torque_nm);
@@ -70,6 +84,10 @@ pub fn static_cmd(
             k_h_beta: k,
             line_load_max_n_per_mm: w_max,
             line_load_mean_n_per_mm: w_mean,
+            force_p_n: e.outputs.force_p,
+            moment_p_nm: e.outputs.moment_p,
+            force_g_n: e.outputs.force_g,
+            moment_g_nm: e.outputs.moment_g,
         })
         .collect();
     // The shared static record (per-point arrays and summary), then the face load and the
@@ -86,6 +104,10 @@ pub fn static_cmd(
         seconds,
         iso: IsoRootStressSummary::new(&geo, torque),
         points,
+        bearings: bearings.map(|b| {
+            let outs: Vec<_> = curve.points.iter().map(|e| e.outputs).collect();
+            BearingLoadRecord::over_cycle(&b, p.face_width_m, &outs, pitches)
+        }),
     };
     record.check_finite()?;
     if common.json {

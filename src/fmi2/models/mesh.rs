@@ -296,7 +296,7 @@ mod tests {
     fn the_table_is_inputs_outputs_calculated_parameters_options() {
         // 24 gear-pair parameters: none of the drive line's seven (the element does not use
         // them); 7 mesh options and the table's design torque.
-        assert_eq!(VARIABLES.len(), 4 + 12 + 4 + 24 + 7 + 1);
+        assert_eq!(VARIABLES.len(), 4 + 22 + 4 + 24 + 7 + 1);
         assert_eq!(VARIABLES[0].name, "phi_p");
         assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
         assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));
@@ -336,8 +336,18 @@ mod tests {
         bad[1 + 8 * 4..1 + 8 * 5].copy_from_slice(&f64::NAN.to_le_bytes());
         let e = load_outputs(&INFO, &bad[1..]).unwrap_err();
         assert!(e.contains("`TE`"), "{e}");
+        // The first flag byte: the outputs before it in table order, at their sizes.
+        let flag_at: usize = MESH_OUTPUTS
+            .iter()
+            .map(|v| match v.access {
+                Access::RealOutput(_) => 8,
+                Access::IntOutput(_) => 4,
+                _ => 1,
+            })
+            .take_while(|&size| size != 1)
+            .sum();
         let mut bad = b;
-        bad[1 + 8 * reals + 4 * ints] = 2;
+        bad[1 + flag_at] = 2;
         assert!(load_outputs(&INFO, &bad[1..]).is_err());
     }
 }

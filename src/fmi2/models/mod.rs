@@ -34,6 +34,16 @@ pub(crate) fn write_mesh_outputs(m: &MeshOutputs, o: &mut OutputValues) {
     o.bools[0] = m.tip_contact; // tip_contact
     o.bools[1] = m.separated; // separated
     o.bools[2] = m.back_contact; // back_contact
+    o.reals[8] = m.force_p[0]; // F_p_x, N
+    o.reals[9] = m.force_p[1]; // F_p_y, N
+    o.reals[10] = m.force_p[2]; // F_p_z, N
+    o.reals[11] = m.moment_p[0]; // M_p_x, N·m
+    o.reals[12] = m.moment_p[1]; // M_p_y, N·m
+    o.reals[13] = m.force_g[0]; // F_g_x, N
+    o.reals[14] = m.force_g[1]; // F_g_y, N
+    o.reals[15] = m.force_g[2]; // F_g_z, N
+    o.reals[16] = m.moment_g[0]; // M_g_x, N·m
+    o.reals[17] = m.moment_g[1]; // M_g_y, N·m
 }
 
 /// Every model of the family, in the order of the documentation.

@@ -310,6 +310,16 @@ fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow
             o.contact_length / per_extent,
             o.p_max * o.p_max / dist,
         ]);
+        // The block of the force and moments (at rest: the elastic part alone).
+        let (f, m) = (o.force_p, o.moment_p);
+        values.extend_from_slice(&[
+            f[0] / dist,
+            f[1] / dist,
+            f[2] / dist,
+            m[0] / dist,
+            m[1] / dist,
+            model.workspace().first_moment(),
+        ]);
         flags.push(
             (o.n_pairs.min(255) as u16)
                 | if o.tip_contact { 0x100 } else { 0 }
