@@ -133,6 +133,18 @@ typedef struct {
    * then negative).
    */
   bool back_contact;
+  /**
+   * Tooth-root stress of the pinion, Pa: the largest maximum principal stress at the
+   * tension-side root fillet over the loaded teeth and the face width, from the FE stress
+   * influence superposed over every loaded slice ([`crate::compliance::root_stress`];
+   * tension positive). 0 without load, and 0 for a model built without FE data (e.g. a
+   * Winkler or custom compliance).
+   */
+  double root_stress_p;
+  /**
+   * Tooth-root stress of the gear, Pa (as [`MeshOutputs::root_stress_p`]).
+   */
+  double root_stress_g;
 } HgmOutputs;
 
 /**

@@ -97,6 +97,8 @@ fn spring_outputs(k: f64, d: f64, gp: f64, gg: f64, c: Clearance, s: &MeshState)
         tip_contact: false,
         separated: !contact,
         back_contact: back,
+        root_stress_p: 0.0,
+        root_stress_g: 0.0,
     }
 }
 

@@ -116,6 +116,14 @@ pub struct MeshOutputs {
     /// True when the back flanks carry load (TE below minus the backlash; the torques are
     /// then negative).
     pub back_contact: bool,
+    /// Tooth-root stress of the pinion, Pa: the largest maximum principal stress at the
+    /// tension-side root fillet over the loaded teeth and the face width, from the FE stress
+    /// influence superposed over every loaded slice ([`crate::compliance::root_stress`];
+    /// tension positive). 0 without load, and 0 for a model built without FE data (e.g. a
+    /// Winkler or custom compliance).
+    pub root_stress_p: f64,
+    /// Tooth-root stress of the gear, Pa (as [`MeshOutputs::root_stress_p`]).
+    pub root_stress_g: f64,
 }
 
 /// How each evaluation is computed (the C API's `HgmFidelity`: the values of
@@ -737,7 +745,11 @@ impl MeshModel {
             ));
         }
         let (p, g) = gear_compliances(data, options.compliance)?;
-        Self::with_compliance(pair, options, p, g)
+        let model = Self::with_compliance(pair, options, p, g)?;
+        match data.root_stress() {
+            Some(stress) => model.with_root_stress(stress),
+            None => Ok(model),
+        }
     }
 }
 

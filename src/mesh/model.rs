@@ -101,11 +101,13 @@ use faer::Mat;
 
 use super::validity::ValidityRange;
 use super::{MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
+use crate::compliance::data::RootStressData;
 use crate::compliance::fitted::FittedInfluence;
 use crate::compliance::hertz::LocalContact;
 use crate::compliance::interpolated::{
     InterpolatedInfluence, MatrixWorkspace, SliceInfluence, SliceWeights,
 };
+use crate::compliance::root_stress::{LoadedSlice, RootStressWorkspace, SliceStress, root_stress};
 use crate::compliance::{Compliance, FlankCoord};
 
 use crate::contact::{ContactPoint, ContactSolver, FlankSide};
@@ -222,6 +224,9 @@ pub struct MeshModel {
     /// The interpolated compliances specialised to this model's slices (pinion, gear), when
     /// the compliance is [`GearCompliance::Interpolated`] on a grid that allows it.
     slice_comp: Option<Arc<[SliceInfluence; 2]>>,
+    /// The root-stress influence of both gears at this model's slices, when the model was
+    /// built from FE data ([`MeshModel::with_root_stress`]).
+    root_stress: Option<Arc<[SliceStress; 2]>>,
     local: LocalContact,
     /// Mesh damping d_mesh of Eq. 14, N·s/m (a model field: [`MeshModel::with_d_mesh`]).
     d_mesh: f64,
@@ -273,6 +278,8 @@ pub struct MeshWorkspace {
     record_pairs: bool,
     /// Per loaded driving-flank tooth pair of the last full evaluation (when `record_pairs`).
     pair_sums: Vec<PairSum>,
+    /// Scratch memory of the root stress.
+    root_stress: RootStressWorkspace,
 }
 
 impl MeshWorkspace {
@@ -303,6 +310,12 @@ impl MeshWorkspace {
             slice_kernel: true,
             record_pairs: false,
             pair_sums: Vec::with_capacity(8),
+            root_stress: model
+                .root_stress
+                .as_deref()
+                .map_or_else(RootStressWorkspace::default, |k| {
+                    RootStressWorkspace::with_capacity(k, 8)
+                }),
         }
     }
 
@@ -571,6 +584,7 @@ impl MeshModel {
             comp_p: pinion,
             comp_g: gear,
             slice_comp,
+            root_stress: None,
             local,
             d_mesh: pair.d_mesh_n_s_per_m,
             validity,
@@ -579,6 +593,28 @@ impl MeshModel {
             cos_theta,
             separation,
         })
+    }
+
+    /// The same model with the root-stress influence `data` (of this pair's FE run) prepared
+    /// for its slices, so that evaluations report the tooth-root stress
+    /// ([`MeshOutputs::root_stress_p`]). Errors: data of another pair or invalid grids.
+    pub fn with_root_stress(mut self, data: &RootStressData) -> Result<Self, MeshError> {
+        if data.key != crate::compliance::data::ComplianceKey::of(&self.pair) {
+            return Err(MeshError::Compliance(
+                "the root-stress data belong to another gear pair".into(),
+            ));
+        }
+        let one = |g| {
+            SliceStress::new(g, &self.zetas)
+                .map_err(|e| MeshError::Compliance(format!("root stress: {e}")))
+        };
+        self.root_stress = Some(Arc::new([one(&data.pinion)?, one(&data.gear)?]));
+        Ok(self)
+    }
+
+    /// True when evaluations report the tooth-root stress ([`MeshModel::with_root_stress`]).
+    pub fn has_root_stress(&self) -> bool {
+        self.root_stress.is_some()
     }
 
     /// The same model with another separation (the table build uses the periodic part of the
@@ -924,6 +960,18 @@ impl MeshModel {
         out.n_pairs = n_pairs as u32;
         out.separated = n_pairs == 0;
         (out.m_d_p, out.m_d_g) = self.damping_for(state, extent);
+        if let Some(kernel) = self.root_stress.as_deref() {
+            let loaded = ws.slices.iter().enumerate().map(|(i, s)| LoadedSlice {
+                back: s.contact.side == FlankSide::Back,
+                pair: s.contact.pair,
+                k: if s.contact.side == FlankSide::Back { nl - 1 - s.k } else { s.k },
+                pinion: ws.obs_p[i],
+                gear: ws.obs_g[i],
+                force: q[i] * ws.line_length[i],
+            });
+            (out.root_stress_p, out.root_stress_g) =
+                root_stress(kernel, loaded, &mut ws.root_stress);
+        }
         Ok(out)
     }
 

@@ -646,6 +646,8 @@ impl MeshTable {
             tip_contact: f & 0x100 != 0,
             separated: ALL && f & 0xff == 0,
             back_contact: f & 0x200 != 0,
+            root_stress_p: 0.0,
+            root_stress_g: 0.0,
         })
     }
 

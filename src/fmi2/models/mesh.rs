@@ -183,11 +183,12 @@ fn build(s: &Settings) -> Result<(Box<dyn Engine>, Derived), String> {
 /// The element's cached outputs in a serialised FMU state (it evaluates lazily, so a state
 /// taken after a read carries the evaluation): the eight Real mesh outputs (M_F_p, M_F_g,
 /// M_D_p, M_D_g, TE, F_n, contact_length, p_max) as f64, `n_pairs` as u32 and the flags
-/// `tip_contact`, `separated`, `back_contact` as one byte each, little endian (75 bytes).
+/// `tip_contact`, `separated`, `back_contact` as one byte each, then the root stresses
+/// (`root_stress_p`, `root_stress_g`) as f64, little endian (87 bytes).
 const CACHED_OUTPUTS: OutputsCodec = OutputsCodec { save: save_outputs, load: load_outputs };
 
 /// Length of [`CACHED_OUTPUTS`]' bytes.
-const CACHED_LEN: usize = 8 * 8 + 4 + 3;
+const CACHED_LEN: usize = 8 * 8 + 4 + 3 + 2 * 8;
 
 fn save_outputs(o: &Outputs, b: &mut Vec<u8>) {
     let MeshOutputs {
@@ -203,12 +204,17 @@ fn save_outputs(o: &Outputs, b: &mut Vec<u8>) {
         tip_contact,
         separated,
         back_contact,
+        root_stress_p,
+        root_stress_g,
     } = o.mesh;
     for x in [m_f_p, m_f_g, m_d_p, m_d_g, te, f_n, contact_length, p_max] {
         b.extend_from_slice(&x.to_le_bytes());
     }
     b.extend_from_slice(&n_pairs.to_le_bytes());
     b.extend_from_slice(&[u8::from(tip_contact), u8::from(separated), u8::from(back_contact)]);
+    for x in [root_stress_p, root_stress_g] {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
 }
 
 fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
@@ -223,6 +229,12 @@ fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
     const NAMES: [&str; 8] =
         ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
     ensure_finite("serialised state: cached output", &x, |i| NAMES[i].to_string())?;
+    let stress: [f64; 2] = std::array::from_fn(|i| {
+        f64::from_le_bytes(b[71 + 8 * i..79 + 8 * i].try_into().expect("8"))
+    });
+    ensure_finite("serialised state: cached output", &stress, |i| {
+        ["root_stress_p", "root_stress_g"][i].to_string()
+    })?;
     let flag = |i: usize| match b[68 + i] {
         0 => Ok(false),
         1 => Ok(true),
@@ -241,6 +253,8 @@ fn load_outputs(bytes: &[u8]) -> Result<(Outputs, usize), String> {
         tip_contact: flag(0)?,
         separated: flag(1)?,
         back_contact: flag(2)?,
+        root_stress_p: stress[0],
+        root_stress_g: stress[1],
     };
     Ok((Outputs { mesh, ..Outputs::default() }, CACHED_LEN))
 }
@@ -364,6 +378,8 @@ mod tests {
             tip_contact: true,
             separated: false,
             back_contact: true,
+            root_stress_p: 2.5e8,
+            root_stress_g: 1.75e8,
         };
         let o = Outputs { mesh, ..Outputs::default() };
         let mut b = vec![7];
