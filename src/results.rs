@@ -209,6 +209,15 @@ pub struct StaticCurveRecord {
     pub mesh_stiffness_mean_n_per_um: f64,
     /// True if any point has a loaded contact on a tip rounding.
     pub tip_rounding_contact: bool,
+    /// Tooth-root stress of the pinion at each point, Pa (largest maximum principal stress at
+    /// the tension-side fillet, [`crate::mesh::MeshOutputs::root_stress_p`]).
+    pub root_stress_p_pa: Vec<f64>,
+    /// Tooth-root stress of the gear at each point, Pa.
+    pub root_stress_g_pa: Vec<f64>,
+    /// Largest pinion root stress over the points, Pa.
+    pub root_stress_max_p_pa: f64,
+    /// Largest gear root stress over the points, Pa.
+    pub root_stress_max_g_pa: f64,
 }
 
 impl StaticCurveRecord {
@@ -229,6 +238,10 @@ impl StaticCurveRecord {
             ste_peak_to_peak_um: (curve.max() - curve.min()) * UM,
             mesh_stiffness_mean_n_per_um: curve.mean_stiffness(base_radius_p) * 1e-6,
             tip_rounding_contact: curve.tip_rounding_contact(),
+            root_stress_p_pa: pts.iter().map(|e| e.outputs.root_stress_p).collect(),
+            root_stress_g_pa: pts.iter().map(|e| e.outputs.root_stress_g).collect(),
+            root_stress_max_p_pa: pts.iter().map(|e| e.outputs.root_stress_p).fold(0.0, f64::max),
+            root_stress_max_g_pa: pts.iter().map(|e| e.outputs.root_stress_g).fold(0.0, f64::max),
         }
     }
 
@@ -243,7 +256,11 @@ impl StaticCurveRecord {
         finite("ste_min_um", self.ste_min_um)?;
         finite("ste_mean_um", self.ste_mean_um)?;
         finite("ste_peak_to_peak_um", self.ste_peak_to_peak_um)?;
-        finite("mesh_stiffness_mean_n_per_um", self.mesh_stiffness_mean_n_per_um)
+        finite("mesh_stiffness_mean_n_per_um", self.mesh_stiffness_mean_n_per_um)?;
+        finite_all("root_stress_p_pa", &self.root_stress_p_pa)?;
+        finite_all("root_stress_g_pa", &self.root_stress_g_pa)?;
+        finite("root_stress_max_p_pa", self.root_stress_max_p_pa)?;
+        finite("root_stress_max_g_pa", self.root_stress_max_g_pa)
     }
 }
 
@@ -381,6 +398,10 @@ pub struct TrajectoryRecord {
     pub m_d_p_nm: Vec<f64>,
     /// Mesh damping torque on the gear M_D,g (Eq. 14), N·m.
     pub m_d_g_nm: Vec<f64>,
+    /// Tooth-root stress of the pinion, Pa.
+    pub root_stress_p_pa: Vec<f64>,
+    /// Tooth-root stress of the gear, Pa.
+    pub root_stress_g_pa: Vec<f64>,
     /// Integration steps taken.
     pub steps: usize,
     /// Mesh evaluations.
@@ -407,13 +428,16 @@ impl TrajectoryRecord {
             m_f_g_nm: o(|x| x.m_f_g),
             m_d_p_nm: o(|x| x.m_d_p),
             m_d_g_nm: o(|x| x.m_d_g),
+            root_stress_p_pa: o(|x| x.root_stress_p),
+            root_stress_g_pa: o(|x| x.root_stress_g),
             steps: tr.steps,
             mesh_evaluations: tr.mesh_evaluations,
         }
     }
 
     /// The columns in output order with their names: `time_s`, the states in state order
-    /// ([`STATE_NAMES`]), `te_m`, `m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`.
+    /// ([`STATE_NAMES`]), `te_m`, `m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`,
+    /// `root_stress_p_pa`, `root_stress_g_pa`.
     pub fn columns(&self) -> Vec<(&'static str, &[f64])> {
         let states: [&[f64]; N_STATES] = [
             &self.phi_1_rad,
@@ -433,6 +457,8 @@ impl TrajectoryRecord {
             ("m_f_g_nm", &self.m_f_g_nm),
             ("m_d_p_nm", &self.m_d_p_nm),
             ("m_d_g_nm", &self.m_d_g_nm),
+            ("root_stress_p_pa", &self.root_stress_p_pa),
+            ("root_stress_g_pa", &self.root_stress_g_pa),
         ]);
         c
     }
@@ -937,6 +963,10 @@ pub struct StaticPointRecord {
     pub line_load_max_n_per_mm: f64,
     /// Mean line load across the face, N/mm.
     pub line_load_mean_n_per_mm: f64,
+    /// Tooth-root stress of the pinion, Pa.
+    pub root_stress_p_pa: f64,
+    /// Tooth-root stress of the gear, Pa.
+    pub root_stress_g_pa: f64,
 }
 
 /// `helical-gear static --json`: the static curve ([`StaticCurveRecord`], its keys at the top
@@ -990,6 +1020,8 @@ impl StaticRunRecord {
                 ("k_h_beta", p.k_h_beta),
                 ("line_load_max_n_per_mm", p.line_load_max_n_per_mm),
                 ("line_load_mean_n_per_mm", p.line_load_mean_n_per_mm),
+                ("root_stress_p_pa", p.root_stress_p_pa),
+                ("root_stress_g_pa", p.root_stress_g_pa),
             ] {
                 finite(&format!("points[{i}].{name}"), v)?;
             }

@@ -176,6 +176,8 @@ fn run_records_round_trip_with_their_keys() {
         k_h_beta: 1.2,
         line_load_max_n_per_mm: 300.0,
         line_load_mean_n_per_mm: 250.0,
+        root_stress_p_pa: 1.4e8,
+        root_stress_g_pa: 1.2e8,
     };
     let st = StaticRunRecord {
         curve: static_record(),

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{d86c3947-8692-8d09-8404-3a4bf4c1c900}"
+#define HelicalGearDrive_GUID "{88991453-6834-8b9f-83d8-0e0729ece89e}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -29,6 +29,8 @@ typedef enum {
     HelicalGearDrive_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearDrive_vr_separated = 20, /* output Boolean  */
     HelicalGearDrive_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearDrive_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearDrive_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearDrive_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearDrive_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearDrive_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{91438406-47d1-8554-8def-d3dbc20567f1}"
+#define HelicalGearMesh_GUID "{e02028f4-a258-8c8e-859b-0ef43aa27137}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -22,6 +22,8 @@ typedef enum {
     HelicalGearMesh_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearMesh_vr_separated = 20, /* output Boolean  */
     HelicalGearMesh_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearMesh_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearMesh_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearMesh_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearMesh_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearMesh_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

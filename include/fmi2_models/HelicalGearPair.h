@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{2e9d8d07-e1f8-8067-b1ef-c6cce1450a52}"
+#define HelicalGearPair_GUID "{7c11d170-9cce-810b-9611-cc576bf27e94}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -26,6 +26,8 @@ typedef enum {
     HelicalGearPair_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearPair_vr_separated = 20, /* output Boolean  */
     HelicalGearPair_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearPair_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearPair_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearPair_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearPair_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearPair_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{9c0c212d-685e-859b-b9b1-b50f32877945}"
+#define HelicalGearStage_GUID "{a68f0dbe-3c78-8ba7-ab7c-fb6b69e1a8d3}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -30,6 +30,8 @@ typedef enum {
     HelicalGearStage_vr_tip_contact = 19, /* output Boolean  */
     HelicalGearStage_vr_separated = 20, /* output Boolean  */
     HelicalGearStage_vr_back_contact = 21, /* output Boolean  */
+    HelicalGearStage_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearStage_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearStage_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearStage_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearStage_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

@@ -35,6 +35,8 @@ OUTPUT_NAMES = (
     "tip_contact",
     "separated",
     "back_contact",
+    "sigma_F_p",
+    "sigma_F_g",
 )
 
 FE_DENSITIES = ("coarse", "default", "refined")
@@ -255,8 +257,8 @@ class MeshModel:
         Calls from several threads on one model run in parallel. Returns a dict of arrays of
         the broadcast shape:
         ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m), ``TE`` (m), ``F_n`` (N),
-        ``contact_length`` (m), ``p_max`` (Pa), ``n_pairs``, ``tip_contact``, ``separated``,
-        ``back_contact``."""
+        ``contact_length`` (m), ``p_max`` (Pa), ``sigma_F_p``, ``sigma_F_g`` (tooth-root
+        stresses, Pa), ``n_pairs``, ``tip_contact``, ``separated``, ``back_contact``."""
         arrays = np.broadcast_arrays(
             *(np.asarray(a, dtype=np.float64) for a in (phi_p, phi_g, w_p, w_g))
         )
@@ -303,7 +305,23 @@ class StaticCurve(_Result):
     ste_mean: float
     #: Mean mesh stiffness along the line of action, N/m.
     mesh_stiffness_mean: float
-    _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length")
+    #: Tooth-root stress of pinion and gear (largest maximum principal stress at the
+    #: tension-side fillet), Pa.
+    sigma_F_p: np.ndarray
+    sigma_F_g: np.ndarray
+    #: Largest tooth-root stress over the points, Pa.
+    sigma_F_max_p: float
+    sigma_F_max_g: float
+    _columns = (
+        "phi_p",
+        "ste",
+        "n_pairs",
+        "p_max",
+        "tip_contact",
+        "contact_length",
+        "sigma_F_p",
+        "sigma_F_g",
+    )
 
     @property
     def ste_peak_to_peak(self) -> float:
@@ -349,6 +367,10 @@ def static_curve(
         ste_min=d["ste_min_um"] * 1e-6,
         ste_mean=d["ste_mean_um"] * 1e-6,
         mesh_stiffness_mean=d["mesh_stiffness_mean_n_per_um"] * 1e6,
+        sigma_F_p=np.array(d["root_stress_p_pa"]),
+        sigma_F_g=np.array(d["root_stress_g_pa"]),
+        sigma_F_max_p=d["root_stress_max_p_pa"],
+        sigma_F_max_g=d["root_stress_max_g_pa"],
     )
 
 
@@ -368,9 +390,10 @@ STATE_NAMES = (
 
 @dataclass(frozen=True)
 class Trajectory(_Result):
-    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`), ``TE`` (m) and
-    the four mesh torques ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m) per output time, as
-    attributes (numpy arrays) and in ``arrays``."""
+    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`), ``TE`` (m),
+    the four mesh torques ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m) and the tooth-root
+    stresses ``sigma_F_p``, ``sigma_F_g`` (Pa) per output time, as attributes (numpy arrays)
+    and in ``arrays``."""
 
     arrays: dict = field(repr=False)
     steps: int

@@ -149,8 +149,18 @@ fn run<T: Send>(py: Python<'_>, f: impl FnOnce() -> Res<T> + Send) -> PyResult<T
 }
 
 /// The mesh outputs handed to Python, in order.
-const OUTPUT_NAMES: [&str; 8] =
-    ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
+const OUTPUT_NAMES: [&str; 10] = [
+    "M_F_p",
+    "M_F_g",
+    "M_D_p",
+    "M_D_g",
+    "TE",
+    "F_n",
+    "contact_length",
+    "p_max",
+    "sigma_F_p",
+    "sigma_F_g",
+];
 
 /// The one check on every number handed to Python: a non-finite value is a solver error naming
 /// where (`at`) and which value, never a result.
@@ -454,7 +464,7 @@ impl MeshModel {
             .collect();
         let out = run(py, || {
             let mut m = self.model.clone();
-            let mut cols: [Vec<f64>; 8] = std::array::from_fn(|_| Vec::with_capacity(n));
+            let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut flags: [Vec<bool>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut pairs = Vec::with_capacity(n);
             for (i, s) in states.iter().enumerate() {
@@ -473,13 +483,26 @@ impl MeshModel {
                     o.f_n,
                     o.contact_length,
                     o.p_max,
+                    o.root_stress_p,
+                    o.root_stress_g,
                 ]) {
                     c.push(v);
                 }
                 finite(
                     &format!("state {i}"),
                     &OUTPUT_NAMES,
-                    &[o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.te, o.f_n, o.contact_length, o.p_max],
+                    &[
+                        o.m_f_p,
+                        o.m_f_g,
+                        o.m_d_p,
+                        o.m_d_g,
+                        o.te,
+                        o.f_n,
+                        o.contact_length,
+                        o.p_max,
+                        o.root_stress_p,
+                        o.root_stress_g,
+                    ],
                 )?;
                 for (c, v) in flags.iter_mut().zip([o.tip_contact, o.separated, o.back_contact]) {
                     c.push(v);
@@ -503,8 +526,9 @@ impl MeshModel {
     /// Static transmission error (Eq. 16) at torque `torque` (N·m) on `points_per_pitch`
     /// pinion angles per pitch over `pitches` pitches from φp = 0: JSON of the library's
     /// `results::StaticCurveRecord` (per-point arrays `phi_p_rad`, `ste_um`, `n_pairs`,
-    /// `p_max_pa`, `tip_contact`, `contact_length_m`; summary `ste_max_um`, `ste_min_um`,
-    /// `ste_mean_um`, `ste_peak_to_peak_um`, `mesh_stiffness_mean_n_per_um`).
+    /// `p_max_pa`, `tip_contact`, `contact_length_m`, `root_stress_p_pa`, `root_stress_g_pa`;
+    /// summary `ste_max_um`, `ste_min_um`, `ste_mean_um`, `ste_peak_to_peak_um`,
+    /// `mesh_stiffness_mean_n_per_um`, `root_stress_max_p_pa`, `root_stress_max_g_pa`).
     #[pyo3(signature = (torque, points_per_pitch = 20, pitches = 1))]
     fn static_curve_json(
         &self,
@@ -540,7 +564,8 @@ impl MeshModel {
     /// `dynamics::default_rk4_step`, shortened to divide `t_end`) or adaptive DOPRI5 (`method="dopri5"`, `dt` = output interval); the
     /// mesh damping from `pair_json`, the drivetrain from `pair_json` and the drive line
     /// `drive_json`. Returns a dict of arrays: `time`, the eight states, `TE`, `M_F_p`,
-    /// `M_F_g`, `M_D_p`, `M_D_g`; and `steps`, `mesh_evaluations`.
+    /// `M_F_g`, `M_D_p`, `M_D_g`, `sigma_F_p`, `sigma_F_g` (tooth-root stresses, Pa); and
+    /// `steps`, `mesh_evaluations`.
     #[pyo3(signature = (pair_json, drive_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
@@ -617,8 +642,8 @@ impl MeshModel {
                 finite(&at, &STATE_NAMES, &y[..STATE_NAMES.len()])?;
                 finite(
                     &at,
-                    &["TE", "M_F_p", "M_F_g", "M_D_p", "M_D_g"],
-                    &[o.te, o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g],
+                    &["TE", "M_F_p", "M_F_g", "M_D_p", "M_D_g", "sigma_F_p", "sigma_F_g"],
+                    &[o.te, o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.root_stress_p, o.root_stress_g],
                 )?;
             }
             Ok((tr.time, tr.states, tr.outputs, tr.steps, tr.mesh_evaluations))
@@ -633,6 +658,8 @@ impl MeshModel {
         d.set_item("M_F_g", array(py, outs.iter().map(|o| o.m_f_g).collect()))?;
         d.set_item("M_D_p", array(py, outs.iter().map(|o| o.m_d_p).collect()))?;
         d.set_item("M_D_g", array(py, outs.iter().map(|o| o.m_d_g).collect()))?;
+        d.set_item("sigma_F_p", array(py, outs.iter().map(|o| o.root_stress_p).collect()))?;
+        d.set_item("sigma_F_g", array(py, outs.iter().map(|o| o.root_stress_g).collect()))?;
         d.set_item("steps", steps)?;
         d.set_item("mesh_evaluations", evals)?;
         Ok(d)

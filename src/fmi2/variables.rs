@@ -15,7 +15,7 @@
 //! drive line's ([`DRIVE_TORQUE`], [`DRIVE_INERTIAS`], [`DRIVE_SHAFTS`], 123–129; each model
 //! lists only those it uses: the mesh element none, the Pair the torque of its static start,
 //! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
-//! ([`MESH_OUTPUTS`], 10–21) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
+//! ([`MESH_OUTPUTS`], 10–21 and 410–411) and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
 //! joined by a dot (`material_p.youngs_modulus_pa`), the drive line's by `drive.` and their
@@ -649,8 +649,9 @@ pub(crate) const TORQUE: Option<&str> = Some("Torque");
 
 /// Every variable of the FMU, in `modelDescription.xml` order (the ScalarVariable index is the
 /// position in this table plus one).
-/// The mesh outputs (value references 10–21) with their dependencies in `HelicalGearMesh`.
-pub const MESH_OUTPUTS: [Variable; 12] = [
+/// The mesh outputs (value references 10–21, the root stresses 410–411) with their
+/// dependencies in `HelicalGearMesh`.
+pub const MESH_OUTPUTS: [Variable; 14] = [
     output!(
         "M_F_p",
         10,
@@ -802,6 +803,30 @@ pub const MESH_OUTPUTS: [Variable; 12] = [
          are then negative",
         ELASTIC_DEPS,
         Access::BoolOutput(|o| o.mesh.back_contact)
+    ),
+    output!(
+        "sigma_F_p",
+        410,
+        Continuous,
+        PA,
+        Some("MPa"),
+        Some("Pressure"),
+        "Tooth-root stress of the pinion, Pa: largest maximum principal stress at the \
+         tension-side root fillet over the loaded teeth and the face width (FE stress influence \
+         superposed over the loaded slices); 0 without load",
+        ELASTIC_DEPS,
+        Access::RealOutput(|o| o.mesh.root_stress_p)
+    ),
+    output!(
+        "sigma_F_g",
+        411,
+        Continuous,
+        PA,
+        Some("MPa"),
+        Some("Pressure"),
+        "Tooth-root stress of the gear, Pa (as sigma_F_p)",
+        ELASTIC_DEPS,
+        Access::RealOutput(|o| o.mesh.root_stress_g)
     ),
 ];
 

@@ -68,6 +68,8 @@ pub fn static_cmd(
             k_h_beta: k,
             line_load_max_n_per_mm: w_max,
             line_load_mean_n_per_mm: w_mean,
+            root_stress_p_pa: e.outputs.root_stress_p,
+            root_stress_g_pa: e.outputs.root_stress_g,
         })
         .collect();
     // The shared static record (per-point arrays and summary), then the face load and the
@@ -101,6 +103,11 @@ pub fn static_cmd(
         );
         println!("  mean mesh stiffness {:.2} N/µm along the line of action", stiffness * 1e-6);
         println!("  tip-rounding contact: {}", curve.tip_rounding_contact());
+        println!(
+            "  tooth-root stress max: pinion {:.1} MPa, gear {:.1} MPa",
+            record.curve.root_stress_max_p_pa * 1e-6,
+            record.curve.root_stress_max_g_pa * 1e-6
+        );
         println!(
             "  K_Hβ max {:.4}, of the cycle-averaged line load {:.4}; ISO 6336-1 method C {:.4} \
              (F_βy = {:.2} µm, c_γ = {:.2} N/(mm·µm))",

@@ -60,7 +60,7 @@ const DRIVE_STATES: [&str; 8] =
     ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2"];
 const DRIVE_KNOWN: [&str; 9] =
     ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2", "M"];
-const UNIT_MESH_OUTPUTS: [Variable; 12] = with_depends(MESH_OUTPUTS, STATE_ONLY);
+const UNIT_MESH_OUTPUTS: [Variable; 14] = with_depends(MESH_OUTPUTS, STATE_ONLY);
 
 macro_rules! input {
     ($name:literal, $vr:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal, $field:ident) => {
