@@ -264,3 +264,30 @@ fn static_root_stress_is_plausible_and_grows_with_the_torque() {
     assert!(e2.outputs.root_stress_p > 1.5 * sp && e2.outputs.root_stress_g > 1.5 * sg);
     let _ = MeshOptions::default();
 }
+
+/// At table fidelity the root stress is interpolated as a secant node value like the torques;
+/// it agrees with the full model within the table's accuracy, and the torques stay those of a
+/// table without it.
+#[test]
+fn table_root_stress_agrees_with_the_full_model() {
+    let pair = GearPair::paper_table1();
+    let mut full = Mesh::new(&pair, common::coarse_options(Fidelity::Full)).expect("full");
+    let mut table = Mesh::new(&pair, common::coarse_options(Fidelity::Table)).expect("table");
+    let pitch = common::table1_pitch();
+    let mut worst = [0.0f64; 3];
+    for i in 0..7 {
+        let phi_p = pitch * (i as f64 + 0.37) / 7.0;
+        for te in [15e-6, 27e-6, 41e-6] {
+            let s = common::state_at_rest(&full, phi_p, te);
+            let (a, b) = (full.evaluate(&s).expect("full"), table.evaluate(&s).expect("table"));
+            worst[0] = worst[0].max(common::rel_diff(b.m_f_p, a.m_f_p));
+            worst[1] = worst[1].max(common::rel_diff(b.root_stress_p, a.root_stress_p));
+            worst[2] = worst[2].max(common::rel_diff(b.root_stress_g, a.root_stress_g));
+        }
+    }
+    eprintln!(
+        "table vs full, largest relative difference: M_F_p {:.2e}, σ_F p {:.2e}, g {:.2e}",
+        worst[0], worst[1], worst[2]
+    );
+    assert!(worst[1] < 0.03 && worst[2] < 0.03, "{worst:?}");
+}

@@ -467,6 +467,8 @@ pub struct RootStressWorkspace {
     keys: Vec<(bool, i64)>,
     loads: Vec<f64>,
     acc: Vec<f64>,
+    /// Root stress (pinion, gear) of each tooth pair of `keys`, Pa.
+    per_pair: Vec<[f64; 2]>,
 }
 
 impl RootStressWorkspace {
@@ -478,7 +480,15 @@ impl RootStressWorkspace {
             keys: Vec::with_capacity(pairs),
             loads: Vec::with_capacity(2 * pairs * n),
             acc: Vec::with_capacity(m),
+            per_pair: Vec::with_capacity(pairs),
         }
+    }
+
+    /// The root stress (pinion, gear; Pa) of the teeth of tooth pair `pair` on the driving
+    /// (`back` false) or back flanks in the last [`root_stress`] call; zero for a pair that
+    /// carried no load.
+    pub fn pair_stress(&self, back: bool, pair: i64) -> [f64; 2] {
+        self.keys.iter().position(|&k| k == (back, pair)).map_or([0.0; 2], |i| self.per_pair[i])
     }
 }
 
@@ -494,6 +504,7 @@ pub fn root_stress(
     ws: &mut RootStressWorkspace,
 ) -> (f64, f64) {
     ws.keys.clear();
+    ws.per_pair.clear();
     for s in slices.clone() {
         let key = (s.back, s.pair);
         if s.force > 0.0 && !ws.keys.contains(&key) && ws.keys.len() < MAX_PAIRS {
@@ -504,6 +515,7 @@ pub fn root_stress(
     if np == 0 {
         return (0.0, 0.0);
     }
+    ws.per_pair.resize(np, [0.0; 2]);
     let n = kernel[0].loads.max(kernel[1].loads);
     ws.loads.clear();
     ws.loads.resize(2 * np * n, 0.0);
@@ -535,9 +547,10 @@ pub fn root_stress(
                 let at = (g * np + b) * n;
                 sk.add_stress(offset, &ws.loads[at..at + sk.loads], &mut ws.acc);
             }
-            for s in ws.acc.chunks_exact(3) {
-                out[g] = out[g].max(principal(s[0], s[1], s[2]));
-            }
+            let tooth =
+                ws.acc.chunks_exact(3).map(|s| principal(s[0], s[1], s[2])).fold(0.0, f64::max);
+            ws.per_pair[a][g] = tooth;
+            out[g] = out[g].max(tooth);
         }
     }
     (out[0], out[1])

@@ -500,8 +500,9 @@ impl WarmStart {
 pub(crate) struct PairSum {
     /// Absolute tooth-pair number.
     pub pair: i64,
-    /// M_F,p, M_F,g (N·m), F_n (N), loaded axial extent (units of m_n), p_max² (Pa²).
-    pub values: [f64; 5],
+    /// M_F,p, M_F,g (N·m), F_n (N), loaded axial extent (units of m_n), p_max² (Pa²), the
+    /// root stresses of the pair's pinion and gear teeth (Pa).
+    pub values: [f64; 7],
     /// True when a loaded contact of the pair lies on a tip.
     pub tip: bool,
 }
@@ -925,7 +926,7 @@ impl MeshModel {
                 if ws.record_pairs && c.side == FlankSide::Drive {
                     // Slices come in ascending (side, pair, slice) order: pairs are contiguous.
                     if ws.pair_sums.last().is_none_or(|p| p.pair != c.pair) {
-                        ws.pair_sums.push(PairSum { pair: c.pair, values: [0.0; 5], tip: false });
+                        ws.pair_sums.push(PairSum { pair: c.pair, values: [0.0; 7], tip: false });
                     }
                     let ps = ws.pair_sums.last_mut().expect("pushed above");
                     ps.values[0] += c.arm_p_m * q[i] * axial;
@@ -971,6 +972,9 @@ impl MeshModel {
             });
             (out.root_stress_p, out.root_stress_g) =
                 root_stress(kernel, loaded, &mut ws.root_stress);
+            for ps in &mut ws.pair_sums {
+                [ps.values[5], ps.values[6]] = ws.root_stress.pair_stress(false, ps.pair);
+            }
         }
         Ok(out)
     }

@@ -38,7 +38,8 @@
 //! overlap is TE, resp. −TE − j_t), so the outputs there are exactly zero and need no nodes.
 //! Outside [−j_t − TE_hi/2, TE_hi] the model falls back to the full solve.
 //!
-//! Interpolated per node: the secant quantities M_F,p/δ, M_F,g/δ, F_n/δ and p_max²/δ, with
+//! Interpolated per node: the secant quantities M_F,p/δ, M_F,g/δ, F_n/δ, p_max²/δ and the
+//! tooth-root stresses σ_F,p/δ, σ_F,g/δ ([`MeshOutputs::root_stress_p`]), with
 //! δ = |TE − TE_onset| the distance from the TE at which the flanks of that axis start to
 //! touch (0, resp. −j_t), and the loaded axial extent Σ(ζ_e − ζ_b) (from which the contact
 //! length and, with the current speeds, the damping torques of Eq. 14 follow exactly as in the
@@ -56,9 +57,10 @@
 //! hunting period, but they are constant over each tooth's flank: tooth pair k is moved as a
 //! whole by its deviation e_k along the line of action. The table is therefore built from the
 //! periodic part of the modifications (the same on every tooth) and keeps the driving-flank
-//! node values **per tooth pair** (M_F,p, M_F,g, F_n, p_max² of each pair's slices and its
-//! loaded extent, pairs numbered in the table's phase frame). An evaluation interpolates every
-//! pair that can be in mesh at its own TE − e_k and sums (p_max: the largest). This is exact
+//! node values **per tooth pair** (M_F,p, M_F,g, F_n, p_max² of each pair's slices, its
+//! loaded extent and the root stresses of its teeth, pairs numbered in the table's phase
+//! frame). An evaluation interpolates every pair that can be in mesh at its own TE − e_k and
+//! sums (p_max and the root stresses: the largest). This is exact
 //! where the pairs are uncoupled and their contacts lie in the plane of action, whatever the
 //! deviations (loss of contact of a single pair included), and exact for equal deviations
 //! (a TE shift). It neglects (a) the coupling between pairs through the gear bodies beyond
@@ -135,7 +137,14 @@ pub fn check_design_torque(torque_nm: f64) -> Result<(), crate::error::ParamErro
 }
 
 /// Number of interpolated real-valued outputs per node.
-const NV: usize = 5;
+const NV: usize = 7;
+
+// Node values of the tooth-root stress (one block; the others are 0–4): σ_F,p/δ and σ_F,g/δ,
+// secant as the torques (Pa/m).
+/// Node value of the pinion's root stress σ_F,p/δ.
+const V_ROOT_STRESS_P: usize = 5;
+/// Node value of the gear's root stress σ_F,g/δ.
+const V_ROOT_STRESS_G: usize = 6;
 
 /// One TE axis (driving or back flanks) of the table: nodes graded towards the onset and the
 /// node values. Node k lies at distance δ_k = range·(k/(n − 1))² from the onset.
@@ -273,6 +282,8 @@ impl PairTable {
                 v[2] / dist,
                 v[3],
                 v[4] / dist,
+                v[V_ROOT_STRESS_P] / dist,
+                v[V_ROOT_STRESS_G] / dist,
             ]);
             flags[slot] = 1 | if ps.tip { 2 } else { 0 };
         }
@@ -515,6 +526,9 @@ impl MeshTable {
             v[2] += u[2] * dist;
             v[3] += u[3].max(0.0);
             v[4] = v[4].max(u[4] * dist);
+            for k in [V_ROOT_STRESS_P, V_ROOT_STRESS_G] {
+                v[k] = v[k].max(u[k] * dist);
+            }
             if let Some((ip, rr)) = slot(ipn) {
                 let itn = (xt.round() as usize).min(axis.n - 1);
                 let f = pt.flags[(ip * axis.n + itn) * pt.nr + rr];
@@ -541,6 +555,8 @@ impl MeshTable {
         out.n_pairs = n_pairs;
         out.tip_contact = tip;
         out.separated = n_pairs == 0;
+        out.root_stress_p = v[V_ROOT_STRESS_P].max(0.0);
+        out.root_stress_g = v[V_ROOT_STRESS_G].max(0.0);
         Some(out)
     }
 
@@ -553,7 +569,7 @@ impl MeshTable {
         state: &MeshState,
     ) -> Option<MeshOutputs> {
         // Node values interpolated: all, or M_F,p, M_F,g and the extent.
-        let ks: &[usize] = if ALL { &[0, 1, 2, 3, 4] } else { &[0, 1, 3] };
+        let ks: &[usize] = if ALL { &[0, 1, 2, 3, 4, 5, 6] } else { &[0, 1, 3] };
         // The reduction of ContactSolver::reduce (exact in the given doubles, see
         // crate::numeric), with the constants kept here.
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
@@ -600,6 +616,8 @@ impl MeshTable {
                     if ALL {
                         r[2] += wb * x[2];
                         r[4] += wb * x[4];
+                        r[V_ROOT_STRESS_P] += wb * x[V_ROOT_STRESS_P];
+                        r[V_ROOT_STRESS_G] += wb * x[V_ROOT_STRESS_G];
                     }
                 }
                 v[0] += wa * r[0];
@@ -608,6 +626,8 @@ impl MeshTable {
                 if ALL {
                     v[2] += wa * r[2];
                     v[4] += wa * r[4];
+                    v[V_ROOT_STRESS_P] += wa * r[V_ROOT_STRESS_P];
+                    v[V_ROOT_STRESS_G] += wa * r[V_ROOT_STRESS_G];
                 }
                 continue;
             }
@@ -646,8 +666,8 @@ impl MeshTable {
             tip_contact: f & 0x100 != 0,
             separated: ALL && f & 0xff == 0,
             back_contact: f & 0x200 != 0,
-            root_stress_p: 0.0,
-            root_stress_g: 0.0,
+            root_stress_p: if ALL { (v[V_ROOT_STRESS_P] * dist).max(0.0) } else { 0.0 },
+            root_stress_g: if ALL { (v[V_ROOT_STRESS_G] * dist).max(0.0) } else { 0.0 },
         })
     }
 

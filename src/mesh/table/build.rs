@@ -309,6 +309,8 @@ fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow
             o.f_n / dist,
             o.contact_length / per_extent,
             o.p_max * o.p_max / dist,
+            o.root_stress_p / dist,
+            o.root_stress_g / dist,
         ]);
         flags.push(
             (o.n_pairs.min(255) as u16)
