@@ -156,6 +156,18 @@ typedef struct {
    * the z component is −(M_F,g + M_D,g).
    */
   double moment_g[2];
+  /**
+   * Tooth-root stress of the pinion, Pa: the largest maximum principal stress at the
+   * tension-side root fillet over the loaded teeth and the face width, from the FE stress
+   * influence superposed over every loaded slice ([`crate::compliance::root_stress`];
+   * tension positive). 0 without load, and 0 for a model built without FE data (e.g. a
+   * Winkler or custom compliance).
+   */
+  double root_stress_p;
+  /**
+   * Tooth-root stress of the gear, Pa (as [`MeshOutputs::root_stress_p`]).
+   */
+  double root_stress_g;
 } HgmOutputs;
 
 /**

@@ -223,6 +223,15 @@ pub struct StaticCurveRecord {
     pub force_p_mean_n: [f64; 3],
     /// Peak-to-peak (max − min) of each component of the pinion force over the points, N.
     pub force_p_peak_to_peak_n: [f64; 3],
+    /// Tooth-root stress of the pinion at each point, Pa (largest maximum principal stress at
+    /// the tension-side fillet, [`crate::mesh::MeshOutputs::root_stress_p`]).
+    pub root_stress_p_pa: Vec<f64>,
+    /// Tooth-root stress of the gear at each point, Pa.
+    pub root_stress_g_pa: Vec<f64>,
+    /// Largest pinion root stress over the points, Pa.
+    pub root_stress_max_p_pa: f64,
+    /// Largest gear root stress over the points, Pa.
+    pub root_stress_max_g_pa: f64,
 }
 
 impl StaticCurveRecord {
@@ -251,6 +260,10 @@ impl StaticCurveRecord {
             force_p_peak_to_peak_n: std::array::from_fn(|k| {
                 peak_to_peak(pts.iter().map(|e| e.outputs.force_p[k]))
             }),
+            root_stress_p_pa: pts.iter().map(|e| e.outputs.root_stress_p).collect(),
+            root_stress_g_pa: pts.iter().map(|e| e.outputs.root_stress_g).collect(),
+            root_stress_max_p_pa: pts.iter().map(|e| e.outputs.root_stress_p).fold(0.0, f64::max),
+            root_stress_max_g_pa: pts.iter().map(|e| e.outputs.root_stress_g).fold(0.0, f64::max),
         }
     }
 
@@ -273,7 +286,11 @@ impl StaticCurveRecord {
         finite_all("force_g_n", &flat3(&self.force_g_n))?;
         finite_all("moment_g_nm", &flat2(&self.moment_g_nm))?;
         finite_all("force_p_mean_n", &self.force_p_mean_n)?;
-        finite_all("force_p_peak_to_peak_n", &self.force_p_peak_to_peak_n)
+        finite_all("force_p_peak_to_peak_n", &self.force_p_peak_to_peak_n)?;
+        finite_all("root_stress_p_pa", &self.root_stress_p_pa)?;
+        finite_all("root_stress_g_pa", &self.root_stress_g_pa)?;
+        finite("root_stress_max_p_pa", self.root_stress_max_p_pa)?;
+        finite("root_stress_max_g_pa", self.root_stress_max_g_pa)
     }
 }
 
@@ -450,6 +467,10 @@ pub struct TrajectoryRecord {
     pub moment_g_x_nm: Vec<f64>,
     /// Tilting moment on the gear, y component, N·m.
     pub moment_g_y_nm: Vec<f64>,
+    /// Tooth-root stress of the pinion, Pa.
+    pub root_stress_p_pa: Vec<f64>,
+    /// Tooth-root stress of the gear, Pa.
+    pub root_stress_g_pa: Vec<f64>,
     /// Integration steps taken.
     pub steps: usize,
     /// Mesh evaluations.
@@ -486,6 +507,8 @@ impl TrajectoryRecord {
             force_g_z_n: o(|x| x.force_g[2]),
             moment_g_x_nm: o(|x| x.moment_g[0]),
             moment_g_y_nm: o(|x| x.moment_g[1]),
+            root_stress_p_pa: o(|x| x.root_stress_p),
+            root_stress_g_pa: o(|x| x.root_stress_g),
             steps: tr.steps,
             mesh_evaluations: tr.mesh_evaluations,
         }
@@ -493,7 +516,8 @@ impl TrajectoryRecord {
 
     /// The columns in output order with their names: `time_s`, the states in state order
     /// ([`STATE_NAMES`]), `te_m`, `m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`, then the
-    /// force and moments `force_p_x_n` … `moment_g_y_nm`.
+    /// force and moments `force_p_x_n` … `moment_g_y_nm`, then `root_stress_p_pa`,
+    /// `root_stress_g_pa`.
     pub fn columns(&self) -> Vec<(&'static str, &[f64])> {
         let states: [&[f64]; N_STATES] = [
             &self.phi_1_rad,
@@ -523,6 +547,8 @@ impl TrajectoryRecord {
             ("force_g_z_n", &self.force_g_z_n),
             ("moment_g_x_nm", &self.moment_g_x_nm),
             ("moment_g_y_nm", &self.moment_g_y_nm),
+            ("root_stress_p_pa", &self.root_stress_p_pa),
+            ("root_stress_g_pa", &self.root_stress_g_pa),
         ]);
         c
     }
@@ -1035,6 +1061,10 @@ pub struct StaticPointRecord {
     pub force_g_n: [f64; 3],
     /// Tilting moment on the gear about its centre at mid-face (x, y), N·m.
     pub moment_g_nm: [f64; 2],
+    /// Tooth-root stress of the pinion, Pa.
+    pub root_stress_p_pa: f64,
+    /// Tooth-root stress of the gear, Pa.
+    pub root_stress_g_pa: f64,
 }
 
 /// `helical-gear static --json`: the static curve ([`StaticCurveRecord`], its keys at the top
@@ -1161,6 +1191,8 @@ impl StaticRunRecord {
                 ("k_h_beta", p.k_h_beta),
                 ("line_load_max_n_per_mm", p.line_load_max_n_per_mm),
                 ("line_load_mean_n_per_mm", p.line_load_mean_n_per_mm),
+                ("root_stress_p_pa", p.root_stress_p_pa),
+                ("root_stress_g_pa", p.root_stress_g_pa),
             ] {
                 finite(&format!("points[{i}].{name}"), v)?;
             }

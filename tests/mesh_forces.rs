@@ -290,7 +290,10 @@ fn hgm_outputs_carry_the_force_and_moments_after_the_flags_at_fixed_c_offsets() 
     assert_eq!(offset_of!(HgmOutputs, moment_p), 96);
     assert_eq!(offset_of!(HgmOutputs, force_g), 112);
     assert_eq!(offset_of!(HgmOutputs, moment_g), 136);
-    assert_eq!(std::mem::size_of::<HgmOutputs>(), 152);
+    // Then the two root stresses (double each).
+    assert_eq!(offset_of!(HgmOutputs, root_stress_p), 152);
+    assert_eq!(offset_of!(HgmOutputs, root_stress_g), 160);
+    assert_eq!(std::mem::size_of::<HgmOutputs>(), 168);
 }
 
 // Bearing loads (`mesh::bearings`): a rigid shaft on a locating and a floating bearing.

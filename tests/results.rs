@@ -181,6 +181,8 @@ fn run_records_round_trip_with_their_keys() {
         moment_p_nm: [1.5, -2.5],
         force_g_n: [1.2e3, 3.4e3, -0.6e3],
         moment_g_nm: [-1.5, 6.0],
+        root_stress_p_pa: 1.4e8,
+        root_stress_g_pa: 1.2e8,
     };
     let st = StaticRunRecord {
         curve: static_record(),

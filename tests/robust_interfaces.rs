@@ -113,11 +113,11 @@ fn restored_state_with_non_finite_cached_outputs_is_refused() {
     assert_eq!(f.set(&["phi_p", "phi_g", "w_p", "w_g"], &LOADED), fmi2Status::Ok);
     let before = f.get(&OUTS).unwrap();
     let b = f.serialize();
-    // The cached outputs: flag, 8 f64, u32, 3 flags, 10 f64 (force and moments), then the
-    // checksum.
-    let forces = b.len() - 8 - 10 * 8;
+    // The cached outputs: flag, 8 f64, u32, 3 flags, 10 f64 (force and moments), 2 f64 (root
+    // stresses), then the checksum.
+    let forces = b.len() - 8 - 12 * 8;
     let first = forces - 3 - 4 - 8 * 8;
-    let offsets = (0..8).map(|k| first + 8 * k).chain((0..10).map(|k| forces + 8 * k));
+    let offsets = (0..8).map(|k| first + 8 * k).chain((0..12).map(|k| forces + 8 * k));
     for (k, at) in offsets.enumerate() {
         for x in [f64::NAN, f64::INFINITY] {
             let mut c = b.clone();

@@ -13,6 +13,7 @@
 //! | `jacobian` | `jacobian.md` | cost of one `mesh_jacobian` against one `evaluate`, full and table fidelity | ≈ 30 s |
 //! | `iso` | `iso6336.md` | ISO 6336-3 method B nominal root stress σ_F0 and its factors for Table 1 at 100 N·m and two other designs (geometry only, no FE) | < 1 s |
 //! | `loads` | `loads.md` | Table 1 at 100 N·m: mean and peak-to-peak of each component of the mesh force and tilting moments over a mesh cycle, full and table fidelity, and the bearing loads of `docs/loads/bearings_table1.json` | ≈ 10 s |
+//! | `stress` | `root_stress.md`, `root_stress.csv` | static tooth-root stress (max over the mesh cycle) of Table 1 at 100 N·m for the coarse, default and refined FE meshes, of three designs at the default mesh, and the cost of the root stress per evaluation | a few minutes |
 //! | `all` | all of them | | |
 //! | `pages` | `docs/performance.md`, `docs/validation.md` | no measurement: renders the performance page from `docs/bench/bench.json` and the paper-run section of the validation page from `docs/paper/summary.json` ([`helical_gear_app::pages`]; run from the repository root) | instant |
 //!
@@ -44,7 +45,8 @@ mod cosim;
 #[path = "../../tests/common/fe.rs"]
 mod fe_checks;
 
-const USAGE: &str = "usage: measure <fe|cosim|units|jacobian|iso|loads|all|pages> [--out DIR]";
+const USAGE: &str =
+    "usage: measure <fe|cosim|units|jacobian|iso|loads|stress|all|pages> [--out DIR]";
 
 fn main() {
     if let Err(e) = run() {
@@ -80,8 +82,8 @@ fn run() -> Result<(), String> {
     }
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let studies: Vec<&str> = match study.as_str() {
-        "all" => vec!["fe", "cosim", "units", "jacobian", "iso", "loads"],
-        s @ ("fe" | "cosim" | "units" | "jacobian" | "iso" | "loads") => vec![s],
+        "all" => vec!["fe", "cosim", "units", "jacobian", "iso", "loads", "stress"],
+        s @ ("fe" | "cosim" | "units" | "jacobian" | "iso" | "loads" | "stress") => vec![s],
         s => return Err(format!("unknown study {s:?}; {USAGE}")),
     };
     for s in studies {
@@ -92,6 +94,7 @@ fn run() -> Result<(), String> {
             "units" => units(&out)?,
             "iso" => iso(&out)?,
             "loads" => loads(&out)?,
+            "stress" => root_stress(&out)?,
             _ => jacobian(&out)?,
         };
         for f in files {
@@ -624,4 +627,205 @@ fn loads(dir: &Path) -> Result<Vec<PathBuf>, String> {
         .ok();
     }
     Ok(vec![write(dir, "loads.md", &md)?])
+}
+
+/// One row of the root-stress page: a design at an FE density and its static root stress.
+struct StressRow {
+    design: &'static str,
+    density: &'static str,
+    /// Largest static root stress over the mesh cycle, pinion and gear, Pa.
+    sigma_p: f64,
+    sigma_g: f64,
+    /// Nominal bending stress F_t/(b·m_n) at the reference circle, Pa.
+    nominal: f64,
+    /// FE wall time of both gears, s.
+    fe_s: f64,
+}
+
+/// The designs of the root-stress page: Table 1, its spur variant, and a wider variant with a
+/// larger helix angle.
+fn stress_designs() -> [(&'static str, GearPair); 3] {
+    let t1 = GearPair::paper_table1();
+    let spur = GearPair { helix_angle_rad: 0.0, ..t1.clone() };
+    let wide = GearPair { helix_angle_rad: 20f64.to_radians(), face_width_m: 25e-3, ..t1.clone() };
+    [("Table 1 (β = 10°, b = 15 mm)", t1), ("spur (β = 0°)", spur), ("β = 20°, b = 25 mm", wide)]
+}
+
+/// The static root stress of `pair` at `torque` (N·m) over one pinion pitch (32 points) with
+/// FE data at `density`, full fidelity.
+fn static_root_stress(
+    design: &'static str,
+    density_name: &'static str,
+    pair: &GearPair,
+    density: &GearMeshDensity,
+    torque: f64,
+) -> Result<StressRow, String> {
+    use helical_gear_mesh::compliance::data::ComplianceData;
+    let data =
+        ComplianceData::compute(pair, density, DEFAULT_DEPTH_MN * pair.normal_module_m, false)
+            .map_err(|e| e.to_string())?;
+    let mut m = Mesh::from_data(pair, MeshOptions::default(), &data).map_err(|e| e.to_string())?;
+    let geo = m.geometry().clone();
+    let pitch = geo.pinion.angular_pitch();
+    let curve = helical_gear_mesh::mesh::static_curve(&mut m, torque, 0.0, pitch, 32, 1)
+        .map_err(|e| e.to_string())?;
+    let max = |f: fn(&helical_gear_mesh::mesh::MeshOutputs) -> f64| {
+        curve.points.iter().map(|e| f(&e.outputs)).fold(0.0, f64::max)
+    };
+    let row = StressRow {
+        design,
+        density: density_name,
+        sigma_p: max(|o| o.root_stress_p),
+        sigma_g: max(|o| o.root_stress_g),
+        nominal: torque / geo.pinion.r / (pair.face_width_m * pair.normal_module_m),
+        fe_s: data.fe_seconds(),
+    };
+    eprintln!(
+        "stress: {design}, {density_name}: σ_F p {:.2} MPa, g {:.2} MPa (FE {:.1} s)",
+        row.sigma_p * 1e-6,
+        row.sigma_g * 1e-6,
+        row.fe_s
+    );
+    Ok(row)
+}
+
+/// The root-stress page: convergence in the FE density, designs, cost per evaluation.
+fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let torque = 100.0;
+    let mut md = header("Tooth-root stress from the FE model", "stress");
+    md.push_str(
+        "The largest maximum principal stress at the tension-side root fillets \
+         (`MeshOutputs::root_stress_p`, `root_stress_g`; method: `docs/loads-root-stress.md`) \
+         at the static equilibrium of 100 N·m on the pinion, the largest over 32 pinion angles \
+         of one pitch, full fidelity with 200 slices. `F_t/(b·m_n)` is the nominal bending \
+         stress (F_t = M/r at the reference circle); the ratios are the stress over it. FE data \
+         computed afresh for every row (the time is both gears' FE run).\n\n",
+    );
+    let mut rows = Vec::new();
+    let t1 = GearPair::paper_table1();
+    for (name, d) in densities() {
+        rows.push(static_root_stress("Table 1 (β = 10°, b = 15 mm)", name, &t1, &d, torque)?);
+    }
+    for (design, pair) in stress_designs().into_iter().skip(1) {
+        rows.push(static_root_stress(
+            design,
+            "default",
+            &pair,
+            &GearMeshDensity::default(),
+            torque,
+        )?);
+    }
+    // The table: one row per (design, density); further columns (e.g. a standard's nominal
+    // stress) go at the end of `columns` and `cells`.
+    let columns = [
+        "design",
+        "FE density",
+        "σ_F pinion, MPa",
+        "σ_F gear, MPa",
+        "F_t/(b·m_n), MPa",
+        "σ_F,p / nominal",
+        "σ_F,g / nominal",
+        "FE, s",
+    ];
+    let cells = |r: &StressRow| -> Vec<String> {
+        vec![
+            r.design.to_string(),
+            r.density.to_string(),
+            format!("{:.2}", r.sigma_p * 1e-6),
+            format!("{:.2}", r.sigma_g * 1e-6),
+            format!("{:.2}", r.nominal * 1e-6),
+            format!("{:.3}", r.sigma_p / r.nominal),
+            format!("{:.3}", r.sigma_g / r.nominal),
+            format!("{:.1}", r.fe_s),
+        ]
+    };
+    md.push_str("## Convergence in the FE mesh density (Table 1)\n\n");
+    let table = |rows: &mut dyn Iterator<Item = &StressRow>| {
+        let mut t = format!("| {} |\n|{}\n", columns.join(" | "), " --- |".repeat(columns.len()));
+        for r in rows {
+            writeln!(t, "| {} |", cells(r).join(" | ")).ok();
+        }
+        t
+    };
+    md.push_str(&table(&mut rows.iter().take(3)));
+    let (c, d, r) = (&rows[0], &rows[1], &rows[2]);
+    writeln!(
+        md,
+        "\nChange from the default to the refined mesh: pinion {:+.1} %, gear {:+.1} %; from \
+         the coarse to the default mesh: pinion {:+.1} %, gear {:+.1} %.\n",
+        100.0 * (r.sigma_p / d.sigma_p - 1.0),
+        100.0 * (r.sigma_g / d.sigma_g - 1.0),
+        100.0 * (d.sigma_p / c.sigma_p - 1.0),
+        100.0 * (d.sigma_g / c.sigma_g - 1.0)
+    )
+    .ok();
+    md.push_str("## Designs at the default FE density\n\n");
+    md.push_str(&table(&mut rows.iter().skip(1).take(1).chain(rows.iter().skip(3))));
+    // Cost per evaluation, with and without the root stress.
+    md.push_str(
+        "\n## Cost per evaluation\n\nTable 1 along one pitch at TE = 30 µm (64 states, \
+         warm-started), fastest of nine passes alternating between the two models; the same model \
+         without the root-stress data \
+         for comparison (full fidelity 200 slices, table fidelity the default 64 × 48 \
+         table).\n\n| fidelity | without, µs | with root stress, µs | ratio |\n| --- | --- | --- | --- |\n",
+    );
+    for fidelity in [Fidelity::Full, Fidelity::Table] {
+        let (without, with) = evaluation_cost(fidelity)?;
+        writeln!(md, "| {fidelity:?} | {without:.2} | {with:.2} | {:.3} |", with / without).ok();
+        eprintln!("stress: {fidelity:?}: {without:.2} µs without, {with:.2} µs with root stress");
+    }
+    let mut csv =
+        String::from("design,density,root_stress_max_p_pa,root_stress_max_g_pa,nominal_pa,fe_s\n");
+    for r in &rows {
+        writeln!(
+            csv,
+            "\"{}\",{},{:.6e},{:.6e},{:.6e},{:.2}",
+            r.design, r.density, r.sigma_p, r.sigma_g, r.nominal, r.fe_s
+        )
+        .ok();
+    }
+    md.push_str("\nThe rows as data: [root_stress.csv](root_stress.csv).\n");
+    Ok(vec![write(dir, "root_stress.md", &md)?, write(dir, "root_stress.csv", &csv)?])
+}
+
+/// Time per evaluation (µs) of Table 1 at `fidelity` without and with the root stress.
+fn evaluation_cost(fidelity: Fidelity) -> Result<(f64, f64), String> {
+    use helical_gear_mesh::compliance::data::ComplianceData;
+    use helical_gear_mesh::geometry::Member;
+    use helical_gear_mesh::mesh::model::GearCompliance;
+    let p = GearPair::paper_table1();
+    let options = MeshOptions { fidelity, ..MeshOptions::default() };
+    let data = ComplianceData::embedded_table1().map_err(|e| e.to_string())?;
+    let interp = |m| -> Result<GearCompliance, String> {
+        Ok(GearCompliance::Interpolated(std::sync::Arc::new(
+            data.interpolated(m).map_err(|e| e.to_string())?,
+        )))
+    };
+    let mut without =
+        Mesh::with_compliance(&p, options, interp(Member::Pinion)?, interp(Member::Gear)?)
+            .map_err(|e| e.to_string())?;
+    let mut with = Mesh::from_data(&p, options, &data).map_err(|e| e.to_string())?;
+    let geo = with.geometry().clone();
+    let pitch = geo.pinion.angular_pitch();
+    let states: Vec<MeshState> = (0..64)
+        .map(|k| {
+            let phi_p = pitch * k as f64 / 64.0;
+            MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, 30e-6), w_p: 0.0, w_g: 0.0 }
+        })
+        .collect();
+    let pass = |m: &mut Mesh| -> Result<f64, String> {
+        let t0 = Instant::now();
+        for s in &states {
+            std::hint::black_box(m.evaluate(s).map_err(|e| e.to_string())?);
+        }
+        Ok(t0.elapsed().as_secs_f64() / states.len() as f64 * 1e6)
+    };
+    // Passes alternate between the two models, so that other load on the machine hits both
+    // alike; the fastest pass of each counts.
+    let (mut a, mut b) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..9 {
+        a = a.min(pass(&mut without)?);
+        b = b.min(pass(&mut with)?);
+    }
+    Ok((a, b))
 }

@@ -57,6 +57,10 @@ enum Command {
         /// them to FILE, e.g. `resources/compliance_table1.json`.
         #[arg(long, value_name = "FILE")]
         write_cache: Option<std::path::PathBuf>,
+        /// Compute the data afresh and write the root-stress influence of the same FE run to
+        /// FILE, e.g. `resources/root_stress_table1.json`.
+        #[arg(long, value_name = "FILE")]
+        write_root_stress: Option<std::path::PathBuf>,
         /// FE mesh density; other than `default` the data are always computed.
         #[arg(long, value_enum, default_value_t = DensityArg::Default)]
         density: DensityArg,
@@ -167,8 +171,14 @@ fn main() -> ExitCode {
         Command::Spectrum(args) => mods::spectrum_cmd(args),
         Command::Simulate(args) => dynamics::simulate_cmd(args),
         Command::Sweep(args) => dynamics::sweep_cmd(args),
-        Command::Compliance { common, drive, write_cache, density } => {
-            compliance::compliance_cmd(common, drive, write_cache.as_deref(), *density)
+        Command::Compliance { common, drive, write_cache, write_root_stress, density } => {
+            compliance::compliance_cmd(
+                common,
+                drive,
+                write_cache.as_deref(),
+                write_root_stress.as_deref(),
+                *density,
+            )
         }
         Command::Paper(args) => paper::paper_cmd(args),
         Command::Bench(args) => bench::bench_cmd(args),

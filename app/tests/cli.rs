@@ -208,11 +208,12 @@ fn compliance_json_from_the_embedded_data() {
 }
 
 /// `HELICAL_GEAR_CACHE_DIR` is the disk cache of `compliance`: a cache file for a pair with
-/// twice Table 1's Young's modulus (made from the embedded data with α* halved) is read, not
-/// recomputed, and the global deflections halve.
+/// twice Table 1's Young's modulus (made from the embedded data with α* halved) and its
+/// root-stress file beside it (the embedded one: stresses under given loads do not depend on
+/// E) are read, not recomputed, and the global deflections halve.
 #[test]
 fn compliance_reads_the_cache_dir_from_the_environment() {
-    use helical_gear_mesh::compliance::data::{ComplianceData, ComplianceKey};
+    use helical_gear_mesh::compliance::data::{ComplianceData, ComplianceKey, RootStressData};
     let dir = std::env::temp_dir().join(format!("hg-cli-cache-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut p = helical_gear_mesh::GearPair::paper_table1();
@@ -227,6 +228,9 @@ fn compliance_reads_the_cache_dir_from_the_environment() {
         }
     }
     data.write_file(&dir.join(ComplianceData::cache_file_name(&p))).unwrap();
+    let mut stress = (*RootStressData::embedded_table1().unwrap()).clone();
+    stress.key = ComplianceKey::of(&p);
+    stress.write_file(&dir.join(RootStressData::cache_file_name(&p))).unwrap();
     let params = dir.join("p.json");
     std::fs::write(&params, serde_json::to_string(&p).unwrap()).unwrap();
     let env = ("HELICAL_GEAR_CACHE_DIR", dir.as_path());

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{11d673ad-5f59-8f2f-a1de-8f1f307d1926}"
+#define HelicalGearDrive_GUID "{f3625610-b5dd-8dbd-b326-7812e4f22fa0}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -39,6 +39,8 @@ typedef enum {
     HelicalGearDrive_vr_F_g_z = 407, /* output Real N */
     HelicalGearDrive_vr_M_g_x = 408, /* output Real N.m */
     HelicalGearDrive_vr_M_g_y = 409, /* output Real N.m */
+    HelicalGearDrive_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearDrive_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearDrive_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearDrive_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearDrive_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{64d42e3e-00b3-8f93-863c-8d5b66a172dd}"
+#define HelicalGearMesh_GUID "{1ed05741-4e83-8691-9658-f89174da19bb}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -32,6 +32,8 @@ typedef enum {
     HelicalGearMesh_vr_F_g_z = 407, /* output Real N */
     HelicalGearMesh_vr_M_g_x = 408, /* output Real N.m */
     HelicalGearMesh_vr_M_g_y = 409, /* output Real N.m */
+    HelicalGearMesh_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearMesh_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearMesh_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearMesh_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearMesh_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{dc69b8b7-d00a-8ae5-9420-64d6c991590c}"
+#define HelicalGearPair_GUID "{dc55c90c-49f2-88e0-ba63-51739f348952}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -36,6 +36,8 @@ typedef enum {
     HelicalGearPair_vr_F_g_z = 407, /* output Real N */
     HelicalGearPair_vr_M_g_x = 408, /* output Real N.m */
     HelicalGearPair_vr_M_g_y = 409, /* output Real N.m */
+    HelicalGearPair_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearPair_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearPair_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearPair_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearPair_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

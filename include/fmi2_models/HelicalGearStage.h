@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{fd4ca884-2cfa-8f13-ab14-930bea5ea0db}"
+#define HelicalGearStage_GUID "{63743316-889a-8d72-99c1-1fde42f89bb5}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -40,6 +40,8 @@ typedef enum {
     HelicalGearStage_vr_F_g_z = 407, /* output Real N */
     HelicalGearStage_vr_M_g_x = 408, /* output Real N.m */
     HelicalGearStage_vr_M_g_y = 409, /* output Real N.m */
+    HelicalGearStage_vr_sigma_F_p = 410, /* output Real Pa */
+    HelicalGearStage_vr_sigma_F_g = 411, /* output Real Pa */
     HelicalGearStage_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearStage_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearStage_vr_J_p = 32, /* calculatedParameter Real kg.m2 */

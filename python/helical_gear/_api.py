@@ -45,13 +45,15 @@ OUTPUT_NAMES = (
     "F_g_z",
     "M_g_x",
     "M_g_y",
+    "sigma_F_p",
+    "sigma_F_g",
 )
 
 #: The 3D force and moments (the FMU output names): the force of the mesh on the pinion
 #: ``F_p_*`` and on the gear ``F_g_* = -F_p_*`` (N), the tilting moments about each gear's
 #: centre at mid-face ``M_p_*``, ``M_g_*`` (N·m), in the housing frame of docs/loads.md
 #: (x from the pinion axis to the gear axis, z along the pinion axis, y = z × x).
-FORCE_NAMES = OUTPUT_NAMES[-10:]
+FORCE_NAMES = OUTPUT_NAMES[OUTPUT_NAMES.index("F_p_x") : OUTPUT_NAMES.index("M_g_y") + 1]
 
 FE_DENSITIES = ("coarse", "default", "refined")
 
@@ -271,8 +273,8 @@ class MeshModel:
         Calls from several threads on one model run in parallel. Returns a dict of arrays of
         the broadcast shape:
         ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m), ``TE`` (m), ``F_n`` (N),
-        ``contact_length`` (m), ``p_max`` (Pa), ``n_pairs``, ``tip_contact``, ``separated``,
-        ``back_contact``."""
+        ``contact_length`` (m), ``p_max`` (Pa), ``sigma_F_p``, ``sigma_F_g`` (tooth-root
+        stresses, Pa), ``n_pairs``, ``tip_contact``, ``separated``, ``back_contact``."""
         arrays = np.broadcast_arrays(
             *(np.asarray(a, dtype=np.float64) for a in (phi_p, phi_g, w_p, w_g))
         )
@@ -319,6 +321,13 @@ class StaticCurve(_Result):
     ste_mean: float
     #: Mean mesh stiffness along the line of action, N/m.
     mesh_stiffness_mean: float
+    #: Tooth-root stress of pinion and gear (largest maximum principal stress at the
+    #: tension-side fillet), Pa.
+    sigma_F_p: np.ndarray
+    sigma_F_g: np.ndarray
+    #: Largest tooth-root stress over the points, Pa.
+    sigma_F_max_p: float
+    sigma_F_max_g: float
     #: ISO 6336-3 method B nominal tooth-root stress σ_F0 of pinion and gear at `torque_nm`,
     #: Pa (None when the method does not apply; the reason in ``iso6336_error``).
     root_stress_iso_p_pa: float | None = None
@@ -330,7 +339,16 @@ class StaticCurve(_Result):
     #: The force and moments per point (`FORCE_NAMES`: N, N·m), keyed by name; also
     #: attributes (``curve.F_p_x``) and columns of `to_dataframe()`.
     forces: dict = field(default_factory=dict, repr=False)
-    _columns = ("phi_p", "ste", "n_pairs", "p_max", "tip_contact", "contact_length") + FORCE_NAMES
+    _columns = (
+        "phi_p",
+        "ste",
+        "n_pairs",
+        "p_max",
+        "tip_contact",
+        "contact_length",
+        "sigma_F_p",
+        "sigma_F_g",
+    ) + FORCE_NAMES
 
     def __getattr__(self, k):
         forces = self.__dict__.get("forces", {})
@@ -390,6 +408,10 @@ def static_curve(
         iso6336=iso["iso6336"],
         iso6336_error=iso["iso6336_error"],
         forces=_force_columns(d),
+        sigma_F_p=np.array(d["root_stress_p_pa"]),
+        sigma_F_g=np.array(d["root_stress_g_pa"]),
+        sigma_F_max_p=d["root_stress_max_p_pa"],
+        sigma_F_max_g=d["root_stress_max_g_pa"],
     )
 
 
@@ -483,9 +505,10 @@ STATE_NAMES = (
 
 @dataclass(frozen=True)
 class Trajectory(_Result):
-    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`), ``TE`` (m) and
-    the four mesh torques ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m) per output time, as
-    attributes (numpy arrays) and in ``arrays``."""
+    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`), ``TE`` (m),
+    the four mesh torques ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m) and the tooth-root
+    stresses ``sigma_F_p``, ``sigma_F_g`` (Pa) per output time, as attributes (numpy arrays)
+    and in ``arrays``."""
 
     arrays: dict = field(repr=False)
     steps: int

@@ -151,8 +151,18 @@ fn run<T: Send>(py: Python<'_>, f: impl FnOnce() -> Res<T> + Send) -> PyResult<T
 }
 
 /// The mesh outputs handed to Python, in order.
-const OUTPUT_NAMES: [&str; 8] =
-    ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "F_n", "contact_length", "p_max"];
+const OUTPUT_NAMES: [&str; 10] = [
+    "M_F_p",
+    "M_F_g",
+    "M_D_p",
+    "M_D_g",
+    "TE",
+    "F_n",
+    "contact_length",
+    "p_max",
+    "sigma_F_p",
+    "sigma_F_g",
+];
 
 /// The 3D force and moments handed to Python (the FMU output names), in order: F_p (x, y, z,
 /// N), M_p (x, y, N·m), F_g, M_g, in the housing frame of the library's `mesh::forces`.
@@ -562,7 +572,7 @@ impl MeshModel {
             .collect();
         let out = run(py, || {
             let mut m = self.model.clone();
-            let mut cols: [Vec<f64>; 8] = std::array::from_fn(|_| Vec::with_capacity(n));
+            let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut flags: [Vec<bool>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut forces: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
             let mut pairs = Vec::with_capacity(n);
@@ -582,13 +592,26 @@ impl MeshModel {
                     o.f_n,
                     o.contact_length,
                     o.p_max,
+                    o.root_stress_p,
+                    o.root_stress_g,
                 ]) {
                     c.push(v);
                 }
                 finite(
                     &format!("state {i}"),
                     &OUTPUT_NAMES,
-                    &[o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.te, o.f_n, o.contact_length, o.p_max],
+                    &[
+                        o.m_f_p,
+                        o.m_f_g,
+                        o.m_d_p,
+                        o.m_d_g,
+                        o.te,
+                        o.f_n,
+                        o.contact_length,
+                        o.p_max,
+                        o.root_stress_p,
+                        o.root_stress_g,
+                    ],
                 )?;
                 for (c, v) in flags.iter_mut().zip([o.tip_contact, o.separated, o.back_contact]) {
                     c.push(v);
@@ -621,9 +644,10 @@ impl MeshModel {
     /// pinion angles per pitch over `pitches` pitches from φp = 0: JSON of the library's
     /// `results::StaticCurveRecord` (per-point arrays `phi_p_rad`, `ste_um`, `n_pairs`,
     /// `p_max_pa`, `tip_contact`, `contact_length_m`, `force_p_n`, `moment_p_nm`, `force_g_n`,
-    /// `moment_g_nm`; summary `ste_max_um`, `ste_min_um`, `ste_mean_um`,
-    /// `ste_peak_to_peak_um`, `mesh_stiffness_mean_n_per_um`, `force_p_mean_n`,
-    /// `force_p_peak_to_peak_n`).
+    /// `moment_g_nm`, `root_stress_p_pa`, `root_stress_g_pa`; summary `ste_max_um`,
+    /// `ste_min_um`, `ste_mean_um`, `ste_peak_to_peak_um`, `mesh_stiffness_mean_n_per_um`,
+    /// `force_p_mean_n`, `force_p_peak_to_peak_n`, `root_stress_max_p_pa`,
+    /// `root_stress_max_g_pa`).
     #[pyo3(signature = (torque, points_per_pitch = 20, pitches = 1))]
     fn static_curve_json(
         &self,
@@ -659,8 +683,8 @@ impl MeshModel {
     /// `dynamics::default_rk4_step`, shortened to divide `t_end`) or adaptive DOPRI5 (`method="dopri5"`, `dt` = output interval); the
     /// mesh damping from `pair_json`, the drivetrain from `pair_json` and the drive line
     /// `drive_json`. Returns a dict of arrays: `time`, the eight states, `TE`, `M_F_p`,
-    /// `M_F_g`, `M_D_p`, `M_D_g`, the force and moments `F_p_x` … `M_g_y`; and `steps`,
-    /// `mesh_evaluations`.
+    /// `M_F_g`, `M_D_p`, `M_D_g`, the force and moments `F_p_x` … `M_g_y`, `sigma_F_p`,
+    /// `sigma_F_g` (tooth-root stresses, Pa); and `steps`, `mesh_evaluations`.
     #[pyo3(signature = (pair_json, drive_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
@@ -737,8 +761,8 @@ impl MeshModel {
                 finite(&at, &STATE_NAMES, &y[..STATE_NAMES.len()])?;
                 finite(
                     &at,
-                    &["TE", "M_F_p", "M_F_g", "M_D_p", "M_D_g"],
-                    &[o.te, o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g],
+                    &["TE", "M_F_p", "M_F_g", "M_D_p", "M_D_g", "sigma_F_p", "sigma_F_g"],
+                    &[o.te, o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.root_stress_p, o.root_stress_g],
                 )?;
                 finite(&at, &FORCE_NAMES, &force_values(o))?;
             }
@@ -757,6 +781,8 @@ impl MeshModel {
         for (k, name) in FORCE_NAMES.iter().enumerate() {
             d.set_item(*name, array(py, outs.iter().map(|o| force_values(o)[k]).collect()))?;
         }
+        d.set_item("sigma_F_p", array(py, outs.iter().map(|o| o.root_stress_p).collect()))?;
+        d.set_item("sigma_F_g", array(py, outs.iter().map(|o| o.root_stress_g).collect()))?;
         d.set_item("steps", steps)?;
         d.set_item("mesh_evaluations", evals)?;
         Ok(d)

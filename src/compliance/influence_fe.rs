@@ -49,6 +49,11 @@
 //! interpolation, observations) there; the result is smooth in ζ and is what the fitted
 //! formula is fitted to ([`super::data`]).
 //!
+//! # Root stress from the same solutions
+//! Each solved displacement block is also observed at the tension-side root fillets of teeth
+//! −1, 0, +1 ([`super::root_stress::FilletObserver`]): the stress influence of the same load
+//! cases, with no second factorisation ([`FeInfluence::root_stress`]).
+//!
 //! # Grid coordinates
 //! Rows are the flank grid's profile rows, tip → root: η* = (x_ref − x)/m_n with x the
 //! row's coordinate along the tooth centre line and x_ref = `eta_reference_x`; τ =
@@ -62,6 +67,7 @@ use faer::Mat;
 
 use super::fe::gear_mesh::{FlankGrid, GearMesh, GearMeshDensity};
 use super::fe::{FeError, FeModel, FeStats, Material, dof, element};
+use super::root_stress::{FilletObserver, RootStressGrid};
 use super::{FlankCoord, InfluenceGrid};
 use crate::geometry::{GearGeometry, Member, SegmentKind};
 use crate::params::GearPair;
@@ -82,6 +88,9 @@ pub struct FeInfluence {
     /// displacement along the inward normal at flank node `obs` (no depth) due to a unit
     /// inward normal force at flank node `load`; symmetric by Maxwell–Betti.
     pub surface: Vec<f64>,
+    /// Stress influence at the tension-side root fillets of teeth −1, 0, +1 for the same load
+    /// cases ([`super::root_stress`]).
+    pub root_stress: RootStressGrid,
     /// FE sizes and timings (assembly, factorisation, solves).
     pub stats: FeStats,
     /// Mesh generation time, s.
@@ -192,6 +201,7 @@ pub fn fe_influence(
         }
         stencils.push(list);
     }
+    let mut fillet = FilletObserver::new(g, model.mesh(), &material, &level_z, &[-1, 0, 1], n)?;
     let mut observe_s = t1.elapsed().as_secs_f64();
 
     let mut alpha = vec![vec![0.0; n * n]; 3];
@@ -231,6 +241,7 @@ pub fn fe_influence(
                 }
                 surface[i * n + j] = v;
             }
+            fillet.observe(&u, c, j);
         }
         observe_s += t2.elapsed().as_secs_f64();
         start += k;
@@ -271,7 +282,8 @@ pub fn fe_influence(
         rounding_radius_mn: rho_mn,
     };
     grid.validate().map_err(FeError::InvalidInput)?;
-    Ok(FeInfluence { grid, surface, stats: model.stats(), mesh_s, observe_s })
+    let root_stress = fillet.finish(grid.profile.clone(), grid.zeta.clone(), eta_q, rho_mn, mn)?;
+    Ok(FeInfluence { grid, surface, root_stress, stats: model.stats(), mesh_s, observe_s })
 }
 
 /// The influence grid resampled along ζ at the two Gauss abscissae of every axial element

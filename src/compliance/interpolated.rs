@@ -64,22 +64,22 @@ type Stencil = [(usize, f64); 3];
 
 /// One interpolation axis: nodes and the finite-difference slope stencil of every node.
 #[derive(Debug, Clone, PartialEq)]
-struct Axis {
+pub(crate) struct Axis {
     nodes: Vec<f64>,
     slopes: Vec<Stencil>,
 }
 
 /// The interpolation weights of one coordinate value: `w[k]` multiplies node `start + k`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Weights {
-    start: usize,
-    width: usize,
-    w: [f64; 4],
+pub(crate) struct Weights {
+    pub(crate) start: usize,
+    pub(crate) width: usize,
+    pub(crate) w: [f64; 4],
 }
 
 impl Axis {
     /// Builds the slope stencils; `nodes` must be strictly increasing with ≥ 2 entries.
-    fn new(nodes: &[f64]) -> Self {
+    pub(crate) fn new(nodes: &[f64]) -> Self {
         let n = nodes.len();
         let x = nodes;
         let mut slopes = Vec::with_capacity(n);
@@ -119,7 +119,7 @@ impl Axis {
 
     /// Weights of the coordinate value `x` (clamped to the axis range; NaN maps to the first
     /// node).
-    fn weights(&self, x: f64) -> Weights {
+    pub(crate) fn weights(&self, x: f64) -> Weights {
         let nodes = &self.nodes;
         let n = nodes.len();
         let (lo, hi) = (nodes[0], nodes[n - 1]);

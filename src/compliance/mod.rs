@@ -33,6 +33,7 @@ pub mod hertz;
 pub mod influence_fe;
 pub mod interpolated;
 pub mod lm;
+pub mod root_stress;
 pub mod stiffness;
 
 use serde::{Deserialize, Serialize};

@@ -23,8 +23,8 @@
 //! drive line's ([`DRIVE_TORQUE`], [`DRIVE_INERTIAS`], [`DRIVE_SHAFTS`], 123–129; each model
 //! lists only those it uses: the mesh element none, the Pair the torque of its static start,
 //! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
-//! ([`MESH_OUTPUTS`], 10–21; the 3D force and moments 400–409) and the options of the
-//! stateful models ([`UNIT_OPTIONS`], 300–).
+//! ([`MESH_OUTPUTS`], 10–21; the 3D force and moments 400–409; the root stresses 410–411)
+//! and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
 //! joined by a dot (`material_p.youngs_modulus_pa`), the drive line's by `drive.` and their
@@ -646,13 +646,13 @@ pub(crate) const ANGLE: Option<&str> = Some("Angle");
 pub(crate) const LENGTH: Option<&str> = Some("Length");
 pub(crate) const TORQUE: Option<&str> = Some("Torque");
 
-/// The mesh outputs (value references 10–21 and 400–409) with their dependencies in
-/// `HelicalGearMesh`, shared by every model. Their values sit in the first slots of
-/// [`OutputValues`] (Real slots 0, 1, 2 … in table order, likewise Integer and Boolean),
-/// written from a [`crate::mesh::MeshOutputs`] by one function,
-/// `fmi2::models::write_mesh_outputs`: a new mesh output is one entry here (with the next free
-/// slot) and one line there.
-pub const MESH_OUTPUTS: [Variable; 22] = [
+/// The mesh outputs (value references 10–21, the 3D force and moments 400–409, the root
+/// stresses 410–411) with their dependencies in `HelicalGearMesh`, shared by every model.
+/// Their values sit in the first slots of [`OutputValues`] (Real slots 0, 1, 2 … in table
+/// order, likewise Integer and Boolean), written from a [`crate::mesh::MeshOutputs`] by one
+/// function, `fmi2::models::write_mesh_outputs`: a new mesh output is one entry here (with the
+/// next free slot) and one line there.
+pub const MESH_OUTPUTS: [Variable; 24] = [
     output!(
         "M_F_p",
         10,
@@ -920,6 +920,30 @@ pub const MESH_OUTPUTS: [Variable; 22] = [
          component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
         FORCE_DEPS,
         Access::RealOutput(17)
+    ),
+    output!(
+        "sigma_F_p",
+        410,
+        Continuous,
+        PA,
+        Some("MPa"),
+        Some("Pressure"),
+        "Tooth-root stress of the pinion, Pa: largest maximum principal stress at the \
+         tension-side root fillet over the loaded teeth and the face width (FE stress influence \
+         superposed over the loaded slices); 0 without load",
+        ELASTIC_DEPS,
+        Access::RealOutput(18)
+    ),
+    output!(
+        "sigma_F_g",
+        411,
+        Continuous,
+        PA,
+        Some("MPa"),
+        Some("Pressure"),
+        "Tooth-root stress of the gear, Pa (as sigma_F_p)",
+        ELASTIC_DEPS,
+        Access::RealOutput(19)
     ),
 ];
 

@@ -134,6 +134,14 @@ pub struct MeshOutputs {
     /// Tilting moments of F_g about the gear centre at mid-face (a, 0, b/2), (x, y), N·m;
     /// the z component is −(M_F,g + M_D,g).
     pub moment_g: [f64; 2],
+    /// Tooth-root stress of the pinion, Pa: the largest maximum principal stress at the
+    /// tension-side root fillet over the loaded teeth and the face width, from the FE stress
+    /// influence superposed over every loaded slice ([`crate::compliance::root_stress`];
+    /// tension positive). 0 without load, and 0 for a model built without FE data (e.g. a
+    /// Winkler or custom compliance).
+    pub root_stress_p: f64,
+    /// Tooth-root stress of the gear, Pa (as [`MeshOutputs::root_stress_p`]).
+    pub root_stress_g: f64,
 }
 
 /// How each evaluation is computed (the C API's `HgmFidelity`: the values of
@@ -755,7 +763,11 @@ impl MeshModel {
             ));
         }
         let (p, g) = gear_compliances(data, options.compliance)?;
-        Self::with_compliance(pair, options, p, g)
+        let model = Self::with_compliance(pair, options, p, g)?;
+        match data.root_stress() {
+            Some(stress) => model.with_root_stress(stress),
+            None => Ok(model),
+        }
     }
 }
 

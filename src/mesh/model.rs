@@ -108,11 +108,13 @@ use faer::Mat;
 use super::forces::{ForceFrame, MeshWrench};
 use super::validity::ValidityRange;
 use super::{MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
+use crate::compliance::data::RootStressData;
 use crate::compliance::fitted::FittedInfluence;
 use crate::compliance::hertz::LocalContact;
 use crate::compliance::interpolated::{
     InterpolatedInfluence, MatrixWorkspace, SliceInfluence, SliceWeights,
 };
+use crate::compliance::root_stress::{LoadedSlice, RootStressWorkspace, SliceStress, root_stress};
 use crate::compliance::{Compliance, FlankCoord};
 
 use crate::contact::{ContactPoint, ContactSolver, FlankSide};
@@ -229,6 +231,9 @@ pub struct MeshModel {
     /// The interpolated compliances specialised to this model's slices (pinion, gear), when
     /// the compliance is [`GearCompliance::Interpolated`] on a grid that allows it.
     slice_comp: Option<Arc<[SliceInfluence; 2]>>,
+    /// The root-stress influence of both gears at this model's slices, when the model was
+    /// built from FE data ([`MeshModel::with_root_stress`]).
+    root_stress: Option<Arc<[SliceStress; 2]>>,
     local: LocalContact,
     /// Mesh damping d_mesh of Eq. 14, N·s/m (a model field: [`MeshModel::with_d_mesh`]).
     d_mesh: f64,
@@ -286,6 +291,8 @@ pub struct MeshWorkspace {
     wrench: MeshWrench,
     /// Σ ζ_i·Δζ over the loaded slices of the last full evaluation, m_n².
     first_moment: f64,
+    /// Scratch memory of the root stress.
+    root_stress: RootStressWorkspace,
 }
 
 impl MeshWorkspace {
@@ -318,6 +325,12 @@ impl MeshWorkspace {
             pair_sums: Vec::with_capacity(8),
             wrench: MeshWrench::default(),
             first_moment: 0.0,
+            root_stress: model
+                .root_stress
+                .as_deref()
+                .map_or_else(RootStressWorkspace::default, |k| {
+                    RootStressWorkspace::with_capacity(k, 8)
+                }),
         }
     }
 
@@ -514,8 +527,9 @@ impl WarmStart {
 pub(crate) struct PairSum {
     /// Absolute tooth-pair number.
     pub pair: i64,
-    /// M_F,p, M_F,g (N·m), F_n (N), loaded axial extent (units of m_n), p_max² (Pa²).
-    pub values: [f64; 5],
+    /// M_F,p, M_F,g (N·m), F_n (N), loaded axial extent (units of m_n), p_max² (Pa²), the
+    /// root stresses of the pair's pinion and gear teeth (Pa).
+    pub values: [f64; 7],
     /// The pair's elastic force on the pinion (x, y, z, N) and its tilting moment about the
     /// pinion centre (x, y, N·m), [`super::forces`].
     pub wrench: [f64; 5],
@@ -604,6 +618,7 @@ impl MeshModel {
             comp_p: pinion,
             comp_g: gear,
             slice_comp,
+            root_stress: None,
             local,
             d_mesh: pair.d_mesh_n_s_per_m,
             validity,
@@ -613,6 +628,28 @@ impl MeshModel {
             separation,
             frame,
         })
+    }
+
+    /// The same model with the root-stress influence `data` (of this pair's FE run) prepared
+    /// for its slices, so that evaluations report the tooth-root stress
+    /// ([`MeshOutputs::root_stress_p`]). Errors: data of another pair or invalid grids.
+    pub fn with_root_stress(mut self, data: &RootStressData) -> Result<Self, MeshError> {
+        if data.key != crate::compliance::data::ComplianceKey::of(&self.pair) {
+            return Err(MeshError::Compliance(
+                "the root-stress data belong to another gear pair".into(),
+            ));
+        }
+        let one = |g| {
+            SliceStress::new(g, &self.zetas)
+                .map_err(|e| MeshError::Compliance(format!("root stress: {e}")))
+        };
+        self.root_stress = Some(Arc::new([one(&data.pinion)?, one(&data.gear)?]));
+        Ok(self)
+    }
+
+    /// True when evaluations report the tooth-root stress ([`MeshModel::with_root_stress`]).
+    pub fn has_root_stress(&self) -> bool {
+        self.root_stress.is_some()
     }
 
     /// The same model with another separation (the table build uses the periodic part of the
@@ -936,7 +973,7 @@ impl MeshModel {
                     if ws.pair_sums.last().is_none_or(|p| p.pair != c.pair) {
                         ws.pair_sums.push(PairSum {
                             pair: c.pair,
-                            values: [0.0; 5],
+                            values: [0.0; 7],
                             wrench: [0.0; 5],
                             first_moment: 0.0,
                             tip: false,
@@ -988,6 +1025,21 @@ impl MeshModel {
         wrench.write(&mut out);
         ws.wrench = wrench;
         ws.first_moment = side_extent[0][1] + side_extent[1][1];
+        if let Some(kernel) = self.root_stress.as_deref() {
+            let loaded = ws.slices.iter().enumerate().map(|(i, s)| LoadedSlice {
+                back: s.contact.side == FlankSide::Back,
+                pair: s.contact.pair,
+                k: if s.contact.side == FlankSide::Back { nl - 1 - s.k } else { s.k },
+                pinion: ws.obs_p[i],
+                gear: ws.obs_g[i],
+                force: q[i] * ws.line_length[i],
+            });
+            (out.root_stress_p, out.root_stress_g) =
+                root_stress(kernel, loaded, &mut ws.root_stress);
+            for ps in &mut ws.pair_sums {
+                [ps.values[5], ps.values[6]] = ws.root_stress.pair_stress(false, ps.pair);
+            }
+        }
         Ok(out)
     }
 

@@ -38,7 +38,8 @@
 //! overlap is TE, resp. −TE − j_t), so the outputs there are exactly zero and need no nodes.
 //! Outside [−j_t − TE_hi/2, TE_hi] the model falls back to the full solve.
 //!
-//! Interpolated per node: the secant quantities M_F,p/δ, M_F,g/δ, F_n/δ and p_max²/δ, with
+//! Interpolated per node: the secant quantities M_F,p/δ, M_F,g/δ, F_n/δ, p_max²/δ and the
+//! tooth-root stresses σ_F,p/δ, σ_F,g/δ ([`MeshOutputs::root_stress_p`]), with
 //! δ = |TE − TE_onset| the distance from the TE at which the flanks of that axis start to
 //! touch (0, resp. −j_t), and the loaded axial extent Σ(ζ_e − ζ_b) (from which the contact
 //! length and, with the current speeds, the damping torques of Eq. 14 follow exactly as in the
@@ -71,9 +72,10 @@
 //! hunting period, but they are constant over each tooth's flank: tooth pair k is moved as a
 //! whole by its deviation e_k along the line of action. The table is therefore built from the
 //! periodic part of the modifications (the same on every tooth) and keeps the driving-flank
-//! node values **per tooth pair** (M_F,p, M_F,g, F_n, p_max² of each pair's slices and its
-//! loaded extent, pairs numbered in the table's phase frame). An evaluation interpolates every
-//! pair that can be in mesh at its own TE − e_k and sums (p_max: the largest). This is exact
+//! node values **per tooth pair** (M_F,p, M_F,g, F_n, p_max² of each pair's slices, its
+//! loaded extent and the root stresses of its teeth, pairs numbered in the table's phase
+//! frame). An evaluation interpolates every pair that can be in mesh at its own TE − e_k and
+//! sums (p_max and the root stresses: the largest). This is exact
 //! where the pairs are uncoupled and their contacts lie in the plane of action, whatever the
 //! deviations (loss of contact of a single pair included), and exact for equal deviations
 //! (a TE shift). It neglects (a) the coupling between pairs through the gear bodies beyond
@@ -159,8 +161,13 @@ const V_FORCE_P: usize = 5;
 const V_MOMENT_P: usize = 8;
 /// Node value 10: the first axial moment of the loaded extent Z₁ = Σζ·Δζ (no δ factor).
 const V_FIRST_MOMENT: usize = 10;
+/// Node values 11, 12: the tooth-root stresses σ_F,p/δ and σ_F,g/δ (Pa/m), secant as the
+/// torques ([`crate::compliance::root_stress`]).
+const V_ROOT_STRESS_P: usize = 11;
+/// See [`V_ROOT_STRESS_P`].
+const V_ROOT_STRESS_G: usize = 12;
 /// Number of interpolated real-valued outputs per node.
-const NV: usize = 11;
+const NV: usize = 13;
 
 /// One TE axis (driving or back flanks) of the table: nodes graded towards the onset and the
 /// node values. Node k lies at distance δ_k = range·(k/(n − 1))² from the onset.
@@ -299,6 +306,8 @@ impl PairTable {
                 v[3],
                 v[4] / dist,
             ]);
+            values[slot * NV + V_ROOT_STRESS_P] = v[5] / dist;
+            values[slot * NV + V_ROOT_STRESS_G] = v[6] / dist;
             for (k, w) in ps.wrench.iter().enumerate() {
                 values[slot * NV + V_FORCE_P + k] = w / dist;
             }
@@ -548,6 +557,9 @@ impl MeshTable {
                 v[k] += u[k] * dist;
             }
             v[V_FIRST_MOMENT] += u[V_FIRST_MOMENT].max(0.0);
+            for k in [V_ROOT_STRESS_P, V_ROOT_STRESS_G] {
+                v[k] = v[k].max(u[k] * dist);
+            }
             if let Some((ip, rr)) = slot(ipn) {
                 let itn = (xt.round() as usize).min(axis.n - 1);
                 let f = pt.flags[(ip * axis.n + itn) * pt.nr + rr];
@@ -579,6 +591,8 @@ impl MeshTable {
             wrench.add(&w);
         }
         wrench.write(&mut out);
+        out.root_stress_p = v[V_ROOT_STRESS_P].max(0.0);
+        out.root_stress_g = v[V_ROOT_STRESS_G].max(0.0);
         Some(out)
     }
 
@@ -591,7 +605,8 @@ impl MeshTable {
         state: &MeshState,
     ) -> Option<MeshOutputs> {
         // Node values interpolated: all, or M_F,p, M_F,g and the extent.
-        let ks: &[usize] = if ALL { &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10] } else { &[0, 1, 3] };
+        let ks: &[usize] =
+            if ALL { &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12] } else { &[0, 1, 3] };
         // The reduction of ContactSolver::reduce (exact in the given doubles, see
         // crate::numeric), with the constants kept here.
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
@@ -690,6 +705,8 @@ impl MeshTable {
             tip_contact: f & 0x100 != 0,
             separated: ALL && f & 0xff == 0,
             back_contact: f & 0x200 != 0,
+            root_stress_p: if ALL { (v[V_ROOT_STRESS_P] * dist).max(0.0) } else { 0.0 },
+            root_stress_g: if ALL { (v[V_ROOT_STRESS_G] * dist).max(0.0) } else { 0.0 },
             ..MeshOutputs::default()
         };
         if ALL {

@@ -114,7 +114,8 @@ class HgmOutputs(ctypes.Structure):
         ("n_pairs", ctypes.c_uint32), ("tip_contact", ctypes.c_bool),
         ("separated", ctypes.c_bool), ("back_contact", ctypes.c_bool),
         ("force_p", ctypes.c_double * 3), ("moment_p", ctypes.c_double * 2),
-        ("force_g", ctypes.c_double * 3), ("moment_g", ctypes.c_double * 2)]
+        ("force_g", ctypes.c_double * 3), ("moment_g", ctypes.c_double * 2),
+        ("root_stress_p", ctypes.c_double), ("root_stress_g", ctypes.c_double)]
 
 
 @pytest.fixture(scope="module")
@@ -154,7 +155,9 @@ def test_vectorised_evaluate_equals_the_c_api_bit_for_bit(capi):
             assert capi.hgm_evaluate(h, *s, ctypes.byref(o)) == 0
             for py_name, c_name in [("M_F_p", "m_f_p"), ("M_F_g", "m_f_g"), ("M_D_p", "m_d_p"),
                                     ("M_D_g", "m_d_g"), ("TE", "te"), ("F_n", "f_n"),
-                                    ("contact_length", "contact_length"), ("p_max", "p_max")]:
+                                    ("contact_length", "contact_length"), ("p_max", "p_max"),
+                                    ("sigma_F_p", "root_stress_p"),
+                                    ("sigma_F_g", "root_stress_g")]:
                 a, b = out[py_name][idx], getattr(o, c_name)
                 assert a.tobytes() == np.float64(b).tobytes(), (py_name, idx, a, b)
             forces = list(o.force_p) + list(o.moment_p) + list(o.force_g) + list(o.moment_g)

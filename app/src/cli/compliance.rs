@@ -36,17 +36,20 @@ const STIFFNESS_SLICES: usize = 200;
 /// Runs `helical-gear compliance`: loads (or, with `--write-cache` or a non-default density,
 /// computes) the FE compliance data, prints the fit quality and the tooth-pair stiffness at the
 /// pitch point (c′ in N/(mm·µm), with its split into global and local approach) under the
-/// torque of the drive line of `--drive`, as text or JSON.
+/// torque of the drive line of `--drive`, as text or JSON. `--write-root-stress` writes the
+/// root-stress influence of the same (fresh) FE run.
 pub fn compliance_cmd(
     common: &Common,
     drive: &DriveArg,
     write_cache: Option<&std::path::Path>,
+    write_root_stress: Option<&std::path::Path>,
     density: DensityArg,
 ) -> Result<(), String> {
     let p = load_params(common)?;
     let torque = load_drive(drive)?.torque_nm;
     let geo = PairGeometry::new(&p).map_err(|e| e.to_string())?;
-    let data = if write_cache.is_some() || density != DensityArg::Default {
+    let fresh = write_cache.is_some() || write_root_stress.is_some();
+    let data = if fresh || density != DensityArg::Default {
         let d = ComplianceData::compute(
             &p,
             &density.density(),
@@ -62,6 +65,11 @@ pub fn compliance_cmd(
     if let Some(path) = write_cache {
         data.write_file(path).map_err(|e| e.to_string())?;
         eprintln!("compliance data written to {}", path.display());
+    }
+    if let Some(path) = write_root_stress {
+        let stress = data.root_stress().ok_or("the FE run gave no root-stress data")?;
+        stress.write_file(path).map_err(|e| e.to_string())?;
+        eprintln!("root-stress data written to {}", path.display());
     }
     let st = data.pair_stiffness(&geo, STIFFNESS_SLICES, torque).map_err(|e| e.to_string())?;
     let shares = st.shares();

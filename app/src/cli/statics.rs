@@ -88,6 +88,8 @@ pub fn static_cmd(
             moment_p_nm: e.outputs.moment_p,
             force_g_n: e.outputs.force_g,
             moment_g_nm: e.outputs.moment_g,
+            root_stress_p_pa: e.outputs.root_stress_p,
+            root_stress_g_pa: e.outputs.root_stress_g,
         })
         .collect();
     // The shared static record (per-point arrays and summary), then the face load and the
@@ -143,6 +145,11 @@ pub fn static_cmd(
                 e.as_deref().unwrap_or("no reason given")
             ),
         }
+        println!(
+            "  tooth-root stress max: pinion {:.1} MPa, gear {:.1} MPa",
+            record.curve.root_stress_max_p_pa * 1e-6,
+            record.curve.root_stress_max_g_pa * 1e-6
+        );
         println!(
             "  K_Hβ max {:.4}, of the cycle-averaged line load {:.4}; ISO 6336-1 method C {:.4} \
              (F_βy = {:.2} µm, c_γ = {:.2} N/(mm·µm))",

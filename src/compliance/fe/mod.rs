@@ -16,6 +16,7 @@
 //!
 //! Meshes are built from mapped structured blocks glued by node merging ([`mesh`]); the mesh
 //! of a whole helical gear (teeth, fillets, web to the bore) is built by [`gear_mesh`].
+//! Stresses at a point (in particular at a free surface) are recovered by [`stress`].
 //!
 //! ```
 //! use helical_gear_mesh::compliance::fe::{FeModel, Material, Mesh, dof};
@@ -38,6 +39,7 @@ pub mod gear_mesh;
 pub mod material;
 pub mod mesh;
 pub mod solver;
+pub mod stress;
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Instant;

@@ -44,6 +44,8 @@ pub(crate) fn write_mesh_outputs(m: &MeshOutputs, o: &mut OutputValues) {
     o.reals[15] = m.force_g[2]; // F_g_z, N
     o.reals[16] = m.moment_g[0]; // M_g_x, N·m
     o.reals[17] = m.moment_g[1]; // M_g_y, N·m
+    o.reals[18] = m.root_stress_p; // sigma_F_p, Pa
+    o.reals[19] = m.root_stress_g; // sigma_F_g, Pa
 }
 
 /// Every model of the family, in the order of the documentation.

@@ -320,6 +320,8 @@ fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow
             m[1] / dist,
             model.workspace().first_moment(),
         ]);
+        // The block of the root stresses.
+        values.extend_from_slice(&[o.root_stress_p / dist, o.root_stress_g / dist]);
         flags.push(
             (o.n_pairs.min(255) as u16)
                 | if o.tip_contact { 0x100 } else { 0 }
