@@ -329,6 +329,11 @@ pub struct SweepRecord {
     /// mesh cycle at the same torque, at each speed (the dynamic factor to compare with
     /// ISO 6336-1's K_v); null for a mesh without contact geometry.
     pub mesh_force_max_over_static: Vec<Option<f64>>,
+    /// Peak tooth-root stress over the steady window / the largest static root stress over a
+    /// mesh cycle at the same torque, the larger of pinion and gear (each against its own
+    /// static peak), at each speed: the dynamic factor of the root stress; null for a mesh
+    /// without FE data.
+    pub root_stress_max_over_static: Vec<Option<f64>>,
     /// Period of the steady TE in mesh periods.
     pub period_multiple: Vec<usize>,
     /// Mesh periods integrated at each speed.
@@ -368,6 +373,7 @@ impl SweepRecord {
             tip_contact: pts.iter().map(|p| p.tip_contact).collect(),
             steady: pts.iter().map(|p| p.steady).collect(),
             mesh_force_max_over_static: pts.iter().map(|p| p.over_static.mesh_force).collect(),
+            root_stress_max_over_static: pts.iter().map(|p| p.over_static.root_stress).collect(),
             period_multiple: pts.iter().map(|p| p.period_multiple).collect(),
             periods: pts.iter().map(|p| p.periods).collect(),
             resonances_rad_s: r.resonances.iter().map(|x| x.omega_p).collect(),
@@ -401,6 +407,8 @@ impl SweepRecord {
         finite_all("te_min_over_ste_max", &self.te_min_over_ste_max)?;
         let ratios: Vec<f64> = self.mesh_force_max_over_static.iter().flatten().copied().collect();
         finite_all("mesh_force_max_over_static", &ratios)?;
+        let ratios: Vec<f64> = self.root_stress_max_over_static.iter().flatten().copied().collect();
+        finite_all("root_stress_max_over_static", &ratios)?;
         finite_all("periods", &self.periods)?;
         finite_all("resonances_rad_s", &self.resonances_rad_s)?;
         finite_all("resonance_te_max_over_ste_max", &self.resonance_te_max_over_ste_max)?;

@@ -422,7 +422,7 @@ fn fmi2ok() -> helical_gear_mesh::fmi2::types::fmi2Status {
 /// response is quasi-static (the factor tends to 1 from above, as TE_max/STE_max does);
 /// it follows TE_max/STE_max, since the force is the mesh's stiffness times TE.
 #[test]
-fn sweep_reports_the_peak_mesh_force_over_the_static_peak() {
+fn sweep_reports_the_peak_mesh_force_and_root_stress_over_their_static_peaks() {
     use helical_gear_mesh::DriveLine;
     use helical_gear_mesh::dynamics::{Drivetrain, SweepOptions, sweep};
     let pair = GearPair::paper_table1();
@@ -441,9 +441,16 @@ fn sweep_reports_the_peak_mesh_force_over_the_static_peak() {
         );
         assert!(f.is_finite() && f > 0.9, "{f}");
         assert!((f - p.te_max_over_ste_max).abs() < 0.1 * p.te_max_over_ste_max, "{f}");
+        // The root stress is linear in the loads (`compliance::root_stress`): its dynamic
+        // factor follows the same load amplification.
+        let s = p.over_static.root_stress.expect("a mesh with FE data");
+        eprintln!("ω_p {}: σ_F,max/σ_F,static {s:.4}", p.omega_p);
+        assert!(s.is_finite() && s > 0.9, "{s}");
+        assert!((s - p.te_max_over_ste_max).abs() < 0.15 * p.te_max_over_ste_max, "{s}");
     }
     let record = helical_gear_mesh::results::SweepRecord::new(&r, &speeds);
     assert_eq!(record.mesh_force_max_over_static.len(), 2);
+    assert_eq!(record.root_stress_max_over_static.len(), 2);
     record.check_finite().unwrap();
 }
 

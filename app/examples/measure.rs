@@ -640,6 +640,8 @@ struct StressRow {
     nominal: f64,
     /// FE wall time of both gears, s.
     fe_s: f64,
+    /// ISO 6336-3 method B nominal root stress σ_F0 of pinion and gear at the same torque, Pa.
+    iso: [f64; 2],
 }
 
 /// The designs of the root-stress page: Table 1, its spur variant, and a wider variant with a
@@ -679,6 +681,11 @@ fn static_root_stress(
         sigma_g: max(|o| o.root_stress_g),
         nominal: torque / geo.pinion.r / (pair.face_width_m * pair.normal_module_m),
         fe_s: data.fe_seconds(),
+        iso: {
+            let r =
+                nominal_root_stress(pair, &geo, torque).map_err(|e| format!("{design}: {e}"))?;
+            [r.pinion.sigma_f0_pa, r.gear.sigma_f0_pa]
+        },
     };
     eprintln!(
         "stress: {design}, {density_name}: σ_F p {:.2} MPa, g {:.2} MPa (FE {:.1} s)",
@@ -695,11 +702,14 @@ fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut md = header("Tooth-root stress from the FE model", "stress");
     md.push_str(
         "The largest maximum principal stress at the tension-side root fillets \
-         (`MeshOutputs::root_stress_p`, `root_stress_g`; method: `docs/loads-root-stress.md`) \
+         (`MeshOutputs::root_stress_p`, `root_stress_g`; method: `docs/loads.md`) \
          at the static equilibrium of 100 N·m on the pinion, the largest over 32 pinion angles \
          of one pitch, full fidelity with 200 slices. `F_t/(b·m_n)` is the nominal bending \
          stress (F_t = M/r at the reference circle); the ratios are the stress over it. FE data \
-         computed afresh for every row (the time is both gears' FE run).\n\n",
+         computed afresh for every row (the time is both gears' FE run). Beside it the nominal \
+         tooth-root stress σ_F0 of ISO 6336-3:2006 method B at the same torque (the library's \
+         `iso6336`, [docs/iso6336.md](../iso6336.md)); why the two differ: \
+         [docs/loads.md](../loads.md#fe-root-stress-against-iso-6336-3).\n\n",
     );
     let mut rows = Vec::new();
     let t1 = GearPair::paper_table1();
@@ -726,6 +736,10 @@ fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
         "σ_F,p / nominal",
         "σ_F,g / nominal",
         "FE, s",
+        "ISO σ_F0 pinion, MPa",
+        "ISO σ_F0 gear, MPa",
+        "σ_F,p / σ_F0,p",
+        "σ_F,g / σ_F0,g",
     ];
     let cells = |r: &StressRow| -> Vec<String> {
         vec![
@@ -737,6 +751,10 @@ fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
             format!("{:.3}", r.sigma_p / r.nominal),
             format!("{:.3}", r.sigma_g / r.nominal),
             format!("{:.1}", r.fe_s),
+            format!("{:.2}", r.iso[0] * 1e-6),
+            format!("{:.2}", r.iso[1] * 1e-6),
+            format!("{:.3}", r.sigma_p / r.iso[0]),
+            format!("{:.3}", r.sigma_g / r.iso[1]),
         ]
     };
     md.push_str("## Convergence in the FE mesh density (Table 1)\n\n");
@@ -774,13 +792,14 @@ fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
         writeln!(md, "| {fidelity:?} | {without:.2} | {with:.2} | {:.3} |", with / without).ok();
         eprintln!("stress: {fidelity:?}: {without:.2} µs without, {with:.2} µs with root stress");
     }
-    let mut csv =
-        String::from("design,density,root_stress_max_p_pa,root_stress_max_g_pa,nominal_pa,fe_s\n");
+    let mut csv = String::from(
+        "design,density,root_stress_max_p_pa,root_stress_max_g_pa,nominal_pa,fe_s,iso_sigma_f0_p_pa,iso_sigma_f0_g_pa\n",
+    );
     for r in &rows {
         writeln!(
             csv,
-            "\"{}\",{},{:.6e},{:.6e},{:.6e},{:.2}",
-            r.design, r.density, r.sigma_p, r.sigma_g, r.nominal, r.fe_s
+            "\"{}\",{},{:.6e},{:.6e},{:.6e},{:.2},{:.6e},{:.6e}",
+            r.design, r.density, r.sigma_p, r.sigma_g, r.nominal, r.fe_s, r.iso[0], r.iso[1]
         )
         .ok();
     }

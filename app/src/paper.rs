@@ -13,7 +13,9 @@
 //! 2. **Sweeps**: steady TE_max/STE_max over the pinion speed for d_mesh = 100 and 200 N·s/m
 //!    (Fig. 9), table fidelity, with the separation flags and the resonances. The main
 //!    resonance ω_crit is the highest peak; the second and third are the peaks nearest
-//!    ω_crit/2 and ω_crit/3 (each within ±20 %).
+//!    ω_crit/2 and ω_crit/3 (each within ±20 %). Beside it, the dynamic factors of the loads
+//!    (`dynamic_factors.csv/.png`): per speed the peak mesh force |F_p| and the peak
+//!    tooth-root stress over the steady window, each over its static peak at the same torque.
 //! 3. **Fig. 10**: TE over three mesh periods of the steady state at the 2nd and 3rd resonance.
 //! 4. **Dynamic waterfalls** (Figs. 11–13): at the paper's speeds 220, 330, 570 rad/s and at
 //!    this model's equivalents ω_crit/3, ω_crit/2, ω_crit·570/660 and at ω_crit, the steady
@@ -129,6 +131,12 @@ pub struct SweepRow {
     pub tip_contact: bool,
     /// Steady state detected.
     pub steady: bool,
+    /// Peak |F_p| over the steady window / the largest static |F_p| over a mesh cycle
+    /// (the dynamic factor of the mesh force; `None` without contact geometry).
+    pub mesh_force_max_over_static: Option<f64>,
+    /// Peak tooth-root stress over the steady window / its static peak, the larger of pinion
+    /// and gear (the dynamic factor of the root stress; `None` without FE data).
+    pub root_stress_max_over_static: Option<f64>,
 }
 
 /// Summary of one speed sweep.
@@ -368,6 +376,8 @@ fn summarise(result: SweepResult, d: f64, reading: DampingReading, d_model: f64)
             separated: p.separated,
             tip_contact: p.tip_contact,
             steady: p.steady,
+            mesh_force_max_over_static: p.over_static.mesh_force,
+            root_stress_max_over_static: p.over_static.root_stress,
         })
         .collect();
     rows.sort_by(|a, b| a.omega_p_rad_s.total_cmp(&b.omega_p_rad_s));
@@ -532,10 +542,10 @@ pub fn run_paper(
 
     // Stage 1: static analysis (full fidelity).
     let full_opts = MeshOptions { slices: opts.slices, ..MeshOptions::default() }.sized_for(drive);
-    let build = |o: MeshOptions, p: &GearCompliance, g: &GearCompliance| {
-        Mesh::with_compliance(pair, o, p.clone(), g.clone()).map_err(mesh_err)
-    };
-    let mut full = build(full_opts, &cp, &cg)?;
+    // From the data, so the mesh also carries the FE root-stress influence (the dynamic
+    // factor of the root stress beside Fig. 9); the compliances are those of `cp`, `cg`.
+    let build = |o: MeshOptions| Mesh::from_data(pair, o, &data).map_err(mesh_err);
+    let mut full = build(full_opts)?;
     let geo = full.geometry().clone();
     let pitch = geo.pinion.angular_pitch();
     let torque = drive.torque_nm;
@@ -572,7 +582,7 @@ pub fn run_paper(
 
     // Stage 2: table model and the two sweeps.
     let table_opts = MeshOptions { fidelity: Fidelity::Table, ..full_opts };
-    let table = build(table_opts, &cp, &cg)?;
+    let table = build(table_opts)?;
     let drive = Drivetrain::new(table.geometry(), drive).map_err(mesh_err)?;
     let ctx = Ctx { opts, drive, table };
     st.done("table surrogate", "");
@@ -584,6 +594,7 @@ pub fn run_paper(
     let s200 = ctx.run_sweep(&ctx.table, &ctx.drive, 200.0, lit, extent, &speeds, refine)?;
     st.done("sweep d_mesh = 200 N·s/m", &format!("{} runs", s200.summary.rows.len()));
     figure_9(out, &[&s100.summary, &s200.summary])?;
+    figure_dynamic_factors(out, &[&s100.summary, &s200.summary])?;
     let (w_crit, w2, w3) =
         pick_resonances(&s100.summary).ok_or("the d_mesh = 100 N·s/m sweep found no resonance")?;
     let max_step = s100.result.max_step;
@@ -1239,6 +1250,54 @@ fn figure_9_named(dir: &Path, name: &str, sweeps: &[&SweepSummary]) -> Result<()
         "Maximum dynamic TE over maximum static TE (Fig. 9)".into(),
         "pinion speed ω_p (rad/s)",
         "TE_max / STE_max",
+        series,
+    )
+}
+
+/// The dynamic factors of the loads beside Fig. 9: per speed, the peak mesh force |F_p| and
+/// the peak tooth-root stress over the steady window, each over its static peak at the same
+/// torque (the quantities engineers compare with ISO 6336-1's K_v), for both dampings:
+/// `dynamic_factors.csv/.png`.
+fn figure_dynamic_factors(dir: &Path, sweeps: &[&SweepSummary]) -> Result<(), String> {
+    let mut csv = String::from(
+        "d_mesh_n_s_per_m,omega_p_rad_s,te_max_over_ste_max,mesh_force_max_over_static,\
+         root_stress_max_over_static\n",
+    );
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
+    let mut series = Vec::new();
+    for s in sweeps {
+        let mut rows: Vec<&SweepRow> = s.rows.iter().collect();
+        rows.sort_by(|a, b| a.omega_p_rad_s.total_cmp(&b.omega_p_rad_s));
+        for r in &rows {
+            csv.push_str(&format!(
+                "{},{:e},{:e},{},{}\n",
+                s.d_mesh_n_s_per_m,
+                r.omega_p_rad_s,
+                r.te_max_over_ste_max,
+                opt(r.mesh_force_max_over_static),
+                opt(r.root_stress_max_over_static)
+            ));
+        }
+        let pick = |f: fn(&SweepRow) -> Option<f64>| -> Vec<(f64, f64)> {
+            rows.iter().filter_map(|r| f(r).map(|v| (r.omega_p_rad_s, v))).collect()
+        };
+        series.push((
+            format!("mesh force, d_mesh = {} N·s/m", s.d_mesh_n_s_per_m),
+            pick(|r| r.mesh_force_max_over_static),
+        ));
+        series.push((
+            format!("root stress, d_mesh = {} N·s/m", s.d_mesh_n_s_per_m),
+            pick(|r| r.root_stress_max_over_static),
+        ));
+    }
+    write_text(&dir.join("dynamic_factors.csv"), &csv)?;
+    series.retain(|(_, pts)| !pts.is_empty());
+    line_png(
+        dir,
+        "dynamic_factors.png",
+        "Peak mesh force and root stress over their static peaks".into(),
+        "pinion speed ω_p (rad/s)",
+        "dynamic / static peak",
         series,
     )
 }

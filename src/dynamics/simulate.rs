@@ -475,6 +475,10 @@ pub struct SteadyResponse {
     /// steady window (the samples that give `te_max` and `te_min`), N (0 for a mesh without
     /// contact geometry, e.g. the analytic test meshes).
     pub force_p_max: f64,
+    /// Largest tooth-root stress of the pinion and of the gear ([`crate::mesh::MeshOutputs`]'s
+    /// `root_stress_p`, `root_stress_g`) over the same recorded points, Pa (0 for a mesh
+    /// without FE data).
+    pub root_stress_max: [f64; 2],
     /// Recorded points of the steady window (RK4: every step; DOPRI5: every accepted step);
     /// empty unless [`SteadyRunOptions::keep_window`].
     pub window: Vec<WindowSample>,
@@ -736,6 +740,7 @@ pub fn run_to_steady<M: MeshTorques>(
     let mut window = Vec::new();
     let (mut separated, mut tip_contact, mut back_contact) = (false, false, false);
     let mut force_p_max: f64 = 0.0;
+    let mut root_stress_max = [0.0f64; 2];
     for (t, ys, o) in ring.iter().filter(|r| r.0 >= t_from) {
         let o = match o {
             Some(o) => *o,
@@ -745,6 +750,8 @@ pub fn run_to_steady<M: MeshTorques>(
         tip_contact |= o.tip_contact;
         back_contact |= o.back_contact;
         force_p_max = force_p_max.max(norm3(o.force_p));
+        root_stress_max[0] = root_stress_max[0].max(o.root_stress_p);
+        root_stress_max[1] = root_stress_max[1].max(o.root_stress_g);
         if opts.keep_window {
             window.push(WindowSample { t: *t, y: *ys, outputs: o });
         }
@@ -764,6 +771,7 @@ pub fn run_to_steady<M: MeshTorques>(
         tip_contact,
         back_contact,
         force_p_max,
+        root_stress_max,
         window,
         steps,
         samples_per_period: n,

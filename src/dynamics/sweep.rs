@@ -140,6 +140,9 @@ pub struct SweepPoint {
 pub struct StaticPeaks {
     /// Largest |F_p| over the static curve, N (0 for a mesh without contact geometry).
     pub force_p_max: f64,
+    /// Largest tooth-root stress of the pinion and of the gear over the static curve, Pa (0
+    /// for a mesh without FE data).
+    pub root_stress_max: [f64; 2],
 }
 
 impl StaticPeaks {
@@ -150,7 +153,11 @@ impl StaticPeaks {
             .iter()
             .map(|e| super::simulate::norm3(e.outputs.force_p))
             .fold(0.0, f64::max);
-        Self { force_p_max }
+        let root_stress_max = [
+            curve.points.iter().map(|e| e.outputs.root_stress_p).fold(0.0, f64::max),
+            curve.points.iter().map(|e| e.outputs.root_stress_g).fold(0.0, f64::max),
+        ];
+        Self { force_p_max, root_stress_max }
     }
 }
 
@@ -161,13 +168,22 @@ impl StaticPeaks {
 pub struct PeakOverStatic {
     /// max |F_p| over the steady window / max |F_p| over the static curve.
     pub mesh_force: Option<f64>,
+    /// The tooth-root stress: the larger of the pinion's and the gear's max σ_F over the
+    /// steady window / their max σ_F over the static curve (each gear against its own static
+    /// peak).
+    pub root_stress: Option<f64>,
 }
 
 impl PeakOverStatic {
     /// The ratios of the steady response `r` against `statics`.
     pub fn new(r: &SteadyResponse, statics: &StaticPeaks) -> Self {
         let ratio = |peak: f64, reference: f64| (reference > 0.0).then(|| peak / reference);
-        Self { mesh_force: ratio(r.force_p_max, statics.force_p_max) }
+        let stress = |k: usize| ratio(r.root_stress_max[k], statics.root_stress_max[k]);
+        let root_stress = match (stress(0), stress(1)) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+        Self { mesh_force: ratio(r.force_p_max, statics.force_p_max), root_stress }
     }
 }
 
