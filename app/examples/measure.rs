@@ -27,7 +27,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use helical_gear_app::bench::cpu_model;
+use helical_gear_app::bench::{cpu_model, utc_now};
 use helical_gear_mesh::compliance::fe::gear_mesh::{GearMesh, GearMeshDensity};
 use helical_gear_mesh::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence};
 use helical_gear_mesh::dynamics::{DriveUnit, Drivetrain, UnitKind, UnitStepping};
@@ -127,21 +127,9 @@ fn write(dir: &Path, name: &str, text: &str) -> Result<PathBuf, String> {
     Ok(p)
 }
 
-/// Today's date (UTC) as YYYY-MM-DD, from the system clock (civil-from-days).
+/// Today's date (UTC) as YYYY-MM-DD (the date part of the benchmark's [`utc_now`]).
 fn today_utc() -> String {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs()) as i64;
-    let z = secs.div_euclid(86_400) + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    format!("{y:04}-{m:02}-{d:02}")
+    utc_now()[..10].to_string()
 }
 
 /// The 1-minute load average (`/proc/loadavg`), or "unknown".

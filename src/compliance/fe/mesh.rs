@@ -283,15 +283,7 @@ impl Mesh {
     pub fn locate(&self, x: [f64; 3]) -> Option<(usize, [f64; 3])> {
         for e in 0..self.elements.len() {
             let c = self.element_coords(e)?;
-            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-            for p in &c {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
-            }
-            let margin = 0.02 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
-            if (0..3).any(|k| x[k] < lo[k] - margin || x[k] > hi[k] + margin) {
+            if !in_widened_box(&c, x) {
                 continue;
             }
             if let Some(xi) = element::natural_coordinates(&c, x) {
@@ -383,6 +375,20 @@ impl Mesh {
         }
         Ok(out)
     }
+}
+
+/// True when `x` lies in the bounding box of the element nodes `c`, widened on every side by
+/// 2 % of the sum of its edge lengths (the candidate test before the inverse isoparametric map).
+pub(crate) fn in_widened_box(c: &[[f64; 3]], x: [f64; 3]) -> bool {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in c {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let margin = 0.02 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
+    (0..3).all(|k| x[k] >= lo[k] - margin && x[k] <= hi[k] + margin)
 }
 
 #[cfg(test)]

@@ -122,15 +122,7 @@ pub fn locate_near_surface(mesh: &Mesh, x: [f64; 3], tol: f64) -> Option<(usize,
     let mut best: Option<(f64, usize, [f64; 3])> = None;
     for e in 0..mesh.elements.len() {
         let c = mesh.element_coords(e)?;
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for p in &c {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let margin = 0.02 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
-        if (0..3).any(|k| x[k] < lo[k] - margin || x[k] > hi[k] + margin) {
+        if !super::mesh::in_widened_box(&c, x) {
             continue;
         }
         if let Some(xi) = element::natural_coordinates(&c, x) {
