@@ -10,6 +10,45 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
+echo "== what a fresh machine needs: cargo with rustfmt and clippy, Python >= 3.11 with venv"
+missing=()
+command -v cargo >/dev/null || missing+=("cargo (the Rust toolchain: https://rustup.rs)")
+cargo fmt --version >/dev/null 2>&1 || missing+=("rustfmt (rustup component add rustfmt)")
+cargo clippy --version >/dev/null 2>&1 || missing+=("clippy (rustup component add clippy)")
+if ! python3 -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)' 2>/dev/null; then
+  missing+=("Python >= 3.11 as python3")
+elif ! python3 -c 'import venv, ensurepip' 2>/dev/null; then
+  missing+=("Python's venv module with ensurepip (Debian/Ubuntu: apt-get install python3-venv)")
+fi
+if [ "${#missing[@]}" -gt 0 ]; then
+  printf 'test.sh: missing: %s\n' "${missing[@]}" >&2
+  exit 1
+fi
+
+# Offline cargo tools must not depend on what an earlier build happened to download: a cargo
+# home that holds only the host's crates (what a fresh Linux build downloads) is handed to the
+# tests that run cargo offline (tests/dependencies.rs reads HGM_HOST_ONLY_CARGO_HOME).
+echo "== a cargo home with only the host's crates, for the offline tools"
+host=$(rustc -vV | sed -n 's/^host: //p')
+host_only_home=$(mktemp -d)
+trap 'rm -rf "$host_only_home"' EXIT
+# The user's cargo configuration (a registry mirror, say) applies there too.
+for f in config.toml config; do
+  [ -f "${CARGO_HOME:-$HOME/.cargo}/$f" ] && cp "${CARGO_HOME:-$HOME/.cargo}/$f" "$host_only_home/"
+done
+CARGO_HOME="$host_only_home" cargo fetch --locked --target "$host" --quiet
+export HGM_HOST_ONLY_CARGO_HOME="$host_only_home"
+
+# The declared minimum Rust version (rust-version in Cargo.toml) builds the workspace.
+msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' Cargo.toml)
+echo "== minimum Rust version $msrv: cargo +$msrv check"
+if command -v rustup >/dev/null &&
+  rustup toolchain install "$msrv" --profile minimal >/dev/null 2>&1; then
+  CARGO_TARGET_DIR=target/msrv cargo "+$msrv" check --workspace --all-targets --quiet
+else
+  echo "test.sh: the Rust $msrv toolchain cannot be installed here: the minimum version is not checked"
+fi
+
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
 

@@ -8,6 +8,14 @@
 //! "normal" (not dev, not build), transitively. The resolve unifies features over the whole
 //! workspace, so the closure can only be larger than the library's own: the check errs on the
 //! safe side.
+//!
+//! The graph is read for the host platform only (`--filter-platform`, the host triple of
+//! `rustc -vV`): a build downloads only the host's crates, and without the filter `cargo
+//! metadata --offline` needs the manifest of every platform's crates (Windows-only ones
+//! among them), which a fresh cargo home that has only built for the host does not hold.
+//! With `HGM_HOST_ONLY_CARGO_HOME` set (`./test.sh` sets it to a cargo home into which only
+//! `cargo fetch --target <host>` has downloaded), the metadata is read from that home, so the
+//! check fails wherever it would need a crate that a fresh machine does not have.
 
 use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
@@ -18,15 +26,29 @@ use serde_json::Value;
 /// Crates that belong to the applications, never to the model library.
 const FORBIDDEN: [&str; 5] = ["clap", "plotters", "ab_glyph", "image", "png"];
 
+/// The host's target triple (`host:` of `rustc -vV`).
+fn host_triple() -> String {
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".to_string());
+    let out = Command::new(rustc).arg("-vV").output().expect("run rustc -vV");
+    let text = String::from_utf8_lossy(&out.stdout);
+    text.lines()
+        .find_map(|l| l.strip_prefix("host: "))
+        .map(|h| h.trim().to_string())
+        .expect("`host:` line in rustc -vV")
+}
+
 /// Names of the packages in the normal dependency closure of `helical_gear_mesh`.
 fn normal_closure() -> BTreeSet<String> {
     let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
-    let out = Command::new(cargo)
-        .args(["metadata", "--format-version", "1", "--offline", "--locked", "--manifest-path"])
-        .arg(&manifest)
-        .output()
-        .expect("run cargo metadata");
+    let mut cmd = Command::new(cargo);
+    cmd.args(["metadata", "--format-version", "1", "--offline", "--locked"])
+        .args(["--filter-platform", &host_triple(), "--manifest-path"])
+        .arg(&manifest);
+    if let Some(home) = std::env::var_os("HGM_HOST_ONLY_CARGO_HOME") {
+        cmd.env("CARGO_HOME", home);
+    }
+    let out = cmd.output().expect("run cargo metadata");
     assert!(out.status.success(), "cargo metadata: {}", String::from_utf8_lossy(&out.stderr));
     let meta: Value = serde_json::from_slice(&out.stdout).expect("cargo metadata JSON");
     let names: HashMap<&str, &str> = meta["packages"]
