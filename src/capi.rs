@@ -385,18 +385,13 @@ fn check_finite(values: &[(&str, f64)]) -> Result<(), (HgmStatus, String)> {
     }
 }
 
-/// [`check_finite`] over the mesh outputs.
+/// [`check_finite`] over every Real field of the mesh outputs (the core's one table of them,
+/// `mesh::outputs::MESH_OUTPUT_FIELDS`), naming the field of `HgmOutputs`.
 fn check_mesh_outputs(o: &MeshOutputs) -> Result<(), (HgmStatus, String)> {
-    check_finite(&[
-        ("m_f_p", o.m_f_p),
-        ("m_f_g", o.m_f_g),
-        ("m_d_p", o.m_d_p),
-        ("m_d_g", o.m_d_g),
-        ("te", o.te),
-        ("f_n", o.f_n),
-        ("contact_length", o.contact_length),
-        ("p_max", o.p_max),
-    ])
+    match crate::mesh::outputs::first_non_finite(o) {
+        None => Ok(()),
+        Some((name, v)) => check_finite(&[(name, v)]),
+    }
 }
 
 fn model_err(e: impl std::fmt::Display) -> (HgmStatus, String) {
@@ -593,26 +588,8 @@ pub unsafe extern "C" fn hgm_unit_outputs(u: *mut HgmUnit, out: *mut UnitOutputs
             return Err(invalid_arg("`out` is NULL"));
         }
         let o: UnitOutputs = h.unit.outputs().map_err(model_err)?;
-        check_mesh_outputs(&o.mesh)?;
-        check_finite(&[
-            ("t", o.t),
-            ("phi_p", o.phi_p),
-            ("w_p", o.w_p),
-            ("a_p", o.a_p),
-            ("phi_g", o.phi_g),
-            ("w_g", o.w_g),
-            ("a_g", o.a_g),
-            ("phi_1", o.phi_1),
-            ("w_1", o.w_1),
-            ("phi_2", o.phi_2),
-            ("w_2", o.w_2),
-            ("tau_1", o.tau_1),
-            ("tau_2", o.tau_2),
-            ("tau_p", o.tau_p),
-            ("tau_g", o.tau_g),
-        ])?;
-        if let Some(v) = o.dydt.iter().find(|v| !v.is_finite()) {
-            check_finite(&[("dydt", *v)])?;
+        if let Some((name, v)) = o.first_non_finite() {
+            check_finite(&[(&name, v)])?;
         }
         // SAFETY: non-null, caller contract.
         unsafe { out.write(o) };
@@ -689,5 +666,64 @@ pub unsafe extern "C" fn hgm_unit_free(u: *mut HgmUnit) {
             // SAFETY: created by Box::into_raw in hgm_unit_create (caller contract).
             drop(unsafe { Box::from_raw(u) });
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS};
+
+    /// A non-finite value planted in each Real field of the mesh outputs in turn is refused
+    /// with a message naming that field of `HgmOutputs`; each field of the unit outputs
+    /// likewise.
+    #[test]
+    fn every_non_finite_output_field_is_refused_by_name() {
+        let mut planted = 0;
+        for f in &MESH_OUTPUT_FIELDS {
+            let FieldAccess::Real { get_mut, .. } = f.access else { continue };
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut o = MeshOutputs::default();
+                assert!(check_mesh_outputs(&o).is_ok());
+                *get_mut(&mut o) = bad;
+                let (status, msg) = check_mesh_outputs(&o).unwrap_err();
+                assert_eq!(status, HgmStatus::ModelError);
+                assert!(msg.contains(&format!("output `{}` = {bad}", f.c_field)), "{msg}");
+                let mut u = UnitOutputs { mesh: o, ..UnitOutputs::default() };
+                let (name, _) = u.first_non_finite().expect("planted in the mesh outputs");
+                assert_eq!(name, format!("mesh.{}", f.c_field));
+                *get_mut(&mut u.mesh) = 0.0;
+                assert_eq!(u.first_non_finite(), None);
+            }
+            planted += 1;
+        }
+        assert_eq!(planted, 20, "every Real mesh output");
+        for (k, (name, _, _)) in crate::dynamics::unit::UNIT_OUTPUT_FIELDS.iter().enumerate() {
+            // Each scalar field by its position in the repr(C) struct: t, then the fields in
+            // table order, checked against the table's reader.
+            let mut u = UnitOutputs::default();
+            let fields: [&mut f64; 15] = [
+                &mut u.t,
+                &mut u.phi_p,
+                &mut u.w_p,
+                &mut u.a_p,
+                &mut u.phi_g,
+                &mut u.w_g,
+                &mut u.a_g,
+                &mut u.phi_1,
+                &mut u.w_1,
+                &mut u.phi_2,
+                &mut u.w_2,
+                &mut u.tau_1,
+                &mut u.tau_2,
+                &mut u.tau_p,
+                &mut u.tau_g,
+            ];
+            *fields.into_iter().nth(k).unwrap() = f64::NAN;
+            assert_eq!(u.first_non_finite().map(|x| x.0), Some((*name).to_string()));
+        }
+        let mut u = UnitOutputs::default();
+        u.dydt[5] = f64::INFINITY;
+        assert_eq!(u.first_non_finite().map(|x| x.0), Some("dydt[5]".to_string()));
     }
 }

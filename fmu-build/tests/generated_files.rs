@@ -118,3 +118,63 @@ fn c_api_structs_are_the_library_types() {
     assert!(header.contains("double dydt[HGM_N_STATES];"));
     assert!(header.contains("HgmOutputs mesh;"));
 }
+
+/// The header's `HgmOutputs` has exactly the fields of the core's one table of the mesh
+/// outputs (`mesh::outputs::MESH_OUTPUT_FIELDS`), in its order, each commented with the
+/// table's unit; `HgmUnitOutputs` has the scalar fields of `dynamics::unit::UNIT_OUTPUT_FIELDS`.
+#[test]
+fn c_output_structs_follow_the_core_output_tables() {
+    use fmu_build::headers::capi_header;
+    use helical_gear_mesh::dynamics::unit::UNIT_OUTPUT_FIELDS;
+    use helical_gear_mesh::mesh::outputs::MESH_OUTPUT_FIELDS;
+    let header = capi_header(&fmu_build::workspace_root()).expect("header generates");
+    // (member as written, e.g. `force_p[3]`, and the comment block above it) of `name`.
+    let members = |name: &str| -> Vec<(String, String)> {
+        let end = header.find(&format!("}} {name};")).unwrap_or_else(|| panic!("{name}"));
+        let start = header[..end].rfind("typedef struct").expect("struct start");
+        let (mut out, mut comment) = (Vec::new(), String::new());
+        for line in header[start..end].lines().skip(1) {
+            let t = line.trim();
+            if t.starts_with("/*") || t.starts_with('*') {
+                comment.push_str(t);
+                comment.push(' ');
+            } else if let Some(decl) = t.strip_suffix(';') {
+                let member = decl.rsplit(' ').next().unwrap().to_string();
+                out.push((member, std::mem::take(&mut comment)));
+            }
+        }
+        out
+    };
+    // The table's fields, arrays folded back into their C member (`force_p[0]` .. `[2]`).
+    let mut expected: Vec<(String, &str)> = Vec::new();
+    for f in &MESH_OUTPUT_FIELDS {
+        let base = f.c_field.split('[').next().unwrap();
+        match expected.last_mut() {
+            Some((m, _)) if m.split('[').next() == Some(base) => {
+                let n = f.c_field[base.len() + 1..f.c_field.len() - 1].parse::<usize>().unwrap();
+                *m = format!("{base}[{}]", n + 1);
+            }
+            _ if f.c_field.contains('[') => expected.push((format!("{base}[1]"), f.unit)),
+            _ => expected.push((f.c_field.to_string(), f.unit)),
+        }
+    }
+    let got = members("HgmOutputs");
+    let got_names: Vec<&str> = got.iter().map(|(m, _)| m.as_str()).collect();
+    let want_names: Vec<&str> = expected.iter().map(|(m, _)| m.as_str()).collect();
+    assert_eq!(got_names, want_names, "HgmOutputs against MESH_OUTPUT_FIELDS");
+    for ((member, comment), (_, unit)) in got.iter().zip(&expected) {
+        if !unit.is_empty() {
+            let dotted = unit.replace('.', "·");
+            assert!(
+                comment.contains(&format!(" {dotted}")) || comment.contains(&format!(" {unit}")),
+                "the comment of HgmOutputs.{member} does not give its unit {unit}: {comment}"
+            );
+        }
+    }
+    let unit_members = members("HgmUnitOutputs");
+    for (name, _, _) in &UNIT_OUTPUT_FIELDS {
+        assert!(unit_members.iter().any(|(m, _)| m == name), "HgmUnitOutputs lacks `{name}`");
+    }
+    let scalars = unit_members.iter().filter(|(m, _)| !m.contains('[') && m != "mesh").count();
+    assert_eq!(scalars, UNIT_OUTPUT_FIELDS.len(), "HgmUnitOutputs has scalars not in the table");
+}

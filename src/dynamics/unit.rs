@@ -405,7 +405,43 @@ pub struct UnitOutputs {
     pub mesh: MeshOutputs,
 }
 
+/// The scalar fields of [`UnitOutputs`] besides the mesh outputs and `dydt`: the field name
+/// of `UnitOutputs` and of the C struct `HgmUnitOutputs`, its SI unit, and its reader. The mesh
+/// outputs are described by `mesh::outputs::MESH_OUTPUT_FIELDS`.
+pub const UNIT_OUTPUT_FIELDS: [(&str, &str, fn(&UnitOutputs) -> f64); 15] = [
+    ("t", "s", |o| o.t),
+    ("phi_p", "rad", |o| o.phi_p),
+    ("w_p", "rad/s", |o| o.w_p),
+    ("a_p", "rad/s2", |o| o.a_p),
+    ("phi_g", "rad", |o| o.phi_g),
+    ("w_g", "rad/s", |o| o.w_g),
+    ("a_g", "rad/s2", |o| o.a_g),
+    ("phi_1", "rad", |o| o.phi_1),
+    ("w_1", "rad/s", |o| o.w_1),
+    ("phi_2", "rad", |o| o.phi_2),
+    ("w_2", "rad/s", |o| o.w_2),
+    ("tau_1", "N.m", |o| o.tau_1),
+    ("tau_2", "N.m", |o| o.tau_2),
+    ("tau_p", "N.m", |o| o.tau_p),
+    ("tau_g", "N.m", |o| o.tau_g),
+];
+
 impl UnitOutputs {
+    /// The first value that is not finite, as (field name, value): a scalar field of
+    /// [`UNIT_OUTPUT_FIELDS`], an entry of `dydt` (`dydt[i]`) or a Real mesh output
+    /// (`mesh.` and its field, e.g. `mesh.force_p[0]`).
+    pub fn first_non_finite(&self) -> Option<(String, f64)> {
+        if let Some((name, _, get)) =
+            UNIT_OUTPUT_FIELDS.iter().find(|(_, _, g)| !g(self).is_finite())
+        {
+            return Some(((*name).to_string(), get(self)));
+        }
+        if let Some((i, v)) = self.dydt.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Some((format!("dydt[{i}]"), *v));
+        }
+        crate::mesh::outputs::first_non_finite(&self.mesh).map(|(n, v)| (format!("mesh.{n}"), v))
+    }
+
     /// The value of quantity `q` (in its unit, [`UnitQuantity`]), or `None` for one the
     /// outputs do not hold: the relative coordinates (θ₁, θ₂, θ̇₁, θ̇₂, v_TE) and the driving
     /// torque M (an input).

@@ -38,6 +38,7 @@
 //! [`MODEL_IDENTIFIER`](super::models::mesh::MODEL_IDENTIFIER)).
 
 use crate::dynamics::HubCoupling;
+use crate::mesh::outputs::{MESH_OUTPUT_FIELDS, OutputField, OutputKind};
 use crate::mesh::{ComplianceModel, Fidelity, MeshOptions};
 use crate::options::OptionEnum;
 
@@ -590,24 +591,40 @@ macro_rules! real_param {
     };
 }
 
-/// An output entry.
-macro_rules! output {
-    ($name:literal, $vr:expr, $var:expr, $unit:expr, $disp:expr, $q:expr, $desc:literal,
-     $dep:expr, $access:expr) => {
+/// A mesh output variable: name, unit, description and output slot from entry `$i` of the
+/// core's one table of the mesh outputs ([`MESH_OUTPUT_FIELDS`]); value reference, variability,
+/// display unit, quantity and dependencies are the FMI table's own.
+macro_rules! mesh_output {
+    ($i:expr, $vr:expr, $var:expr, $disp:expr, $q:expr, $dep:expr) => {
         Variable {
-            name: $name,
+            name: MESH_OUTPUT_FIELDS[$i].name,
             vr: $vr,
             causality: Causality::Output,
             variability: $var,
-            description: $desc,
-            unit: $unit,
+            description: MESH_OUTPUT_FIELDS[$i].description,
+            unit: fmi_unit(MESH_OUTPUT_FIELDS[$i].unit),
             display_unit: $disp,
             quantity: $q,
             depends: Some($dep),
-            access: $access,
+            access: mesh_output_access($i),
             ..NONE
         }
     };
+}
+
+/// The FMI unit of a core unit: none for the empty unit of counts and flags.
+const fn fmi_unit(unit: &'static str) -> Option<&'static str> {
+    if unit.is_empty() { None } else { Some(unit) }
+}
+
+/// The output slot of mesh output `i`: its position among the outputs of its type.
+const fn mesh_output_access(i: usize) -> Access {
+    let slot = OutputField::slot(i);
+    match MESH_OUTPUT_FIELDS[i].kind() {
+        OutputKind::Real => Access::RealOutput(slot),
+        OutputKind::Integer => Access::IntOutput(slot),
+        OutputKind::Boolean => Access::BoolOutput(slot),
+    }
 }
 
 const ANGLES: &[&str] = &["phi_p", "phi_g"];
@@ -647,304 +664,78 @@ pub(crate) const LENGTH: Option<&str> = Some("Length");
 pub(crate) const TORQUE: Option<&str> = Some("Torque");
 
 /// The mesh outputs (value references 10–21, the 3D force and moments 400–409, the root
-/// stresses 410–411) with their dependencies in `HelicalGearMesh`, shared by every model.
-/// Their values sit in the first slots of [`OutputValues`] (Real slots 0, 1, 2 … in table
-/// order, likewise Integer and Boolean), written from a [`crate::mesh::MeshOutputs`] by one
-/// function, `fmi2::models::write_mesh_outputs`: a new mesh output is one entry here (with the
-/// next free slot) and one line there.
+/// stresses 410–411) with their dependencies in `HelicalGearMesh`, shared by every model: one
+/// entry per entry of the core's [`MESH_OUTPUT_FIELDS`], in its order (name, unit,
+/// description and slot come from there). Their values sit in the first slots of
+/// [`OutputValues`] (Real slots 0, 1, 2 … in table order, likewise Integer and Boolean),
+/// written from a [`crate::mesh::MeshOutputs`] by `fmi2::models::write_mesh_outputs`, which
+/// loops over the same table: a new mesh output is a field and an entry there, and an entry
+/// here with its value reference and dependencies.
 pub const MESH_OUTPUTS: [Variable; 24] = [
-    output!(
-        "M_F_p",
-        10,
-        Continuous,
-        NM,
-        None,
-        TORQUE,
-        "Elastic mesh torque on the pinion (Eq. 13), N.m; enters the pinion equation with a \
-         minus sign: J_p*phi_p'' = c1*(phi_1 - phi_p) + ... - M_F_p - M_D_p; positive in \
-         normal drive",
-        ELASTIC_DEPS,
-        Access::RealOutput(0)
-    ),
-    output!(
-        "M_F_g",
-        11,
-        Continuous,
-        NM,
-        None,
-        TORQUE,
-        "Elastic mesh torque on the gear (Eq. 13), N.m; enters the gear equation with a minus \
-         sign; M_F_g/M_F_p = g_g/g_p in the plane of action",
-        ELASTIC_DEPS,
-        Access::RealOutput(1)
-    ),
-    output!(
-        "M_D_p",
+    mesh_output!(0, 10, Continuous, None, TORQUE, ELASTIC_DEPS), // "M_F_p"
+    mesh_output!(1, 11, Continuous, None, TORQUE, ELASTIC_DEPS), // "M_F_g"
+    mesh_output!(
+        2,
         12,
         Continuous,
-        NM,
         None,
         TORQUE,
-        "Damping mesh torque on the pinion (Eq. 14, d_mesh), N.m; enters the pinion equation \
-         with a minus sign",
         Depends {
             inputs: ALL_INPUTS,
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::DAMPING,
-        },
-        Access::RealOutput(2)
-    ),
-    output!(
-        "M_D_g",
+        }
+    ), // "M_D_p"
+    mesh_output!(
+        3,
         13,
         Continuous,
-        NM,
         None,
         TORQUE,
-        "Damping mesh torque on the gear (Eq. 14, d_mesh), N.m; enters the gear equation with \
-         a minus sign",
         Depends {
             inputs: ALL_INPUTS,
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::DAMPING,
-        },
-        Access::RealOutput(3)
-    ),
-    output!(
-        "TE",
+        }
+    ), // "M_D_g"
+    mesh_output!(
+        4,
         14,
         Continuous,
-        M,
         Some("um"),
         LENGTH,
-        "Transmission error TE = phi_p*g_p + phi_g*g_g (Eq. 16), m; 0 when ideal unloaded \
-         driving flanks just touch, > 0 when the teeth must deform",
-        Depends { inputs: ANGLES, linear_fixed: true, groups: group::GEOMETRY },
-        Access::RealOutput(4)
-    ),
-    output!(
-        "F_n",
-        15,
-        Continuous,
-        Some("N"),
-        None,
-        Some("Force"),
-        "Total normal contact force of all loaded flanks, N (elastic part, >= 0)",
-        ELASTIC_DEPS,
-        Access::RealOutput(5)
-    ),
-    output!(
-        "contact_length",
-        16,
-        Continuous,
-        M,
-        MM,
-        LENGTH,
-        "Total length of the loaded contact lines, m",
-        ELASTIC_DEPS,
-        Access::RealOutput(6)
-    ),
-    output!(
-        "p_max",
+        Depends { inputs: ANGLES, linear_fixed: true, groups: group::GEOMETRY }
+    ), // "TE"
+    mesh_output!(5, 15, Continuous, None, Some("Force"), ELASTIC_DEPS), // "F_n"
+    mesh_output!(6, 16, Continuous, MM, LENGTH, ELASTIC_DEPS),   // "contact_length"
+    mesh_output!(
+        7,
         17,
         Continuous,
-        PA,
         Some("MPa"),
         Some("Pressure"),
-        "Largest Hertz contact pressure (Eq. 15), Pa; 0 without load or when compute_pressure \
-         is false",
         Depends {
             inputs: ANGLES,
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::PRESSURE,
-        },
-        Access::RealOutput(7)
-    ),
-    output!(
-        "n_pairs",
-        18,
-        Discrete,
-        None,
-        None,
-        None,
-        "Number of tooth pairs carrying load",
-        ELASTIC_DEPS,
-        Access::IntOutput(0)
-    ),
-    output!(
-        "tip_contact",
-        19,
-        Discrete,
-        None,
-        None,
-        None,
-        "True when a loaded contact lies on the tip rounding (or tip edge) of either gear",
-        ELASTIC_DEPS,
-        Access::BoolOutput(0)
-    ),
-    output!(
-        "separated",
-        20,
-        Discrete,
-        None,
-        None,
-        None,
-        "True when no flank carries load (loss of contact)",
-        ELASTIC_DEPS,
-        Access::BoolOutput(1)
-    ),
-    output!(
-        "back_contact",
-        21,
-        Discrete,
-        None,
-        None,
-        None,
-        "True when the back flanks carry load (TE below minus the backlash); the mesh torques \
-         are then negative",
-        ELASTIC_DEPS,
-        Access::BoolOutput(2)
-    ),
-    output!(
-        "F_p_x",
-        400,
-        Continuous,
-        Some("N"),
-        None,
-        Some("Force"),
-        "Force of the mesh on the pinion, x component (from the pinion axis to the gear \
-         axis; < 0 in normal drive: the gears are pushed apart), N (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(8)
-    ),
-    output!(
-        "F_p_y",
-        401,
-        Continuous,
-        Some("N"),
-        None,
-        Some("Force"),
-        "Force of the mesh on the pinion, y component (y = z x x; < 0 in normal drive), N (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(9)
-    ),
-    output!(
-        "F_p_z",
-        402,
-        Continuous,
-        Some("N"),
-        None,
-        Some("Force"),
-        "Force of the mesh on the pinion, z component (axial, along the pinion axis \
-         towards the face end zeta = b; > 0 in normal drive, right-hand pinion), N (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(10)
-    ),
-    output!(
-        "M_p_x",
-        403,
-        Continuous,
-        NM,
-        None,
-        TORQUE,
-        "Tilting moment of the mesh force on the pinion about its centre at mid-face, x \
-         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(11)
-    ),
-    output!(
-        "M_p_y",
-        404,
-        Continuous,
-        NM,
-        None,
-        TORQUE,
-        "Tilting moment of the mesh force on the pinion about its centre at mid-face, y \
-         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(12)
-    ),
-    output!(
-        "F_g_x",
-        405,
-        Continuous,
-        Some("N"),
-        None,
-        Some("Force"),
-        "Force of the mesh on the gear, x component (F_g = -F_p), N (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(13)
-    ),
-    output!(
-        "F_g_y",
-        406,
-        Continuous,
-        Some("N"),
-        None,
-        Some("Force"),
-        "Force of the mesh on the gear, y component (F_g = -F_p), N (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(14)
-    ),
-    output!(
-        "F_g_z",
-        407,
-        Continuous,
-        Some("N"),
-        None,
-        Some("Force"),
-        "Force of the mesh on the gear, z component (axial; F_g = -F_p), N (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(15)
-    ),
-    output!(
-        "M_g_x",
-        408,
-        Continuous,
-        NM,
-        None,
-        TORQUE,
-        "Tilting moment of the mesh force on the gear about its centre at mid-face, x \
-         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(16)
-    ),
-    output!(
-        "M_g_y",
-        409,
-        Continuous,
-        NM,
-        None,
-        TORQUE,
-        "Tilting moment of the mesh force on the gear about its centre at mid-face, y \
-         component, N.m (housing frame of docs/loads.md: elastic and damping parts)",
-        FORCE_DEPS,
-        Access::RealOutput(17)
-    ),
-    output!(
-        "sigma_F_p",
-        410,
-        Continuous,
-        PA,
-        Some("MPa"),
-        Some("Pressure"),
-        "Tooth-root stress of the pinion, Pa: largest maximum principal stress at the \
-         tension-side root fillet over the loaded teeth and the face width (FE stress influence \
-         superposed over the loaded slices); 0 without load",
-        ELASTIC_DEPS,
-        Access::RealOutput(18)
-    ),
-    output!(
-        "sigma_F_g",
-        411,
-        Continuous,
-        PA,
-        Some("MPa"),
-        Some("Pressure"),
-        "Tooth-root stress of the gear, Pa (as sigma_F_p)",
-        ELASTIC_DEPS,
-        Access::RealOutput(19)
-    ),
+        }
+    ), // "p_max"
+    mesh_output!(8, 18, Discrete, None, None, ELASTIC_DEPS),     // "n_pairs"
+    mesh_output!(9, 19, Discrete, None, None, ELASTIC_DEPS),     // "tip_contact"
+    mesh_output!(10, 20, Discrete, None, None, ELASTIC_DEPS),    // "separated"
+    mesh_output!(11, 21, Discrete, None, None, ELASTIC_DEPS),    // "back_contact"
+    mesh_output!(12, 400, Continuous, None, Some("Force"), FORCE_DEPS), // "F_p_x"
+    mesh_output!(13, 401, Continuous, None, Some("Force"), FORCE_DEPS), // "F_p_y"
+    mesh_output!(14, 402, Continuous, None, Some("Force"), FORCE_DEPS), // "F_p_z"
+    mesh_output!(15, 403, Continuous, None, TORQUE, FORCE_DEPS), // "M_p_x"
+    mesh_output!(16, 404, Continuous, None, TORQUE, FORCE_DEPS), // "M_p_y"
+    mesh_output!(17, 405, Continuous, None, Some("Force"), FORCE_DEPS), // "F_g_x"
+    mesh_output!(18, 406, Continuous, None, Some("Force"), FORCE_DEPS), // "F_g_y"
+    mesh_output!(19, 407, Continuous, None, Some("Force"), FORCE_DEPS), // "F_g_z"
+    mesh_output!(20, 408, Continuous, None, TORQUE, FORCE_DEPS), // "M_g_x"
+    mesh_output!(21, 409, Continuous, None, TORQUE, FORCE_DEPS), // "M_g_y"
+    mesh_output!(22, 410, Continuous, Some("MPa"), Some("Pressure"), ELASTIC_DEPS), // "sigma_F_p"
+    mesh_output!(23, 411, Continuous, Some("MPa"), Some("Pressure"), ELASTIC_DEPS), // "sigma_F_g"
 ];
 
 /// Parameters calculated when the model is built (value references 30–33).

@@ -49,6 +49,7 @@ pub mod bearings;
 pub mod face_load;
 pub mod forces;
 pub mod model;
+pub mod outputs;
 pub mod statics;
 pub mod table;
 pub mod validity;

@@ -5,8 +5,9 @@
 //! A model's file holds its table and the meaning of its slots: which slot of the instance's
 //! [`InputValues`] each input is (and whether its time derivative is used), which slot of
 //! [`OutputValues`] each output is, and the map from those slots to its physics. The mesh
-//! outputs every model has (the shared table [`MESH_OUTPUTS`]) take the first slots and are
-//! written by one function, `write_mesh_outputs`.
+//! outputs every model has (the shared table [`MESH_OUTPUTS`], one entry per entry of the
+//! core's `mesh::outputs::MESH_OUTPUT_FIELDS`) take the first slots and are written by one
+//! loop over that table, `write_mesh_outputs`.
 
 pub mod mesh;
 pub mod unit;
@@ -14,38 +15,32 @@ pub mod unit;
 use super::model::ModelInfo;
 use super::variables::{OutputValues, u32_to_i32};
 use crate::mesh::MeshOutputs;
+use crate::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS};
 
 #[cfg(doc)]
 use super::variables::{InputValues, MESH_OUTPUTS};
 
 /// Writes the mesh outputs `m` into their slots of `o`, those of the shared table
-/// [`MESH_OUTPUTS`] (Real slots 0…, Integer 0…, Boolean 0…, in table order): one line per
-/// output, the one place where a mesh output meets its slot.
+/// [`MESH_OUTPUTS`] (Real slots 0…, Integer 0…, Boolean 0…, in table order): one loop over
+/// the core's table of the mesh outputs, whose order the FMI table follows.
 pub(crate) fn write_mesh_outputs(m: &MeshOutputs, o: &mut OutputValues) {
-    o.reals[0] = m.m_f_p; // M_F_p, N·m
-    o.reals[1] = m.m_f_g; // M_F_g, N·m
-    o.reals[2] = m.m_d_p; // M_D_p, N·m
-    o.reals[3] = m.m_d_g; // M_D_g, N·m
-    o.reals[4] = m.te; // TE, m
-    o.reals[5] = m.f_n; // F_n, N
-    o.reals[6] = m.contact_length; // contact_length, m
-    o.reals[7] = m.p_max; // p_max, Pa
-    o.ints[0] = u32_to_i32(m.n_pairs); // n_pairs
-    o.bools[0] = m.tip_contact; // tip_contact
-    o.bools[1] = m.separated; // separated
-    o.bools[2] = m.back_contact; // back_contact
-    o.reals[8] = m.force_p[0]; // F_p_x, N
-    o.reals[9] = m.force_p[1]; // F_p_y, N
-    o.reals[10] = m.force_p[2]; // F_p_z, N
-    o.reals[11] = m.moment_p[0]; // M_p_x, N·m
-    o.reals[12] = m.moment_p[1]; // M_p_y, N·m
-    o.reals[13] = m.force_g[0]; // F_g_x, N
-    o.reals[14] = m.force_g[1]; // F_g_y, N
-    o.reals[15] = m.force_g[2]; // F_g_z, N
-    o.reals[16] = m.moment_g[0]; // M_g_x, N·m
-    o.reals[17] = m.moment_g[1]; // M_g_y, N·m
-    o.reals[18] = m.root_stress_p; // sigma_F_p, Pa
-    o.reals[19] = m.root_stress_g; // sigma_F_g, Pa
+    let (mut r, mut i, mut b) = (0, 0, 0);
+    for f in &MESH_OUTPUT_FIELDS {
+        match f.access {
+            FieldAccess::Real { get, .. } => {
+                o.reals[r] = get(m);
+                r += 1;
+            }
+            FieldAccess::Integer { get } => {
+                o.ints[i] = u32_to_i32(get(m));
+                i += 1;
+            }
+            FieldAccess::Boolean { get } => {
+                o.bools[b] = get(m);
+                b += 1;
+            }
+        }
+    }
 }
 
 /// Every model of the family, in the order of the documentation.
@@ -108,13 +103,16 @@ mod tests {
         }
     }
 
-    /// The shared mesh outputs take the first slots in table order, and
-    /// [`write_mesh_outputs`] writes exactly those: a table entry without its line (or a line
-    /// without its entry) fails here.
+    /// The shared mesh outputs take the first slots in table order, follow the core's table
+    /// entry by entry (name, unit, description), and [`write_mesh_outputs`] writes exactly
+    /// their slots, each with its field's value.
     #[test]
     fn mesh_outputs_fill_exactly_the_first_slots_of_their_table() {
         let (mut reals, mut ints, mut bools) = (0, 0, 0);
-        for v in &MESH_OUTPUTS {
+        assert_eq!(MESH_OUTPUTS.len(), MESH_OUTPUT_FIELDS.len());
+        for (v, f) in MESH_OUTPUTS.iter().zip(&MESH_OUTPUT_FIELDS) {
+            assert_eq!((v.name, v.description), (f.name, f.description));
+            assert_eq!(v.unit.unwrap_or(""), f.unit, "{}", v.name);
             let (slot, next) = match v.access {
                 Access::RealOutput(s) => (s, &mut reals),
                 Access::IntOutput(s) => (s, &mut ints),
@@ -140,5 +138,18 @@ mod tests {
         assert!(o.reals.iter().enumerate().all(|(i, x)| x.is_nan() != (i < reals)), "{o:?}");
         assert!(o.ints.iter().enumerate().all(|(i, &x)| (x == -1) != (i < ints)), "{o:?}");
         assert!(o.bools.iter().enumerate().all(|(i, &x)| x == (i < bools)), "{o:?}");
+        // Each Real slot holds its own field: plant a distinct value in each field in turn.
+        for (k, (v, f)) in MESH_OUTPUTS.iter().zip(&MESH_OUTPUT_FIELDS).enumerate() {
+            let (Access::RealOutput(slot), FieldAccess::Real { get_mut, .. }) =
+                (v.access, f.access)
+            else {
+                continue;
+            };
+            let mut mesh = MeshOutputs::default();
+            *get_mut(&mut mesh) = 1.0 + k as f64;
+            write_mesh_outputs(&mesh, &mut o);
+            assert_eq!(o.reals[slot], 1.0 + k as f64, "{}", v.name);
+            assert_eq!(o.reals[..reals].iter().filter(|x| **x != 0.0).count(), 1, "{}", v.name);
+        }
     }
 }
