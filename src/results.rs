@@ -18,6 +18,8 @@
 //! Layering: `results` sits above `dynamics`; it reads geometry, contact, compliance, mesh,
 //! dynamics and params and nothing reads it inside the library.
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 use crate::compliance::data::ComplianceData;
@@ -28,6 +30,9 @@ use crate::dynamics::model::{N_STATES, STATE_NAMES};
 use crate::dynamics::{SteadyResponse, SweepResult, Trajectory};
 use crate::geometry::PairGeometry;
 use crate::iso6336::{IsoRootStress, nominal_root_stress};
+use crate::mesh::outputs::real_fields;
+#[cfg(doc)]
+use crate::mesh::outputs::{MESH_OUTPUT_FIELDS, OutputField};
 use crate::mesh::statics::StaticCurve;
 use crate::params::GearPair;
 
@@ -423,8 +428,10 @@ impl SweepRecord {
 }
 
 /// One trajectory of Eqs. 1–4: per output time the eight states (names of
-/// [`STATE_NAMES`]), TE and the four mesh torques. Angles in rad, speeds in rad/s, torques in
-/// N·m (M_F, M_D enter the pinion and gear equations with a minus sign).
+/// [`STATE_NAMES`]) and every Real mesh output, keyed by its result column of the core's one
+/// table of the mesh outputs ([`MESH_OUTPUT_FIELDS`]: `te_m`, `m_f_p_nm`, … `force_p_x_n`,
+/// … `root_stress_g_pa`). Angles in rad, speeds in rad/s, the outputs in the units of their
+/// column suffix (M_F, M_D enter the pinion and gear equations with a minus sign).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrajectoryRecord {
     /// Output times, s.
@@ -445,40 +452,10 @@ pub struct TrajectoryRecord {
     pub w_g_rad_s: Vec<f64>,
     /// Load-side inertia speed φ̇₂, rad/s.
     pub w_2_rad_s: Vec<f64>,
-    /// Transmission error, m (> 0 in normal drive).
-    pub te_m: Vec<f64>,
-    /// Elastic mesh torque on the pinion M_F,p (Eq. 13), N·m.
-    pub m_f_p_nm: Vec<f64>,
-    /// Elastic mesh torque on the gear M_F,g (Eq. 13), N·m.
-    pub m_f_g_nm: Vec<f64>,
-    /// Mesh damping torque on the pinion M_D,p (Eq. 14), N·m.
-    pub m_d_p_nm: Vec<f64>,
-    /// Mesh damping torque on the gear M_D,g (Eq. 14), N·m.
-    pub m_d_g_nm: Vec<f64>,
-    /// Force of the mesh on the pinion, x component, N (housing frame of `mesh::forces`).
-    pub force_p_x_n: Vec<f64>,
-    /// Force on the pinion, y component, N.
-    pub force_p_y_n: Vec<f64>,
-    /// Force on the pinion, z (axial) component, N.
-    pub force_p_z_n: Vec<f64>,
-    /// Tilting moment on the pinion about its centre at mid-face, x component, N·m.
-    pub moment_p_x_nm: Vec<f64>,
-    /// Tilting moment on the pinion, y component, N·m.
-    pub moment_p_y_nm: Vec<f64>,
-    /// Force of the mesh on the gear, x component, N (= −`force_p_x_n`).
-    pub force_g_x_n: Vec<f64>,
-    /// Force on the gear, y component, N.
-    pub force_g_y_n: Vec<f64>,
-    /// Force on the gear, z (axial) component, N.
-    pub force_g_z_n: Vec<f64>,
-    /// Tilting moment on the gear about its centre at mid-face, x component, N·m.
-    pub moment_g_x_nm: Vec<f64>,
-    /// Tilting moment on the gear, y component, N·m.
-    pub moment_g_y_nm: Vec<f64>,
-    /// Tooth-root stress of the pinion, Pa.
-    pub root_stress_p_pa: Vec<f64>,
-    /// Tooth-root stress of the gear, Pa.
-    pub root_stress_g_pa: Vec<f64>,
+    /// Every Real mesh output per output time, keyed by its result column
+    /// ([`OutputField::column`] of [`MESH_OUTPUT_FIELDS`]; a flat part of the JSON object).
+    #[serde(flatten)]
+    pub mesh: BTreeMap<String, Vec<f64>>,
     /// Integration steps taken.
     pub steps: usize,
     /// Mesh evaluations.
@@ -489,7 +466,9 @@ impl TrajectoryRecord {
     /// The record of `tr`.
     pub fn new(tr: &Trajectory) -> Self {
         let s = |i: usize| tr.states.iter().map(|y| y[i]).collect::<Vec<f64>>();
-        let o = |f: fn(&crate::mesh::MeshOutputs) -> f64| tr.outputs.iter().map(f).collect();
+        let mesh = real_fields()
+            .map(|f| (f.column.to_string(), tr.outputs.iter().filter_map(|o| f.real(o)).collect()))
+            .collect();
         Self {
             time_s: tr.time.clone(),
             phi_1_rad: s(0),
@@ -500,32 +479,22 @@ impl TrajectoryRecord {
             w_p_rad_s: s(5),
             w_g_rad_s: s(6),
             w_2_rad_s: s(7),
-            te_m: o(|x| x.te),
-            m_f_p_nm: o(|x| x.m_f_p),
-            m_f_g_nm: o(|x| x.m_f_g),
-            m_d_p_nm: o(|x| x.m_d_p),
-            m_d_g_nm: o(|x| x.m_d_g),
-            force_p_x_n: o(|x| x.force_p[0]),
-            force_p_y_n: o(|x| x.force_p[1]),
-            force_p_z_n: o(|x| x.force_p[2]),
-            moment_p_x_nm: o(|x| x.moment_p[0]),
-            moment_p_y_nm: o(|x| x.moment_p[1]),
-            force_g_x_n: o(|x| x.force_g[0]),
-            force_g_y_n: o(|x| x.force_g[1]),
-            force_g_z_n: o(|x| x.force_g[2]),
-            moment_g_x_nm: o(|x| x.moment_g[0]),
-            moment_g_y_nm: o(|x| x.moment_g[1]),
-            root_stress_p_pa: o(|x| x.root_stress_p),
-            root_stress_g_pa: o(|x| x.root_stress_g),
+            mesh,
             steps: tr.steps,
             mesh_evaluations: tr.mesh_evaluations,
         }
     }
 
+    /// The mesh-output column `column` (e.g. `te_m`); empty when the record has none.
+    pub fn mesh_column(&self, column: &str) -> &[f64] {
+        self.mesh.get(column).map_or(&[], Vec::as_slice)
+    }
+
     /// The columns in output order with their names: `time_s`, the states in state order
-    /// ([`STATE_NAMES`]), `te_m`, `m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`, then the
-    /// force and moments `force_p_x_n` … `moment_g_y_nm`, then `root_stress_p_pa`,
-    /// `root_stress_g_pa`.
+    /// ([`STATE_NAMES`]), then every Real mesh output in the order of [`MESH_OUTPUT_FIELDS`]
+    /// (`m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`, `te_m`, `f_n_n`, `contact_length_m`,
+    /// `p_max_pa`, the force and moments `force_p_x_n` … `moment_g_y_nm`,
+    /// `root_stress_p_pa`, `root_stress_g_pa`).
     pub fn columns(&self) -> Vec<(&'static str, &[f64])> {
         let states: [&[f64]; N_STATES] = [
             &self.phi_1_rad,
@@ -539,25 +508,7 @@ impl TrajectoryRecord {
         ];
         let mut c: Vec<(&'static str, &[f64])> = vec![("time_s", &self.time_s)];
         c.extend(STATE_NAMES.iter().copied().zip(states));
-        c.extend([
-            ("te_m", self.te_m.as_slice()),
-            ("m_f_p_nm", &self.m_f_p_nm),
-            ("m_f_g_nm", &self.m_f_g_nm),
-            ("m_d_p_nm", &self.m_d_p_nm),
-            ("m_d_g_nm", &self.m_d_g_nm),
-            ("force_p_x_n", &self.force_p_x_n),
-            ("force_p_y_n", &self.force_p_y_n),
-            ("force_p_z_n", &self.force_p_z_n),
-            ("moment_p_x_nm", &self.moment_p_x_nm),
-            ("moment_p_y_nm", &self.moment_p_y_nm),
-            ("force_g_x_n", &self.force_g_x_n),
-            ("force_g_y_n", &self.force_g_y_n),
-            ("force_g_z_n", &self.force_g_z_n),
-            ("moment_g_x_nm", &self.moment_g_x_nm),
-            ("moment_g_y_nm", &self.moment_g_y_nm),
-            ("root_stress_p_pa", &self.root_stress_p_pa),
-            ("root_stress_g_pa", &self.root_stress_g_pa),
-        ]);
+        c.extend(real_fields().map(|f| (f.column, self.mesh_column(f.column))));
         c
     }
 

@@ -121,7 +121,7 @@ fn check_finite_names_the_first_non_finite_field() {
     assert!(w.check_finite().unwrap_err().contains("resonance_brackets_rad_s"));
 
     let mut t = trajectory_record();
-    t.m_d_g_nm[1] = f64::NAN;
+    t.mesh.get_mut("m_d_g_nm").unwrap()[1] = f64::NAN;
     assert!(t.check_finite().unwrap_err().contains("m_d_g_nm[1]"));
 }
 

@@ -150,6 +150,14 @@ fn simulate_json_is_the_library_rk4_trajectory() {
             assert!(close(*x, f(&tr.outputs[i])), "{name}[{i}]");
         }
     }
+    // Every Real mesh output of the core's table is a column under its result name.
+    for f in helical_gear_mesh::mesh::outputs::real_fields() {
+        let c = col(f.column);
+        assert_eq!(c.len(), tr.outputs.len(), "{}", f.column);
+        for (i, x) in c.iter().enumerate() {
+            assert!(close(*x, f.real(&tr.outputs[i]).unwrap()), "{}[{i}]", f.column);
+        }
+    }
     // The start is the static equilibrium: M_F,p = M.
     let torque = helical_gear_mesh::DriveLine::paper_table1().torque_nm;
     assert!((col("m_f_p_nm")[0] - torque).abs() < 1e-8 * torque);

@@ -26,6 +26,7 @@ from ._pair import BOUNDS, DRIVE_SYMBOLS, ISO_SYMBOLS, DriveLine, GearPair, Grou
 from ._api import (
     FORCE_NAMES,
     OUTPUT_NAMES,
+    OUTPUT_UNITS,
     STATE_NAMES,
     Compliance,
     Geometry,
@@ -63,6 +64,7 @@ __all__ = [
     "ISO_SYMBOLS",
     "MeshModel",
     "OUTPUT_NAMES",
+    "OUTPUT_UNITS",
     "ParameterError",
     "STATE_NAMES",
     "SolverError",

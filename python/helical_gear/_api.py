@@ -21,33 +21,12 @@ import numpy as np
 from . import _native
 from ._pair import DriveLine, GearPair
 
-#: Keys of `MeshModel.evaluate`'s result (the FMU's output names, then extras).
-OUTPUT_NAMES = (
-    "M_F_p",
-    "M_F_g",
-    "M_D_p",
-    "M_D_g",
-    "TE",
-    "F_n",
-    "contact_length",
-    "p_max",
-    "n_pairs",
-    "tip_contact",
-    "separated",
-    "back_contact",
-    "F_p_x",
-    "F_p_y",
-    "F_p_z",
-    "M_p_x",
-    "M_p_y",
-    "F_g_x",
-    "F_g_y",
-    "F_g_z",
-    "M_g_x",
-    "M_g_y",
-    "sigma_F_p",
-    "sigma_F_g",
-)
+#: Keys of `MeshModel.evaluate`'s result: the FMU's output names, from the library's one table
+#: of the mesh outputs (`_native.MESH_OUTPUTS`: name, SI unit, kind, meaning), in its order.
+OUTPUT_NAMES = tuple(name for name, _unit, _kind, _meaning in _native.MESH_OUTPUTS)
+
+#: SI unit of each output of `OUTPUT_NAMES` ("" for counts and flags).
+OUTPUT_UNITS = {name: unit for name, unit, _kind, _meaning in _native.MESH_OUTPUTS}
 
 #: The 3D force and moments (the FMU output names): the force of the mesh on the pinion
 #: ``F_p_*`` and on the gear ``F_g_* = -F_p_*`` (N), the tilting moments about each gear's
@@ -505,10 +484,11 @@ STATE_NAMES = (
 
 @dataclass(frozen=True)
 class Trajectory(_Result):
-    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`), ``TE`` (m),
-    the four mesh torques ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m) and the tooth-root
-    stresses ``sigma_F_p``, ``sigma_F_g`` (Pa) per output time, as attributes (numpy arrays)
-    and in ``arrays``."""
+    """One solution of Eqs. 1–4: ``time`` (s), the eight states (`STATE_NAMES`) and every real
+    mesh output of `OUTPUT_NAMES` (units in `OUTPUT_UNITS`: ``TE`` in m, the mesh torques
+    ``M_F_p`` … ``M_D_g`` in N·m, the force and moments ``F_p_x`` … ``M_g_y``, the tooth-root
+    stresses ``sigma_F_p``, ``sigma_F_g`` in Pa, …) per output time, as attributes (numpy
+    arrays) and in ``arrays``."""
 
     arrays: dict = field(repr=False)
     steps: int

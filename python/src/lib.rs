@@ -32,6 +32,7 @@ use helical_gear_mesh::dynamics::{
 };
 use helical_gear_mesh::iso6336::nominal_root_stress;
 use helical_gear_mesh::mesh::bearings::BearingArrangement;
+use helical_gear_mesh::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS, OutputKind, real_fields};
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
     static_curve,
@@ -150,30 +151,10 @@ fn run<T: Send>(py: Python<'_>, f: impl FnOnce() -> Res<T> + Send) -> PyResult<T
     }
 }
 
-/// The mesh outputs handed to Python, in order.
-const OUTPUT_NAMES: [&str; 10] = [
-    "M_F_p",
-    "M_F_g",
-    "M_D_p",
-    "M_D_g",
-    "TE",
-    "F_n",
-    "contact_length",
-    "p_max",
-    "sigma_F_p",
-    "sigma_F_g",
-];
-
 /// The 3D force and moments handed to Python (the FMU output names), in order: F_p (x, y, z,
 /// N), M_p (x, y, N·m), F_g, M_g, in the housing frame of the library's `mesh::forces`.
 const FORCE_NAMES: [&str; 10] =
     ["F_p_x", "F_p_y", "F_p_z", "M_p_x", "M_p_y", "F_g_x", "F_g_y", "F_g_z", "M_g_x", "M_g_y"];
-
-/// The values of [`FORCE_NAMES`] of `o`.
-fn force_values(o: &helical_gear_mesh::mesh::MeshOutputs) -> [f64; 10] {
-    let (f, m, fg, mg) = (o.force_p, o.moment_p, o.force_g, o.moment_g);
-    [f[0], f[1], f[2], m[0], m[1], fg[0], fg[1], fg[2], mg[0], mg[1]]
-}
 
 /// The one check on every number handed to Python: a non-finite value is a solver error naming
 /// where (`at`) and which value, never a result.
@@ -183,6 +164,15 @@ fn finite(at: &str, names: &[&str], values: &[f64]) -> Res<()> {
         Some((name, v)) => Err(Failure::Solver(format!(
             "{at}: `{name}` = {v} is not finite (the model left its valid range)"
         ))),
+    }
+}
+
+/// [`finite`] for a mesh result: a non-finite Real field (of the core's table of the mesh
+/// outputs) is a solver error naming it by its interface name.
+fn finite_outputs(at: &str, o: &helical_gear_mesh::mesh::MeshOutputs) -> Res<()> {
+    match real_fields().find(|f| f.real(o).is_some_and(|v| !v.is_finite())) {
+        None => Ok(()),
+        Some(f) => finite(at, &[f.name], &[f.real(o).unwrap_or(f64::NAN)]),
     }
 }
 
@@ -570,12 +560,22 @@ impl MeshModel {
                 w_g: inputs[3][i],
             })
             .collect();
-        let out = run(py, || {
+        // One column per field of the core's table of the mesh outputs, in its order.
+        enum Column {
+            Real(Vec<f64>),
+            Integer(Vec<u32>),
+            Boolean(Vec<bool>),
+        }
+        let cols = run(py, || {
             let mut m = self.model.clone();
-            let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
-            let mut flags: [Vec<bool>; 3] = std::array::from_fn(|_| Vec::with_capacity(n));
-            let mut forces: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
-            let mut pairs = Vec::with_capacity(n);
+            let mut cols: Vec<Column> = MESH_OUTPUT_FIELDS
+                .iter()
+                .map(|f| match f.kind() {
+                    OutputKind::Real => Column::Real(Vec::with_capacity(n)),
+                    OutputKind::Integer => Column::Integer(Vec::with_capacity(n)),
+                    OutputKind::Boolean => Column::Boolean(Vec::with_capacity(n)),
+                })
+                .collect();
             for (i, s) in states.iter().enumerate() {
                 check_state(i, s)?;
                 let o = m.evaluate(s).map_err(|e| match Failure::from(e) {
@@ -583,59 +583,25 @@ impl MeshModel {
                     Failure::Solver(msg) => Failure::Solver(format!("state {i}: {msg}")),
                     other => other,
                 })?;
-                for (c, v) in cols.iter_mut().zip([
-                    o.m_f_p,
-                    o.m_f_g,
-                    o.m_d_p,
-                    o.m_d_g,
-                    o.te,
-                    o.f_n,
-                    o.contact_length,
-                    o.p_max,
-                    o.root_stress_p,
-                    o.root_stress_g,
-                ]) {
-                    c.push(v);
+                finite_outputs(&format!("state {i}"), &o)?;
+                for (c, f) in cols.iter_mut().zip(&MESH_OUTPUT_FIELDS) {
+                    match (c, f.access) {
+                        (Column::Real(c), FieldAccess::Real { get, .. }) => c.push(get(&o)),
+                        (Column::Integer(c), FieldAccess::Integer { get }) => c.push(get(&o)),
+                        (Column::Boolean(c), FieldAccess::Boolean { get }) => c.push(get(&o)),
+                        _ => unreachable!("columns follow the table's kinds"),
+                    }
                 }
-                finite(
-                    &format!("state {i}"),
-                    &OUTPUT_NAMES,
-                    &[
-                        o.m_f_p,
-                        o.m_f_g,
-                        o.m_d_p,
-                        o.m_d_g,
-                        o.te,
-                        o.f_n,
-                        o.contact_length,
-                        o.p_max,
-                        o.root_stress_p,
-                        o.root_stress_g,
-                    ],
-                )?;
-                for (c, v) in flags.iter_mut().zip([o.tip_contact, o.separated, o.back_contact]) {
-                    c.push(v);
-                }
-                let fv = force_values(&o);
-                finite(&format!("state {i}"), &FORCE_NAMES, &fv)?;
-                for (c, v) in forces.iter_mut().zip(fv) {
-                    c.push(v);
-                }
-                pairs.push(o.n_pairs);
             }
-            Ok((cols, flags, pairs, forces))
+            Ok(cols)
         })?;
-        let (cols, flags, pairs, forces) = out;
         let d = PyDict::new(py);
-        for (name, c) in OUTPUT_NAMES.into_iter().zip(cols) {
-            d.set_item(name, array(py, c))?;
-        }
-        d.set_item("n_pairs", PyArray1::from_vec(py, pairs))?;
-        for (name, c) in ["tip_contact", "separated", "back_contact"].into_iter().zip(flags) {
-            d.set_item(name, PyArray1::from_vec(py, c))?;
-        }
-        for (name, c) in FORCE_NAMES.into_iter().zip(forces) {
-            d.set_item(name, array(py, c))?;
+        for (f, c) in MESH_OUTPUT_FIELDS.iter().zip(cols) {
+            match c {
+                Column::Real(c) => d.set_item(f.name, array(py, c))?,
+                Column::Integer(c) => d.set_item(f.name, PyArray1::from_vec(py, c))?,
+                Column::Boolean(c) => d.set_item(f.name, PyArray1::from_vec(py, c))?,
+            }
         }
         Ok(d)
     }
@@ -759,12 +725,7 @@ impl MeshModel {
             for (k, (y, o)) in tr.states.iter().zip(&tr.outputs).enumerate() {
                 let at = format!("sample {k} (t = {:.6e} s)", tr.time[k]);
                 finite(&at, &STATE_NAMES, &y[..STATE_NAMES.len()])?;
-                finite(
-                    &at,
-                    &["TE", "M_F_p", "M_F_g", "M_D_p", "M_D_g", "sigma_F_p", "sigma_F_g"],
-                    &[o.te, o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.root_stress_p, o.root_stress_g],
-                )?;
-                finite(&at, &FORCE_NAMES, &force_values(o))?;
+                finite_outputs(&at, o)?;
             }
             Ok((tr.time, tr.states, tr.outputs, tr.steps, tr.mesh_evaluations))
         })?;
@@ -773,16 +734,10 @@ impl MeshModel {
         for (i, name) in STATE_NAMES.iter().enumerate() {
             d.set_item(*name, array(py, states.iter().map(|y| y[i]).collect()))?;
         }
-        d.set_item("TE", array(py, outs.iter().map(|o| o.te).collect()))?;
-        d.set_item("M_F_p", array(py, outs.iter().map(|o| o.m_f_p).collect()))?;
-        d.set_item("M_F_g", array(py, outs.iter().map(|o| o.m_f_g).collect()))?;
-        d.set_item("M_D_p", array(py, outs.iter().map(|o| o.m_d_p).collect()))?;
-        d.set_item("M_D_g", array(py, outs.iter().map(|o| o.m_d_g).collect()))?;
-        for (k, name) in FORCE_NAMES.iter().enumerate() {
-            d.set_item(*name, array(py, outs.iter().map(|o| force_values(o)[k]).collect()))?;
+        // Every Real mesh output of the core's table, keyed by its interface name.
+        for f in real_fields() {
+            d.set_item(f.name, array(py, outs.iter().filter_map(|o| f.real(o)).collect()))?;
         }
-        d.set_item("sigma_F_p", array(py, outs.iter().map(|o| o.root_stress_p).collect()))?;
-        d.set_item("sigma_F_g", array(py, outs.iter().map(|o| o.root_stress_g).collect()))?;
         d.set_item("steps", steps)?;
         d.set_item("mesh_evaluations", evals)?;
         Ok(d)
@@ -885,6 +840,19 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ComplianceError", py.get_type::<ComplianceError>())?;
     m.add("SolverError", py.get_type::<SolverError>())?;
     m.add("LIBRARY_VERSION", env!("CARGO_PKG_VERSION"))?;
+    // The core's one table of the mesh outputs: (name, unit, kind, description) in order.
+    let outputs: Vec<(&str, &str, &str, &str)> = MESH_OUTPUT_FIELDS
+        .iter()
+        .map(|f| {
+            let kind = match f.kind() {
+                OutputKind::Real => "real",
+                OutputKind::Integer => "integer",
+                OutputKind::Boolean => "boolean",
+            };
+            (f.name, f.unit, kind, f.description)
+        })
+        .collect();
+    m.add("MESH_OUTPUTS", outputs)?;
     m.add_class::<Compliance>()?;
     m.add_class::<MeshModel>()?;
     m.add_function(wrap_pyfunction!(default_pair_json, m)?)?;

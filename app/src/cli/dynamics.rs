@@ -287,7 +287,7 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             writeln!(w, "{}", row.join(",")).map_err(io_err)?;
         }
     } else {
-        let te: &[f64] = &record.te_m;
+        let te: &[f64] = record.mesh_column("te_m");
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for &x in te {
             lo = lo.min(x);
