@@ -582,11 +582,15 @@ pub fn paper_section(summary: &Value) -> Result<String, String> {
          fidelity). The tables below are rendered from the summary of such a run, checked in as \
          [docs/paper/summary.json](paper/summary.json) (with its \
          [summary.md](paper/summary.md), which adds the sweeps, the waterfalls, the tip-contact \
-         margins, the assumptions and the stage times); that run took {:.0} s, and the paper \
+         margins, the assumptions and the stage times); that run took {:.0} s{}, and the paper \
          run's time on the benchmark's machine is in [Performance](performance.md#paper-run).\n\n",
         num(summary, "slices")?,
         text(summary, "fidelity_dynamics")?,
         num(summary, "runtime_s")?,
+        summary["peak_memory_mb"].as_f64().map_or(String::new(), |mb| format!(
+            " with a peak resident memory of {mb:.0} MB (the run's own process; a `cargo run` \
+             that compiles first peaks higher, in the compiler)"
+        )),
     ));
     // The smallest TE_min/STE_max of the d_mesh = 100 sweep, where it is.
     let sweeps = list(summary, "sweeps")?;

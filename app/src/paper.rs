@@ -310,6 +310,22 @@ pub struct PaperSummary {
     pub stages: Vec<StageTiming>,
     /// Total wall time, s.
     pub runtime_s: f64,
+    /// Peak resident memory of the process that ran it (the kernel's high-water mark,
+    /// `VmHWM` of `/proc/self/status`), MB (10⁶ bytes); `None` where the system does not
+    /// report it. The run's own peak, not that of a `cargo run` that also compiles (rustc's
+    /// peak is larger).
+    #[serde(default)]
+    pub peak_memory_mb: Option<f64>,
+}
+
+/// The peak resident memory of this process so far, MB (10⁶ bytes), from `VmHWM` in
+/// `/proc/self/status` (Linux); `None` elsewhere.
+pub fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 =
+        line.trim_start_matches("VmHWM:").trim().trim_end_matches("kB").trim().parse().ok()?;
+    Some(kib * 1024.0 / 1e6)
 }
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> String + '_ {
@@ -770,12 +786,14 @@ pub fn run_paper(
         fidelity_dynamics: "table".into(),
         quick: opts.quick,
         runtime_s: 0.0,
+        peak_memory_mb: None,
         stages: Vec::new(),
     };
     let mut summary = summary;
     st.done("sensitivity", "");
     summary.stages = st.list.clone();
     summary.runtime_s = st.t0.elapsed().as_secs_f64();
+    summary.peak_memory_mb = peak_memory_mb();
     let json = serde_json::to_string_pretty(&summary).map_err(mesh_err)?;
     write_text(&out.join("summary.json"), &json)?;
     write_text(&out.join("summary.md"), &summary_markdown(&summary))?;
@@ -1448,6 +1466,9 @@ pub fn summary_markdown(s: &PaperSummary) -> String {
         ),
     );
     row(&mut m, "run time", "not given".into(), format!("{:.0} s", s.runtime_s));
+    if let Some(mb) = s.peak_memory_mb {
+        row(&mut m, "peak memory", "not given".into(), format!("{mb:.0} MB"));
+    }
     m.push_str(&format!(
         "\nMean mesh stiffness {:.1} N/µm; mean loaded extent Σ(ζ_e − ζ_b) = {:.2} (units of \
          m_n); J_p = {:.4e} kg·m², J_g = {:.4e} kg·m²; h = {:.3} mm; {} slices.\n",
