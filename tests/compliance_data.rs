@@ -2,8 +2,8 @@
 //! stiffness at the pitch point (`compliance::stiffness`).
 //!
 //! The embedded Table 1 resource is checked against a fresh computation at the default mesh
-//! density (both gears' FE runs: 13.5 s in the test profile on a busy 2-core machine, where the
-//! release build takes 8 s), the fit quality against the target σ(e_rel) ≤ 0.03, the cache key,
+//! density (both gears' FE runs: seconds in a release build, several times that in the test
+//! profile), the fit quality against the target σ(e_rel) ≤ 0.03, the cache key,
 //! the disk cache (a second FE run of both gears with another Young's modulus), and the pair
 //! stiffness. Two heavy studies are ignored by default: the default → refined mesh convergence
 //! of the pair compliance and the pair stiffness with the bodies fixed at the rim instead of
@@ -382,8 +382,8 @@ fn pair_stiffness_of_table1() {
 }
 
 /// The pair stiffness with each gear body fixed just inside its rim (bore = r_K/1.06: teeth and
-/// rim only), against the bore-fixed value. Two default-density FE runs; 11 s in the test
-/// profile on a busy 2-core machine. Measured: c′ = 16.8 N/(mm·µm) (bore fixed: 5.02); the
+/// rim only), against the bore-fixed value. Two default-density FE runs (seconds in the test
+/// profile). Measured: c′ = 16.8 N/(mm·µm) (bore fixed: 5.02); the
 /// bodies between bore and rim carry 6.4 µm (pinion) and 15.0 µm (gear), 70 % of the pair's
 /// normal approach.
 #[test]
@@ -415,8 +415,8 @@ fn pair_stiffness_with_the_rim_fixed() {
 
 /// Mesh convergence of the tooth-pair compliance at the pitch point (1/c′, global + local):
 /// default → refined density changes it by less than 2 %. Four FE runs (default and refined,
-/// both gears; refined 173k and 220k DOFs); 88 s in the test profile on a busy 2-core machine,
-/// hence ignored. Measured: +0.90 % (pinion global +1.38 %, gear global +0.72 %, local
+/// both gears; refined 173k and 220k DOFs); more than a minute in the test profile, hence
+/// ignored. Measured: +0.90 % (pinion global +1.38 %, gear global +0.72 %, local
 /// unchanged), c′ = 5.017 → 4.972 N/(mm·µm).
 #[test]
 #[ignore]

@@ -564,6 +564,6 @@ fn interpolation_cost_of_a_200_by_200_matrix() {
     for (a, b) in direct.iter().zip(&batch) {
         assert!((a - b).abs() <= 1e-12 * a.abs().max(1e-30));
     }
-    // Generous bound (shared machines, unoptimised test builds): well under a second.
+    // Generous bound (unoptimised test builds, other processes running): well under a second.
     assert!(t_direct.as_secs_f64() < 0.5 && t_batch.as_secs_f64() < 0.5);
 }

@@ -187,7 +187,7 @@ fn table_fidelity_and_dynamics_te_at_1e12_rad() {
     }
 }
 
-/// The brief's form: whole turns of both gears (pinion N·z_g turns, gear N·z_p turns, i.e.
+/// Whole turns of both gears (pinion N·z_g turns, gear N·z_p turns, i.e.
 /// k = N·z_p·z_g pitches) keep the physical state; the outputs at the shifted angles agree
 /// with the small ones to within what the rounding of the shifted inputs allows:
 /// |ΔTE| ≤ ½ulp(Φp)·g_p + ½ulp(Φg)·g_g + |k|·|2π/z_p·g_p − 2π/z_g·g_g| (the last term: the

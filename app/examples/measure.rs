@@ -638,7 +638,11 @@ fn stress_designs() -> [(&'static str, GearPair); 3] {
     let t1 = GearPair::paper_table1();
     let spur = GearPair { helix_angle_rad: 0.0, ..t1.clone() };
     let wide = GearPair { helix_angle_rad: 20f64.to_radians(), face_width_m: 25e-3, ..t1.clone() };
-    [("Table 1 (β = 10°, b = 15 mm)", t1), ("spur (β = 0°)", spur), ("β = 20°, b = 25 mm", wide)]
+    [
+        ("Table 1 (β = 10°, b = 15 mm)", t1),
+        ("spur (β = 0°)", spur),
+        ("Table 1 with β = 20°, b = 25 mm", wide),
+    ]
 }
 
 /// The static root stress of `pair` at `torque` (N·m) over one pinion pitch (32 points) with

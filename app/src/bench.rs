@@ -390,7 +390,7 @@ pub fn run_bench(
         dynamics,
         hunting,
         drive_units,
-        cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        cores: cores(),
         cpu: cpu_model(),
         version: env!("CARGO_PKG_VERSION").into(),
         commit,
@@ -439,6 +439,20 @@ pub fn utc_now() -> String {
 }
 
 /// The load averages over 1, 5 and 15 minutes from `/proc/loadavg`, or "unknown".
+/// The 1-minute load average of `load_average` (the format of [`load_average`]: three numbers
+/// or "unknown") when it exceeds half of `cores`: more than half the cores were busy with other
+/// work, so wall-clock times measure that work too. `None` when the machine was quieter or the
+/// load is unknown.
+pub fn loaded(load_average: &str, cores: f64) -> Option<f64> {
+    let load1: f64 = load_average.split_whitespace().next()?.parse().ok()?;
+    (load1 > 0.5 * cores).then_some(load1)
+}
+
+/// The logical cores of this machine (1 where they cannot be read).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
 pub fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .ok()

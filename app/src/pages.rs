@@ -136,14 +136,29 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
          measure -- pages`; do not edit. -->",
     );
     push(&mut p, "");
+    let cores = num(bench, "cores")?;
+    // A loaded machine: say so first, and what that does to the figures.
+    if let Some(load1) = crate::bench::loaded(text(bench, "load_average")?, cores) {
+        p.push_str(&format!(
+            "> **Measured on a loaded machine**: the 1-minute load average was {load1} on {cores} \
+             cores when the run started, more than half the cores busy with other work. Every \
+             time on this page is longer and noisier than on an idle machine, most of all the \
+             differences between neighbouring rows (the option costs below); the errors and the \
+             evaluation counts do not depend on the load. Regenerate it on an idle machine \
+             with the two commands below.\n\n"
+        ));
+    }
     p.push_str(&format!(
         "Measured by `cargo run --release -- bench --out docs/bench` at commit `{}` on {} (UTC), \
          on a machine with {} cores ({}), load average {} (1, 5, 15 minutes) when the run \
-         started: other work on the machine makes every time longer. The report is \
-         `docs/bench/bench.json`; the rows are in `docs/bench/*.csv`.\n\n",
+         started: other work on the machine makes every time longer (`bench --out` refuses to \
+         start when the 1-minute load average exceeds half the cores, unless given \
+         `--allow-loaded`). The report is `docs/bench/bench.json`, the rows are in \
+         `docs/bench/*.csv`; this page is rendered from the report by `cargo run -p \
+         helical-gear-app --example measure -- pages`.\n\n",
         text(bench, "commit")?,
         text(bench, "date_utc")?,
-        num(bench, "cores")?,
+        cores,
         text(bench, "cpu")?,
         text(bench, "load_average")?,
     ));
@@ -166,18 +181,6 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
         .find(|c| c.get("table_size") == Some(&serde_json::json!([64, 48])))
         .ok_or("the report has no table case of size 64 × 48")?;
     let paper_s = bench.get("paper_runtime_s").and_then(Value::as_f64);
-    // A loaded machine: say what that does to the figures.
-    let load1: Option<f64> =
-        text(bench, "load_average")?.split_whitespace().next().and_then(|l| l.parse().ok());
-    let cores = num(bench, "cores")?;
-    if let Some(load1) = load1.filter(|&l| l > 0.5 * cores) {
-        p.push_str(&format!(
-            "The machine was shared during this run (1-minute load average {load1} on {cores} \
-             cores): the times are longer than on an idle machine and noisy, most of all the \
-             differences between neighbouring rows (the option costs below). The errors and \
-             the evaluation counts do not depend on the load.\n\n"
-        ));
-    }
     push(&mut p, "| key | value |");
     push(&mut p, "| --- | --- |");
     p.push_str(&format!(

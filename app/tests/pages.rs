@@ -20,3 +20,30 @@ fn generated_pages_match_their_reports() {
         );
     }
 }
+
+/// The performance page says first, in bold, when its report was measured with more than half
+/// the cores busy (1-minute load average above cores/2), and not otherwise; it always states
+/// the machine (cores, CPU) and the load.
+#[test]
+fn performance_page_marks_a_loaded_machine() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let text = std::fs::read_to_string(root.join("docs/bench/bench.json")).unwrap();
+    let mut bench: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let cores = bench["cores"].as_f64().unwrap();
+    let cpu = bench["cpu"].as_str().unwrap().to_string();
+    let mark = "**Measured on a loaded machine**";
+    for (load1, marked) in [(0.5 * cores + 0.01, true), (0.5 * cores, false), (0.0, false)] {
+        bench["load_average"] = format!("{load1} 0.00 0.00").into();
+        let page = helical_gear_app::pages::performance_page(&bench).unwrap();
+        assert_eq!(page.contains(mark), marked, "load {load1} on {cores} cores");
+        if marked {
+            let first = page.lines().find(|l| l.starts_with('>')).unwrap();
+            assert!(first.contains(mark) && first.contains(&format!("{load1}")));
+        }
+        assert!(page.contains(&format!("{cores} cores ({cpu})")), "machine stated");
+        assert!(page.contains(&format!("load average {load1} 0.00 0.00")), "load stated");
+    }
+    bench["load_average"] = "unknown".into();
+    let page = helical_gear_app::pages::performance_page(&bench).unwrap();
+    assert!(!page.contains(mark) && page.contains("load average unknown"));
+}

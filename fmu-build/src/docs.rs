@@ -11,6 +11,7 @@
 //!   other variables (name, value reference, causality/variability/type, unit, start, min, max,
 //!   description).
 
+use crate::model_description::{AUTHOR, COPYRIGHT, LICENSE};
 use helical_gear_mesh::fmi2::model::ModelInfo;
 use helical_gear_mesh::fmi2::models::MODELS;
 use helical_gear_mesh::fmi2::variables::{
@@ -161,8 +162,9 @@ pub fn model_page(model: &ModelInfo) -> String {
          binary |\n\
          | Model | {kind} |\n\
          | Model Exchange | {me} |\n\
-         | Platforms | the build machine's (`linux64`, `darwin64` or `win64`); `win64` also when \
-         cross-compiled with MinGW-w64 |\n\
+         | Platforms | `linux64`, and `win64` (cross-compiled with MinGW-w64, or built on Windows): \
+         the platforms `fmu-build` builds and the tests run |\n\
+         | Author, licence | {author}; {license} ({copyright}) |\n\
          | Model version | {MODEL_VERSION} |\n\
          | GUID | `{guid}` |\n\
          | Default experiment | start {start} s, stop {stop} s, step {step} s |\n\
@@ -176,6 +178,9 @@ pub fn model_page(model: &ModelInfo) -> String {
          {table}",
         doc = doc_markdown(model.doc_html),
         guid = model.guid(),
+        author = AUTHOR,
+        license = LICENSE,
+        copyright = COPYRIGHT,
         start = format_real(e.start),
         stop = format_real(e.stop),
         step = format_real(e.step),
@@ -244,6 +249,27 @@ fn html_escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
+/// The sentence of `model`'s documentation on the drive-line parameters (`drive.*`), from its
+/// variable table: which of them it carries, or that it carries none.
+fn drive_html(model: &ModelInfo) -> String {
+    let names: Vec<String> = model
+        .variables
+        .iter()
+        .filter(|v| v.name.starts_with("drive."))
+        .map(|v| format!("<code>{}</code>", html_escape(v.name)))
+        .collect();
+    if names.is_empty() {
+        "This model carries no drive-line parameter (<code>drive.*</code>): the master holds \
+         the drive line of Eqs. 1&ndash;4."
+            .to_string()
+    } else {
+        format!(
+            "The drive-line parameters of Eqs. 1&ndash;4 this model uses: {}.",
+            names.join(", ")
+        )
+    }
+}
+
 /// The `documentation/index.html` of `model`'s FMU.
 pub fn index_html(model: &ModelInfo) -> String {
     let mut rows = String::new();
@@ -271,7 +297,9 @@ pub fn index_html(model: &ModelInfo) -> String {
 </head>
 <body>
 <h1>{id} {ver}</h1>
-<p>GUID <code>{guid}</code>. FMI 2.0 Co-Simulation and Model Exchange (one binary).</p>
+<p>GUID <code>{guid}</code>. FMI 2.0 Co-Simulation and Model Exchange (one binary), platforms
+<code>linux64</code> and <code>win64</code>.</p>
+<p>{author}. {copyright}. Licence: {license}.</p>
 <p>A helical gear mesh after A. Andersson and L. Vedmar, "A dynamic model to determine
 vibrations in involute helical gears", J. Sound Vib. 260 (2003) 195&ndash;212.</p>
 {doc}
@@ -291,15 +319,14 @@ Example (Table 1): phi_p = 0.01 rad with phi_g = &minus;0.0060851 rad gives TE =
 They are positive in normal drive and negative on back-flank contact (<code>back_contact</code>).</li>
 <li>Parameters carry the names of the gear-pair JSON keys (nested keys joined by a dot);
 the mesh damping is <code>d_mesh</code> (JSON <code>d_mesh_n_s_per_m</code>), the only tunable
-parameter. The <code>drive.*</code> parameters describe the drive line of Eqs. 1&ndash;4
-(used by the stateful models; <code>HelicalGearMesh</code> carries them for the master).
+parameter. {drive}
 <code>J_p</code>, <code>J_g</code> are calculated from the gear bodies.</li>
 </ul>
 <h2>Behaviour</h2>
 <ul>
 <li>Fixed parameters are validated at <code>fmi2ExitInitializationMode</code>, which builds the
 model (cached compliance for the default gear pair; a finite-element run of a few seconds for
-other gears). An invalid parameter gives <code>fmi2Error</code> with a message naming it, its
+other gears; at table fidelity also the (phase, TE) table, seconds). An invalid parameter gives <code>fmi2Error</code> with a message naming it, its
 value and the allowed range.</li>
 <li>A NaN or infinite input gives <code>fmi2Error</code> naming the input. After any
 <code>fmi2Error</code> the instance is in the error state; <code>fmi2Reset</code> (start values) or
@@ -332,5 +359,9 @@ the result is cached on disk only when the environment variable
         guid = model.guid(),
         doc = model.doc_html,
         n = model.variables.len(),
+        drive = drive_html(model),
+        author = html_escape(AUTHOR),
+        copyright = html_escape(COPYRIGHT),
+        license = html_escape(LICENSE),
     )
 }

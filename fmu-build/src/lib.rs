@@ -6,6 +6,8 @@
 //!   an index) and each FMU's `documentation/index.html`;
 //! * [`headers`] — the C headers in `include/` (cbindgen) and the value-reference headers
 //!   `include/fmi2_models/<modelIdentifier>.h`;
+//! * [`parameters`] — `docs/parameters.md`, the parameter reference of every interface (JSON
+//!   key, FMI name, Python keyword, ISO symbol, unit, default, range, meaning);
 //! * [`pack`] — `target/fmu/<modelIdentifier>.fmu` for every model of the family, each with
 //!   the same shared library under its model identifier.
 //!
@@ -16,6 +18,7 @@ pub mod docs;
 pub mod headers;
 pub mod model_description;
 pub mod pack;
+pub mod parameters;
 
 use std::path::PathBuf;
 
@@ -46,6 +49,7 @@ pub fn generated_files() -> Result<Vec<(String, String)>, String> {
     files.push((headers::CAPI_HEADER.into(), headers::capi_header(&root)?));
     files.push((headers::FMI2_HEADER.into(), headers::fmi2_header(&root)?));
     files.extend(docs::pages());
+    files.push((parameters::PAGE.into(), parameters::parameters_page()?));
     Ok(files)
 }
 

@@ -24,7 +24,7 @@ const USAGE: &str = "usage: fmu-build [--require-win64 | --write-generated]\n\
     \n  --require-win64     the same, but a missing win64 build is an error (also when the\
     \n                      environment variable FMU_BUILD_REQUIRE_WIN64 is 1)\
     \n  --write-generated   rewrite modelDescription/<model>/modelDescription.xml, include/*.h\
-    \n                      and the FMU reference pages docs/fmu/*.md from the Rust sources";
+    \n                      the FMU reference pages docs/fmu/*.md and the parameter reference\n                      docs/parameters.md from the Rust sources";
 
 fn write_generated() -> Result<(), String> {
     let root = workspace_root();

@@ -18,6 +18,14 @@ use helical_gear_mesh::fmi2::variables::{
 };
 use serde::Serialize;
 
+/// The FMI 2.0 `author` of every model description.
+pub const AUTHOR: &str = "The helical-gear-mesh authors";
+/// The FMI 2.0 `copyright` of every model description.
+pub const COPYRIGHT: &str = "Copyright (c) 2026 The helical-gear-mesh authors";
+/// The FMI 2.0 `license` of every model description: the crate's licence (the files
+/// `LICENSE-MIT` and `LICENSE-APACHE` of the repository).
+pub const LICENSE: &str = "MIT OR Apache-2.0";
+
 #[derive(Serialize)]
 #[serde(rename = "fmiModelDescription")]
 struct Fmd {
@@ -29,8 +37,14 @@ struct Fmd {
     guid: &'static str,
     #[serde(rename = "@description")]
     description: &'static str,
+    #[serde(rename = "@author")]
+    author: &'static str,
     #[serde(rename = "@version")]
     version: &'static str,
+    #[serde(rename = "@copyright")]
+    copyright: &'static str,
+    #[serde(rename = "@license")]
+    license: &'static str,
     #[serde(rename = "@generationTool")]
     generation_tool: String,
     #[serde(rename = "@variableNamingConvention")]
@@ -407,7 +421,10 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
         model_name: model.identifier,
         guid: model.guid(),
         description: model.description,
+        author: AUTHOR,
         version: MODEL_VERSION,
+        copyright: COPYRIGHT,
+        license: LICENSE,
         generation_tool: format!("fmu-build {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         event_indicators: model.event_indicators as u32,

@@ -178,3 +178,54 @@ fn c_output_structs_follow_the_core_output_tables() {
     let scalars = unit_members.iter().filter(|(m, _)| !m.contains('[') && m != "mesh").count();
     assert_eq!(scalars, UNIT_OUTPUT_FIELDS.len(), "HgmUnitOutputs has scalars not in the table");
 }
+
+/// Every model description names the author, copyright and licence, and the licence it names
+/// is the one of the repository's licence files (and of the Python package's copies of them).
+#[test]
+fn model_descriptions_carry_author_copyright_and_licence() {
+    use fmu_build::model_description::{AUTHOR, COPYRIGHT, LICENSE};
+    use helical_gear_mesh::fmi2::models::MODELS;
+    for m in MODELS {
+        let xml = fmu_build::model_description::model_description_xml(m);
+        for (attr, value) in [("author", AUTHOR), ("copyright", COPYRIGHT), ("license", LICENSE)] {
+            assert!(xml.contains(&format!(" {attr}=\"{value}\"")), "{}: {attr}", m.identifier);
+        }
+    }
+    let root = fmu_build::workspace_root();
+    let read = |p: &str| {
+        std::fs::read_to_string(root.join(p)).unwrap_or_else(|e| panic!("cannot read {p}: {e}"))
+    };
+    assert_eq!(LICENSE, "MIT OR Apache-2.0");
+    assert!(read("LICENSE-MIT").contains(AUTHOR));
+    assert!(read("LICENSE-APACHE").contains("Apache License"));
+    for f in ["LICENSE-MIT", "LICENSE-APACHE"] {
+        assert_eq!(read(f), read(&format!("python/{f}")), "python/{f} differs from {f}");
+    }
+}
+
+/// The documentation inside each FMU names exactly the drive-line parameters (`drive.*`) of
+/// its model, and says so when it has none (the mesh element: the master holds the drive line).
+#[test]
+fn fmu_documentation_names_the_models_own_drive_parameters() {
+    use helical_gear_mesh::fmi2::models::MODELS;
+    let drive = |m: &helical_gear_mesh::fmi2::model::ModelInfo| -> Vec<&str> {
+        m.variables.iter().map(|v| v.name).filter(|n| n.starts_with("drive.")).collect()
+    };
+    let all: Vec<&str> = MODELS.iter().flat_map(|m| drive(m)).collect();
+    for m in MODELS {
+        let html = fmu_build::docs::index_html(m);
+        let own = drive(m);
+        for name in &all {
+            let said = html.contains(&format!("<code>{name}</code>"));
+            assert_eq!(said, own.contains(name), "{}: {name}", m.identifier);
+        }
+        if own.is_empty() {
+            assert!(html.contains("carries no drive-line parameter"), "{}", m.identifier);
+        }
+        assert!(
+            !html.contains("darwin64"),
+            "{}: a platform fmu-build does not build",
+            m.identifier
+        );
+    }
+}

@@ -185,6 +185,8 @@ class GearPair:
     ``**{"material_p.poisson_ratio": 0.29}``. The drive line is not part of the pair: see
     `DriveLine` (a ``drive`` key is refused with a message saying so).
     SI units: m, rad, Pa, N·s/m; basic-rack quantities (``*_mn``) in units of m_n.
+    Every key with its ISO alias, unit, default, range and meaning: ``docs/parameters.md`` of
+    the repository.
     The pair is validated by the library at construction (`ParameterError` names the value and
     the limit), is immutable and hashable, compares by value, and pickles as its JSON.
     """

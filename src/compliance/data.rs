@@ -13,8 +13,8 @@
 //!    fails any of these checks is not trusted: a warning goes to stderr and the data are
 //!    recomputed (and the file replaced).
 //! 3. Otherwise they are **computed** (FE of both gears at [`GearMeshDensity::default`] and
-//!    h = [`DEFAULT_DEPTH_MN`]·m_n, then the fits; for Table 1 about 4 s in a release build on
-//!    an idle 2-core machine) and written to the cache directory if one is set.
+//!    h = [`DEFAULT_DEPTH_MN`]·m_n, then the fits; for Table 1 a few seconds in a release
+//!    build) and written to the cache directory if one is set.
 //!
 //! The cache directory defaults to the environment variable `HELICAL_GEAR_CACHE_DIR`
 //! ([`CACHE_DIR_ENV`]) when it is set and not empty ([`CacheOptions::default`]); without it

@@ -3,7 +3,9 @@
 //! table, or the report as one JSON object with `--json`.
 
 use clap::Args;
-use helical_gear_app::bench::{BenchOptions, run_bench, write_bench_files};
+use helical_gear_app::bench::{
+    BenchOptions, cores, load_average, loaded, run_bench, write_bench_files,
+};
 
 use super::{Common, DriveArg, load_drive, load_params};
 
@@ -23,12 +25,31 @@ pub struct BenchArgs {
     /// Skip the timing of the whole paper run.
     #[arg(long)]
     no_paper: bool,
+    /// Write the report with `--out` even when the 1-minute load average exceeds half the
+    /// cores (the generated page then says so at its top); without it such a run is refused.
+    #[arg(long)]
+    allow_loaded: bool,
 }
 
 /// `helical-gear bench`.
 pub fn bench_cmd(a: &BenchArgs) -> Result<(), String> {
     let pair = load_params(&a.common)?;
     let drive = load_drive(&a.drive)?;
+    // A report for docs/ measures the code, not other work on the machine: refuse to start one
+    // on a busy machine unless asked to (the page then marks it).
+    let (load, n) = (load_average(), cores());
+    if a.out.is_some()
+        && !a.quick
+        && !a.allow_loaded
+        && let Some(load1) = loaded(&load, n as f64)
+    {
+        return Err(format!(
+            "bench --out: the 1-minute load average is {load1} on {n} cores (more than half the \
+             cores busy with other work), so the times would measure that work too; run it on \
+             an idle machine, or pass --allow-loaded to write a report that its page marks as \
+             measured on a loaded machine"
+        ));
+    }
     let opts = BenchOptions { quick: a.quick, paper: !a.no_paper, progress: true };
     let r = run_bench(&pair, &drive, &opts)?;
     if let Some(dir) = &a.out {
