@@ -36,6 +36,13 @@
 //!   largest |TE|); and at full
 //!   fidelity (200 slices, 128 sub-steps) over 2 ms (speed only; the table's own error against
 //!   the full model is `table_max_rel_err`).
+//! * **A design** ([`DesignCase`]): what one design of a study costs, as
+//!   `helical_gear.study.run` computes it at its defaults: the FE compliance of the pair
+//!   computed afresh, the static TE, the default table and the speed sweep (one thread).
+//!   With the cold and warm full evaluation, the table builds and the torques-only table
+//!   evaluation, these are the figures a user waits for (`full_eval_us`,
+//!   `full_eval_warm_us`, `table_build_s`, `table_deviation_build_s`, `fe_compliance_s`,
+//!   `design_s`, `table_eval_torques_ns`).
 //! * **Paper run**: the wall time of the whole `paper` run, per stage.
 //!
 //! Timing is wall time on the calling thread; run it on an idle machine.
@@ -52,7 +59,7 @@ use helical_gear_mesh::dynamics::model::{Drivetrain, GearDynamics};
 use helical_gear_mesh::dynamics::simulate::{Stepping, simulate};
 use helical_gear_mesh::mesh::statics::EquilibriumSettings;
 use helical_gear_mesh::mesh::{
-    ComplianceModel, Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState,
+    ComplianceModel, Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState, MeshTorques,
 };
 use helical_gear_mesh::params::{DriveLine, GearPair};
 
@@ -153,11 +160,49 @@ pub struct HuntingCase {
     pub rms_torque_err: f64,
 }
 
+/// What a user waits for, measured once per run: one design of a study, split into its parts
+/// (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DesignCase {
+    /// FE compliance of both gears of a new pair (default mesh, no cache, fits included), s.
+    pub fe_compliance_s: f64,
+    /// Static TE over one pitch at 20 points, full fidelity, 200 slices, s.
+    pub static_s: f64,
+    /// Default 64 × 48 table build from the FE data, s.
+    pub table_build_s: f64,
+    /// Speed sweep of the study's defaults (12 speeds 100…1200 rad/s, RK4 at 128 steps per
+    /// mesh period, 4 refinement runs per resonance, one thread), s.
+    pub sweep_s: f64,
+    /// The sum: one design of `helical_gear.study.run` with `static` and `sweep` at their
+    /// defaults, s.
+    pub design_s: f64,
+}
+
 /// Everything [`run_bench`] measured.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BenchReport {
-    /// Full fidelity, 200 slices, interpolated compliance, default options: µs per evaluation.
+    /// Full fidelity, 200 slices, interpolated compliance, default options: µs per evaluation
+    /// from a cold start (the warm start forgotten before each evaluation).
     pub full_eval_us: f64,
+    /// The same along the benchmark's sweep of states, each warm-started from the one before
+    /// (a trajectory's next state), µs per evaluation.
+    pub full_eval_warm_us: f64,
+    /// Largest relative M_F,p error of that evaluation (200 slices) against the reference.
+    pub full_eval_max_rel_err: f64,
+    /// Build time of the default 64 × 48 table (200 slices), s.
+    pub table_build_s: f64,
+    /// Build time of the per-pair table with the hunting case's pitch deviations, s.
+    pub table_deviation_build_s: f64,
+    /// FE compliance of a new pair (Table 1's macro-geometry, default mesh, no cache), s.
+    pub fe_compliance_s: f64,
+    /// One design of a study with the static and sweep analyses at their defaults, s
+    /// ([`DesignCase`]).
+    pub design_s: f64,
+    /// The parts of that design.
+    pub design: DesignCase,
+    /// Table fidelity at the default size, only the torques and TE (the path of the
+    /// right-hand side of Eqs. 1–4): ns per evaluation.
+    pub table_eval_torques_ns: f64,
     /// The same with the general interpolation instead of the slice kernel, µs.
     pub full_eval_general_us: f64,
     /// Table fidelity at the default size: ns per evaluation.
@@ -237,6 +282,8 @@ pub fn run_bench(
     let full_slices: &[usize] = if q { &[50, 100] } else { &[50, 100, 200, 400] };
     let fitted_slices: &[usize] = if q { &[50] } else { &[50, 100, 200] };
     let mut full_eval_us = f64::NAN;
+    let mut full_eval_warm_us = f64::NAN;
+    let mut full_eval_max_rel_err = f64::NAN;
     let mut full_eval_general_us = f64::NAN;
     let general_at = if q { 100 } else { 200 };
     for (family, compliance, list) in [
@@ -261,7 +308,14 @@ pub fn run_bench(
             say(&format!("{family}, {slices} slices: {us:.1} µs, error {:.2e}", rel_err(&out)));
             if compliance == ComplianceModel::Interpolated && slices == general_at {
                 if slices == 200 || q {
-                    full_eval_us = us;
+                    full_eval_warm_us = us;
+                    full_eval_max_rel_err = rel_err(&out);
+                    let (cold, _) = time_with(&mut m, &states, min_pass_s, |m, s| {
+                        m.forget_warm_start();
+                        m.evaluate_full(s)
+                    })?;
+                    full_eval_us = cold;
+                    say(&format!("full, {slices} slices, cold start: {cold:.1} µs"));
                 }
                 m.use_slice_kernel(false);
                 m.reset_stats();
@@ -288,6 +342,8 @@ pub fn run_bench(
     let table_slices = if q { 50 } else { 200 };
     let mut table_eval_ns = f64::NAN;
     let mut table_max_rel_err = f64::NAN;
+    let mut table_build_s = f64::NAN;
+    let mut table_eval_torques_ns = f64::NAN;
     let mut default_table = None;
     for &[p, t] in sizes {
         let o = MeshOptions {
@@ -306,6 +362,10 @@ pub fn run_bench(
         if [p, t] == [64, 48] || q {
             table_eval_ns = us * 1e3;
             table_max_rel_err = e;
+            table_build_s = build_s;
+            let (us, _) = time_with(&mut m, &states, min_pass_s, |m, s| m.torques(s).map(|x| x.0))?;
+            table_eval_torques_ns = us * 1e3;
+            say(&format!("table {p}×{t}, torques and TE only: {:.0} ns", us * 1e3));
             default_table = Some(m);
         }
         mesh.push(MeshCase {
@@ -361,6 +421,7 @@ pub fn run_bench(
     let drive_units = drive_unit_cases(pair, drive, &table, q, &say)?;
     let dynamics = dynamics_cases(pair, drive, table, q, &say)?;
     let hunting = hunting_case(pair, drive, q, min_pass_s, &say)?;
+    let design = design_case(pair, drive, q, &say)?;
 
     // Paper run.
     let (paper_runtime_s, paper_stages) = if opts.paper {
@@ -378,6 +439,14 @@ pub fn run_bench(
 
     Ok(BenchReport {
         full_eval_us,
+        full_eval_warm_us,
+        full_eval_max_rel_err,
+        table_build_s,
+        table_deviation_build_s: hunting.build_s,
+        fe_compliance_s: design.fe_compliance_s,
+        design_s: design.design_s,
+        design,
+        table_eval_torques_ns,
         full_eval_general_us,
         table_eval_ns,
         table_max_rel_err,
@@ -811,6 +880,80 @@ fn hunting_case(
         case.rms_torque_err
     ));
     Ok(case)
+}
+
+/// One design as `helical_gear.study.run` computes it at its defaults (see [`DesignCase`]): the
+/// FE compliance of `pair` computed afresh (default mesh; `--quick`: coarse), the static TE at
+/// 20 points over one pitch (full fidelity, 200 slices; `--quick`: 50), the 64 × 48 table
+/// (`--quick`: 16 × 12) and the sweep over 12 speeds from 100 to 1200 rad/s (`--quick`: 3) at
+/// 128 RK4 steps per mesh period, 4 refinement runs, on one thread.
+fn design_case(
+    pair: &GearPair,
+    drive: &DriveLine,
+    q: bool,
+    say: &dyn Fn(&str),
+) -> Result<DesignCase, String> {
+    use helical_gear_mesh::compliance::data::ComplianceData;
+    use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
+    use helical_gear_mesh::compliance::influence_fe::DEFAULT_DEPTH_MN;
+    use helical_gear_mesh::dynamics::simulate::{SteadyMethod, SteadyRunOptions};
+    use helical_gear_mesh::dynamics::steady::steady_max_periods;
+    use helical_gear_mesh::dynamics::sweep::{SweepOptions, sweep};
+    use helical_gear_mesh::mesh::statics::static_curve;
+    let err = |e: helical_gear_mesh::mesh::MeshError| e.to_string();
+    let density = if q { GearMeshDensity::coarse() } else { GearMeshDensity::default() };
+    let h = DEFAULT_DEPTH_MN * pair.normal_module_m;
+    let t0 = Instant::now();
+    let data = ComplianceData::compute(pair, &density, h, false).map_err(|e| e.to_string())?;
+    let fe_compliance_s = t0.elapsed().as_secs_f64();
+    say(&format!("design: FE compliance {fe_compliance_s:.2} s"));
+
+    let slices = if q { 50 } else { 200 };
+    let base = MeshOptions { slices, ..MeshOptions::default() }.sized_for(drive);
+    let t0 = Instant::now();
+    let mut full = Mesh::from_data(pair, base, &data).map_err(err)?;
+    let pitch = full.geometry().pinion.angular_pitch();
+    static_curve(&mut full, drive.torque_nm, 0.0, pitch, 20, 1).map_err(err)?;
+    let static_s = t0.elapsed().as_secs_f64();
+
+    let size = if q { [16, 12] } else { [64, 48] };
+    let o = MeshOptions {
+        fidelity: Fidelity::Table,
+        table_phase_points: size[0],
+        table_te_points: size[1],
+        ..base
+    };
+    let t0 = Instant::now();
+    let mut table = Mesh::from_data(pair, o, &data).map_err(err)?;
+    let table_build_s = t0.elapsed().as_secs_f64();
+    table.set_d_mesh(pair.d_mesh_n_s_per_m).map_err(err)?;
+
+    let n = if q { 3 } else { 12 };
+    let speeds: Vec<f64> = (0..n).map(|i| 100.0 + 1100.0 * i as f64 / (n - 1) as f64).collect();
+    let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
+    let opts = SweepOptions {
+        run: SteadyRunOptions {
+            method: SteadyMethod::Rk4 { steps_per_period: 128 },
+            max_periods: steady_max_periods(if q { 300 } else { 3000 }, period),
+            period_meshes: period,
+            keep_window: false,
+            ..SteadyRunOptions::default()
+        },
+        threads: Some(1),
+        refine_runs: if q { 0 } else { 4 },
+        progress: false,
+        ..SweepOptions::default()
+    };
+    let train = Drivetrain::from_pair(pair, drive).map_err(|e| e.to_string())?;
+    let t0 = Instant::now();
+    sweep(&table, &train, &speeds, &opts).map_err(|e| e.to_string())?;
+    let sweep_s = t0.elapsed().as_secs_f64();
+    let design_s = fe_compliance_s + static_s + table_build_s + sweep_s;
+    say(&format!(
+        "design: static {static_s:.2} s, table {table_build_s:.2} s, sweep {sweep_s:.2} s, \
+         total {design_s:.2} s"
+    ));
+    Ok(DesignCase { fe_compliance_s, static_s, table_build_s, sweep_s, design_s })
 }
 
 /// The CPU's model name from `/proc/cpuinfo` ("unknown" where it cannot be read).

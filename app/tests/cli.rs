@@ -331,6 +331,25 @@ fn bench_quick_reports_the_contract_keys() {
     for key in ["full_eval_us", "table_eval_ns", "table_max_rel_err", "paper_runtime_s", "mesh"] {
         assert!(v.get(key).is_some(), "missing key {key}");
     }
+    // What a user waits for: every key measured, the design the sum of its parts.
+    for key in [
+        "full_eval_warm_us",
+        "full_eval_max_rel_err",
+        "table_build_s",
+        "table_deviation_build_s",
+        "fe_compliance_s",
+        "design_s",
+        "table_eval_torques_ns",
+    ] {
+        assert!(v[key].as_f64().is_some_and(|x| x.is_finite() && x > 0.0), "{key}: {}", v[key]);
+    }
+    let d = &v["design"];
+    let parts: f64 = ["fe_compliance_s", "static_s", "table_build_s", "sweep_s"]
+        .map(|k| d[k].as_f64().unwrap())
+        .iter()
+        .sum();
+    assert!((parts - v["design_s"].as_f64().unwrap()).abs() <= 1e-12 * parts);
+    assert_eq!(v["fe_compliance_s"], d["fe_compliance_s"]);
     assert!(v["full_eval_us"].as_f64().unwrap() > 0.0);
     assert!(v["table_eval_ns"].as_f64().unwrap() > 0.0);
     let e = v["table_max_rel_err"].as_f64().unwrap();
@@ -350,6 +369,16 @@ fn bench_quick_reports_the_contract_keys() {
         .map(|c| (c["slices"].as_u64().unwrap(), c["max_rel_err"].as_f64().unwrap()))
         .collect();
     assert!(full.len() >= 2 && full[1].1 < full[0].1, "{full:?}");
+    // The headline error is the error of the headline evaluation's row.
+    let general_slices = v["mesh"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["family"] == "full interpolated, general assembly")
+        .and_then(|c| c["slices"].as_u64())
+        .unwrap();
+    let row = full.iter().find(|c| c.0 == general_slices).unwrap();
+    assert_eq!(v["full_eval_max_rel_err"].as_f64().unwrap(), row.1);
     // The general assembly gives the same torques as the slice kernel.
     let general = v["mesh"]
         .as_array()
