@@ -776,44 +776,43 @@ impl ComplianceData {
         let density = GearMeshDensity::default();
         let depth = DEFAULT_DEPTH_MN * pair.normal_module_m;
         let path = options.dir.as_ref().map(|d| d.join(Self::cache_file_name(pair)));
-        if let Some(path) = &path {
-            if path.exists() {
-                match Self::read_file(path) {
-                    Ok(mut d)
-                        if d.matches(pair)
-                            && d.provenance.support.is_bore()
-                            && d.provenance.density == density
-                            && d.provenance.depth_h_m == depth =>
-                    {
-                        let stress_path =
-                            path.with_file_name(RootStressData::cache_file_name(pair));
-                        match RootStressData::read_file(&stress_path) {
-                            Ok(s)
-                                if s.key == d.provenance.key
-                                    && s.density == density
-                                    && s.support.is_bore() =>
-                            {
-                                d.root_stress = Some(Arc::new(s));
-                                return Ok(Arc::new(d));
-                            }
-                            Ok(_) => eprintln!(
-                                "warning: root-stress cache {} belongs to another gear pair or \
-                                 mesh; recomputing",
-                                stress_path.display()
-                            ),
-                            Err(e) => eprintln!(
-                                "warning: no usable root-stress cache beside the compliance \
-                                 ({e}); recomputing"
-                            ),
+        if let Some(path) = &path
+            && path.exists()
+        {
+            match Self::read_file(path) {
+                Ok(mut d)
+                    if d.matches(pair)
+                        && d.provenance.support.is_bore()
+                        && d.provenance.density == density
+                        && d.provenance.depth_h_m == depth =>
+                {
+                    let stress_path = path.with_file_name(RootStressData::cache_file_name(pair));
+                    match RootStressData::read_file(&stress_path) {
+                        Ok(s)
+                            if s.key == d.provenance.key
+                                && s.density == density
+                                && s.support.is_bore() =>
+                        {
+                            d.root_stress = Some(Arc::new(s));
+                            return Ok(Arc::new(d));
                         }
+                        Ok(_) => eprintln!(
+                            "warning: root-stress cache {} belongs to another gear pair or \
+                                 mesh; recomputing",
+                            stress_path.display()
+                        ),
+                        Err(e) => eprintln!(
+                            "warning: no usable root-stress cache beside the compliance \
+                                 ({e}); recomputing"
+                        ),
                     }
-                    Ok(_) => eprintln!(
-                        "warning: compliance cache {} belongs to another gear pair, mesh \
-                         density, depth h or body support; recomputing",
-                        path.display()
-                    ),
-                    Err(e) => eprintln!("warning: unusable compliance cache ({e}); recomputing"),
                 }
+                Ok(_) => eprintln!(
+                    "warning: compliance cache {} belongs to another gear pair, mesh \
+                         density, depth h or body support; recomputing",
+                    path.display()
+                ),
+                Err(e) => eprintln!("warning: unusable compliance cache ({e}); recomputing"),
             }
         }
         let data = Self::compute(pair, &density, depth, options.progress)?;

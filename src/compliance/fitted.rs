@@ -616,7 +616,9 @@ impl FittedInfluence {
         for &i in &used_pts {
             for &j in &used_pts {
                 let k = i * n + j;
-                if options.pairs.selects(i, j, nc) && (i == j || k % options.pair_stride == 0) {
+                if options.pairs.selects(i, j, nc)
+                    && (i == j || k.is_multiple_of(options.pair_stride))
+                {
                     pairs.push((i, j));
                 }
             }

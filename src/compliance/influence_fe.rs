@@ -304,7 +304,7 @@ pub fn fe_influence(
 pub fn axial_gauss_resample(grid: &InfluenceGrid) -> Result<InfluenceGrid, FeError> {
     grid.validate().map_err(FeError::InvalidInput)?;
     let nc = grid.zeta.len();
-    if nc < 3 || nc % 2 == 0 {
+    if nc < 3 || nc.is_multiple_of(2) {
         return Err(FeError::InvalidInput(format!(
             "axial Gauss resampling needs an odd number (≥ 3) of node columns, grid has {nc}"
         )));

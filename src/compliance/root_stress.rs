@@ -121,7 +121,9 @@ impl RootStressGrid {
         if nf == 0 || self.fillet_chi_rad.len() != nf || self.levels_zeta.is_empty() {
             return Err("root-stress grid: no fillet points or levels".into());
         }
-        if self.load_profile.len() < 2 || self.load_zeta.len() < 3 || self.load_zeta.len() % 2 == 0
+        if self.load_profile.len() < 2
+            || self.load_zeta.len() < 3
+            || self.load_zeta.len().is_multiple_of(2)
         {
             return Err(format!(
                 "root-stress grid: {} load rows × {} columns, need ≥ 2 rows and an odd number \

@@ -364,7 +364,7 @@ impl SteadyResponse {
     /// was not kept, is not an RK4 window, or `per_mesh` does not divide the steps.
     pub fn window_te(&self, per_mesh: usize) -> Result<Vec<f64>, DynamicsError> {
         let n = self.samples_per_period;
-        if per_mesh == 0 || n % per_mesh != 0 {
+        if per_mesh == 0 || !n.is_multiple_of(per_mesh) {
             return Err(invalid("per_mesh", per_mesh as f64, "a divisor of the steps per period"));
         }
         let len = self.period_multiple * n;

@@ -405,10 +405,13 @@ pub struct UnitOutputs {
     pub mesh: MeshOutputs,
 }
 
+/// One scalar field of [`UnitOutputs`]: its name, its SI unit and its reader.
+pub type UnitOutputField = (&'static str, &'static str, fn(&UnitOutputs) -> f64);
+
 /// The scalar fields of [`UnitOutputs`] besides the mesh outputs and `dydt`: the field name
 /// of `UnitOutputs` and of the C struct `HgmUnitOutputs`, its SI unit, and its reader. The mesh
 /// outputs are described by `mesh::outputs::MESH_OUTPUT_FIELDS`.
-pub const UNIT_OUTPUT_FIELDS: [(&str, &str, fn(&UnitOutputs) -> f64); 15] = [
+pub const UNIT_OUTPUT_FIELDS: [UnitOutputField; 15] = [
     ("t", "s", |o| o.t),
     ("phi_p", "rad", |o| o.phi_p),
     ("w_p", "rad/s", |o| o.w_p),

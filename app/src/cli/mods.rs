@@ -337,7 +337,7 @@ fn dynamic_te(
     if !(speed.is_finite() && speed > 0.0) {
         return Err(format!("--speed = {speed} rad/s: allowed > 0 and finite"));
     }
-    if a.steps_per_period < 4 || a.steps_per_period % a.points_per_pitch != 0 {
+    if a.steps_per_period < 4 || !a.steps_per_period.is_multiple_of(a.points_per_pitch) {
         return Err(format!(
             "--steps-per-period = {}: allowed >= 4 and a multiple of --points-per-pitch = {}",
             a.steps_per_period, a.points_per_pitch

@@ -211,10 +211,9 @@ mod tests {
                         for j in 0..3 {
                             if let (Some(r), Some(c)) =
                                 (dofs.free_index(3 * na + i), dofs.free_index(3 * nb + j))
+                                && r >= c
                             {
-                                if r >= c {
-                                    triplets.push(Triplet::new(r, c, ke[3 * a + i][3 * b + j]));
-                                }
+                                triplets.push(Triplet::new(r, c, ke[3 * a + i][3 * b + j]));
                             }
                         }
                     }

@@ -696,7 +696,11 @@ impl GearMesh {
             }
         }
         let id3 = |l: usize, i2: usize| -> usize {
-            if l % 2 == 0 { level_offset[l] + i2 } else { level_offset[l] + corner_index[i2] }
+            if l.is_multiple_of(2) {
+                level_offset[l] + i2
+            } else {
+                level_offset[l] + corner_index[i2]
+            }
         };
         let mut elements = Vec::with_capacity(quads.len() * d.layers);
         for layer in 0..d.layers {

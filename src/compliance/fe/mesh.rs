@@ -286,10 +286,10 @@ impl Mesh {
             if !in_widened_box(&c, x) {
                 continue;
             }
-            if let Some(xi) = element::natural_coordinates(&c, x) {
-                if xi.iter().all(|v| v.abs() <= 1.0 + 1e-9) {
-                    return Some((e, xi));
-                }
+            if let Some(xi) = element::natural_coordinates(&c, x)
+                && xi.iter().all(|v| v.abs() <= 1.0 + 1e-9)
+            {
+                return Some((e, xi));
             }
         }
         None

@@ -185,11 +185,11 @@ impl MeshTable {
                 Err(e @ MeshError::OutOfRange { .. }) => return Ok(Err((te, e))),
                 Err(e) => return Err(e),
             };
-            if full.m_f_p.abs() > 0.01 * torque {
-                if let Some(t) = self.evaluate(model.model(), &state) {
-                    worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
-                    checked += 1;
-                }
+            if full.m_f_p.abs() > 0.01 * torque
+                && let Some(t) = self.evaluate(model.model(), &state)
+            {
+                worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
+                checked += 1;
             }
         }
         Ok(Ok((worst, checked)))
