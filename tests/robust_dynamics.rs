@@ -241,3 +241,168 @@ fn table_size_4096_is_refused() {
     let e = Mesh::new(&pair, options).unwrap_err().to_string();
     assert!(e.contains("table_phase_points") && e.contains("65536"), "{e}");
 }
+
+/// The step rule includes the damping: at every d_mesh of its allowed range, every eigenvalue
+/// λ of the damped linearisation (Table 1 at its static equilibrium, 300 rad/s) times the
+/// default step h lies inside RK4's stability region (|R(h·λ)| ≤ 1), while the undamped rule
+/// (h from the undamped frequency alone) leaves it once the mesh mode is overdamped.
+#[test]
+fn default_step_keeps_every_damped_eigenvalue_inside_the_rk4_region() {
+    use helical_gear_mesh::dynamics::limits::{linear_eigenvalues, rk4_amplification};
+    use helical_gear_mesh::dynamics::model::mesh_linearisation;
+    let (mesh, drive) = table_mesh();
+    let omega = 300.0;
+    let t_m = drive.mesh_period(omega);
+    let mut undamped_rule_fails = Vec::new();
+    for d_mesh in [0.0, 1e2, 1e3, 1e4, 2.5e4, 1e5, 1e6, 1e7, 1e9] {
+        let mut m = mesh.clone();
+        m.set_d_mesh(d_mesh).unwrap();
+        let (gp, gg) = m.base_radii();
+        let lin = mesh_linearisation(&mut m, 0.0, drive.torque).unwrap();
+        let mut model = GearDynamics::new(m, drive).unwrap();
+        let w = fastest_mode(&mut model, 0.0).unwrap();
+        let h = stable_rk4_step(t_m, 128.0, w, STEPS_PER_FAST_PERIOD);
+        // The linearisation's matrices (coordinates φ₁, φp, φg, φ₂).
+        let (k, c) = (lin.stiffness, lin.damping);
+        let kk = [
+            drive.c1,
+            -drive.c1,
+            0.0,
+            0.0,
+            -drive.c1,
+            drive.c1 + k * gp * gp,
+            k * gp * gg,
+            0.0,
+            0.0,
+            k * gp * gg,
+            drive.c2 + k * gg * gg,
+            -drive.c2,
+            0.0,
+            0.0,
+            -drive.c2,
+            drive.c2,
+        ];
+        let cc = [
+            drive.d1,
+            -drive.d1,
+            0.0,
+            0.0,
+            -drive.d1,
+            drive.d1 + c * gp * gp,
+            c * gp * gg,
+            0.0,
+            0.0,
+            c * gp * gg,
+            drive.d2 + c * gg * gg,
+            -drive.d2,
+            0.0,
+            0.0,
+            -drive.d2,
+            drive.d2,
+        ];
+        let lambdas = linear_eigenvalues(&[drive.j1, drive.j_p, drive.j_g, drive.j2], &kk, &cc);
+        assert_eq!(lambdas.len(), 8, "d_mesh {d_mesh:e}");
+        // The rigid-body mode is a double 0, resolved by the eigen-solver to about
+        // √ε·|λ|max: no growing mode beyond that.
+        let scale = lambdas.iter().map(|l| l.norm()).fold(0.0, f64::max);
+        for l in &lambdas {
+            assert!(l.re <= 1e-8 * scale, "d_mesh {d_mesh:e}: growing mode {l}");
+            if l.norm() < 1e-6 * scale {
+                continue; // the rigid-body mode: neutral, R = 1
+            }
+            let r = rk4_amplification(l * h);
+            assert!(r <= 1.0 + 1e-12, "d_mesh {d_mesh:e}: |R(hλ)| = {r} for λ = {l}, h = {h:e}");
+        }
+        // The damping is Eq. 14's: c grows in proportion to d_mesh.
+        if d_mesh > 0.0 {
+            assert!(c > 0.0, "d_mesh {d_mesh:e}: damping coefficient {c}");
+        }
+        let omega_undamped = drive.linear_frequencies(k, gp, gg)[3];
+        let h_old = stable_rk4_step(t_m, 128.0, omega_undamped, STEPS_PER_FAST_PERIOD);
+        if lambdas.iter().any(|l| l.norm() > 1e-6 * scale && rk4_amplification(l * h_old) > 1.0) {
+            undamped_rule_fails.push(d_mesh);
+        }
+    }
+    // The defect the rule mends: without the damping the step leaves the region from about
+    // 2.5e4 N·s/m on (Table 1, 300 rad/s), and never below critical damping.
+    assert!(undamped_rule_fails.contains(&1e5), "{undamped_rule_fails:?}");
+    assert!(!undamped_rule_fails.contains(&1e3), "{undamped_rule_fails:?}");
+}
+
+/// Sweeping d_mesh over its allowed range at 300 rad/s: the default step agrees with a step
+/// four times finer (TE and the mesh force F_p,y), or, where the damping makes the step so
+/// short that the run exceeds the work bound, the request is refused naming the bound.
+#[test]
+fn default_step_agrees_with_a_4x_finer_one_over_the_damping_range() {
+    let (mesh, drive) = table_mesh();
+    let omega = 300.0;
+    let mut refused = Vec::new();
+    for d_mesh in [0.0, 1e3, 1e4, 2.5e4, 3e4, 1e5, 1e6, 1e9] {
+        let mut m = mesh.clone();
+        m.set_d_mesh(d_mesh).unwrap();
+        let mut model = GearDynamics::new(m.clone(), drive).unwrap();
+        let w = fastest_mode(&mut model, 0.0).unwrap();
+        let h = stable_rk4_step(drive.mesh_period(omega), 128.0, w, STEPS_PER_FAST_PERIOD);
+        // Two mesh periods, or fewer steps where the damping shortens the step.
+        let t_end = (2.0 * drive.mesh_period(omega)).min(20_000.0 * h);
+        let dt = match default_rk4_step(&mut model, omega, 0.0, t_end) {
+            Ok(dt) => dt,
+            Err(e) => {
+                assert!(too_large(&e), "d_mesh {d_mesh:e}: {e}");
+                refused.push(d_mesh);
+                continue;
+            }
+        };
+        let run = |dt: f64| {
+            let mut model = GearDynamics::new(m.clone(), drive).unwrap();
+            let start = model.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap();
+            let tr = simulate(&mut model, &start.y, t_end, &Stepping::Rk4 { dt }).unwrap();
+            let te: Vec<f64> = tr.outputs.iter().map(|o| o.te).collect();
+            let fy: Vec<f64> = tr.outputs.iter().map(|o| o.force_p[1]).collect();
+            (te, fy, start.te)
+        };
+        let (te, fy, te0) = run(dt);
+        let (te_f, fy_f, _) = run(dt / 4.0);
+        let f_static = fy[0].abs();
+        let mut dte: f64 = 0.0;
+        let mut dfy: f64 = 0.0;
+        for i in 0..te.len() {
+            dte = dte.max((te[i] - te_f[4 * i]).abs());
+            dfy = dfy.max((fy[i] - fy_f[4 * i]).abs());
+        }
+        assert!(dte < 1e-3 * te0, "d_mesh {d_mesh:e}: TE differs by {:.2e} of static", dte / te0);
+        assert!(dfy < 1e-3 * f_static, "d_mesh {d_mesh:e}: F_p,y differs by {dfy:.3e} N");
+        assert!(fy.iter().all(|f| f.abs() < 2.0 * f_static), "d_mesh {d_mesh:e}: {fy:?}");
+    }
+    // Only the extreme of the range (the step 2π/(32·c/m)) is refused, and it is refused.
+    assert!(refused.iter().all(|d| *d >= 1e6), "{refused:?}");
+}
+
+/// The units take the damped rule too, and a tuned d_mesh (the FMUs' tunable parameter) is
+/// measured again: a Drive unit whose damping is raised to 1e5 N·s/m after construction has
+/// the fastest rate of a unit built with it, above the undamped mesh frequency.
+#[test]
+fn unit_step_rule_follows_a_tuned_mesh_damping() {
+    let (mesh, drive) = table_mesh();
+    let unit = |m: Mesh| {
+        DriveUnit::new(UnitKind::Drive, m, drive, UnitStepping::Rk4 { steps_per_mesh_period: 128 })
+            .unwrap()
+    };
+    let mut light = mesh.clone();
+    light.set_d_mesh(100.0).unwrap();
+    let mut heavy = mesh.clone();
+    heavy.set_d_mesh(1e5).unwrap();
+    let u_light = unit(light.clone());
+    let u_heavy = unit(heavy.clone());
+    let mut tuned = unit(light);
+    assert_eq!(tuned.fastest_mode(), u_light.fastest_mode());
+    tuned.mesh_mut().set_d_mesh(1e5).unwrap();
+    tuned.refresh_fastest_mode().unwrap();
+    let rel = (tuned.fastest_mode() - u_heavy.fastest_mode()).abs() / u_heavy.fastest_mode();
+    assert!(rel < 1e-9, "tuned {} against built {}", tuned.fastest_mode(), u_heavy.fastest_mode());
+    // Overdamped: beyond the undamped frequency the light unit runs at.
+    assert!(u_heavy.fastest_mode() > 2.0 * u_light.fastest_mode());
+    let mut model = GearDynamics::new(heavy, drive).unwrap();
+    let w = fastest_mode(&mut model, 0.0).unwrap();
+    assert!(u_heavy.fastest_mode() >= w * (1.0 - 1e-9), "{} < {w}", u_heavy.fastest_mode());
+}

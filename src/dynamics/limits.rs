@@ -34,6 +34,29 @@
 //! and the per-period amplitude error of a free oscillation, (ωh)⁶/144 per step, is about
 //! 4·10⁻⁷ per period, so the mode is also resolved, not only stable.
 //!
+//! **Damping.** ω_fast is not only the undamped frequency: the shafts' damping d1, d2 and the
+//! mesh damping of Eq. 14 (a force d_mesh·E·v_TE along the line of action, E the loaded axial
+//! extent in units of m_n) make the linearisation J·q̈ + C·q̇ + K·q = 0, whose eigenvalues λ
+//! are those of the state matrix [[0, I], [−J⁻¹K, −J⁻¹C]]. For the mesh mode alone
+//! (equivalent mass m, stiffness k, damping c = d_mesh·E, ω = √(k/m), ζ = c/(2√(km))):
+//!
+//! ```text
+//! ζ < 1:  λ = −ζω ± iω√(1 − ζ²),   |λ| = ω
+//! ζ ≥ 1:  λ = −ω(ζ ∓ √(ζ² − 1)),   |λ|max = ω(ζ + √(ζ² − 1)) → c/m   (ζ → ∞)
+//! ```
+//!
+//! Below critical damping every eigenvalue lies on the circle |λ| = ω, so the undamped rule
+//! holds whatever ζ; above it the fast real eigenvalue grows with the damping, and with h set
+//! by ω alone, h·λ leaves RK4's interval [−2.785, 0] on the real axis (Table 1 at 300 rad/s
+//! and h = T_m/128: from d_mesh ≈ 2.4·10⁴ N·s/m on, with forces several times too large and
+//! no error). The rule therefore takes ω_fast = max(ω, max|λ|) over the eigenvalues of the
+//! damped linearisation ([`linear_eigenvalues`], [`fastest_linear_rate`],
+//! [`super::model::Drivetrain::fastest_rate`], with c measured at the equilibrium by
+//! [`super::model::mesh_linearisation`]): then |h·λ| ≤ 2π/32 for every λ, inside the
+//! half-disc of radius 2.6 below. Lightly damped systems keep their step (|λ| = ω); an
+//! overdamped mesh mode shortens it in proportion to c/m, and the work bounds below refuse a
+//! request that would then take too many steps, naming the steps and the bound.
+//!
 //! An explicit step is refused ([`check_rk4_step`]) when ω_fast·h exceeds
 //! [`RK4_MAX_OMEGA_H`] = 2.0: the stability radius 2.6 with a margin of 30 % in ω for the
 //! stiffening of the mesh under dynamic load. Such a step does not give a coarse answer but a
@@ -48,7 +71,7 @@
 //! fidelity (an RK4 step of the Drive at table fidelity costs about 1 µs; at full fidelity
 //! each mesh evaluation costs 10⁻⁴–10⁻³ s, so the same bound is proportionally slower).
 
-use super::model::{Drivetrain, DynamicsError, GearDynamics, mesh_stiffness};
+use super::model::{Drivetrain, DynamicsError, GearDynamics, mesh_linearisation};
 use crate::mesh::MeshTorques;
 
 /// Steps per period of the fastest linearised mode of the step rule (see the module doc).
@@ -115,19 +138,23 @@ pub fn stable_rk4_step(
     h_mesh.min(h_fast)
 }
 
-/// The fastest natural frequency ω_fast (rad/s) of Eqs. 1–4 linearised about the static
-/// equilibrium under the drivetrain's torque at pinion angle `phi_p` (rad): the mesh
-/// stiffness by [`mesh_stiffness`], then [`Drivetrain::linear_frequencies`]. A few mesh
-/// evaluations (the equilibrium and a central difference).
+/// The fastest rate ω_fast (rad/s) of Eqs. 1–4 linearised about the static equilibrium under
+/// the drivetrain's torque at pinion angle `phi_p` (rad): the largest of the fastest undamped
+/// natural frequency ([`Drivetrain::linear_frequencies`]) and the largest modulus |λ| of the
+/// eigenvalues of the damped linearisation ([`Drivetrain::fastest_rate`], shaft damping and
+/// the mesh damping of Eq. 14), with the mesh stiffness and damping coefficient measured by
+/// [`mesh_linearisation`]. A few mesh evaluations (the equilibrium, a central difference and
+/// one damping evaluation).
 pub fn fastest_mode<M: MeshTorques>(
     model: &mut GearDynamics<M>,
     phi_p: f64,
 ) -> Result<f64, DynamicsError> {
     let drive: Drivetrain = *model.drive();
     let (gp, gg) = model.base_radii();
-    let k = mesh_stiffness(model.mesh_mut(), phi_p, drive.torque)
+    let lin = mesh_linearisation(model.mesh_mut(), phi_p, drive.torque)
         .map_err(|source| DynamicsError::Mesh { t: None, source })?;
     model.mesh_mut().forget_history();
+    let k = lin.stiffness;
     if !(k.is_finite() && k > 0.0) {
         return Err(DynamicsError::InvalidInput {
             name: "mesh stiffness",
@@ -135,7 +162,48 @@ pub fn fastest_mode<M: MeshTorques>(
             allowed: "finite and > 0 at the static equilibrium under the torque (N/m)",
         });
     }
-    Ok(drive.linear_frequencies(k, gp, gg)[3])
+    let undamped = drive.linear_frequencies(k, gp, gg)[3];
+    Ok(undamped.max(drive.fastest_rate(k, lin.damping, gp, gg)))
+}
+
+/// The largest modulus |λ| (rad/s) of the eigenvalues of the linear system J·q̈ + C·q̇ + K·q
+/// = 0 with the diagonal inertias `j` (kg·m², > 0), stiffness matrix `k` (N·m/rad) and
+/// damping matrix `c` (N·m·s/rad), both symmetric n × n in row-major order (n = `j.len()`
+/// ≤ 4): the eigenvalues of the first-order state matrix [[0, I], [−J⁻¹K, −J⁻¹C]]. For an
+/// underdamped mode |λ| = ω (the undamped frequency, whatever the damping ratio ζ < 1); an
+/// overdamped one has the real eigenvalue −ω·(ζ + √(ζ² − 1)) ≈ −c/m, which grows without
+/// bound with the damping (see the module doc). 0 for non-finite input.
+pub fn fastest_linear_rate(j: &[f64], k: &[f64], c: &[f64]) -> f64 {
+    linear_eigenvalues(j, k, c).iter().map(|l| l.norm()).fold(0.0, f64::max)
+}
+
+/// The eigenvalues λ (rad/s; complex: decay rate and frequency) of the linear system of
+/// [`fastest_linear_rate`]; empty for inconsistent sizes, non-finite values or an inertia
+/// that is not > 0.
+pub fn linear_eigenvalues(j: &[f64], k: &[f64], c: &[f64]) -> Vec<num_complex::Complex<f64>> {
+    let n = j.len();
+    if n == 0 || n > 4 || k.len() != n * n || c.len() != n * n {
+        return Vec::new();
+    }
+    if j.iter().chain(k).chain(c).any(|v| !v.is_finite()) || j.iter().any(|v| *v <= 0.0) {
+        return Vec::new();
+    }
+    let a = nalgebra::DMatrix::from_fn(2 * n, 2 * n, |r, col| {
+        if r < n {
+            if col == r + n { 1.0 } else { 0.0 }
+        } else {
+            let i = r - n;
+            if col < n { -k[i * n + col] / j[i] } else { -c[i * n + col - n] / j[i] }
+        }
+    });
+    a.complex_eigenvalues().iter().copied().collect()
+}
+
+/// RK4's amplification factor R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 for z = h·λ: a linear mode
+/// is integrated stably when |R(z)| ≤ 1.
+pub fn rk4_amplification(z: num_complex::Complex<f64>) -> f64 {
+    let z2 = z * z;
+    (1.0 + z + z2 / 2.0 + z2 * z / 6.0 + z2 * z2 / 24.0).norm()
 }
 
 /// Refuses an explicit RK4 step `dt` (s) for which ω_fast·dt (`omega_fast` in rad/s) exceeds
@@ -143,9 +211,10 @@ pub fn fastest_mode<M: MeshTorques>(
 pub fn check_rk4_step(dt: f64, omega_fast: f64) -> Result<(), DynamicsError> {
     if omega_fast * dt > RK4_MAX_OMEGA_H {
         return Err(DynamicsError::TooLarge(format!(
-            "RK4 step dt = {dt:.3e} s is unstable for the fastest mode ω = {omega_fast:.3e} \
-             rad/s (ω·dt = {:.3e}; RK4 diverges beyond {RK4_STABILITY_RADIUS}); at most \
-             dt = {:.3e} s (ω·dt <= {RK4_MAX_OMEGA_H}), or leave the step to the default",
+            "RK4 step dt = {dt:.3e} s is unstable for the fastest mode of the linearised \
+             drive line (with the shaft and mesh damping) |λ| = {omega_fast:.3e} rad/s \
+             (|λ|·dt = {:.3e}; RK4 diverges beyond {RK4_STABILITY_RADIUS}); at most \
+             dt = {:.3e} s (|λ|·dt <= {RK4_MAX_OMEGA_H}), or leave the step to the default",
             omega_fast * dt,
             RK4_MAX_OMEGA_H / omega_fast
         )));

@@ -306,6 +306,21 @@ impl Drivetrain {
         Ok(())
     }
 
+    /// The largest modulus |λ| of the eigenvalues of Eqs. 1–4 linearised with a constant mesh
+    /// stiffness `k_mesh` (N/m) and mesh damping coefficient `c_mesh` (N·s/m) along the line of
+    /// action between base radii `g_p`, `g_g` (m), with the shafts' stiffness and damping
+    /// (rad/s; [`super::limits::fastest_linear_rate`]). Equals the fastest undamped
+    /// frequency while every mode is underdamped; grows as c_mesh/m_eq once the mesh mode is
+    /// overdamped.
+    pub fn fastest_rate(&self, k_mesh: f64, c_mesh: f64, g_p: f64, g_g: f64) -> f64 {
+        let k = stiffness_matrix(self, k_mesh, g_p, g_g);
+        let c =
+            stiffness_matrix(&Drivetrain { c1: self.d1, c2: self.d2, ..*self }, c_mesh, g_p, g_g);
+        let j = [self.j1, self.j_p, self.j_g, self.j2];
+        let flat = |m: Matrix4<f64>| -> [f64; 16] { std::array::from_fn(|i| m[(i / 4, i % 4)]) };
+        super::limits::fastest_linear_rate(&j, &flat(k), &flat(c))
+    }
+
     /// Undamped natural frequencies ω (rad/s, ascending, the first is the rigid-body mode 0)
     /// of Eqs. 1–4 linearised with a constant mesh stiffness `k_mesh` (N/m) along the line of
     /// action between base radii `g_p`, `g_g` (m): M_F,p = k·TE·g_p, M_F,g = k·TE·g_g.
@@ -580,20 +595,48 @@ pub fn mesh_stiffness<M: MeshTorques + ?Sized>(
     phi_p: f64,
     torque: f64,
 ) -> Result<f64, MeshError> {
+    Ok(mesh_linearisation(mesh, phi_p, torque)?.stiffness)
+}
+
+/// The mesh linearised about its static equilibrium (see [`mesh_linearisation`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshLinearisation {
+    /// Static TE of the equilibrium, m.
+    pub te: f64,
+    /// Mesh stiffness k along the line of action, N/m ([`mesh_stiffness`]).
+    pub stiffness: f64,
+    /// Mesh damping coefficient c = ∂F_D/∂v_TE along the line of action, N·s/m: the damping
+    /// force of Eq. 14 per unit rate of TE, d_mesh times the loaded axial extent (units of
+    /// m_n) at the equilibrium; 0 when the mesh's damping is off.
+    pub damping: f64,
+}
+
+/// The mesh linearised about the static equilibrium for `torque` (N·m) at pinion angle `phi_p`
+/// (rad): the stiffness as [`mesh_stiffness`] and the damping coefficient c from one
+/// evaluation at the equilibrium with a TE rate v = 1 mm/s (pinion turning, gear at rest):
+/// M_D,p = c·v·g_p (Eq. 14 is linear in the rate), so c = M_D,p/(v·g_p).
+pub fn mesh_linearisation<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    phi_p: f64,
+    torque: f64,
+) -> Result<MeshLinearisation, MeshError> {
     let (gp, gg) = mesh.base_radii();
     let eq =
         equilibrium(mesh, phi_p, torque, torque / (gp * 1e8), &EquilibriumSettings::default())?;
     let dte = (0.01 * eq.te.abs()).max(1e-9);
-    let at = |mesh: &mut M, te: f64| -> Result<f64, MeshError> {
-        let s = MeshState {
-            phi_p,
-            phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
-            w_p: 0.0,
-            w_g: 0.0,
-        };
-        Ok(mesh.mesh(&s)?.m_f_p)
+    let state = |te: f64, w_p: f64| MeshState {
+        phi_p,
+        phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
+        w_p,
+        w_g: 0.0,
     };
-    let hi = at(mesh, eq.te + dte)?;
-    let lo = at(mesh, eq.te - dte)?;
-    Ok((hi - lo) / (2.0 * dte) / gp)
+    let hi = mesh.mesh(&state(eq.te + dte, 0.0))?.m_f_p;
+    let lo = mesh.mesh(&state(eq.te - dte, 0.0))?.m_f_p;
+    let v = 1e-3;
+    let damped = mesh.mesh(&state(eq.te, v / gp))?.m_d_p;
+    Ok(MeshLinearisation {
+        te: eq.te,
+        stiffness: (hi - lo) / (2.0 * dte) / gp,
+        damping: (damped / (v * gp)).max(0.0),
+    })
 }

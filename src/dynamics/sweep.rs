@@ -20,8 +20,10 @@
 //!   bracket shrinks by about 0.618 per run.
 //!
 //! Step size: unless [`SteadyRunOptions::max_step`] is set, the sweep estimates the mesh
-//! stiffness at the static equilibrium ([`mesh_stiffness`]), takes the fastest linearised
-//! natural frequency ω_max of Eqs. 1–4 ([`Drivetrain::linear_frequencies`]) and limits the
+//! stiffness and damping at the static equilibrium ([`mesh_stiffness`],
+//! [`super::model::mesh_linearisation`]), takes the fastest rate ω_max of Eqs. 1–4 linearised
+//! ([`Drivetrain::linear_frequencies`], [`Drivetrain::fastest_rate`]: the damped eigenvalues,
+//! which an overdamped mesh mode moves beyond the undamped frequency) and limits the
 //! RK4 step to 2π/(ω_max·[`SweepOptions::steps_per_fastest_mode`]) ([`stable_rk4_step`]):
 //! at low speeds the mesh mode, not the mesh period, sets the step. Work is bounded before
 //! anything runs: at most [`MAX_SWEEP_SPEEDS`] speeds, [`MAX_REFINE_RUNS`] refinement runs
@@ -38,7 +40,9 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::limits::{MAX_REFINE_RUNS, MAX_SPECTRUM_SAMPLES, MAX_SWEEP_SPEEDS, stable_rk4_step};
-use super::model::{Drivetrain, DynamicsError, GearDynamics, invalid, mesh_stiffness};
+#[cfg(doc)]
+use super::model::mesh_stiffness;
+use super::model::{Drivetrain, DynamicsError, GearDynamics, invalid, mesh_linearisation};
 use super::simulate::{
     DEFAULT_STEPS_PER_MESH_PERIOD, SteadyMethod, SteadyResponse, SteadyRunOptions, SteadyWarning,
     run_to_steady,
@@ -387,10 +391,18 @@ where
         if n == 0 {
             return Err(invalid("steps_per_fastest_mode", 0.0, ">= 1"));
         }
-        let k = mesh_stiffness(&mut proto, run.phi_p0, drive.torque).map_err(mesh_err)?;
+        let lin = mesh_linearisation(&mut proto, run.phi_p0, drive.torque).map_err(mesh_err)?;
+        let k = lin.stiffness;
         if k.is_finite() && k > 0.0 {
             let (gp, gg) = proto.base_radii();
-            let w_max = drive.linear_frequencies(k, gp, gg)[3];
+            // The fastest rate of the damped linearisation (the mesh damping of Eq. 14 may
+            // overdamp the mesh mode: see `limits`).
+            let w_max = drive.linear_frequencies(k, gp, gg)[3].max(drive.fastest_rate(
+                k,
+                lin.damping,
+                gp,
+                gg,
+            ));
             // The step rule of `limits` with the sweep's finer steps per fastest period.
             run.max_step = Some(stable_rk4_step(f64::INFINITY, 1.0, w_max, n as f64));
             k_mesh = Some(k);

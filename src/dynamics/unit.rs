@@ -64,8 +64,11 @@
 //! h_max = min( T_m/N , T_fast/32 ),   T_m = 2π/(z_p·|φ̇p|) at the start of the step
 //! ```
 //! N = `steps_per_mesh_period` and T_fast = 2π/ω_fast the period of the unit's fastest
-//! linearised mode (the mesh mode), with the mesh stiffness k measured at construction at the
-//! static equilibrium under the nominal torque `drive.torque` ([`mesh_stiffness`]). At rest
+//! linearised mode (the mesh mode), with the mesh stiffness k and damping coefficient c
+//! measured at construction at the static equilibrium under the nominal torque `drive.torque`
+//! ([`mesh_linearisation`]; ω_fast is the larger of the undamped frequency and the largest
+//! |λ| of the damped eigenvalues, which a heavily damped mesh moves beyond it; a changed
+//! damping is measured again by [`DriveUnit::refresh_fastest_mode`]). At rest
 //! (φ̇p = 0, T_m = ∞) and at low speed the second bound holds: ω_fast·h ≤ 2π/32 ≈ 0.2, far
 //! inside RK4's stability interval (|ω·h| < 2.8 on the imaginary axis), so a unit at rest is
 //! stable and its mesh mode resolved even if the actual stiffness is several times k (the
@@ -131,7 +134,7 @@ pub use super::kind::{UnitKind, UnitLinearization, UnitQuantity};
 use super::limits::{MAX_UNIT_SUBSTEPS, stable_rk4_step};
 use super::model::{
     Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
-    W_1, W_2, W_G, W_P, invalid, mesh_stiffness,
+    W_1, W_2, W_G, W_P, invalid, mesh_linearisation,
 };
 use super::relative::{InRelative, RelativeCoordinates};
 use crate::mesh::statics::EquilibriumSettings;
@@ -691,10 +694,12 @@ pub struct DriveUnit<M> {
     rk4: Rk4,
     dopri: Option<Dopri5>,
     step_hint: Option<f64>,
-    /// Angular frequency of the fastest linearised mode, rad/s.
+    /// The fastest rate of the damped linearisation (the step rule's ω_fast), rad/s.
     omega_fast: f64,
     /// Mesh stiffness at the static equilibrium under the nominal torque, N/m.
     k_mesh: f64,
+    /// Static TE of that equilibrium (φp = 0), m: where the damping is measured again.
+    te_nominal: f64,
     dydt: [f64; N_STATES],
     /// The mesh's warm start at the current state: part of the state (snapshots carry it).
     warm: WarmStart,
@@ -708,6 +713,29 @@ fn fastest_2x2(j: [f64; 2], k: [[f64; 2]; 2]) -> f64 {
     let mean = 0.5 * (a + d);
     let rad = (0.25 * (a - d) * (a - d) + b * b).sqrt();
     (mean + rad).max(0.0).sqrt()
+}
+
+/// The fastest rate (rad/s) of a unit of `kind` linearised with mesh stiffness `k` (N/m) and
+/// mesh damping coefficient `c` (N·s/m) along the line of action: the hubs' 2 × 2 system (with
+/// the shafts to fixed far ends for Stage and Drive) and, for the Drive, the whole drive line;
+/// for each the larger of the undamped frequency and the largest |λ| of the damped
+/// eigenvalues ([`super::limits::fastest_linear_rate`]).
+fn unit_fastest_rate(kind: UnitKind, d: &Drivetrain, k: f64, c: f64, gp: f64, gg: f64) -> f64 {
+    let (c1, c2, d1, d2) =
+        if kind == UnitKind::Pair { (0.0, 0.0, 0.0, 0.0) } else { (d.c1, d.c2, d.d1, d.d2) };
+    let hub_k = [[c1 + k * gp * gp, k * gp * gg], [k * gp * gg, c2 + k * gg * gg]];
+    let hub_c = [d1 + c * gp * gp, c * gp * gg, c * gp * gg, d2 + c * gg * gg];
+    let hub = fastest_2x2([d.j_p, d.j_g], hub_k).max(super::limits::fastest_linear_rate(
+        &[d.j_p, d.j_g],
+        &[hub_k[0][0], hub_k[0][1], hub_k[1][0], hub_k[1][1]],
+        &hub_c,
+    ));
+    match kind {
+        UnitKind::Drive => {
+            hub.max(d.linear_frequencies(k, gp, gg)[3]).max(d.fastest_rate(k, c, gp, gg))
+        }
+        _ => hub,
+    }
 }
 
 impl<M: MeshTorques + Clone> DriveUnit<M> {
@@ -746,24 +774,16 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
                 Some(Dopri5::new(kind.n_states(), opts)?)
             }
         };
-        let k = mesh_stiffness(&mut mesh, 0.0, drive.torque)
+        let lin = mesh_linearisation(&mut mesh, 0.0, drive.torque)
             .map_err(|source| DynamicsError::Mesh { t: None, source })?;
+        let k = lin.stiffness;
         if !(k.is_finite() && k > 0.0) {
             return Err(invalid("mesh stiffness", k, "finite and > 0 at the nominal load (N/m)"));
         }
         mesh.forget_history();
         let model = GearDynamics::new(mesh, drive)?;
         let (gp, gg) = model.base_radii();
-        let d = &drive;
-        let (c1, c2) = if kind == UnitKind::Pair { (0.0, 0.0) } else { (d.c1, d.c2) };
-        let hub = fastest_2x2(
-            [d.j_p, d.j_g],
-            [[c1 + k * gp * gp, k * gp * gg], [k * gp * gg, c2 + k * gg * gg]],
-        );
-        let omega_fast = match kind {
-            UnitKind::Drive => hub.max(d.linear_frequencies(k, gp, gg)[3]),
-            _ => hub,
-        };
+        let omega_fast = unit_fastest_rate(kind, &drive, k, lin.damping, gp, gg);
         let inputs = HeldInputs {
             values: UnitInputs { torque: drive.torque, ..UnitInputs::default() },
             rates: UnitInputRates::default(),
@@ -787,6 +807,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             step_hint: None,
             omega_fast,
             k_mesh: k,
+            te_nominal: lin.te,
             warm: WarmStart::default(),
             dydt: [0.0; N_STATES],
         })
@@ -827,6 +848,28 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
     /// construction), N/m.
     pub fn nominal_mesh_stiffness(&self) -> f64 {
         self.k_mesh
+    }
+
+    /// Measures the mesh damping coefficient again at the nominal static equilibrium (one mesh
+    /// evaluation) and sets the fastest rate of the step rule from it: to be called after the
+    /// mesh's damping changed ([`Self::mesh_mut`], e.g. a tuned `d_mesh`), so that the RK4
+    /// sub-step stays inside the stability region of the damped linearisation.
+    pub fn refresh_fastest_mode(&mut self) -> Result<(), DynamicsError> {
+        let (gp, gg) = self.sys.model.base_radii();
+        let v = 1e-3;
+        let state = MeshState {
+            phi_p: 0.0,
+            phi_g: crate::numeric::phi_g_for_te(0.0, self.te_nominal, gp, gg),
+            w_p: v / gp,
+            w_g: 0.0,
+        };
+        let mesh = self.sys.model.mesh_mut();
+        let m_d =
+            mesh.mesh(&state).map_err(|source| DynamicsError::Mesh { t: None, source })?.m_d_p;
+        mesh.forget_history();
+        let c = (m_d / (v * gp)).max(0.0);
+        self.omega_fast = unit_fastest_rate(self.sys.kind, &self.drive0, self.k_mesh, c, gp, gg);
+        Ok(())
     }
 
     /// Current time, s.

@@ -950,7 +950,9 @@ impl Engine for UnitEngine {
         self.unit
             .mesh_mut()
             .set_d_mesh(s.pair.d_mesh_n_s_per_m)
-            .map_err(|e| super::mesh::mesh_error_text(&e))
+            .map_err(|e| super::mesh::mesh_error_text(&e))?;
+        // The step rule follows the damping (an overdamped mesh mode needs a shorter step).
+        self.unit.refresh_fastest_mode().map_err(|e| e.to_string())
     }
 
     fn start(&mut self, s: &Settings, inputs: &mut InputValues, t0: f64) -> Result<(), String> {
