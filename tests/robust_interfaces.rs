@@ -145,6 +145,54 @@ fn restored_state_with_non_finite_cached_outputs_is_refused() {
     assert_eq!(f.get(&OUTS).unwrap(), before);
 }
 
+/// A mesh FMU state whose cached outputs are edited to finite but false values (M_F,p =
+/// 1e6 N·m, TE = 0.5 m, σ_F = −5 Pa) and resealed with a recomputed checksum is refused: the
+/// cached outputs must be what the restored inputs give. So is a time outside the state's own
+/// experiment. The genuine state still restores bit for bit.
+#[test]
+fn restored_state_with_edited_cached_outputs_is_refused() {
+    let f = Fmu::new();
+    f.init();
+    assert_eq!(f.set(&["phi_p", "phi_g", "w_p", "w_g"], &LOADED), fmi2Status::Ok);
+    let names = ["M_F_p", "TE", "sigma_F_p"];
+    let before = f.get(&OUTS).unwrap();
+    let b = f.serialize();
+    // Offsets as in `restored_state_with_non_finite_cached_outputs_is_refused`: M_F_p first,
+    // TE the fifth of the first eight, sigma_F_p the eleventh of the last twelve.
+    let forces = b.len() - 8 - 12 * 8;
+    let first = forces - 3 - 4 - 8 * 8;
+    for (at, x) in [(first, 1e6), (first + 4 * 8, 0.5), (forces + 10 * 8, -5.0)] {
+        let mut c = b.clone();
+        for (j, byte) in f64::to_le_bytes(x).iter().enumerate() {
+            c[at + j] = *byte as fmi2Byte;
+        }
+        reseal(&mut c);
+        assert_eq!(f.restore(&c), fmi2Status::Error, "edited to {x}");
+        f.recover();
+    }
+    // A tiny edit within the solver's convergence is not a different state.
+    let mut c = b.clone();
+    let m = f64::from_le_bytes(std::array::from_fn(|j| c[first + j] as u8));
+    for (j, byte) in f64::to_le_bytes(m * (1.0 + 1e-12)).iter().enumerate() {
+        c[first + j] = *byte as fmi2Byte;
+    }
+    reseal(&mut c);
+    assert_eq!(f.restore(&c), fmi2Status::Ok);
+    // The time before the state's start time is refused (header: magic, version, GUID, mode,
+    // then the time).
+    let at_time = 8 + 4 + 4 + guid().len() + 1;
+    let mut c = b.clone();
+    for (j, byte) in f64::to_le_bytes(-1.0).iter().enumerate() {
+        c[at_time + j] = *byte as fmi2Byte;
+    }
+    reseal(&mut c);
+    assert_eq!(f.restore(&c), fmi2Status::Error);
+    f.recover();
+    assert_eq!(f.restore(&b), fmi2Status::Ok);
+    assert_eq!(f.get(&OUTS).unwrap(), before);
+    assert!(f.get(&names).is_ok());
+}
+
 #[test]
 fn states_saved_in_initialization_terminated_or_error_mode_read_back_finite() {
     for mode in ["initialization", "terminated", "error"] {

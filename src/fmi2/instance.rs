@@ -1044,17 +1044,27 @@ impl Instance {
                 | Phase::EventMode
                 | Phase::ContinuousTimeMode
         ) || engine_state.is_some()
+            || data.outputs.is_some()
         {
             // Attach an engine (a clone of the pristine one when the settings match) with the
             // saved state.
             let saved = std::mem::replace(&mut self.data, data);
-            let r = self.ensure_built().and_then(|b| match &engine_state {
-                Some(bytes) => {
+            let cached = self.data.outputs;
+            let inputs = self.data.inputs;
+            let model = self.model;
+            let r = self.ensure_built().and_then(|b| {
+                if let Some(bytes) = &engine_state {
                     b.engine.load(bytes)?;
                     b.started = true;
-                    Ok(())
                 }
-                None => Ok(()),
+                // Cached outputs are not trusted: they must be what the restored inputs give
+                // (evaluated on a copy, so the restored warm start stays as it was).
+                match cached {
+                    Some(o) => {
+                        check_cached_outputs(model, &o, &b.engine.clone_box().outputs(&inputs)?)
+                    }
+                    None => Ok(()),
+                }
             });
             data = std::mem::replace(&mut self.data, saved);
             r?;
@@ -1166,6 +1176,54 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     let sum = crate::numeric::fnv1a_64(&b);
     b.extend_from_slice(&sum.to_le_bytes());
     b
+}
+
+/// Relative agreement required between a restored state's cached outputs and the outputs its
+/// restored inputs give (the load solver converges far below it; a value edited in a state is
+/// far above it).
+const CACHED_OUTPUT_TOLERANCE: f64 = 1e-6;
+
+/// Checks the cached outputs `cached` of a restored state against `fresh`, the outputs of its
+/// restored inputs: every count and flag equal, every Real within [`CACHED_OUTPUT_TOLERANCE`]
+/// of the largest magnitude among the model's outputs of the same unit (so that a value near
+/// zero is compared on the scale of its kind). The error names the first that differs.
+fn check_cached_outputs(
+    model: &ModelInfo,
+    cached: &OutputValues,
+    fresh: &OutputValues,
+) -> Result<(), String> {
+    let scale = |unit: Option<&str>| {
+        (model.variables.iter())
+            .filter_map(|w| match w.access {
+                Access::RealOutput(k) if w.unit == unit => Some(fresh.reals[k].abs()),
+                _ => None,
+            })
+            .fold(0.0, f64::max)
+    };
+    for v in model.variables {
+        let (a, b) = match v.access {
+            Access::RealOutput(k) => {
+                let (a, b) = (cached.reals[k], fresh.reals[k]);
+                if (a - b).abs() <= CACHED_OUTPUT_TOLERANCE * scale(v.unit).max(b.abs()) {
+                    continue;
+                }
+                (a.to_string(), b.to_string())
+            }
+            Access::IntOutput(k) if cached.ints[k] != fresh.ints[k] => {
+                (cached.ints[k].to_string(), fresh.ints[k].to_string())
+            }
+            Access::BoolOutput(k) if cached.bools[k] != fresh.bools[k] => {
+                (cached.bools[k].to_string(), fresh.bools[k].to_string())
+            }
+            _ => continue,
+        };
+        return Err(format!(
+            "serialised state: cached output `{}` = {a} is not what the restored inputs give \
+             ({b}); the state was altered",
+            v.name
+        ));
+    }
+    Ok(())
 }
 
 /// Appends the cached outputs `o` of `model` (every output and local variable of its table, in
@@ -1368,6 +1426,15 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         if !t.is_finite() {
             return Err(format!("serialised state: {name} = {t} is not finite"));
         }
+    }
+    // The state's time lies in its own experiment: from the start time to the stop time.
+    if d.time < d.start_time || d.stop_time.is_some_and(|stop| d.time > stop) {
+        return Err(format!(
+            "serialised state: time = {} outside its experiment [{}, {}]",
+            d.time,
+            d.start_time,
+            d.stop_time.map_or("no stop time".to_string(), |s| s.to_string())
+        ));
     }
     let mut engine_state = None;
     let n = r.u32()? as usize;
