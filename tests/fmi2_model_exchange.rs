@@ -367,3 +367,49 @@ fn mesh_element_directional_derivatives_at_full_fidelity() {
     // Derivatives with respect to a parameter are not provided: a named error.
     assert_eq!(f.dd(&["M_F_p"], "d_mesh"), Err(fmi2Status::Error));
 }
+
+/// Model Exchange at large angles: the states are (φp, TE, …) and the gear angle is formed from
+/// them, so TE keeps its digits only up to the stated bound (|φp|·g_p ≤ 4.5·10⁶ m, about 10⁸ rad
+/// for Table 1). Up to it the outputs at a state whole pitches away (φp + k·2π/z_p, the same TE)
+/// equal those at the small angle (TE to 1 nm, M_F,p to 10⁻⁴); beyond it, at 10¹² rad where TE
+/// came out 37.9 µm for a 31.1 µm state with fmi2OK, the state is refused naming φp and the
+/// bound.
+#[test]
+fn large_angle_states_keep_te_or_are_refused() {
+    use helical_gear_mesh::mesh::validity::MAX_FORMED_ARC_M;
+    for m in [&PAIR, &DRIVE] {
+        let me = Fmu::new(m, FMI2_MODEL_EXCHANGE, &[], &COARSE);
+        me.to_continuous_time();
+        let x0 = me.states();
+        let te_at = |x: &[f64]| {
+            me.set_states(x);
+            me.get(&["TE", "M_F_p"])
+        };
+        let small = te_at(&x0);
+        let gp = me.get(&["base_radius_p"])[0];
+        let pitch = 2.0 * std::f64::consts::PI / 30.0;
+        let max = MAX_FORMED_ARC_M / gp;
+        // Whole pitches up to the bound: at 1e4 rad and just below the bound.
+        for target in [1e4, 0.99 * max] {
+            let k = (target / pitch).floor();
+            let mut x = x0.clone();
+            x[0] = x0[0] + k * pitch;
+            let big = te_at(&x);
+            // The shift itself is rounded to ulp(φp): up to ½ulp(φp)·g_p of TE.
+            let shift_err = 0.5 * f64::EPSILON * x[0].abs() * gp;
+            assert!(
+                (big[0] - small[0]).abs() <= 1e-9 + shift_err,
+                "{} at {:.3e} rad: TE {:e} against {:e}",
+                m.identifier,
+                x[0],
+                big[0],
+                small[0]
+            );
+            assert!((big[1] - small[1]).abs() <= 1e-4 * small[1].abs(), "{}", m.identifier);
+        }
+        let mut x = x0.clone();
+        x[0] = 1e12;
+        let st = unsafe { fmi2SetContinuousStates(me.0, x.as_ptr(), x.len()) };
+        assert_eq!(st, fmi2Status::Error, "{}: a state at 1e12 rad is refused", m.identifier);
+    }
+}

@@ -531,6 +531,9 @@ impl<M: MeshTorques> GearDynamics<M> {
         if !omega_p.is_finite() {
             return Err(invalid("omega_p", omega_p, "finite"));
         }
+        // The equilibrium forms φg from TE: TE keeps its digits only up to a bound.
+        crate::mesh::validity::check_formed_angle("phi_p0", phi_p0, self.g_p)
+            .map_err(DynamicsError::Param)?;
         let d = self.drive;
         // Guess: the TE of a 100 N/µm mesh; the bracket search expands from there.
         let guess = d.torque / (self.g_p * 1e8);

@@ -61,7 +61,18 @@
 //! [`MeshError::AngleOutOfRange`](super::MeshError::AngleOutOfRange), naming the angle and the
 //! bound. The gear angle needs no bound of its own: it enters only through TE (computed
 //! exactly from any finite angles, [`crate::numeric::dot2`]), whose range is the one above.
-//! Angles of 10¹² rad lose no digits (docs/robustness.md, "Precision at huge angles").
+//!
+//! **Angles formed from TE.** Where a caller gives φp and TE and the gear angle must be formed,
+//! φg = (TE − g_p·φp)/g_g ([`crate::numeric::phi_g_for_te`]: the static-equilibrium start of
+//! every run, the Model Exchange states (φp, TE) of the units), the double φg carries a
+//! rounding of ½·ulp(φg) and the difference TE − g_p·φp one of ½·ulp(g_p·φp), so TE is kept
+//! only to about 2⁻⁵²·|φp|·g_p (both terms: |φg|·g_g ≈ |φp|·g_p). At 10¹² rad (Table 1) that
+//! is 7–11 µm, a third of the static TE: the static start failed and the outputs were wrong
+//! with success. Those paths therefore accept |φp|·g_p ≤ [`MAX_FORMED_ARC_M`] = 4.5·10⁶ m of
+//! rolled base-circle arc, where TE is kept to 1 nm (10⁻⁸ rad … for a 0.045 m base radius:
+//! |φp| ≤ 10⁸ rad, 52 hours at 532 rad/s); beyond it the error names the angle, the bound and
+//! what to do ([`check_formed_angle`]). An angle pair given as two doubles keeps the bound
+//! above.
 
 use crate::geometry::PairGeometry;
 use crate::numeric::Pitch;
@@ -75,6 +86,30 @@ pub const MAX_OVERLAP_MN: f64 = 0.2;
 /// speeds of 10³⁰⁸ rad/s would make it infinite with a success status. The units, the FMUs, the
 /// C API and Python hold their inputs and states to the same bound.
 pub const MAX_SPEED_RAD_S: f64 = 1e5;
+
+/// Largest rolled base-circle arc |φp|·g_p, m, at which a gear angle formed from TE keeps TE
+/// to 1 nm: 2⁻⁵²·4.5·10⁶ m ≈ 10⁻⁹ m (see the module docs).
+pub const MAX_FORMED_ARC_M: f64 = 4.5e6;
+
+/// Refuses a pinion angle `phi_p` (rad), named `name`, whose gear angle is to be formed from TE
+/// on base radius `g_p` (m) when |φp|·g_p exceeds [`MAX_FORMED_ARC_M`]: the error names the
+/// angle, the bound in rad for this pair and why.
+pub fn check_formed_angle(name: &str, phi_p: f64, g_p: f64) -> Result<(), crate::ParamError> {
+    let max = MAX_FORMED_ARC_M / g_p;
+    if phi_p.is_finite() && phi_p.abs() <= max {
+        return Ok(());
+    }
+    Err(crate::ParamError::new(
+        name,
+        phi_p,
+        format!(
+            "|{name}| <= {:.3e} rad for this pair (a rolled arc |φp|·g_p of at most {:.1e} m: \
+             beyond it the gear angle formed from TE rounds TE by more than 1 nm); shift the \
+             angles by whole turns of both gears",
+            max, MAX_FORMED_ARC_M
+        ),
+    ))
+}
 
 /// The validity range of the mesh state of one gear pair (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]

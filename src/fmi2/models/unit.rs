@@ -1051,6 +1051,10 @@ impl Engine for UnitEngine {
         if x.len() != n {
             return Err(format!("{} continuous states given: the model has {n}", x.len()));
         }
+        // φg is formed from (φp, TE): TE keeps its digits only up to a bound on φp.
+        let gp = self.unit.mesh_mut().geometry().pinion.rb;
+        crate::mesh::validity::check_formed_angle("phi_p", x[0], gp)
+            .map_err(|e| format!("continuous state {e}"))?;
         let mut y = [0.0; 8];
         self.rel.to_absolute(x, &mut y[..n]);
         self.unit.set_state(&y[..n]).map_err(|e| e.to_string())
