@@ -60,11 +60,8 @@ const COMBINED: &[(&str, &str, bool, &str)] = &[
     // One axis of 4096 points with the other at its start value exceeds the node limit.
     ("*", "table_phase_points", true, "table_phase_points × table_te_points"),
     ("*", "table_te_points", true, "table_phase_points × table_te_points"),
-    // The stateful models start in static equilibrium under drive.torque_nm, which needs a
-    // positive nominal load.
-    ("HelicalGearPair", "drive.torque_nm", false, "torque"),
-    ("HelicalGearStage", "drive.torque_nm", false, "torque"),
-    ("HelicalGearDrive", "drive.torque_nm", false, "torque"),
+    // b = 10 m is 3333·m_n of the Table 1 module: beyond the widest gears (b <= 40·m_n).
+    ("*", "face_width_m", true, "40·normal_module_m"),
 ];
 
 thread_local! {
