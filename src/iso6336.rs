@@ -160,11 +160,11 @@ pub struct IsoRootStress {
     pub gear: IsoRootStressGear,
 }
 
-/// Largest |T_p| rated, N·m: the drive line's torque range
-/// ([`crate::dynamics::unit::MAX_TORQUE_NM`]). The largest gear drives transmit about
+/// Largest |T_p| rated, N·m: the top of the drive line's torque range
+/// ([`crate::params::DRIVE_TORQUE_NM`], also the units' torque inputs). The largest gear drives transmit about
 /// 10⁷ N·m; beyond 10⁹ N·m a torque is no operating point but a mistyped number (10¹² … 10³⁰⁰
 /// N·m gave σ_F0 up to 3·10³⁰¹ Pa, and 10³⁰⁸ an overflow blamed on the fillet radius).
-pub const MAX_TORQUE_NM: f64 = crate::dynamics::unit::MAX_TORQUE_NM;
+pub const MAX_TORQUE_NM: f64 = crate::params::DRIVE_TORQUE_NM.max;
 
 /// Largest accepted residual of R13, rad.
 const THETA_TOLERANCE: f64 = 1e-12;
