@@ -300,3 +300,38 @@ fn bearing_json_errors_name_the_key() {
     assert!(e.contains("gear.floating_z_m") && e.contains("1000"), "{e}");
     assert!(!e.contains("`bearings` = NaN"), "{e}");
 }
+
+/// The FMUs take the same start speeds as the library and the C API: −100 rad/s (running
+/// backwards) starts and steps the Drive; beyond ±1e5 rad/s `w_p_start` is refused when set.
+#[test]
+fn fmu_drive_starts_backwards_and_refuses_speeds_beyond_the_bound() {
+    use common::fmi::ModelFmu;
+    use helical_gear_mesh::fmi2::exports::*;
+    use helical_gear_mesh::fmi2::models::unit::DRIVE;
+    use helical_gear_mesh::fmi2::types::*;
+    let coarse = |f: &ModelFmu| {
+        for (n, v) in [("slices", 30), ("table_phase_points", 24), ("table_te_points", 16)] {
+            let vr = DRIVE.by_name(n).unwrap().vr;
+            assert_eq!(unsafe { fmi2SetInteger(f.0, &vr, 1, &v) }, fmi2Status::Ok);
+        }
+    };
+    // Parameters are checked when initialisation ends.
+    let g = ModelFmu::instantiate(&DRIVE, FMI2_CO_SIMULATION);
+    coarse(&g);
+    g.set(&["w_p_start"], &[1e9]);
+    unsafe {
+        assert_eq!(fmi2SetupExperiment(g.0, 0, 0.0, 0.0, 0, 0.0), fmi2Status::Ok);
+        assert_eq!(fmi2EnterInitializationMode(g.0), fmi2Status::Ok);
+        assert_ne!(fmi2ExitInitializationMode(g.0), fmi2Status::Ok);
+    }
+    let f = ModelFmu::instantiate(&DRIVE, FMI2_CO_SIMULATION);
+    coarse(&f);
+    f.set(&["w_p_start"], &[-100.0]);
+    f.init();
+    for k in 0..4 {
+        let st = unsafe { fmi2DoStep(f.0, k as f64 * 1e-4, 1e-4, 1) };
+        assert_eq!(st, fmi2Status::Ok);
+    }
+    let [w, te] = f.get(&["w_p", "TE"])[..] else { unreachable!() };
+    assert!((w + 100.0).abs() < 1.0 && te.is_finite() && te > 0.0, "w_p {w}, TE {te:e}");
+}
