@@ -235,7 +235,10 @@ class MeshModel:
     their product at most 65 536 (about a minute of build), else `ParameterError`.
     `table_design_torque`: the torque (N·m, 1 … 1e9) whose static TE sizes the table's TE range
     (default 100, Table 1's; `simulate` and `sweep` size a table they build themselves for
-    their ``drive``). Pickles as pair + options (+ the compliance when given) and is rebuilt on
+    their ``drive``); a torque the pair cannot carry within the model's overlap limit (Table 1:
+    about 2.2 kN·m) is a ``ParameterError`` naming it. `slices` and `table_size` are whole
+    numbers (else ``ParameterError`` naming them); the table's points × slices are at most
+    65 536 × 100 (about a minute of build). Pickles as pair + options (+ the compliance when given) and is rebuilt on
     unpickling.
     """
 
@@ -757,7 +760,10 @@ def sweep(
     before anything runs: at most 64 `refine_runs`, and per run at most 10⁸ RK4 steps
     (`max_periods` × steps per mesh period, raised at low speed to resolve the mesh mode), so
     a sweep at 0.01 rad/s raises at once instead of running for hours. The drive line
-    (torque, inertias, shafts) is `drive` (default Table 1's)."""
+    (torque, inertias, shafts) is `drive` (default Table 1's). The speeds (non-empty, in
+    (0, 1e5] rad/s, ascending), `threads`, `min_prominence` and `refine_runs` are checked
+    before the model is built. The result carries the dynamic factors of the mesh force and the
+    root stress per speed (``mesh_force_max_over_static``, ``root_stress_max_over_static``)."""
     drive = _drive(drive)
     if speeds is None:
         speeds = np.linspace(w_from, w_to, int(points)) if points > 1 else np.array([w_from])
