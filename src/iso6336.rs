@@ -160,6 +160,12 @@ pub struct IsoRootStress {
     pub gear: IsoRootStressGear,
 }
 
+/// Largest |T_p| rated, N·m: the top of the drive line's torque range
+/// ([`crate::params::DRIVE_TORQUE_NM`], also the units' torque inputs). The largest gear drives transmit about
+/// 10⁷ N·m; beyond 10⁹ N·m a torque is no operating point but a mistyped number (10¹² … 10³⁰⁰
+/// N·m gave σ_F0 up to 3·10³⁰¹ Pa, and 10³⁰⁸ an overflow blamed on the fillet radius).
+pub const MAX_TORQUE_NM: f64 = crate::params::DRIVE_TORQUE_NM.max;
+
 /// Largest accepted residual of R13, rad.
 const THETA_TOLERANCE: f64 = 1e-12;
 
@@ -167,8 +173,8 @@ const THETA_TOLERANCE: f64 = 1e-12;
 /// torque `torque_p_nm` (N·m; its sign is ignored: |T_p| is used). `geometry` must be
 /// [`PairGeometry::new`] of `pair`.
 ///
-/// Errors (a [`ParamError`] naming the key to change and the limit): a non-finite torque
-/// (`torque_nm`); a virtual contact ratio ε_αn < 1 (`addendum_mn`); a root for which R13 has
+/// Errors (a [`ParamError`] naming the key to change and the limit): a torque that is not
+/// finite or exceeds |T_p| ≤ [`MAX_TORQUE_NM`] (`torque_nm`); a virtual contact ratio ε_αn < 1 (`addendum_mn`); a root for which R13 has
 /// no root in (0, π/2) or the section is degenerate (`rack_fillet_radius_mn`); q_s outside
 /// [1, 8) (`rack_fillet_radius_mn`); a rim s_R ≤ 0.5·h_t (`bore_diameter_m`). Every returned
 /// number is finite.
@@ -177,8 +183,13 @@ pub fn nominal_root_stress(
     geometry: &PairGeometry,
     torque_p_nm: f64,
 ) -> Result<IsoRootStress, ParamError> {
-    if !torque_p_nm.is_finite() {
-        return Err(ParamError::new("torque_nm", torque_p_nm, "finite"));
+    if !(torque_p_nm.is_finite() && torque_p_nm.abs() <= MAX_TORQUE_NM) {
+        return Err(ParamError::new(
+            "torque_nm",
+            torque_p_nm,
+            "finite, |torque| <= 1e9 N·m (the drive line's torque range; the largest gear \
+             drives transmit about 1e7 N·m)",
+        ));
     }
     let d1 = 2.0 * geometry.pinion.r;
     let f_t = 2.0 * torque_p_nm.abs() / d1;

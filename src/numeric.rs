@@ -157,23 +157,23 @@ impl Pitch {
 }
 
 /// Single-sided amplitude spectrum of `x` (one period sampled uniformly): amplitude of bin j,
-/// the mean at j = 0, by a direct DFT (O(n²), fine for the sizes of a hunting period).
+/// the mean at j = 0, for j = 0 … n/2. By an FFT of length n (`rustfft`, any n, O(n·log n)):
+/// the 10⁶ samples a spectrum may hold take well under a second, where the direct DFT
+/// (O(n²)) took hours. The amplitude is |X_j|/n at j = 0 and j = n/2, 2·|X_j|/n otherwise.
 pub fn amplitude_spectrum(x: &[f64]) -> Vec<f64> {
+    use rustfft::num_complex::Complex;
     let n = x.len();
-    let mut out = Vec::with_capacity(n / 2 + 1);
-    let w = std::f64::consts::TAU / n as f64;
-    for j in 0..=n / 2 {
-        let (mut re, mut im) = (0.0, 0.0);
-        // Twiddles by index product modulo n: exact angles, no drift.
-        for (i, &v) in x.iter().enumerate() {
-            let a = w * ((i * j) % n) as f64;
-            re += v * a.cos();
-            im -= v * a.sin();
-        }
-        let scale = if j == 0 || 2 * j == n { 1.0 } else { 2.0 };
-        out.push(scale * re.hypot(im) / n as f64);
+    if n == 0 {
+        return Vec::new();
     }
-    out
+    let mut buf: Vec<Complex<f64>> = x.iter().map(|&v| Complex::new(v, 0.0)).collect();
+    rustfft::FftPlanner::<f64>::new().plan_fft_forward(n).process(&mut buf);
+    (0..=n / 2)
+        .map(|j| {
+            let scale = if j == 0 || 2 * j == n { 1.0 } else { 2.0 };
+            scale * buf[j].norm() / n as f64
+        })
+        .collect()
 }
 
 /// 64-bit FNV-1a hash of `bytes` (offset basis 0xcbf29ce484222325, prime 0x100000001b3): the

@@ -41,8 +41,9 @@ const COMBINED: &[(&str, &str, bool, &str)] = &[
     ("*", "dedendum_mn", false, "tip clearance"),
     // An addendum of 2·m_n with the Table 1 dedendum of 1.25·m_n leaves no tip clearance.
     ("*", "addendum_mn", true, "tip clearance"),
-    // A 10 µm module under the Table 1 bore of 15 mm, and a 100 m bore in the Table 1 gears.
-    ("*", "normal_module_m", false, "rim of at least one module"),
+    // A 10 µm module makes the Table 1 face width of 15 mm 1500·m_n (at most 40·m_n), and a
+    // 100 m bore does not fit in the Table 1 gears.
+    ("*", "normal_module_m", false, "40·normal_module_m"),
     ("*", "bore_diameter_m", true, "rim of at least one module"),
     // α_n = 10° undercuts 30 teeth; α_n = 35° leaves no room for the Table 1 root fillet.
     ("*", "pressure_angle_rad", false, "undercut"),
@@ -60,11 +61,8 @@ const COMBINED: &[(&str, &str, bool, &str)] = &[
     // One axis of 4096 points with the other at its start value exceeds the node limit.
     ("*", "table_phase_points", true, "table_phase_points × table_te_points"),
     ("*", "table_te_points", true, "table_phase_points × table_te_points"),
-    // The stateful models start in static equilibrium under drive.torque_nm, which needs a
-    // positive nominal load.
-    ("HelicalGearPair", "drive.torque_nm", false, "torque"),
-    ("HelicalGearStage", "drive.torque_nm", false, "torque"),
-    ("HelicalGearDrive", "drive.torque_nm", false, "torque"),
+    // b = 10 m is 3333·m_n of the Table 1 module: beyond the widest gears (b <= 40·m_n).
+    ("*", "face_width_m", true, "40·normal_module_m"),
 ];
 
 thread_local! {

@@ -149,8 +149,8 @@ fn pair_runs_up_from_rest_to_300_rad_s() {
 fn simulate_refuses_a_39_gb_trajectory() {
     let (mesh, drive) = table_mesh();
     let mut model = GearDynamics::new(mesh, drive).unwrap();
-    // Default step at 1e9 rad/s over 1 ms: 6e8 samples.
-    let e = default_rk4_step(&mut model, 1e9, 0.0, 1e-3).unwrap_err();
+    // Default step at the largest speed, 1e5 rad/s, over 1 s: 6e7 samples (8.8 GB).
+    let e = default_rk4_step(&mut model, 1e5, 0.0, 1.0).unwrap_err();
     assert!(too_large(&e) && e.to_string().contains("GB"), "{e}");
     // An explicit step of 1 ps over 1 ms: 1e9 samples, refused before reserving.
     let start = model.static_start(0.0, 100.0, &EquilibriumSettings::default()).unwrap();
@@ -169,9 +169,10 @@ fn linear_unit(drive: Drivetrain, n: u32) -> DriveUnit<ConstantStiffnessMesh> {
 fn unit_step_refuses_1e10_substeps() {
     let (_, drive) = table_mesh();
     let settings = EquilibriumSettings::default();
-    // w_p_start = 1e9 rad/s: T_m/128 ≈ 1.6e-12 s, a 0.1 ms step would be 6e7 sub-steps.
-    let mut u = linear_unit(drive, 128);
-    u.start_static(0.0, 1e9, &settings).unwrap();
+    // w_p_start = 1e5 rad/s (the largest speed) at 65536 sub-steps per mesh period:
+    // T_m/65536 ≈ 3.2e-11 s, a 0.1 ms step would be 3.1e6 sub-steps.
+    let mut u = linear_unit(drive, 65_536);
+    u.start_static(0.0, 1e5, &settings).unwrap();
     let (t0, y0) = (u.time(), u.state().to_vec());
     let e = u.advance(1e-4).unwrap_err();
     assert!(too_large(&e) && e.to_string().contains("sub-steps"), "{e}");

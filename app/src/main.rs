@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 mod cli;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use cli::compliance::DensityArg;
 use cli::{Common, bench, compliance, contact, dynamics, geometry, mods, paper, statics};
 use helical_gear_mesh::{DriveLine, GearPair};
@@ -140,7 +140,13 @@ fn restore_sigpipe() {
 
 fn main() -> ExitCode {
     restore_sigpipe();
-    let cli = Cli::parse();
+    // Negative numbers are values, not options: `--torque -100` (the back flanks) and
+    // `--omega-p -5` (running backwards) parse as numbers in every subcommand.
+    let command = Cli::command().mut_subcommands(|s| s.allow_negative_numbers(true));
+    let cli = match Cli::from_arg_matches(&command.get_matches()) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
     let result = match &cli.command {
         Command::Geometry { common } => geometry::geometry_cmd(common),
         Command::Contact { common, phi_p, te, slices, back } => {

@@ -65,7 +65,7 @@ fn bad_parameters_give_a_clear_error() {
     assert!(stderr.contains("z_p") && stderr.contains("undercut"), "{stderr}");
     let (ok, _, stderr) =
         run(&["geometry", "--params", dir.join("missing.json").to_str().unwrap()]);
-    assert!(!ok && stderr.contains("cannot read"), "{stderr}");
+    assert!(!ok && stderr.contains("no such file") && stderr.contains("missing.json"), "{stderr}");
     let (ok, _, stderr) = run(&["contact", "--phi-p", "NaN", "--te", "0"]);
     assert!(!ok && stderr.contains("finite"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
@@ -74,7 +74,7 @@ fn bad_parameters_give_a_clear_error() {
 #[test]
 fn simulate_and_sweep_reject_bad_arguments_before_building_the_model() {
     let cases: [(&[&str], &str); 5] = [
-        (&["simulate", "--omega-p", "-1", "--t-end", "1e-3"], "--omega-p"),
+        (&["simulate", "--omega-p", "-2e5", "--t-end", "1e-3"], "--omega-p"),
         (&["simulate", "--omega-p", "100", "--t-end", "1e-3", "--dt", "3e-4"], "whole number"),
         (&["simulate", "--omega-p", "100", "--t-end", "-1"], "--t-end"),
         (&["sweep", "--from", "500", "--to", "400", "--points", "3"], "--from"),
@@ -604,4 +604,77 @@ fn static_json_has_the_force_and_bearing_keys() {
     let (ok, _, stderr) = run(&["static", "--json", "--bearings", bad.to_str().unwrap()]);
     std::fs::remove_dir_all(&dir).ok();
     assert!(!ok && stderr.contains("pinion.floating_z_m"), "{stderr}");
+}
+
+/// Negative numbers are values (`--torque -100`, `--omega-p -100`), not unknown options: the
+/// command's own check answers, naming the option and its range. A negative speed is an
+/// operating point (running backwards), refused only beyond |ω_p| = 1e5 rad/s.
+#[test]
+fn negative_numbers_reach_the_commands_checks() {
+    let (ok, _, stderr) = run(&["static", "--torque", "-100"]);
+    assert!(!ok && stderr.contains("--torque = -100") && stderr.contains("allowed"), "{stderr}");
+    assert!(!stderr.contains("unexpected argument"), "{stderr}");
+    // -100 rad/s passes the speed check: the next argument's check answers, before the build.
+    let (ok, _, stderr) = run(&["simulate", "--omega-p", "-100", "--t-end", "-1"]);
+    assert!(!ok && stderr.contains("--t-end") && !stderr.contains("--omega-p"), "{stderr}");
+    let (ok, _, stderr) = run(&["simulate", "--omega-p", "-1e9", "--t-end", "1e-3"]);
+    assert!(!ok && stderr.contains("--omega-p") && stderr.contains("1e5"), "{stderr}");
+}
+
+/// Every argument of `sweep` and `spectrum` is checked before the mesh is built.
+#[test]
+fn sweep_and_spectrum_arguments_are_checked_before_the_build() {
+    for (args, needle) in [
+        (
+            &["sweep", "--from", "100", "--to", "200", "--points", "3", "--threads", "0"][..],
+            "threads",
+        ),
+        (
+            &["sweep", "--from", "100", "--to", "200", "--points", "3", "--min-prominence", "NaN"],
+            "min_prominence",
+        ),
+        (&["sweep", "--from", "100", "--to", "2e5", "--points", "3"], "1e5"),
+        (&["spectrum", "--max-order", "NaN"], "--max-order"),
+        (&["spectrum", "--max-order", "-1"], "--max-order"),
+    ] {
+        let t0 = std::time::Instant::now();
+        let (ok, stdout, stderr) = run(args);
+        assert!(!ok && stdout.is_empty(), "{args:?} succeeded");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!stderr.contains("building"), "{args:?} built the model first: {stderr}");
+        assert!(t0.elapsed().as_secs_f64() < 10.0, "{args:?}: {:?}", t0.elapsed());
+    }
+}
+
+/// A parameter file that is missing, a directory, endless or not UTF-8 is refused naming the
+/// option, the path and the cause; at most 16 MiB are read.
+#[test]
+fn params_files_are_read_bounded_and_named() {
+    let dir = std::env::temp_dir().join(format!("hg-cli-files-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let latin1 = dir.join("latin1.json");
+    std::fs::write(&latin1, b"{\"z_p\": 30, \"x\": \"\xe9\"}").unwrap();
+    let big = dir.join("big.json");
+    std::fs::write(&big, vec![b' '; 16 * 1024 * 1024 + 1]).unwrap();
+    let missing = dir.join("tabel1.json");
+    let cases = [
+        (missing.to_str().unwrap(), "no such file"),
+        (dir.to_str().unwrap(), "is a directory"),
+        (latin1.to_str().unwrap(), "not UTF-8"),
+        (big.to_str().unwrap(), "16 MiB"),
+        ("/dev/zero", "16 MiB"),
+    ];
+    for (path, needle) in cases {
+        if path == "/dev/zero" && !std::path::Path::new(path).exists() {
+            continue;
+        }
+        let t0 = std::time::Instant::now();
+        let (ok, _, stderr) = run(&["geometry", "--params", path]);
+        assert!(!ok && stderr.contains("--params") && stderr.contains(path), "{stderr}");
+        assert!(stderr.contains(needle), "{path}: {stderr}");
+        assert!(t0.elapsed().as_secs_f64() < 10.0, "{path}: {:?}", t0.elapsed());
+    }
+    let (ok, _, stderr) = run(&["static", "--bearings", missing.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("--bearings") && stderr.contains("no such file"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{f3625610-b5dd-8dbd-b326-7812e4f22fa0}"
+#define HelicalGearDrive_GUID "{fd0e24d1-9df2-8e44-bc10-d28d5713d6e7}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{dc55c90c-49f2-88e0-ba63-51739f348952}"
+#define HelicalGearPair_GUID "{b8d2fee3-6185-8b40-920a-7f14c3bb04e5}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */

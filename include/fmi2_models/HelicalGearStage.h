@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{63743316-889a-8d72-99c1-1fde42f89bb5}"
+#define HelicalGearStage_GUID "{dd01b4a9-4686-8b85-bd54-bc12b3b07f52}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */

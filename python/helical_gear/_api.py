@@ -183,6 +183,25 @@ def compliance(
     return Compliance(pair, c, fe_density)
 
 
+_MAX_COUNT = 2**63 - 1
+
+
+def _count(name: str, value, lo: int = 0) -> int:
+    """`value` as a whole number >= `lo` for a count argument (slices, threads, table points,
+    runs): anything else is a ``ParameterError`` naming the argument, its value and the range,
+    never Python's OverflowError from the conversion to an unsigned integer."""
+    try:
+        v = int(value)
+        whole = v == value and not isinstance(value, bool)
+    except (TypeError, ValueError, OverflowError):
+        whole = False
+    if not whole or v < lo or v > _MAX_COUNT:
+        raise _native.ParameterError(
+            f"`{name}` = {value!r}: allowed a whole number in [{lo}, {_MAX_COUNT}]"
+        )
+    return v
+
+
 class MeshModel:
     """The Andersson–Vedmar mesh model of a pair.
 
@@ -195,7 +214,10 @@ class MeshModel:
     their product at most 65 536 (about a minute of build), else `ParameterError`.
     `table_design_torque`: the torque (N·m, 1 … 1e9) whose static TE sizes the table's TE range
     (default 100, Table 1's; `simulate` and `sweep` size a table they build themselves for
-    their ``drive``). Pickles as pair + options (+ the compliance when given) and is rebuilt on
+    their ``drive``); a torque the pair cannot carry within the model's overlap limit (Table 1:
+    about 2.2 kN·m) is a ``ParameterError`` naming it. `slices` and `table_size` are whole
+    numbers (else ``ParameterError`` naming them); the table's points × slices are at most
+    65 536 × 100 (about a minute of build). Pickles as pair + options (+ the compliance when given) and is rebuilt on
     unpickling.
     """
 
@@ -210,9 +232,12 @@ class MeshModel:
     ):
         self.pair = _pair(pair)
         self.fidelity = fidelity
-        self.slices = int(slices)
+        self.slices = _count("slices", slices, 1)
         self.compliance = compliance
-        self.table_size = (int(table_size[0]), int(table_size[1]))
+        self.table_size = (
+            _count("table_size[0]", table_size[0]),
+            _count("table_size[1]", table_size[1]),
+        )
         self.table_design_torque = float(table_design_torque)
         self._m = _native.MeshModel(
             self.pair.to_json(),
@@ -318,6 +343,9 @@ class StaticCurve(_Result):
     #: The force and moments per point (`FORCE_NAMES`: N, N·m), keyed by name; also
     #: attributes (``curve.F_p_x``) and columns of `to_dataframe()`.
     forces: dict = field(default_factory=dict, repr=False)
+    #: The gear pair the curve was computed for (its face width places the gear centres of
+    #: `bearing_loads`).
+    pair: GearPair | None = field(default=None, repr=False, compare=False)
     _columns = (
         "phi_p",
         "ste",
@@ -391,6 +419,7 @@ def static_curve(
         sigma_F_g=np.array(d["root_stress_g_pa"]),
         sigma_F_max_p=d["root_stress_max_p_pa"],
         sigma_F_max_g=d["root_stress_max_g_pa"],
+        pair=m.pair,
     )
 
 
@@ -449,21 +478,92 @@ class BearingLoads(_Result):
         return {k: float(np.ptp(v)) for k, v in self.arrays.items()}
 
 
+#: Largest JSON file read for parameters (bearings), bytes: 16 MiB, far above any
+#: parameter file (a few kB), far below a runaway read (``/dev/zero`` has no end).
+MAX_JSON_FILE_BYTES = 16 * 1024 * 1024
+
+
+def _finite_keys(value, path: str) -> None:
+    """Raises ``ParameterError`` naming the key of the first non-finite float in `value`."""
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            _finite_keys(v, f"{path}.{k}" if path else str(k))
+    elif isinstance(value, float) and not np.isfinite(value):
+        raise _native.ParameterError(f"`{path}` = {value}: allowed a finite number")
+
+
+def _read_json_file(path) -> str:
+    """The text of the JSON file `path`, as ``ParameterError`` naming the path when it is no
+    file, a directory, larger than `MAX_JSON_FILE_BYTES` or not UTF-8."""
+    p = os.fspath(path)
+    if os.path.isdir(p):
+        raise _native.ParameterError(f"{p!r} is a directory, not a JSON file")
+    try:
+        with open(p, "rb") as f:
+            data = f.read(MAX_JSON_FILE_BYTES + 1)
+    except OSError as e:
+        raise _native.ParameterError(f"cannot read {p!r}: {e.strerror}") from None
+    if len(data) > MAX_JSON_FILE_BYTES:
+        raise _native.ParameterError(
+            f"{p!r} holds more than {MAX_JSON_FILE_BYTES} bytes (16 MiB), the most read for a "
+            "parameter file"
+        )
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise _native.ParameterError(
+            f"{p!r} is not UTF-8 text (byte {e.start}); a JSON file is UTF-8"
+        ) from None
+
+
+def _bearings_text(bearings) -> str:
+    """JSON text of `bearings`: a mapping (its non-finite values named by key), a path to an
+    existing file, or a JSON string; a string that is neither is "no such file"."""
+    if isinstance(bearings, Mapping):
+        _finite_keys(bearings, "")
+        return json.dumps(dict(bearings))
+    if isinstance(bearings, os.PathLike):
+        if not os.path.exists(bearings):
+            raise _native.ParameterError(f"no such file: {os.fspath(bearings)!r}")
+        return _read_json_file(bearings)
+    if isinstance(bearings, str):
+        if os.path.exists(bearings):
+            return _read_json_file(bearings)
+        if not bearings.lstrip().startswith(("{", "[")):
+            raise _native.ParameterError(
+                f"no such file: {bearings!r} (and not JSON text: a bearing arrangement is a "
+                "dict, JSON text or the path of a JSON file)"
+            )
+        return bearings
+    raise _native.ParameterError(
+        f"bearings = {bearings!r}: allowed a dict, JSON text or the path of a JSON file"
+    )
+
+
 def bearing_loads(result, bearings, pair: GearPair | None = None) -> BearingLoads:
     """Bearing loads along a `StaticCurve` or a `Trajectory` (its force and moment columns
     ``F_p_x`` … ``M_g_y``): each shaft rigid on a locating bearing (radial and axial load) and a
     floating one (radial), at the axial positions of `bearings` (a dict, a JSON string or a path
     to a JSON file: ``{"pinion": {"locating_z_m": …, "floating_z_m": …}, "gear": {…}}``, z in
-    m from the end face ζ = 0); the gears' centres at z = b/2 with b the face width of `pair`
-    (default Table 1's). The statics are the library's (``mesh::bearings``)."""
-    if isinstance(bearings, Mapping):
-        text = json.dumps(dict(bearings))
-    elif isinstance(bearings, (str, os.PathLike)) and os.path.exists(bearings):
-        with open(bearings, encoding="utf-8") as f:
-            text = f.read()
-    else:
-        text = str(bearings)
-    b = json.loads(_pair(pair).to_json())["face_width_m"]
+    m from the end face ζ = 0); the gears' centres at z = b/2 with b the face width of the
+    pair the result was computed for (``result.pair``). `pair` is needed only for a result
+    that carries none; one that differs from ``result.pair`` is a ``ParameterError`` (the
+    centres would sit at another face width's b/2). The statics are the library's
+    (``mesh::bearings``)."""
+    own = getattr(result, "__dict__", {}).get("pair")
+    if own is None and pair is None:
+        raise _native.ParameterError(
+            "bearing_loads: the result carries no gear pair; pass pair= (the face width places "
+            "the gear centres at b/2)"
+        )
+    if own is not None and pair is not None and _pair(pair) != own:
+        raise _native.ParameterError(
+            "bearing_loads: pair= differs from the pair the result was computed for "
+            f"(face width {_pair(pair).face_width_m} m against {own.face_width_m} m); "
+            "leave pair= out"
+        )
+    text = _bearings_text(bearings)
+    b = json.loads((own if own is not None else _pair(pair)).to_json())["face_width_m"]
     cols = [np.ascontiguousarray(getattr(result, n), dtype=float) for n in FORCE_NAMES]
     return BearingLoads(arrays=dict(_native.bearing_reactions(text, float(b), cols)))
 
@@ -493,6 +593,9 @@ class Trajectory(_Result):
     arrays: dict = field(repr=False)
     steps: int
     mesh_evaluations: int
+    #: The gear pair the trajectory was computed for (its face width places the gear centres
+    #: of `bearing_loads`).
+    pair: GearPair | None = field(default=None, repr=False, compare=False)
 
     def __getattr__(self, k):
         try:
@@ -528,7 +631,8 @@ def simulate(
     drive: DriveLine | None = None,
 ) -> Trajectory:
     """One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
-    (rad/s, ≥ 0: standstill and low speed are normal operation) to `t_end` (s), as the CLI's
+    (rad/s, |w_p| ≤ 1e5; standstill and low speed are normal operation, a negative speed runs
+    backwards on the same driving flanks) to `t_end` (s), as the CLI's
     ``simulate``: RK4 with fixed step `dt` or adaptive ``method="dopri5"`` (`dt` is then the
     output interval). The default RK4 step is the library's step rule: the smaller of the mesh
     period / 128 and the period of the fastest linearised mode / 32, shortened to divide
@@ -551,7 +655,7 @@ def simulate(
     )
     steps = d.pop("steps")
     evals = d.pop("mesh_evaluations")
-    return Trajectory(arrays=dict(d), steps=steps, mesh_evaluations=evals)
+    return Trajectory(arrays=dict(d), steps=steps, mesh_evaluations=evals, pair=m.pair)
 
 
 @dataclass(frozen=True)
@@ -567,6 +671,11 @@ class SweepResult(_Result):
     back_contact: np.ndarray
     tip_contact: np.ndarray
     steady: np.ndarray
+    #: Dynamic factors of the mesh force and of the tooth-root stress per speed: the steady
+    #: maximum over the static maximum (NaN where the run has none), as the CLI's
+    #: ``mesh_force_max_over_static`` and ``root_stress_max_over_static``.
+    mesh_force_max_over_static: np.ndarray
+    root_stress_max_over_static: np.ndarray
     #: Resonance speeds (rad/s) and their TE_max/STE_max (refined by golden section).
     resonances: np.ndarray
     resonance_te_max_over_ste_max: np.ndarray
@@ -585,6 +694,8 @@ class SweepResult(_Result):
         "back_contact",
         "tip_contact",
         "steady",
+        "mesh_force_max_over_static",
+        "root_stress_max_over_static",
     )
 
     @property
@@ -629,20 +740,30 @@ def sweep(
     before anything runs: at most 64 `refine_runs`, and per run at most 10⁸ RK4 steps
     (`max_periods` × steps per mesh period, raised at low speed to resolve the mesh mode), so
     a sweep at 0.01 rad/s raises at once instead of running for hours. The drive line
-    (torque, inertias, shafts) is `drive` (default Table 1's)."""
+    (torque, inertias, shafts) is `drive` (default Table 1's). The speeds (non-empty, in
+    (0, 1e5] rad/s, ascending), `threads`, `min_prominence` and `refine_runs` are checked
+    before the model is built. The result carries the dynamic factors of the mesh force and the
+    root stress per speed (``mesh_force_max_over_static``, ``root_stress_max_over_static``)."""
     drive = _drive(drive)
-    m = _model(pair, fidelity, slices, compliance, drive)
     if speeds is None:
         speeds = np.linspace(w_from, w_to, int(points)) if points > 1 else np.array([w_from])
     sp = [float(s) for s in np.asarray(speeds, dtype=float).ravel()]
+    # The arguments are checked before the model (a table build takes up to a minute).
+    _native.check_sweep_request(
+        sp,
+        _count("refine_runs", refine_runs),
+        float(min_prominence),
+        None if threads is None else _count("threads", threads),
+    )
+    m = _model(pair, fidelity, slices, compliance, drive)
     d = json.loads(
         m._m.sweep_json(
             m.pair.to_json(),
             drive.to_json(),
             sp,
-            int(steps_per_period),
-            int(max_periods),
-            int(refine_runs),
+            _count("steps_per_period", steps_per_period),
+            _count("max_periods", max_periods),
+            _count("refine_runs", refine_runs),
             float(min_prominence),
             threads,
         )
@@ -655,6 +776,12 @@ def sweep(
         back_contact=np.array(d["back_contact"], dtype=bool),
         tip_contact=np.array(d["tip_contact"], dtype=bool),
         steady=np.array(d["steady"], dtype=bool),
+        mesh_force_max_over_static=np.array(
+            [np.nan if v is None else v for v in d["mesh_force_max_over_static"]], dtype=float
+        ),
+        root_stress_max_over_static=np.array(
+            [np.nan if v is None else v for v in d["root_stress_max_over_static"]], dtype=float
+        ),
         resonances=np.array(d["resonances_rad_s"], dtype=float),
         resonance_te_max_over_ste_max=np.array(d["resonance_te_max_over_ste_max"], dtype=float),
         peak_te_ratio=d["peak_te_max_over_ste_max"],

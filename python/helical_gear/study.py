@@ -56,6 +56,7 @@ import json
 import math
 import os
 import time
+import warnings
 from collections import defaultdict
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -139,7 +140,28 @@ def _speed_range(rec: dict, default: tuple) -> tuple | str:
             out.append(int(v))
         else:
             out.append(float(v))
+    w_from, w_to, points = out
+    if not 0.0 < w_from <= MAX_SPEED_RAD_S:
+        return f"column `omega_from_rad_s` = {w_from!r}: allowed 0 < speed <= 1e5 rad/s"
+    if not w_from <= w_to <= MAX_SPEED_RAD_S:
+        return (
+            f"column `omega_to_rad_s` = {w_to!r}: allowed omega_from_rad_s = {w_from!r} <= "
+            "speed <= 1e5 rad/s"
+        )
+    if w_from == w_to and points != 1:
+        return f"column `omega_points` = {points!r}: allowed 1 when omega_from = omega_to"
+    if w_from < w_to and not 2 <= points <= MAX_SWEEP_SPEEDS:
+        return (
+            f"column `omega_points` = {points!r}: allowed a whole number in [2, "
+            f"{MAX_SWEEP_SPEEDS}] when omega_from < omega_to"
+        )
     return tuple(out)
+
+
+#: Largest speed of a sweep, rad/s (the library's largest nominal speed).
+MAX_SPEED_RAD_S = 1e5
+#: Most speeds of one sweep (the library's ``MAX_SWEEP_SPEEDS``).
+MAX_SWEEP_SPEEDS = 100_000
 
 
 #: Prefix of the design-table columns of the drive line (the FMU parameter names).
@@ -274,7 +296,15 @@ class _Journal:
         if self.parts.exists():
             files += sorted(self.parts.glob("part-*.parquet"))
         for f in files:
-            df = pd.read_parquet(f)
+            try:
+                df = pd.read_parquet(f)
+            except Exception as e:  # noqa: BLE001 - any unreadable file: its designs rerun
+                warnings.warn(
+                    f"study journal: {f} cannot be read ({type(e).__name__}: {e}); "
+                    "its designs are computed again",
+                    stacklevel=2,
+                )
+                continue
             if "design_key" not in df.columns:
                 continue
             for rec in df.to_dict("records"):

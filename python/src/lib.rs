@@ -253,7 +253,8 @@ fn bearing_reactions<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let cols: Vec<Vec<f64>> = columns.iter().map(|c| c.as_array().to_vec()).collect();
     let (labels, out) = run(py, || {
-        let arrangement = BearingArrangement::from_json(bearings_json)?;
+        let arrangement = BearingArrangement::from_json(bearings_json)
+            .map_err(|e| Failure::Param(e.to_string()))?;
         if !(face_width_m.is_finite() && face_width_m > 0.0) {
             return Err(Failure::Param(format!(
                 "face_width_m = {face_width_m:.3e} m: allowed finite and > 0"
@@ -667,9 +668,11 @@ impl MeshModel {
         atol: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (tr_time, states, outs, steps, evals) = run(py, || {
-            if !(w_p.is_finite() && w_p >= 0.0) {
+            if !(w_p.is_finite() && w_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
+            {
                 return Err(Failure::Param(format!(
-                    "w_p = {w_p}: allowed finite and >= 0 (rad/s)"
+                    "w_p = {w_p}: allowed finite, |w_p| <= 1e5 rad/s (the largest nominal speed; \
+                     negative: running backwards)"
                 )));
             }
             if !(t_end.is_finite() && t_end > 0.0) {
@@ -796,6 +799,26 @@ impl MeshModel {
     }
 }
 
+/// Checks a sweep's arguments before any model is built (the library's
+/// `dynamics::check_sweep_request`): `speeds` (rad/s) non-empty, finite, in (0, 1e5],
+/// strictly ascending, at most 100 000; `refine_runs` ≤ 64; `min_prominence` finite and
+/// ≥ 0; `threads` ≥ 1. A bad one is a `ParameterError` naming it, its value and its range.
+#[pyfunction]
+#[pyo3(signature = (speeds, refine_runs, min_prominence, threads = None))]
+fn check_sweep_request(
+    py: Python<'_>,
+    speeds: Vec<f64>,
+    refine_runs: usize,
+    min_prominence: f64,
+    threads: Option<usize>,
+) -> PyResult<()> {
+    run(py, || {
+        let opts = SweepOptions { refine_runs, min_prominence, threads, ..SweepOptions::default() };
+        helical_gear_mesh::dynamics::check_sweep_request(&speeds, &opts)
+            .map_err(|e| Failure::Param(e.to_string()))
+    })
+}
+
 /// The whole paper run into `out_dir` (summary.json, summary.md, the CSV and PNG figures);
 /// returns the summary as JSON. `quick`: coarse speed grids, a smoke run. The pair is driven
 /// by the drive line `drive_json`.
@@ -867,6 +890,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compliance_key, m)?)?;
     m.add_function(wrap_pyfunction!(paper_json, m)?)?;
     m.add_function(wrap_pyfunction!(bearing_reactions, m)?)?;
+    m.add_function(wrap_pyfunction!(check_sweep_request, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

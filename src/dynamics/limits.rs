@@ -109,6 +109,16 @@ pub const MAX_WINDOW_SAMPLES: usize = 2_000_000;
 /// (an FMU returns `fmi2Discard` with its state unchanged); a master takes shorter steps.
 pub const MAX_UNIT_SUBSTEPS: f64 = 1e6;
 
+/// Most mesh evaluations × slices per evaluation of one [`super::DriveUnit::advance`] with a
+/// mesh whose evaluation cost grows with its slices (full fidelity,
+/// [`crate::mesh::MeshTorques::evaluation_slices`]; RK4: 4 evaluations per sub-step): about a
+/// minute at the measured 5.4 µs per slice-evaluation (Table 1, 200 slices: 1.1 ms per
+/// evaluation, `docs/bench/units.md`), i.e. 5·10⁴ evaluations at 200 slices. The sub-step
+/// bound [`MAX_UNIT_SUBSTEPS`] alone let one full-fidelity `doStep(1e-2)` at 65 536 sub-steps
+/// per mesh period run for 27 minutes. A table mesh (no growth with slices) is bounded by
+/// [`MAX_UNIT_SUBSTEPS`] only.
+pub const MAX_UNIT_SLICE_EVALUATIONS: f64 = 1e7;
+
 /// Most golden-section refinement runs per resonance peak of [`fn@super::sweep`] (each a
 /// [`super::run_to_steady`]); more would not narrow the bracket below round-off anyway
 /// (0.618⁶⁴ ≈ 4·10⁻¹⁴).

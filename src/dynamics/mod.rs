@@ -46,8 +46,8 @@ pub use simulate::{
 };
 pub use steady::{PeriodCheck, SteadyError, SteadyOptions, SteadyState, SteadyStatus};
 pub use sweep::{
-    PeakOverStatic, Resonance, StaticPeaks, SweepOptions, SweepPoint, SweepResult, find_peaks,
-    static_te_curve, sweep,
+    PeakOverStatic, Resonance, StaticPeaks, SweepOptions, SweepPoint, SweepResult,
+    check_sweep_request, find_peaks, static_te_curve, sweep,
 };
 pub use unit::{
     DriveUnit, HeldInputs, HubCoupling, HubReference, UnitInputRates, UnitInputs, UnitKind,

@@ -269,9 +269,9 @@ impl Drivetrain {
         -omega_p * self.z_p as f64 / self.z_g as f64
     }
 
-    /// Mesh period T_m = 2π/(z_p·ω_p) at pinion speed `omega_p` (rad/s), s.
+    /// Mesh period T_m = 2π/(z_p·|ω_p|) at pinion speed `omega_p` (rad/s; either sense), s.
     pub fn mesh_period(&self, omega_p: f64) -> f64 {
-        2.0 * std::f64::consts::PI / (self.z_p as f64 * omega_p)
+        2.0 * std::f64::consts::PI / (self.z_p as f64 * omega_p.abs())
     }
 
     /// Checks every value: inertias and stiffnesses finite and > 0, dampings finite and ≥ 0,
@@ -528,8 +528,13 @@ impl<M: MeshTorques> GearDynamics<M> {
         if !phi_p0.is_finite() {
             return Err(invalid("phi_p0", phi_p0, "finite"));
         }
-        if !omega_p.is_finite() {
-            return Err(invalid("omega_p", omega_p, "finite"));
+        if !(omega_p.is_finite() && omega_p.abs() <= crate::mesh::validity::MAX_SPEED_RAD_S) {
+            return Err(invalid(
+                "omega_p",
+                omega_p,
+                "finite, |ω_p| <= 1e5 rad/s (the largest nominal speed; negative: running \
+                 backwards)",
+            ));
         }
         // The equilibrium forms φg from TE: TE keeps its digits only up to a bound.
         crate::mesh::validity::check_formed_angle("phi_p0", phi_p0, self.g_p)

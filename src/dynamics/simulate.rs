@@ -143,8 +143,12 @@ pub fn default_rk4_step<M: MeshTorques>(
     phi_p0: f64,
     t_end: f64,
 ) -> Result<f64, DynamicsError> {
-    if !(omega_p.is_finite() && omega_p >= 0.0) {
-        return Err(invalid("omega_p", omega_p, "finite and >= 0 (rad/s)"));
+    if !(omega_p.is_finite() && omega_p.abs() <= crate::mesh::validity::MAX_SPEED_RAD_S) {
+        return Err(invalid(
+            "omega_p",
+            omega_p,
+            "finite, |ω_p| <= 1e5 rad/s (the largest nominal speed; negative: running backwards)",
+        ));
     }
     if !(t_end.is_finite() && t_end > 0.0) {
         return Err(invalid("t_end", t_end, "finite and > 0 (s)"));

@@ -324,23 +324,23 @@ fn golden_max<E>(
     Ok((fb, (a, c), made))
 }
 
-/// Runs `mesh` with drivetrain `drive` to the steady state at every speed of `speeds`
-/// (rad/s, > 0, ascending for the resonance search) and locates the resonances; see the
-/// module doc.
-pub fn sweep<M>(
-    mesh: &M,
-    drive: &Drivetrain,
-    speeds: &[f64],
-    opts: &SweepOptions,
-) -> Result<SweepResult, DynamicsError>
-where
-    M: MeshTorques + Clone + Send,
-{
-    let t0 = Instant::now();
-    drive.validate()?;
+/// Checks a sweep request before any work: `speeds` (rad/s) non-empty, each finite in
+/// (0, 10⁵] ([`crate::mesh::validity::MAX_SPEED_RAD_S`]) and strictly ascending, at most
+/// [`MAX_SWEEP_SPEEDS`]; the options' prominence finite and ≥ 0, threads ≥ 1, static points
+/// and refinement runs within their bounds. [`fn@sweep`] calls it first; the CLI and Python
+/// call it before they build the mesh (a table build takes up to a minute), so a bad argument
+/// is refused at once.
+pub fn check_sweep_request(speeds: &[f64], opts: &SweepOptions) -> Result<(), DynamicsError> {
+    if speeds.is_empty() {
+        return Err(DynamicsError::InvalidInput {
+            name: "speeds",
+            value: 0.0,
+            allowed: "at least one speed (the number of speeds given is 0)",
+        });
+    }
     for (i, &w) in speeds.iter().enumerate() {
-        if !(w.is_finite() && w > 0.0) {
-            return Err(invalid("speeds", w, "finite and > 0 (rad/s)"));
+        if !(w.is_finite() && w > 0.0 && w <= crate::mesh::validity::MAX_SPEED_RAD_S) {
+            return Err(invalid("speeds", w, "finite, 0 < speed <= 1e5 rad/s"));
         }
         if i > 0 && w <= speeds[i - 1] {
             return Err(invalid("speeds", w, "strictly ascending"));
@@ -372,6 +372,24 @@ where
             opts.refine_runs
         )));
     }
+    Ok(())
+}
+
+/// Runs `mesh` with drivetrain `drive` to the steady state at every speed of `speeds`
+/// (rad/s, > 0, ascending for the resonance search) and locates the resonances; see the
+/// module doc.
+pub fn sweep<M>(
+    mesh: &M,
+    drive: &Drivetrain,
+    speeds: &[f64],
+    opts: &SweepOptions,
+) -> Result<SweepResult, DynamicsError>
+where
+    M: MeshTorques + Clone + Send,
+{
+    let t0 = Instant::now();
+    drive.validate()?;
+    check_sweep_request(speeds, opts)?;
     let mesh_err = |source| DynamicsError::Mesh { t: None, source };
 
     // Static pass (and the model check) on this thread.

@@ -131,7 +131,7 @@ use std::ops::ControlFlow;
 use super::integrators::{Dopri5, Dopri5Options, OdeError, OdeSystem, Rk4};
 /// The unit kinds and the shape of a unit's linearisation ([`super::kind`]), where they were.
 pub use super::kind::{UnitKind, UnitLinearization, UnitQuantity};
-use super::limits::{MAX_UNIT_SUBSTEPS, stable_rk4_step};
+use super::limits::{MAX_UNIT_SLICE_EVALUATIONS, MAX_UNIT_SUBSTEPS, stable_rk4_step};
 use super::model::{
     Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
     W_1, W_2, W_G, W_P, invalid, mesh_linearisation,
@@ -242,6 +242,11 @@ pub const MAX_ANGLE_RAD: f64 = 1e15;
 /// Largest |speed| of a unit's inputs and state, rad/s (about 10⁶ rpm, far above any gear's
 /// running speed; beyond, the damping torques and the integrator's work per period explode).
 pub const MAX_SPEED_RAD_S: f64 = crate::mesh::validity::MAX_SPEED_RAD_S;
+
+/// Largest |speed| of a unit's state (explicit, restored or reached), rad/s: twice
+/// [`MAX_SPEED_RAD_S`], room for the vibration of a unit running at the largest nominal speed
+/// ([`crate::mesh::validity::MAX_STATE_SPEED_RAD_S`]).
+pub const MAX_STATE_SPEED_RAD_S: f64 = crate::mesh::validity::MAX_STATE_SPEED_RAD_S;
 
 /// Largest |torque| input of a unit, N·m (the range of the drive line's `torque_nm`).
 pub const MAX_TORQUE_NM: f64 = 1e9;
@@ -996,6 +1001,13 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         if !t0.is_finite() {
             return Err(invalid("t0", t0, "finite (s)"));
         }
+        check_abs(
+            "w_p_start",
+            w_p_start,
+            MAX_SPEED_RAD_S,
+            "finite, |speed| <= 1e5 rad/s (the largest nominal speed; negative: running \
+             backwards)",
+        )?;
         let m = self.drive0.torque;
         self.sys.model.set_torque(m);
         let start = match self.sys.model.static_start(0.0, w_p_start, settings) {
@@ -1082,6 +1094,18 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
                          mesh period, fastest mode {:.3e} rad/s); at most \
                          {MAX_UNIT_SUBSTEPS:.0e}: take shorter communication steps",
                         self.y[iw], self.omega_fast
+                    )));
+                }
+                // Full fidelity: the work also grows with the slices of each evaluation.
+                let slices = self.sys.model.mesh().evaluation_slices() as f64;
+                let work = 4.0 * steps * slices;
+                if work > MAX_UNIT_SLICE_EVALUATIONS {
+                    return Err(DynamicsError::TooLarge(format!(
+                        "a unit step of h = {h:.3e} s would take {steps:.3e} RK4 sub-steps × 4 \
+                         mesh evaluations × {slices} slices = {work:.3e} slice-evaluations \
+                         (full fidelity); at most {MAX_UNIT_SLICE_EVALUATIONS:.0e} (about a \
+                         minute): take shorter communication steps, fewer sub-steps per mesh \
+                         period, fewer slices or the table fidelity"
                     )));
                 }
                 steps as u64
@@ -1380,7 +1404,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
     }
 
     /// Restores a snapshot of a unit of the same kind (checked, as are all values: right
-    /// length, angles within ±[`MAX_ANGLE_RAD`], speeds within ±[`MAX_SPEED_RAD_S`], inputs as
+    /// length, angles within ±[`MAX_ANGLE_RAD`], speeds within ±[`MAX_STATE_SPEED_RAD_S`], inputs as
     /// [`DriveUnit::set_inputs`] checks them, times finite, step hint > 0).
     pub fn restore(&mut self, s: &UnitSnapshot) -> Result<(), DynamicsError> {
         if s.kind != self.sys.kind {
@@ -1398,8 +1422,8 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
                 check_abs(
                     name,
                     v,
-                    MAX_SPEED_RAD_S,
-                    "finite, |speed| <= 1e5 rad/s (snapshot state)",
+                    MAX_STATE_SPEED_RAD_S,
+                    "finite, |speed| <= 2e5 rad/s (snapshot state)",
                 )?;
             }
         }

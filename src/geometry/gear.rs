@@ -467,20 +467,29 @@ impl GearGeometry {
     /// Closed transverse outline of the whole gear (all teeth, counter-clockwise), m, with `n`
     /// points per profile segment.
     pub fn outline(&self, n: usize) -> Vec<[f64; 2]> {
-        let half = self.half_outline(n);
-        let mut pts = Vec::with_capacity(2 * half.len() * self.z as usize);
+        let tooth = self.tooth_outline(n);
+        let mut pts = Vec::with_capacity(tooth.len() * self.z as usize);
         for k in 0..self.z {
-            let g = self.angular_pitch() * k as f64;
-            let (s, c) = g.sin_cos();
-            let rot = |p: [f64; 2]| [c * p[0] - s * p[1], s * p[0] + c * p[1]];
-            // Negative flank (mirror), space centre to tooth centre: angle increases.
-            for p in &half {
-                pts.push(rot([p[0], -p[1]]));
-            }
-            // Positive flank, tooth centre back to the next space centre (skip duplicates).
-            for p in half.iter().rev().skip(1).take(half.len() - 2) {
-                pts.push(rot(*p));
-            }
+            let (s, c) = (self.angular_pitch() * k as f64).sin_cos();
+            pts.extend(tooth.iter().map(|p| [c * p[0] - s * p[1], s * p[0] + c * p[1]]));
+        }
+        pts
+    }
+
+    /// The outline of the tooth at angle 0 (counter-clockwise, m, `n` points per profile
+    /// segment), from the space centre before it up to (not including) the space centre after
+    /// it: [`Self::outline`] is this tooth rotated by every pitch, so whole-gear quantities
+    /// follow from one tooth and z (memory independent of z).
+    pub fn tooth_outline(&self, n: usize) -> Vec<[f64; 2]> {
+        let half = self.half_outline(n);
+        let mut pts = Vec::with_capacity(2 * half.len());
+        // Negative flank (mirror), space centre to tooth centre: angle increases.
+        for p in &half {
+            pts.push([p[0], -p[1]]);
+        }
+        // Positive flank, tooth centre back to the next space centre (skip duplicates).
+        for p in half.iter().rev().skip(1).take(half.len() - 2) {
+            pts.push(*p);
         }
         pts
     }

@@ -97,12 +97,85 @@ pub struct BearingArrangement {
     pub gear: ShaftBearings,
 }
 
+/// Why a bearing arrangement's JSON was refused: its structure (not JSON, a key missing,
+/// unknown or not a number; the message names the key path, e.g. `pinion.floating_z_m`), or a
+/// value outside its range ([`ShaftBearings::check`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum BearingsError {
+    /// The text is not the JSON of an arrangement; the message names the key.
+    Json(String),
+    /// A position outside its range.
+    Param(ParamError),
+}
+
+impl std::fmt::Display for BearingsError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BearingsError::Json(m) => write!(f, "bearing arrangement: {m}"),
+            BearingsError::Param(e) => write!(f, "bearing arrangement: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for BearingsError {}
+
+impl From<ParamError> for BearingsError {
+    fn from(e: ParamError) -> Self {
+        BearingsError::Param(e)
+    }
+}
+
+const SHAFTS: [&str; 2] = ["pinion", "gear"];
+const POSITIONS: [&str; 2] = ["locating_z_m", "floating_z_m"];
+const SCHEMA: &str = r#"{"pinion": {"locating_z_m": …, "floating_z_m": …}, "gear": {…}}"#;
+
+/// The object at `path` of `v`, its keys checked against `allowed`.
+fn object<'a>(
+    v: &'a serde_json::Value,
+    path: &str,
+    allowed: &[&str],
+) -> Result<&'a serde_json::Map<String, serde_json::Value>, BearingsError> {
+    let o = v.as_object().ok_or_else(|| {
+        BearingsError::Json(format!("`{path}` = {v}: allowed an object {SCHEMA}"))
+    })?;
+    if let Some(k) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
+        let at = if path == "bearings" { k.clone() } else { format!("{path}.{k}") };
+        return Err(BearingsError::Json(format!(
+            "unknown key `{at}` (allowed: {})",
+            allowed.join(", ")
+        )));
+    }
+    Ok(o)
+}
+
 impl BearingArrangement {
-    /// Parses and checks JSON; the error names the key and the limit.
-    pub fn from_json(text: &str) -> Result<Self, ParamError> {
-        let a: Self = serde_json::from_str(text).map_err(|e| {
-            ParamError::new("bearings", f64::NAN, format!("JSON of the bearing arrangement: {e}"))
-        })?;
+    /// Parses and checks JSON `{"pinion": {"locating_z_m": …, "floating_z_m": …}, "gear":
+    /// {…}}`; the error names the key path (`gear.locating_z_m`), the value and the limit.
+    pub fn from_json(text: &str) -> Result<Self, BearingsError> {
+        let v: serde_json::Value = serde_json::from_str(text)
+            .map_err(|e| BearingsError::Json(format!("not JSON ({e}); expected {SCHEMA}")))?;
+        let top = object(&v, "bearings", &SHAFTS)?;
+        let mut z = [[0.0; 2]; 2];
+        for (s, shaft) in SHAFTS.iter().enumerate() {
+            let sv = top.get(*shaft).ok_or_else(|| {
+                BearingsError::Json(format!("`{shaft}` is missing; expected {SCHEMA}"))
+            })?;
+            let so = object(sv, shaft, &POSITIONS)?;
+            for (k, key) in POSITIONS.iter().enumerate() {
+                let path = format!("{shaft}.{key}");
+                let x = so.get(*key).ok_or_else(|| {
+                    BearingsError::Json(format!("`{path}` is missing (a position in m)"))
+                })?;
+                z[s][k] = x.as_f64().ok_or_else(|| {
+                    BearingsError::Json(format!(
+                        "`{path}` = {x}: allowed a number {} (a position in m)",
+                        BEARING_Z_M.allowed()
+                    ))
+                })?;
+            }
+        }
+        let shaft = |z: [f64; 2]| ShaftBearings { locating_z_m: z[0], floating_z_m: z[1] };
+        let a = Self { pinion: shaft(z[0]), gear: shaft(z[1]) };
         a.check()?;
         Ok(a)
     }

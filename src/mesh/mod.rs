@@ -450,6 +450,15 @@ pub trait MeshTorques {
     /// fresh clone would give. Stateless implementations keep the default, which does nothing.
     fn forget_history(&mut self) {}
 
+    /// The cost of one evaluation in slices: the slices of a full contact search and load
+    /// solve (whose work grows at least in proportion), 0 for an evaluation whose cost does not
+    /// grow with an input (a table lookup, an analytic mesh; the default). The work bounds of
+    /// the units count evaluations × this cost
+    /// ([`crate::dynamics::limits::MAX_UNIT_SLICE_EVALUATIONS`]).
+    fn evaluation_slices(&self) -> usize {
+        0
+    }
+
     /// Copies the warm start the next evaluation would start from into `out` (reusing its
     /// memory); implementations without one leave `out` empty (the default). With
     /// [`Self::set_warm_start`] a caller keeps the warm start as part of its own state.
@@ -526,6 +535,7 @@ impl Mesh {
     fn check_options(options: &MeshOptions) -> Result<(), MeshError> {
         model::check_options(options)?;
         table::check_table_size(options.table_phase_points, options.table_te_points)?;
+        table::check_table_work(options)?;
         table::check_design_torque(options.table_design_torque_nm)?;
         Ok(())
     }
@@ -538,6 +548,7 @@ impl Mesh {
     pub fn from_model(model: Arc<MeshModel>) -> Result<Self, MeshError> {
         let o = model.options();
         table::check_table_size(o.table_phase_points, o.table_te_points)?;
+        table::check_table_work(o)?;
         table::check_design_torque(o.table_design_torque_nm)?;
         // The table needs the part of the modifications that repeats on every tooth to remove
         // material only (no contact below TE = 0); otherwise the mesh stays at full fidelity.
@@ -686,6 +697,13 @@ impl Mesh {
 impl MeshTorques for Mesh {
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         self.evaluate(state)
+    }
+
+    fn evaluation_slices(&self) -> usize {
+        match self {
+            Mesh::Full(f) => f.evaluation_slices(),
+            Mesh::Table(_) => 0,
+        }
     }
 
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {

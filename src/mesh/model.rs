@@ -1185,6 +1185,10 @@ impl FullMesh {
 }
 
 impl MeshTorques for FullMesh {
+    fn evaluation_slices(&self) -> usize {
+        self.model().options().slices
+    }
+
     fn forget_history(&mut self) {
         self.warm.clear();
     }
@@ -1249,7 +1253,7 @@ fn load_failure(
 }
 
 /// Rejects a state with a NaN or infinite component, naming it, and speeds beyond
-/// ±[`super::validity::MAX_SPEED_RAD_S`] (whose damping torque would overflow).
+/// ±[`super::validity::MAX_STATE_SPEED_RAD_S`] (whose damping torque would overflow).
 fn check_state(state: &MeshState) -> Result<(), MeshError> {
     for (name, v) in
         [("phi_p", state.phi_p), ("phi_g", state.phi_g), ("w_p", state.w_p), ("w_g", state.w_g)]
@@ -1259,11 +1263,12 @@ fn check_state(state: &MeshState) -> Result<(), MeshError> {
         }
     }
     for (name, v) in [("w_p", state.w_p), ("w_g", state.w_g)] {
-        if v.abs() > super::validity::MAX_SPEED_RAD_S {
+        if v.abs() > super::validity::MAX_STATE_SPEED_RAD_S {
             return Err(MeshError::Param(crate::error::ParamError::new(
                 name,
                 v,
-                "|speed| <= 1e5 rad/s (the validity range of the mesh state)",
+                "|speed| <= 2e5 rad/s (the validity range of the mesh state: twice the largest \
+                 nominal speed 1e5 rad/s)",
             )));
         }
     }

@@ -140,6 +140,36 @@ pub fn check_table_size(
     Ok(())
 }
 
+/// Most node × slice evaluations of one table build: [`MAX_TABLE_NODES`] at 100 slices. A
+/// node's full evaluations cost at least in proportion to the slices (contact search, load
+/// solve): 65 536 nodes took 127 s at 200 slices, so the bound is about a minute whatever the
+/// slices, where the node bound alone allowed two minutes at 200 slices and more beyond.
+pub const MAX_TABLE_SLICE_NODES: f64 = 65_536.0 * 100.0;
+
+/// Checks the work of building the table of `options` (at [`super::Fidelity::Table`] only):
+/// `table_phase_points` × `table_te_points` × `slices` ≤ [`MAX_TABLE_SLICE_NODES`]. The
+/// error names the option, the work and the bound.
+pub fn check_table_work(options: &super::MeshOptions) -> Result<(), crate::error::ParamError> {
+    if options.fidelity != super::Fidelity::Table {
+        return Ok(());
+    }
+    let (np, nt, slices) = (options.table_phase_points, options.table_te_points, options.slices);
+    let work = np as f64 * nt as f64 * slices as f64;
+    if work > MAX_TABLE_SLICE_NODES {
+        return Err(crate::error::ParamError::new(
+            "table_phase_points",
+            np as f64,
+            format!(
+                "table_phase_points × table_te_points × slices <= {MAX_TABLE_SLICE_NODES:.4e} \
+                 node-slices (about a minute of build; {np} × {nt} × {slices} = {work:.3e} \
+                 would take about {:.1} minutes): fewer table points or fewer slices",
+                work / MAX_TABLE_SLICE_NODES
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Design torque of the table `table_design_torque_nm` ([`super::MeshOptions`]): 1 N·m …
 /// 1e9 N·m (the drive line's torque limit, [`crate::params::DRIVE_TORQUE_NM`]; below 1 N·m
 /// the static TE of most designs is lost in the light-load grading, and the units round a

@@ -80,8 +80,11 @@ use crate::numeric::Pitch;
 /// Largest flank overlap Δ_max in which the model holds, in units of m_n (see the module docs).
 pub const MAX_OVERLAP_MN: f64 = 0.2;
 
-/// Largest |φ̇p|, |φ̇g| of a mesh state, rad/s (about 10⁶ rpm, far above any gear's running
-/// speed). The damping torque M_D = d_mesh·(g_p·φ̇p + g_g·φ̇g)·g is linear in the speeds; with
+/// Largest nominal speed, rad/s (about 10⁶ rpm, far above any gear's running speed): the
+/// bound of every speed a caller sets — start speeds (`--omega-p`, `w_p_start`, Python's
+/// `w_p`), the units' speed inputs and the C API's and Python's mesh evaluations. A running
+/// state vibrates about its nominal speed, so the states may exceed it up to
+/// [`MAX_STATE_SPEED_RAD_S`]. The damping torque M_D = d_mesh·(g_p·φ̇p + g_g·φ̇g)·g is linear in the speeds; with
 /// the largest d_mesh (10⁹ N·s/m) and base radii of metres it stays below 10¹⁵ N·m here, while
 /// speeds of 10³⁰⁸ rad/s would make it infinite with a success status. The units, the FMUs, the
 /// C API and Python hold their inputs and states to the same bound.
@@ -110,6 +113,14 @@ pub fn check_formed_angle(name: &str, phi_p: f64, g_p: f64) -> Result<(), crate:
         ),
     ))
 }
+
+/// Largest |φ̇p|, |φ̇g| of a mesh state and of a unit's state, rad/s: twice
+/// [`MAX_SPEED_RAD_S`]. A run started at the largest nominal speed overshoots it by its
+/// vibration at once (a start at exactly 10⁵ rad/s failed at its first RK4 sub-step when
+/// states were held to 10⁵); the torsional vibration of a running drive is a small fraction
+/// of its speed, so a factor 2 leaves every run started within [`MAX_SPEED_RAD_S`] room,
+/// while the damping torque stays below 2·10¹⁵ N·m.
+pub const MAX_STATE_SPEED_RAD_S: f64 = 2.0 * MAX_SPEED_RAD_S;
 
 /// The validity range of the mesh state of one gear pair (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]

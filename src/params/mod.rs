@@ -282,6 +282,20 @@ impl GearPair {
         PRESSURE_ANGLE_RAD.check("pressure_angle_rad", self.pressure_angle_rad)?;
         HELIX_ANGLE_RAD.check("helix_angle_rad", self.helix_angle_rad)?;
         FACE_WIDTH_M.check("face_width_m", self.face_width_m)?;
+        let b_max = MAX_FACE_WIDTH_MN * self.normal_module_m;
+        if self.face_width_m > b_max {
+            return Err(ParamError::new(
+                "face_width_m",
+                self.face_width_m,
+                format!(
+                    "<= {MAX_FACE_WIDTH_MN}·normal_module_m = {b_max:.6e} m (b/m_n = {:.4e}; \
+                     the widest helical gears have b/m_n of 30–40, and the tooth FE and the \
+                     rigid-shaft load distribution stop holding beyond): lower face_width_m \
+                     or raise normal_module_m",
+                    self.face_width_m / self.normal_module_m
+                ),
+            ));
+        }
         PROFILE_SHIFT.check("profile_shift_p", self.profile_shift_p)?;
         PROFILE_SHIFT.check("profile_shift_g", self.profile_shift_g)?;
         ADDENDUM_MN.check("addendum_mn", self.addendum_mn)?;
@@ -329,7 +343,17 @@ impl DriveLine {
     /// [`DRIVE_INERTIA_KGM2`], [`DRIVE_STIFFNESS_NM_PER_RAD`], [`DRIVE_DAMPING_NMS_PER_RAD`]);
     /// the error names the key as `drive.<field>`.
     pub fn check(&self) -> Result<(), ParamError> {
-        DRIVE_TORQUE_NM.check("drive.torque_nm", self.torque_nm)?;
+        if !DRIVE_TORQUE_NM.contains(self.torque_nm) {
+            return Err(ParamError::new(
+                "drive.torque_nm",
+                self.torque_nm,
+                format!(
+                    "{} (positive: the pinion drives on its driving flanks; for the gear \
+                     driving the pinion, swap pinion and gear)",
+                    DRIVE_TORQUE_NM.allowed()
+                ),
+            ));
+        }
         DRIVE_INERTIA_KGM2.check("drive.j1_kgm2", self.j1_kgm2)?;
         DRIVE_INERTIA_KGM2.check("drive.j2_kgm2", self.j2_kgm2)?;
         DRIVE_STIFFNESS_NM_PER_RAD.check("drive.c1_nm_per_rad", self.c1_nm_per_rad)?;
@@ -420,6 +444,11 @@ impl Bounds<i64> {
 
 /// Number of teeth z_p, z_g: 5 … 100 000 (fewer than 5 teeth cannot mesh continuously; the
 /// undercut limit of the given rack and shift, usually higher, is checked with the geometry).
+/// 100 000 teeth of the smallest module (10 µm) make a 1 m wheel, beyond any gear made (the
+/// largest girth gears have a few hundred teeth). The model's work and memory do not grow with
+/// z (the contact search, the FE sectors and the body inertia work on a few teeth; the
+/// hunting period of a spectrum, which does, has its own bound), so the upper bound only
+/// marks where a tooth number stops being a gear.
 pub const Z_P: Bounds<i64> = Bounds::new(5, 100_000, "");
 /// See [`Z_P`].
 pub const Z_G: Bounds<i64> = Z_P;
@@ -432,7 +461,16 @@ pub const PRESSURE_ANGLE_RAD: Bounds<f64> =
 /// quantities of a helical gear with this rack degenerate), rad.
 pub const HELIX_ANGLE_RAD: Bounds<f64> =
     Bounds::new(0.0, f64::from_bits(std::f64::consts::FRAC_PI_4.to_bits() - 1), "rad");
-/// Face width b: 1 µm … 10 m, m.
+/// Largest face width in normal modules, b/m_n ≤ 40 (checked with the module, in
+/// [`GearPair::check_params`]). The widest helical gears in service have b/m_n of 30–40
+/// (beyond, the load cannot be spread over the face width by shafts and housings); the model's
+/// tooth FE and its rigid-shaft load distribution are made and tested for that range
+/// (`tests/stress_designs.rs`: 4–40·m_n). Beyond it the FE fails late and without naming the
+/// cause: b = 100·m_n (Table 1, 0.3 m) ran the FE for 4 minutes before its pitch-point load
+/// case no longer fitted the pair, b = 10 m reported an inverted element.
+pub const MAX_FACE_WIDTH_MN: f64 = 40.0;
+
+/// Face width b: 1 µm … 10 m, m, and at most [`MAX_FACE_WIDTH_MN`]·m_n.
 pub const FACE_WIDTH_M: Bounds<f64> = Bounds::new(1e-6, 10.0, "m");
 /// Profile shift coefficients x_p, x_g: −1.5 … 1.5 (beyond, the tooth is pointed or undercut
 /// for any practical rack).
@@ -460,8 +498,17 @@ pub const YOUNGS_MODULUS_PA: Bounds<f64> = Bounds::new(1e6, 1e13, "Pa");
 pub const POISSON_RATIO: Bounds<f64> = Bounds::new(1e-3, 0.499, "");
 /// Density: 1 … 100 000 kg/m³.
 pub const DENSITY_KG_M3: Bounds<f64> = Bounds::new(1.0, 1e5, "kg/m3");
-/// Driving torque M: |M| <= 1e9 N·m (the units' inputs have the same limit).
-pub const DRIVE_TORQUE_NM: Bounds<f64> = Bounds::new(-1e9, 1e9, "N.m");
+/// Driving torque M of the drive line (`torque_nm`): 1 N·m … 1e9 N·m, N·m. Positive: the
+/// model's pinion drives on its driving flanks (the crate's sign convention), and the units'
+/// static start, their step bound (the mesh stiffness under M) and the table's TE range are
+/// all built on that flank; a drive in which the gear drives the pinion (coast) is the same
+/// model with the roles of pinion and gear swapped, not a negative M. Below 1 N·m the static
+/// TE of most designs is lost in the table's light-load grading (the table's smallest design
+/// torque, [`crate::mesh::table::TABLE_DESIGN_TORQUE_NM`]); 1e9 N·m is far above the largest
+/// gear drives (about 1e7 N·m), and what a given design carries within the model's validity
+/// range is its own, named at the static start. The back flanks are loaded by the dynamics
+/// (and by `helical-gear static` through TE), not by a negative nominal torque.
+pub const DRIVE_TORQUE_NM: Bounds<f64> = Bounds::new(1.0, 1e9, "N.m");
 /// Inertias J₁, J₂: 1e-12 … 1e9 kg·m² (positive: the equations divide by them).
 pub const DRIVE_INERTIA_KGM2: Bounds<f64> = Bounds::new(1e-12, 1e9, "kg.m2");
 /// Shaft stiffnesses c₁, c₂: 1e-9 … 1e15 N·m/rad (positive: a shaft must connect).

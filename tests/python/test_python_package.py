@@ -519,7 +519,7 @@ def test_bounds_are_the_library_ranges():
     """`BOUNDS` holds the library's range of every numeric key; a value past one is refused."""
     assert hg.BOUNDS["normal_module_m"] == (1e-5, 1.0, "m")
     assert hg.BOUNDS["z_p"][:2] == (5, 100000)
-    assert hg.BOUNDS["drive.torque_nm"] == (-1e9, 1e9, "N.m")
+    assert hg.BOUNDS["drive.torque_nm"] == (1.0, 1e9, "N.m")
     lo, hi, _ = hg.BOUNDS["material_p.poisson_ratio"]
     hg.GearPair(**{"material_p.poisson_ratio": hi})
     with pytest.raises(hg.ParameterError, match="poisson_ratio"):

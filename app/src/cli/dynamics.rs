@@ -72,7 +72,7 @@ pub struct SimulateArgs {
     common: Common,
     #[command(flatten)]
     drive: DriveArg,
-    /// Nominal pinion speed ω_p, rad/s (> 0; low speeds are integrated with the step of the
+    /// Nominal pinion speed ω_p, rad/s (|ω_p| ≤ 1e5, negative: running backwards; low speeds are integrated with the step of the
     /// fastest mode); the gear turns at −ω_p·z_p/z_g.
     #[arg(long)]
     omega_p: f64,
@@ -192,8 +192,14 @@ fn io_err(e: std::io::Error) -> String {
 pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
     // Standstill is an operating point: the start is the static equilibrium at rest and the
     // step comes from the fastest mode (`limits`), not from the infinite mesh period.
-    if !(a.omega_p.is_finite() && a.omega_p >= 0.0) {
-        return Err(format!("--omega-p = {:.4e}: allowed finite and >= 0 (rad/s)", a.omega_p));
+    if !(a.omega_p.is_finite()
+        && a.omega_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
+    {
+        return Err(format!(
+            "--omega-p = {:.4e}: allowed finite, |ω_p| <= 1e5 rad/s (the largest nominal speed; \
+             negative: running backwards)",
+            a.omega_p
+        ));
     }
     if !(a.t_end.is_finite() && a.t_end > 0.0) {
         return Err(format!("--t-end = {}: allowed finite and > 0 (s)", a.t_end));
@@ -359,12 +365,21 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
             a.refine_runs
         ));
     }
-    let (pair, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
     let speeds: Vec<f64> = if a.points == 1 {
         vec![a.from]
     } else {
         (0..a.points).map(|i| a.from + (a.to - a.from) * i as f64 / (a.points - 1) as f64).collect()
     };
+    // Every argument is checked before the mesh (a table build takes up to a minute).
+    let request = SweepOptions {
+        threads: a.threads,
+        refine_runs: a.refine_runs,
+        min_prominence: a.min_prominence,
+        ..SweepOptions::default()
+    };
+    helical_gear_mesh::dynamics::check_sweep_request(&speeds, &request)
+        .map_err(|e| e.to_string())?;
+    let (pair, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
     // Tooth deviations: steady over their period (at least three periods integrated).
     let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
     let opts = SweepOptions {

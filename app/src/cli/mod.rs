@@ -26,15 +26,53 @@ pub struct Common {
     pub json: bool,
 }
 
+/// Largest JSON file read for `--params`, `--drive`, `--bearings` and the variants file,
+/// bytes: 16 MiB, far above any parameter file (a few kB) and far below a runaway read
+/// (`--params /dev/zero` read 4.2 GB before failing).
+pub const MAX_JSON_FILE_BYTES: u64 = 16 * 1024 * 1024;
+
+/// The text of the JSON file `path` given as `option`; the error names the option and the
+/// path and says what is wrong: no such file, a directory, more than [`MAX_JSON_FILE_BYTES`],
+/// not UTF-8 text.
+pub fn read_json_file(option: &str, path: &std::path::Path) -> Result<String, String> {
+    use std::io::Read;
+    let shown = path.display();
+    let file = match std::fs::File::open(path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(format!("{option} {shown}: no such file"));
+        }
+        Err(e) => return Err(format!("{option} {shown}: cannot read: {e}")),
+    };
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        return Err(format!("{option} {shown}: is a directory, not a JSON file"));
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_JSON_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("{option} {shown}: cannot read: {e}"))?;
+    if bytes.len() as u64 > MAX_JSON_FILE_BYTES {
+        return Err(format!(
+            "{option} {shown}: more than {MAX_JSON_FILE_BYTES} bytes (16 MiB), the most read \
+             for a JSON file"
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "{option} {shown}: not UTF-8 text (byte {}); a JSON file is UTF-8",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
 /// The gear pair of `--params` (JSON in the schema of [`GearPair`]), or the paper's Table 1;
 /// the error names the file.
 pub fn load_params(common: &Common) -> Result<GearPair, String> {
     match &common.params {
         None => Ok(GearPair::paper_table1()),
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-            GearPair::from_json(&text)
+            let text = read_json_file("--params", path)?;
+            GearPair::from_json(&text).map_err(|e| format!("--params {}: {e}", path.display()))
         }
     }
 }
@@ -55,8 +93,7 @@ pub fn load_drive(a: &DriveArg) -> Result<DriveLine, String> {
     let d = match &a.drive {
         None => DriveLine::paper_table1(),
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            let text = read_json_file("--drive", path)?;
             DriveLine::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))?
         }
     };

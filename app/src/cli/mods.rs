@@ -197,8 +197,7 @@ pub fn harris_cmd(a: &HarrisArgs) -> Result<(), String> {
             a.points, a.points_per_pitch
         ));
     }
-    let text = std::fs::read_to_string(&a.variants)
-        .map_err(|e| format!("cannot read {}: {e}", a.variants.display()))?;
+    let text = super::read_json_file("--variants", &a.variants)?;
     let variants: Vec<Variant> = serde_json::from_str(&text)
         .map_err(|e| format!("variants file {}: {e}", a.variants.display()))?;
     if variants.is_empty() {
@@ -377,6 +376,11 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     }
     if !(2..=256).contains(&a.points_per_pitch) {
         return Err(format!("--points-per-pitch = {}: allowed 2..=256", a.points_per_pitch));
+    }
+    if let Some(k) = a.max_order.filter(|k| !(k.is_finite() && *k >= 0.0)) {
+        return Err(format!(
+            "--max-order = {k}: allowed finite and >= 0 (orders of the pinion rotation)"
+        ));
     }
     let t0 = std::time::Instant::now();
     if a.dynamic {

@@ -28,8 +28,7 @@ pub fn static_cmd(
     // The bearing arrangement is read and checked before anything is computed.
     let bearings = match bearings {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| format!("--bearings {}: {e}", path.display()))?;
+            let text = super::read_json_file("--bearings", path)?;
             Some(
                 BearingArrangement::from_json(&text)
                     .map_err(|e| format!("--bearings {}: {e}", path.display()))?,

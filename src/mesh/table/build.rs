@@ -8,6 +8,7 @@ use super::super::model::{FullMesh, MeshModel, PairSum};
 use super::super::statics::{EquilibriumSettings, equilibrium};
 use super::super::{MeshError, MeshState};
 use super::{MeshTable, NV, PairTable, TableTruncation, TeAxis};
+use crate::error::ParamError;
 use crate::modifications::Separation;
 
 impl MeshTable {
@@ -45,7 +46,22 @@ impl MeshTable {
         let mut guess = 1e-5;
         for k in 0..8 {
             let phi_p = phase_lo + pitch * (k as f64 + 0.5) / 8.0;
-            let eq = equilibrium(model, phi_p, torque, guess, &EquilibriumSettings::default())?;
+            // A design torque the pair cannot carry within the model's validity range (flank
+            // overlap 0.2·m_n) is an error of that option: the range TABLE_DESIGN_TORQUE_NM
+            // is the same for every design, what a design carries is its own.
+            let eq = equilibrium(model, phi_p, torque, guess, &EquilibriumSettings::default())
+                .map_err(|e| match e {
+                    MeshError::Equilibrium(why) => MeshError::Param(ParamError::new(
+                        "table_design_torque_nm",
+                        torque,
+                        format!(
+                            "a torque the pair carries within the model's validity range \
+                             (flank overlap <= 0.2·m_n): {why}; lower the table's design \
+                             torque (the drive line's torque_nm where it sizes the table)"
+                        ),
+                    )),
+                    e => e,
+                })?;
             guess = eq.te;
             te_nom = te_nom.max(eq.te);
         }
