@@ -72,6 +72,8 @@
 //! each mesh evaluation costs 10⁻⁴–10⁻³ s, so the same bound is proportionally slower).
 
 use super::model::{Drivetrain, DynamicsError, GearDynamics, mesh_linearisation};
+/// The eigenvalues of the linearisation behind the step rule (defined beside the drivetrain).
+pub use super::model::{fastest_linear_rate, linear_eigenvalues};
 use crate::mesh::MeshTorques;
 
 /// Steps per period of the fastest linearised mode of the step rule (see the module doc).
@@ -174,39 +176,6 @@ pub fn fastest_mode<M: MeshTorques>(
     }
     let undamped = drive.linear_frequencies(k, gp, gg)[3];
     Ok(undamped.max(drive.fastest_rate(k, lin.damping, gp, gg)))
-}
-
-/// The largest modulus |λ| (rad/s) of the eigenvalues of the linear system J·q̈ + C·q̇ + K·q
-/// = 0 with the diagonal inertias `j` (kg·m², > 0), stiffness matrix `k` (N·m/rad) and
-/// damping matrix `c` (N·m·s/rad), both symmetric n × n in row-major order (n = `j.len()`
-/// ≤ 4): the eigenvalues of the first-order state matrix [[0, I], [−J⁻¹K, −J⁻¹C]]. For an
-/// underdamped mode |λ| = ω (the undamped frequency, whatever the damping ratio ζ < 1); an
-/// overdamped one has the real eigenvalue −ω·(ζ + √(ζ² − 1)) ≈ −c/m, which grows without
-/// bound with the damping (see the module doc). 0 for non-finite input.
-pub fn fastest_linear_rate(j: &[f64], k: &[f64], c: &[f64]) -> f64 {
-    linear_eigenvalues(j, k, c).iter().map(|l| l.norm()).fold(0.0, f64::max)
-}
-
-/// The eigenvalues λ (rad/s; complex: decay rate and frequency) of the linear system of
-/// [`fastest_linear_rate`]; empty for inconsistent sizes, non-finite values or an inertia
-/// that is not > 0.
-pub fn linear_eigenvalues(j: &[f64], k: &[f64], c: &[f64]) -> Vec<num_complex::Complex<f64>> {
-    let n = j.len();
-    if n == 0 || n > 4 || k.len() != n * n || c.len() != n * n {
-        return Vec::new();
-    }
-    if j.iter().chain(k).chain(c).any(|v| !v.is_finite()) || j.iter().any(|v| *v <= 0.0) {
-        return Vec::new();
-    }
-    let a = nalgebra::DMatrix::from_fn(2 * n, 2 * n, |r, col| {
-        if r < n {
-            if col == r + n { 1.0 } else { 0.0 }
-        } else {
-            let i = r - n;
-            if col < n { -k[i * n + col] / j[i] } else { -c[i * n + col - n] / j[i] }
-        }
-    });
-    a.complex_eigenvalues().iter().copied().collect()
 }
 
 /// RK4's amplification factor R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 for z = h·λ: a linear mode

@@ -309,7 +309,7 @@ impl Drivetrain {
     /// The largest modulus |λ| of the eigenvalues of Eqs. 1–4 linearised with a constant mesh
     /// stiffness `k_mesh` (N/m) and mesh damping coefficient `c_mesh` (N·s/m) along the line of
     /// action between base radii `g_p`, `g_g` (m), with the shafts' stiffness and damping
-    /// (rad/s; [`super::limits::fastest_linear_rate`]). Equals the fastest undamped
+    /// (rad/s; [`fastest_linear_rate`]). Equals the fastest undamped
     /// frequency while every mode is underdamped; grows as c_mesh/m_eq once the mesh mode is
     /// overdamped.
     pub fn fastest_rate(&self, k_mesh: f64, c_mesh: f64, g_p: f64, g_g: f64) -> f64 {
@@ -318,7 +318,7 @@ impl Drivetrain {
             stiffness_matrix(&Drivetrain { c1: self.d1, c2: self.d2, ..*self }, c_mesh, g_p, g_g);
         let j = [self.j1, self.j_p, self.j_g, self.j2];
         let flat = |m: Matrix4<f64>| -> [f64; 16] { std::array::from_fn(|i| m[(i / 4, i % 4)]) };
-        super::limits::fastest_linear_rate(&j, &flat(k), &flat(c))
+        fastest_linear_rate(&j, &flat(k), &flat(c))
     }
 
     /// Undamped natural frequencies ω (rad/s, ascending, the first is the rigid-body mode 0)
@@ -647,4 +647,37 @@ pub fn mesh_linearisation<M: MeshTorques + ?Sized>(
         stiffness: (hi - lo) / (2.0 * dte) / gp,
         damping: (damped / (v * gp)).max(0.0),
     })
+}
+
+/// The largest modulus |λ| (rad/s) of the eigenvalues of the linear system J·q̈ + C·q̇ + K·q
+/// = 0 with the diagonal inertias `j` (kg·m², > 0), stiffness matrix `k` (N·m/rad) and
+/// damping matrix `c` (N·m·s/rad), both symmetric n × n in row-major order (n = `j.len()`
+/// ≤ 4): the eigenvalues of the first-order state matrix [[0, I], [−J⁻¹K, −J⁻¹C]]. For an
+/// underdamped mode |λ| = ω (the undamped frequency, whatever the damping ratio ζ < 1); an
+/// overdamped one has the real eigenvalue −ω·(ζ + √(ζ² − 1)) ≈ −c/m, which grows without
+/// bound with the damping (see the module doc of `super::limits`). 0 for non-finite input.
+pub fn fastest_linear_rate(j: &[f64], k: &[f64], c: &[f64]) -> f64 {
+    linear_eigenvalues(j, k, c).iter().map(|l| l.norm()).fold(0.0, f64::max)
+}
+
+/// The eigenvalues λ (rad/s; complex: decay rate and frequency) of the linear system of
+/// [`fastest_linear_rate`]; empty for inconsistent sizes, non-finite values or an inertia
+/// that is not > 0.
+pub fn linear_eigenvalues(j: &[f64], k: &[f64], c: &[f64]) -> Vec<num_complex::Complex<f64>> {
+    let n = j.len();
+    if n == 0 || n > 4 || k.len() != n * n || c.len() != n * n {
+        return Vec::new();
+    }
+    if j.iter().chain(k).chain(c).any(|v| !v.is_finite()) || j.iter().any(|v| *v <= 0.0) {
+        return Vec::new();
+    }
+    let a = nalgebra::DMatrix::from_fn(2 * n, 2 * n, |r, col| {
+        if r < n {
+            if col == r + n { 1.0 } else { 0.0 }
+        } else {
+            let i = r - n;
+            if col < n { -k[i * n + col] / j[i] } else { -c[i * n + col - n] / j[i] }
+        }
+    });
+    a.complex_eigenvalues().iter().copied().collect()
 }

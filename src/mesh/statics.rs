@@ -55,6 +55,8 @@ impl Default for EquilibriumSettings {
 
 /// Finds φg with M_F,p(φp, φg) = `torque` (N·m, > 0 drives the pinion flanks) at pinion angle
 /// `phi_p` (rad), starting the bracket search at `te_guess` (m; e.g. the previous phase's STE).
+/// φg is formed from TE, so |φp| is held to [`super::validity::check_formed_angle`]'s bound
+/// (an error naming `phi_p` beyond it).
 pub fn equilibrium<M: MeshTorques + ?Sized>(
     mesh: &mut M,
     phi_p: f64,
@@ -68,6 +70,8 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         }
     }
     let (gp, gg) = mesh.base_radii();
+    // The search forms φg from TE: TE keeps its digits only up to a bound on φp.
+    super::validity::check_formed_angle("phi_p", phi_p, gp).map_err(MeshError::Param)?;
     let (te_lo, te_hi) = mesh.te_range();
     let te_guess = te_guess.clamp(te_lo, te_hi);
     let count = std::cell::Cell::new(0usize);
