@@ -104,7 +104,9 @@ pub fn pack(
     }
     let file = std::fs::File::create(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut zip = zip::ZipWriter::new(file);
-    let opts = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
+    let opts = SimpleFileOptions::default()
+        .compression_method(CompressionMethod::Deflated)
+        .compression_level(Some(9));
     let z = |e: zip::result::ZipError| format!("writing {}: {e}", out.display());
     for e in all {
         zip.start_file(e.path.as_str(), opts.unix_permissions(0o644)).map_err(z)?;
