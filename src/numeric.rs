@@ -129,7 +129,7 @@ impl Pitch {
     /// remainder loses digits. Non-finite φ gives a non-finite r.
     #[inline]
     pub fn reduce(&self, phi: f64) -> (f64, f64) {
-        let k = (phi * self.inv).round();
+        let k = round(phi * self.inv);
         if k == 0.0 || !k.is_finite() {
             return (phi, if k.is_finite() { 0.0 } else { k });
         }
@@ -141,7 +141,7 @@ impl Pitch {
         // (at huge |k| only; a remainder within 10⁻¹² of half a pitch is left as it is, so
         // that moderate angles reduce bit for bit as without this step): correct it from the
         // exact remainder (k + k1 stays exact for |φ| within `max_angle`).
-        let k = k + (r * self.inv).round();
+        let k = k + round(r * self.inv);
         (self.remainder(phi, k), k)
     }
 
@@ -153,6 +153,41 @@ impl Pitch {
         let (s, es) = two_sum(phi, -p1); // φ − p1, exact
         let (t, et) = two_sum(s, -e1);
         t + (et + es - p2)
+    }
+}
+
+/// `x.round()` (nearest integer, ties away from zero), bit for bit, without the library call
+/// that `f64::round` compiles to on a baseline x86-64 target (no SSE4.1 rounding instruction):
+/// below 2⁵² in magnitude the truncation `t` is exact and so is `x − t`; above, every double
+/// is an integer already. The sign of a zero result is that of `x`, as for `f64::round`.
+#[inline]
+pub fn round(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        let d = x - t;
+        let r = if d >= 0.5 {
+            t + 1.0
+        } else if d <= -0.5 {
+            t - 1.0
+        } else {
+            t
+        };
+        r.copysign(x)
+    } else {
+        x.round()
+    }
+}
+
+/// `x.floor()`, bit for bit, without the library call of a baseline x86-64 target (see
+/// [`round`]).
+#[inline]
+pub fn floor(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        let r = if t > x { t - 1.0 } else { t };
+        r.copysign(x)
+    } else {
+        x.floor()
     }
 }
 
@@ -188,6 +223,35 @@ pub fn fnv1a_64(bytes: &[u8]) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `round` and `floor` are `f64::round` and `f64::floor` bit for bit: halves, values next
+    /// to integers and halves, signed zeros, the 2⁵² boundary, huge values, infinities, NaN.
+    #[test]
+    fn round_and_floor_match_the_library_bit_for_bit() {
+        let mut xs = vec![0.0, -0.0, f64::INFINITY, f64::NEG_INFINITY, f64::MIN_POSITIVE, 1e300];
+        for k in -40_i64..=40 {
+            for base in [k as f64, k as f64 + 0.5] {
+                xs.extend([base, base.next_up(), base.next_down()]);
+            }
+        }
+        for e in 50..=54 {
+            let b = 2f64.powi(e);
+            xs.extend([b, b.next_up(), b.next_down(), b + 0.5, b - 0.5, b + 1.5]);
+        }
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..100_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let u = (seed >> 11) as f64 / (1u64 << 53) as f64;
+            xs.push((u - 0.5) * 10f64.powi((seed % 40) as i32 - 20));
+        }
+        for x in xs.into_iter().flat_map(|x| [x, -x]) {
+            assert_eq!(round(x).to_bits(), x.round().to_bits(), "round({x:e})");
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "floor({x:e})");
+        }
+        assert!(round(f64::NAN).is_nan() && floor(f64::NAN).is_nan());
+    }
 
     /// Exact value of a finite double as (mantissa, exponent): x = m·2^e.
     fn split(x: f64) -> (i128, i32) {

@@ -706,6 +706,7 @@ impl MeshTorques for Mesh {
         }
     }
 
+    #[inline]
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
         match self {
             Mesh::Full(f) => f.torques(state),

@@ -699,16 +699,29 @@ impl MeshModel {
     /// ([`MeshError::NonFinite`]), |φp| beyond the exact range ([`MeshError::AngleOutOfRange`])
     /// or TE outside [TE_min, TE_max] ([`MeshError::OutOfRange`], no load-solver cause).
     pub fn check_state(&self, state: &MeshState) -> Result<(), MeshError> {
+        self.check_state_te(state).map(|_| ())
+    }
+
+    /// [`Self::check_state`], returning the state's TE (m) on success.
+    #[inline]
+    pub fn check_state_te(&self, state: &MeshState) -> Result<f64, MeshError> {
         check_state(state)?;
         self.check_angle(state.phi_p)?;
         let te = self.geo.transmission_error(state.phi_p, state.phi_g);
-        self.check_te(te, state.phi_p)
+        self.check_te(te, state.phi_p)?;
+        Ok(te)
     }
 
+    #[inline]
     fn check_angle(&self, phi_p: f64) -> Result<(), MeshError> {
         if self.validity.contains_phi_p(phi_p) {
             return Ok(());
         }
+        self.angle_error(phi_p)
+    }
+
+    #[cold]
+    fn angle_error(&self, phi_p: f64) -> Result<(), MeshError> {
         Err(MeshError::AngleOutOfRange {
             name: "phi_p",
             value: phi_p,
@@ -718,11 +731,17 @@ impl MeshModel {
 
     /// TE (m) of a state at pinion angle `phi_p` (rad, within the exact range) against the
     /// validity range.
+    #[inline]
     fn check_te(&self, te: f64, phi_p: f64) -> Result<(), MeshError> {
-        let v = &self.validity;
-        if v.contains_te(te) {
+        if self.validity.contains_te(te) {
             return Ok(());
         }
+        self.te_error(te, phi_p)
+    }
+
+    #[cold]
+    fn te_error(&self, te: f64, phi_p: f64) -> Result<(), MeshError> {
+        let v = &self.validity;
         let phase = crate::numeric::Pitch::of_teeth(self.geo.pinion.z).reduce(phi_p).0;
         Err(MeshError::OutOfRange {
             te,
@@ -1070,6 +1089,7 @@ impl MeshModel {
 
     /// Damping torques (Eq. 14) for a loaded axial extent `extent` (Σ(ζ_e − ζ_b), units of
     /// m_n) at `state`, N·m; zero when damping is off.
+    #[inline]
     pub(crate) fn damping_for(&self, state: &MeshState, extent: f64) -> (f64, f64) {
         if !self.options.damping || extent <= 0.0 {
             return (0.0, 0.0);
@@ -1086,6 +1106,7 @@ impl MeshModel {
     }
 
     /// Contact-line length per unit of loaded axial extent: w/(m_n·Δζ) = 1/cos θ·m_n, m.
+    #[inline]
     pub(crate) fn length_per_extent(&self) -> f64 {
         self.pair.normal_module_m / self.cos_theta
     }
@@ -1254,7 +1275,22 @@ fn load_failure(
 
 /// Rejects a state with a NaN or infinite component, naming it, and speeds beyond
 /// ±[`super::validity::MAX_STATE_SPEED_RAD_S`] (whose damping torque would overflow).
+#[inline]
 fn check_state(state: &MeshState) -> Result<(), MeshError> {
+    let max = super::validity::MAX_STATE_SPEED_RAD_S;
+    if state.phi_p.is_finite()
+        && state.phi_g.is_finite()
+        && state.w_p.abs() <= max
+        && state.w_g.abs() <= max
+    {
+        return Ok(());
+    }
+    state_error(state)
+}
+
+/// The error of a state [`check_state`] refuses (kept out of the hot path).
+#[cold]
+fn state_error(state: &MeshState) -> Result<(), MeshError> {
     for (name, v) in
         [("phi_p", state.phi_p), ("phi_g", state.phi_g), ("w_p", state.w_p), ("w_g", state.w_g)]
     {

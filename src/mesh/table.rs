@@ -212,13 +212,34 @@ struct TeAxis {
     n: usize,
     /// `values[(ip * n + it) * NV + v]`.
     values: Vec<f64>,
+    /// The node values a right-hand side reads, packed per node: `torques[ip * n + it]` =
+    /// [M_F,p/δ, M_F,g/δ, loaded extent, 0], copies of `values` 0, 1 and 3 ([`Self::pack`]).
+    /// The torques-only evaluation reads 16 of these 32-byte records instead of 16 records
+    /// of [`NV`] values spread over 1.7 kB.
+    torques: Vec<[f64; 4]>,
     /// `flags[ip * n + it]`: n_pairs | tip << 8 | back << 9.
     flags: Vec<u16>,
 }
 
 impl TeAxis {
     fn new(onset: f64, dir: f64, range: f64, n: usize, np: usize) -> Self {
-        Self { onset, dir, range, n, values: vec![0.0; np * n * NV], flags: vec![0; np * n] }
+        Self {
+            onset,
+            dir,
+            range,
+            n,
+            values: vec![0.0; np * n * NV],
+            torques: vec![[0.0; 4]; np * n],
+            flags: vec![0; np * n],
+        }
+    }
+
+    /// Copies the node values of the torques-only evaluation into [`Self::torques`]; called
+    /// whenever `values` is complete.
+    fn pack(&mut self) {
+        for (t, v) in self.torques.iter_mut().zip(self.values.chunks_exact(NV)) {
+            *t = [v[0], v[1], v[3], 0.0];
+        }
     }
 
     /// Distance of node `k` from the onset, m (node 0 is taken a tenth of the first cell in,
@@ -253,6 +274,7 @@ impl TeAxis {
                 .copy_from_slice(&self.values[src * NV..(src + m) * NV]);
             axis.flags[ip * m..(ip + 1) * m].copy_from_slice(&self.flags[src..src + m]);
         }
+        axis.pack();
         axis
     }
 }
@@ -349,7 +371,7 @@ impl PairTable {
 }
 
 /// The cubic Hermite basis (h00, h10, h01, h11) at t ∈ [0, 1].
-#[inline]
+#[inline(always)]
 fn hermite(t: f64) -> [f64; 4] {
     let t2 = t * t;
     let t3 = t2 * t;
@@ -365,14 +387,14 @@ fn hermite_dt(t: f64) -> [f64; 4] {
 
 /// Catmull–Rom-type cubic Hermite weights at t ∈ [0, 1] for the four nodes i−1, i, i+1, i+2
 /// with central-difference slopes (uniform spacing).
-#[inline]
+#[inline(always)]
 fn weights_central(t: f64) -> [f64; 4] {
     weights_central_of(hermite(t))
 }
 
 /// [`weights_central`] for a given basis (the Hermite basis, or its derivative for the
 /// derivative of the interpolant).
-#[inline]
+#[inline(always)]
 fn weights_central_of([h00, h10, h01, h11]: [f64; 4]) -> [f64; 4] {
     // d_i = (v_{i+1} − v_{i−1})/2, d_{i+1} = (v_{i+2} − v_i)/2 (in units of the spacing).
     [-0.5 * h10, h00 - 0.5 * h11, h01 + 0.5 * h10, 0.5 * h11]
@@ -381,20 +403,20 @@ fn weights_central_of([h00, h10, h01, h11]: [f64; 4]) -> [f64; 4] {
 /// Weights on a non-periodic uniform axis of `n` ≥ 4 nodes at coordinate `x` (in node units):
 /// returns the first node index, the weights and how many of them are used (one-sided
 /// second-order slopes at the ends).
-#[inline]
+#[inline(always)]
 fn axis_weights(x: f64, n: usize) -> (usize, [f64; 4], usize) {
     let i = axis_cell(x, n);
     axis_weights_of(i, n, hermite(x - i as f64))
 }
 
 /// Cell of coordinate `x` (node units) on a non-periodic axis of `n` nodes.
-#[inline]
+#[inline(always)]
 fn axis_cell(x: f64, n: usize) -> usize {
-    (x.floor() as isize).clamp(0, n as isize - 2) as usize
+    (crate::numeric::floor(x) as isize).clamp(0, n as isize - 2) as usize
 }
 
 /// [`axis_weights`] in cell `i` for a given basis (the Hermite basis, or its derivative).
-#[inline]
+#[inline(always)]
 fn axis_weights_of(i: usize, n: usize, [h00, h10, h01, h11]: [f64; 4]) -> (usize, [f64; 4], usize) {
     // Slopes as combinations of nodes (start index s, 4 coefficients relative to s).
     // d_i: central if 0 < i, else one-sided (−3v0 + 4v1 − v2)/2.
@@ -476,22 +498,84 @@ impl MeshTable {
         if let Some(pt) = &self.pairs {
             return self.evaluate_pairs(pt, model, state, None);
         }
-        self.evaluate_periodic::<true>(model, state)
+        self.evaluate_periodic(model, state)
     }
 
     /// [`MeshTable::evaluate`] for a right-hand side ([`crate::mesh::MeshTorques::torques`]):
     /// on the periodic table only M_F, M_D, TE (and the extent behind M_D) are interpolated,
-    /// with the same operations as [`MeshTable::evaluate`], so they agree bit for bit; the
-    /// flag says whether the outputs are complete.
+    /// from the packed node records ([`TeAxis::torques`]) with the same operations in the same
+    /// order as [`MeshTable::evaluate`], so they agree bit for bit; the flag says whether the
+    /// outputs are complete. `te` is the state's TE, `dot2(φp, g_p, φg, g_g)`, as the caller
+    /// has it from its validity check.
+    #[inline]
     pub fn evaluate_torques(
         &self,
         model: &MeshModel,
         state: &MeshState,
+        te: f64,
     ) -> Option<(MeshOutputs, bool)> {
         if let Some(pt) = &self.pairs {
             return self.evaluate_pairs(pt, model, state, None).map(|o| (o, true));
         }
-        self.evaluate_periodic::<false>(model, state).map(|o| (o, false))
+        let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
+        let axis = if te > 0.0 {
+            if te > self.drive.end() {
+                return None;
+            }
+            &self.drive
+        } else if te < -self.backlash_te {
+            if te < self.back.end() {
+                return None;
+            }
+            &self.back
+        } else {
+            return Some((MeshOutputs { te, separated: true, ..MeshOutputs::default() }, false));
+        };
+        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
+        let ipf = crate::numeric::floor(xp);
+        let wp = weights_central(xp - ipf);
+        let ip0 = ipf as i64 - 1;
+        let dist = (te - axis.onset).abs();
+        let xt = ((dist / axis.range).sqrt() * (axis.n - 1) as f64).clamp(0.0, (axis.n - 1) as f64);
+        let (it0, wt, nt) = axis_weights(xt, axis.n);
+        let np = self.np as i64;
+        let mut v = [0.0; 4];
+        for (a, &wa) in wp.iter().enumerate() {
+            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            let base = ip * axis.n + it0;
+            if nt == 4 {
+                let row: &[[f64; 4]; 4] =
+                    axis.torques[base..base + 4].try_into().expect("4 TE nodes");
+                let mut r = [0.0; 4];
+                for (x, &wb) in row.iter().zip(&wt) {
+                    for k in 0..4 {
+                        r[k] += wb * x[k];
+                    }
+                }
+                for k in 0..4 {
+                    v[k] += wa * r[k];
+                }
+                continue;
+            }
+            for (x, &wb) in axis.torques[base..base + nt].iter().zip(&wt) {
+                let w = wa * wb;
+                for k in 0..4 {
+                    v[k] += w * x[k];
+                }
+            }
+        }
+        let extent = v[2].max(0.0);
+        let (m_d_p, m_d_g) = model.damping_for(state, extent);
+        let out = MeshOutputs {
+            m_f_p: v[0] * dist,
+            m_f_g: v[1] * dist,
+            m_d_p,
+            m_d_g,
+            te,
+            contact_length: extent * model.length_per_extent(),
+            ..MeshOutputs::default()
+        };
+        Some((out, false))
     }
 
     /// [`MeshTable::evaluate`] with tooth deviations: every tooth pair's driving-flank values
@@ -511,7 +595,7 @@ impl MeshTable {
         let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
         let axis = &self.drive;
         let xp = (phi_p_red - self.phase_lo) / self.phase_h;
-        let ipf = xp.floor();
+        let ipf = crate::numeric::floor(xp);
         let wp = weights_central(xp - ipf);
         let dwp = weights_central_of(hermite_dt(xp - ipf));
         let ip0 = ipf as i64 - 1;
@@ -601,7 +685,7 @@ impl MeshTable {
             if n_pairs > 0 || v[0] != 0.0 {
                 return None; // driving and back flanks at once: left to the full model
             }
-            return self.evaluate_periodic::<true>(model, state);
+            return self.evaluate_periodic(model, state);
         } else {
             MeshOutputs { te, ..MeshOutputs::default() }
         };
@@ -626,17 +710,8 @@ impl MeshTable {
         Some(out)
     }
 
-    /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations); with `ALL` false
-    /// only the values behind M_F,p, M_F,g and the extent (the damping) are interpolated, F_n,
-    /// p_max and the flags are left at 0.
-    fn evaluate_periodic<const ALL: bool>(
-        &self,
-        model: &MeshModel,
-        state: &MeshState,
-    ) -> Option<MeshOutputs> {
-        // Node values interpolated: all, or M_F,p, M_F,g and the extent.
-        let ks: &[usize] =
-            if ALL { &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12] } else { &[0, 1, 3] };
+    /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations).
+    fn evaluate_periodic(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
         // The reduction of ContactSolver::reduce (exact in the given doubles, see
         // crate::numeric), with the constants kept here.
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
@@ -656,7 +731,7 @@ impl MeshTable {
         };
         // Phase weights (periodic).
         let xp = (phi_p_red - self.phase_lo) / self.phase_h;
-        let ipf = xp.floor();
+        let ipf = crate::numeric::floor(xp);
         let tp = xp - ipf;
         let wp = weights_central(tp);
         let ip0 = ipf as i64 - 1;
@@ -677,45 +752,27 @@ impl MeshTable {
                 let mut r = [0.0; NV];
                 for (b, &wb) in wt.iter().enumerate() {
                     let x = &row[b * NV..(b + 1) * NV];
-                    r[0] += wb * x[0];
-                    r[1] += wb * x[1];
-                    r[3] += wb * x[3];
-                    if ALL {
-                        r[2] += wb * x[2];
-                        r[4] += wb * x[4];
-                        for k in V_FORCE_P..NV {
-                            r[k] += wb * x[k];
-                        }
+                    for k in 0..NV {
+                        r[k] += wb * x[k];
                     }
                 }
-                v[0] += wa * r[0];
-                v[1] += wa * r[1];
-                v[3] += wa * r[3];
-                if ALL {
-                    v[2] += wa * r[2];
-                    v[4] += wa * r[4];
-                    for k in V_FORCE_P..NV {
-                        v[k] += wa * r[k];
-                    }
+                for k in 0..NV {
+                    v[k] += wa * r[k];
                 }
                 continue;
             }
             for (b, &wb) in wt.iter().enumerate().take(nt) {
                 let w = wa * wb;
                 let base = base + b * NV;
-                for &k in ks {
+                for k in 0..NV {
                     v[k] += w * axis.values[base + k];
                 }
             }
         }
         // Nearest node for the discrete outputs.
-        let f = if ALL {
-            let ipn = ((xp.round() as i64).rem_euclid(np)) as usize;
-            let itn = (xt.round() as usize).min(axis.n - 1);
-            axis.flags[ipn * axis.n + itn]
-        } else {
-            0
-        };
+        let ipn = ((crate::numeric::round(xp) as i64).rem_euclid(np)) as usize;
+        let itn = (crate::numeric::round(xt) as usize).min(axis.n - 1);
+        let f = axis.flags[ipn * axis.n + itn];
         let extent = v[3].max(0.0);
         let (m_d_p, m_d_g) = model.damping_for(state, extent);
         let mut out = MeshOutputs {
@@ -726,20 +783,16 @@ impl MeshTable {
             te,
             f_n: v[2] * dist,
             contact_length: extent * model.length_per_extent(),
-            p_max: if ALL && model.options().pressure {
-                (v[4] * dist).max(0.0).sqrt()
-            } else {
-                0.0
-            },
+            p_max: if model.options().pressure { (v[4] * dist).max(0.0).sqrt() } else { 0.0 },
             n_pairs: (f & 0xff) as u32,
             tip_contact: f & 0x100 != 0,
-            separated: ALL && f & 0xff == 0,
+            separated: f & 0xff == 0,
             back_contact: f & 0x200 != 0,
-            root_stress_p: if ALL { (v[V_ROOT_STRESS_P] * dist).max(0.0) } else { 0.0 },
-            root_stress_g: if ALL { (v[V_ROOT_STRESS_G] * dist).max(0.0) } else { 0.0 },
+            root_stress_p: (v[V_ROOT_STRESS_P] * dist).max(0.0),
+            root_stress_g: (v[V_ROOT_STRESS_G] * dist).max(0.0),
             ..MeshOutputs::default()
         };
-        if ALL {
+        {
             let mut scaled = v;
             for x in &mut scaled[V_FORCE_P..V_FIRST_MOMENT] {
                 *x *= dist;
@@ -801,7 +854,7 @@ impl MeshTable {
         };
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
         let xp = (phi_p_red - self.phase_lo) / self.phase_h;
-        let ipf = xp.floor();
+        let ipf = crate::numeric::floor(xp);
         let tp = xp - ipf;
         let (wp, dwp) = (weights_central(tp), weights_central_of(hermite_dt(tp)));
         let ip0 = ipf as i64 - 1;
@@ -904,11 +957,13 @@ impl MeshTorques for TableMesh {
     }
 
     /// On the periodic table, inside its range, only the torques, TE and the contact extent
-    /// the damping needs are interpolated (3 of the 5 node values, no flags, no pressure):
-    /// about 10 % of a drive-line run's time; everything else is complete.
+    /// the damping needs are interpolated (3 of the 13 node values, from their packed
+    /// records; no flags, no pressure, no forces, no root stresses), and TE is computed once
+    /// for the validity check and the lookup; everything else is complete.
+    #[inline]
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
-        self.full.model().check_state(state)?;
-        if let Some(r) = self.table.evaluate_torques(self.full.model(), state) {
+        let te = self.full.model().check_state_te(state)?;
+        if let Some(r) = self.table.evaluate_torques(self.full.model(), state, te) {
             return Ok(r);
         }
         Ok((self.full.evaluate(state)?, true))

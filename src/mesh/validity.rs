@@ -148,11 +148,13 @@ impl ValidityRange {
     }
 
     /// True when TE (m) lies in [`Self::te_min`, `Self::te_max`].
+    #[inline]
     pub fn contains_te(&self, te: f64) -> bool {
         (self.te_min..=self.te_max).contains(&te)
     }
 
     /// True when |φp| (rad) is at most [`Self::phi_p_max`].
+    #[inline]
     pub fn contains_phi_p(&self, phi_p: f64) -> bool {
         phi_p.abs() <= self.phi_p_max
     }

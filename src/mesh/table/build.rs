@@ -297,6 +297,7 @@ fn assemble(
         });
         pairs.retain(|(_, it, _)| *it < m);
     }
+    axis.pack();
     Ok((axis, pairs))
 }
 
