@@ -304,6 +304,42 @@ fn slice_kernel_matches_general_interpolation() {
     }
 }
 
+/// The coarse pre-solve of a cold start only chooses where the load solver starts: cold
+/// evaluations with it agree with cold evaluations from q = 0 to the solver's tolerance
+/// (1e-10 relative) on both flank sides, light to heavy load, at 200 and 400 slices, and they
+/// need fewer factorisations.
+#[test]
+fn coarse_cold_start_gives_the_solution_of_the_cold_solve() {
+    for slices in [200, 400] {
+        let mut coarse_start = model(MeshOptions { slices, ..MeshOptions::default() });
+        let mut from_zero = coarse_start.clone();
+        from_zero.use_coarse_start(false);
+        let jt = coarse_start.geometry().backlash_te;
+        for k in 0..10 {
+            let phi_p = (k as f64 + 0.3) * pitch() / 10.0;
+            for te in [5e-6, 30e-6, 60e-6, -jt - 15e-6] {
+                let s = state(&coarse_start, phi_p, te);
+                coarse_start.forget_warm_start();
+                from_zero.forget_warm_start();
+                let (a, b) = (coarse_start.evaluate(&s).unwrap(), from_zero.evaluate(&s).unwrap());
+                for (x, y) in [(a.m_f_p, b.m_f_p), (a.m_f_g, b.m_f_g), (a.f_n, b.f_n)] {
+                    assert!(
+                        (x - y).abs() <= 1e-10 * y.abs().max(1e-9),
+                        "{slices} slices: {x} vs {y} at {phi_p}, {te}"
+                    );
+                }
+                assert_eq!((a.n_pairs, a.back_contact), (b.n_pairs, b.back_contact));
+            }
+        }
+        let (with, without) = (coarse_start.stats(), from_zero.stats());
+        assert_eq!(with.solves, without.solves);
+        assert!(
+            with.factorizations < without.factorizations,
+            "{slices} slices: {with:?} against {without:?}"
+        );
+    }
+}
+
 /// The load solver's work counters: a warm-started trajectory needs few factorisations per
 /// solve (held factors serve simplified-Newton steps), and every solve is counted.
 #[test]

@@ -42,7 +42,9 @@
 //!   With the cold and warm full evaluation, the table builds and the torques-only table
 //!   evaluation, these are the figures a user waits for (`full_eval_us`,
 //!   `full_eval_warm_us`, `table_build_s`, `table_deviation_build_s`, `fe_compliance_s`,
-//!   `design_s`, `table_eval_torques_ns`).
+//!   `design_s`, `table_eval_torques_ns`); `full_eval_cold_from_zero_us` is the cold
+//!   evaluation by the method before the coarse pre-solve (the load solver from q = 0),
+//!   measured in the same run.
 //! * **Paper run**: the wall time of the whole `paper` run, per stage.
 //!
 //! Timing is wall time on the calling thread; run it on an idle machine.
@@ -205,6 +207,9 @@ pub struct BenchReport {
     pub table_eval_torques_ns: f64,
     /// The same with the general interpolation instead of the slice kernel, µs.
     pub full_eval_general_us: f64,
+    /// The cold evaluation of `full_eval_us` with the load solver started from q = 0 instead
+    /// of the coarse pre-solve (the method before it), µs.
+    pub full_eval_cold_from_zero_us: f64,
     /// Table fidelity at the default size: ns per evaluation.
     pub table_eval_ns: f64,
     /// Table fidelity at the default size: largest relative M_F,p error against the reference.
@@ -285,6 +290,7 @@ pub fn run_bench(
     let mut full_eval_warm_us = f64::NAN;
     let mut full_eval_max_rel_err = f64::NAN;
     let mut full_eval_general_us = f64::NAN;
+    let mut full_eval_cold_from_zero_us = f64::NAN;
     let general_at = if q { 100 } else { 200 };
     for (family, compliance, list) in [
         ("full interpolated", ComplianceModel::Interpolated, full_slices),
@@ -316,6 +322,14 @@ pub fn run_bench(
                     })?;
                     full_eval_us = cold;
                     say(&format!("full, {slices} slices, cold start: {cold:.1} µs"));
+                    m.use_coarse_start(false);
+                    let (zero, _) = time_with(&mut m, &states, min_pass_s, |m, s| {
+                        m.forget_warm_start();
+                        m.evaluate_full(s)
+                    })?;
+                    m.use_coarse_start(true);
+                    full_eval_cold_from_zero_us = zero;
+                    say(&format!("full, {slices} slices, cold start from q = 0: {zero:.1} µs"));
                 }
                 m.use_slice_kernel(false);
                 m.reset_stats();
@@ -448,6 +462,7 @@ pub fn run_bench(
         design,
         table_eval_torques_ns,
         full_eval_general_us,
+        full_eval_cold_from_zero_us,
         table_eval_ns,
         table_max_rel_err,
         paper_runtime_s,

@@ -191,8 +191,9 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
         let secs = |k: &str| opt(k).map_or("not measured".into(), |v| format!("{v:.2} s"));
         p.push_str(&format!(
             "| `full_eval_us` (one full evaluation, 200 slices, interpolated compliance, default \
-             options, cold start) | {} |\n| `full_eval_warm_us` (the same warm-started from the \
-             state before, as along a trajectory) | {} |\n| `full_eval_max_rel_err` (its M_F,p \
+             options, cold start) | {} |\n{}| `full_eval_warm_us` (the same warm-started from \
+             the state before, as along a trajectory) | {} |\n| `full_eval_max_rel_err` (its \
+             M_F,p \
              error against the reference) | {} |\n| `table_build_s` (the default 64 × 48 \
              table) | {} |\n| `table_deviation_build_s` (the per-pair table with pitch \
              deviations, [hunting case](#tooth-deviations-on-the-table-a-dynamic-run-over-a-hunting-period)) | {} |\n| \
@@ -201,6 +202,11 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
              `sweep` at their defaults: FE, static TE, table, sweep on one thread) | {} |\n| \
              `table_eval_torques_ns` (a table evaluation of the torques and TE only) | {} |\n",
             time_us(cold),
+            opt("full_eval_cold_from_zero_us").map_or(String::new(), |v| format!(
+                "| `full_eval_cold_from_zero_us` (the same cold evaluation with the load solver \
+                 started from q = 0, the method before the coarse pre-solve) | {} |\n",
+                time_us(v)
+            )),
             time_us(warm),
             sci(e),
             secs("table_build_s"),
@@ -329,13 +335,17 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
          the CPU has it, with the same rounding as the general interpolation ({} per \
          evaluation with the slice kernel, {} without it, at 200 slices). Simplified Newton \
          steps reuse the LU factors held within a solve, and a warm start's loaded slices stay \
-         in the first working set (the factorisations per solve are in the table above). The \
+         in the first working set (the factorisations per solve are in the table above). A \
+         cold solve starts from the loads of a coarse pre-solve on every fourth slice of each \
+         contact line ({}; {} from q = 0). The \
          steady path allocates nothing (`tests/mesh_alloc.rs`). What remains is the matrix of \
          non-symmetric entries from an FE grid (the observation at depth h makes α* \
          non-reciprocal to 5 %) and one LU factorisation of the loaded slices per Newton \
          step; the table is the fast path.\n\n",
-        time_us(num(bench, "full_eval_us")?),
+        time_us(opt("full_eval_warm_us").map_or_else(|| num(bench, "full_eval_us"), Ok)?),
         time_us(num(bench, "full_eval_general_us")?),
+        time_us(num(bench, "full_eval_us")?),
+        opt("full_eval_cold_from_zero_us").map_or("not measured".into(), time_us),
     ));
 
     // Tooth deviations on the table.

@@ -658,6 +658,11 @@ impl Mesh {
         self.full_mut().use_slice_kernel(on)
     }
 
+    /// Switches the coarse pre-solve of a cold start on or off ([`FullMesh::use_coarse_start`]).
+    pub fn use_coarse_start(&mut self, on: bool) {
+        self.full_mut().use_coarse_start(on);
+    }
+
     /// Work counters of the full evaluations so far.
     pub fn stats(&self) -> SolveStats {
         self.full().workspace().stats()
