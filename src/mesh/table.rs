@@ -548,19 +548,19 @@ impl MeshTable {
                     axis.torques[base..base + 4].try_into().expect("4 TE nodes");
                 let mut r = [0.0; 4];
                 for (x, &wb) in row.iter().zip(&wt) {
-                    for k in 0..4 {
-                        r[k] += wb * x[k];
+                    for (rk, &xk) in r.iter_mut().zip(x) {
+                        *rk += wb * xk;
                     }
                 }
-                for k in 0..4 {
-                    v[k] += wa * r[k];
+                for (vk, &rk) in v.iter_mut().zip(&r) {
+                    *vk += wa * rk;
                 }
                 continue;
             }
             for (x, &wb) in axis.torques[base..base + nt].iter().zip(&wt) {
                 let w = wa * wb;
-                for k in 0..4 {
-                    v[k] += w * x[k];
+                for (vk, &xk) in v.iter_mut().zip(x) {
+                    *vk += w * xk;
                 }
             }
         }
@@ -751,21 +751,20 @@ impl MeshTable {
                     axis.values[base..base + 4 * NV].try_into().expect("4 TE nodes");
                 let mut r = [0.0; NV];
                 for (b, &wb) in wt.iter().enumerate() {
-                    let x = &row[b * NV..(b + 1) * NV];
-                    for k in 0..NV {
-                        r[k] += wb * x[k];
+                    for (rk, &x) in r.iter_mut().zip(&row[b * NV..(b + 1) * NV]) {
+                        *rk += wb * x;
                     }
                 }
-                for k in 0..NV {
-                    v[k] += wa * r[k];
+                for (vk, &rk) in v.iter_mut().zip(&r) {
+                    *vk += wa * rk;
                 }
                 continue;
             }
             for (b, &wb) in wt.iter().enumerate().take(nt) {
                 let w = wa * wb;
                 let base = base + b * NV;
-                for k in 0..NV {
-                    v[k] += w * axis.values[base + k];
+                for (vk, &x) in v.iter_mut().zip(&axis.values[base..base + NV]) {
+                    *vk += w * x;
                 }
             }
         }
