@@ -1202,6 +1202,17 @@ impl FullMesh {
         self.warm.copy_from(warm);
     }
 
+    /// Multiplies every load of the warm start by `factor` (> 0, finite; otherwise nothing
+    /// changes): the start of a state whose loads are expected to scale so, as along a TE axis
+    /// where the load grows nearly in proportion to the distance from the onset.
+    pub(crate) fn scale_warm(&mut self, factor: f64) {
+        if factor.is_finite() && factor > 0.0 {
+            for w in &mut self.warm.loads {
+                w.q *= factor;
+            }
+        }
+    }
+
     /// Full evaluation at `state` ([`MeshModel::evaluate`]).
     pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         self.model.evaluate(state, &mut self.ws, &mut self.warm)

@@ -310,6 +310,13 @@ fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow
     let per_extent = model.model().length_per_extent();
     for it in 0..axis.n {
         let te = axis.node_te(it);
+        if it > 0 {
+            // The previous node's loads, scaled by the distances from the onset (the loads grow
+            // nearly in proportion): a closer start than the loads themselves (about 10 % less
+            // build time for the default table; the solution is the same to the load solver's
+            // tolerance).
+            model.scale_warm(axis.node_distance(it) / axis.node_distance(it - 1));
+        }
         let o = match model.evaluate(&state_at(model.model(), phi_p, te)) {
             Ok(o) => o,
             // Beyond the model's range: the row ends at the last node that was well posed.
