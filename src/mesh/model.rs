@@ -98,8 +98,8 @@
 //! and > 0).
 //!
 //! # Cold start
-//! Without a warm start (the first call, after an unloaded state, a restored FMU state with
-//! its warm start emptied, every node of the table build's first TE node) the load solver
+//! Without a warm start (the first call, after an unloaded state, a full-fidelity unit's
+//! communication step, which restarts cold, the first TE node of each table row) the load solver
 //! would start from q = 0 and find the active set in many Newton steps. With at least
 //! 64 slices in contact the evaluation first solves a coarse problem on every fourth slice of
 //! each contact line (slice keys k ≡ 2 mod 4): the same approaches and Hertz radii, the rows
