@@ -107,9 +107,21 @@ struct Stencil {
     inward: [f64; 3],
 }
 
+/// How [`fe_influence_with`] solves the load cases; both give the same values (to rounding).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolveMethod {
+    /// Forward and backward substitution of every load case over the whole factor, the
+    /// displacements of all nodes recovered (the reference).
+    Whole,
+    /// Selected solves ([`super::fe::solver`]): only the substitution steps that reach the
+    /// loaded nodes or the nodes the observations read; the default.
+    Selected,
+}
+
 /// FE influence data of gear `g` of pair `p` with mesh density `density` and depth `depth_h`
 /// (m): builds the mesh, factorises once, solves the unit normal loads at all flank grid nodes
 /// of tooth 0 and records α* for observations on teeth −1, 0, +1 (see the module docs).
+/// The load cases are solved by [`SolveMethod::Selected`].
 ///
 /// Progress goes to stderr when `progress` is true. Errors: invalid density or depth, an FE
 /// failure, or an observation point at depth h that lies outside the mesh (h too large).
@@ -118,6 +130,18 @@ pub fn fe_influence(
     p: &GearPair,
     density: &GearMeshDensity,
     depth_h: f64,
+    progress: bool,
+) -> Result<FeInfluence, FeError> {
+    fe_influence_with(g, p, density, depth_h, SolveMethod::Selected, progress)
+}
+
+/// [`fe_influence`] with the load cases solved by `method`.
+pub fn fe_influence_with(
+    g: &GearGeometry,
+    p: &GearPair,
+    density: &GearMeshDensity,
+    depth_h: f64,
+    method: SolveMethod,
     progress: bool,
 ) -> Result<FeInfluence, FeError> {
     let mn = p.normal_module_m;
@@ -202,48 +226,90 @@ pub fn fe_influence(
         stencils.push(list);
     }
     let mut fillet = FilletObserver::new(g, model.mesh(), &material, &level_z, &[-1, 0, 1], n)?;
+    let fillet_nodes = fillet.nodes();
     let mut observe_s = t1.elapsed().as_secs_f64();
 
     let mut alpha = vec![vec![0.0; n * n]; 3];
     let mut surface = vec![0.0; n * n];
+    // Records load case j from the displacement field u(node, d) (m).
+    let mut record = |j: usize, u: &dyn Fn(usize, usize) -> f64| {
+        for (t, list) in stencils.iter().enumerate() {
+            for (i, s) in list.iter().enumerate() {
+                let mut v = 0.0;
+                for (a, &node) in s.nodes.iter().enumerate() {
+                    for d in 0..3 {
+                        v += s.weights[a] * s.inward[d] * u(node, d);
+                    }
+                }
+                alpha[t][i * n + j] = v;
+            }
+        }
+        for i in 0..n {
+            let node = load.nodes[i];
+            let mut v = 0.0;
+            for d in 0..3 {
+                v -= load.normals[i][d] * u(node, d);
+            }
+            surface[i * n + j] = v;
+        }
+        fillet.observe(j, u);
+    };
+    // The nodes read by `record` (selected solves only), and the row block of each node.
+    let observed: Vec<usize> = match method {
+        SolveMethod::Whole => Vec::new(),
+        SolveMethod::Selected => {
+            let mut v: Vec<usize> = stencils
+                .iter()
+                .flatten()
+                .flat_map(|s| s.nodes)
+                .chain(load.nodes.iter().copied())
+                .chain(fillet_nodes.iter().copied())
+                .collect();
+            v.sort_unstable();
+            v.dedup();
+            v
+        }
+    };
+    let mut slot = vec![usize::MAX; if observed.is_empty() { 0 } else { model.mesh().nodes.len() }];
+    for (i, &node) in observed.iter().enumerate() {
+        slot[node] = i;
+    }
     let dofs = model.dofs();
     let mut start = 0;
     while start < n {
         let k = CHUNK.min(n - start);
-        let mut f = Mat::<f64>::zeros(dofs, k);
-        for c in 0..k {
-            let j = start + c;
-            let node = load.nodes[j];
-            for d in 0..3 {
-                f[(dof(node, d), c)] = -load.normals[j][d];
-            }
-        }
-        let u = model.solve_block(f.as_ref())?;
-        let t2 = Instant::now();
-        for c in 0..k {
-            let j = start + c;
-            for (t, list) in stencils.iter().enumerate() {
-                for (i, s) in list.iter().enumerate() {
-                    let mut v = 0.0;
-                    for (a, &node) in s.nodes.iter().enumerate() {
-                        for d in 0..3 {
-                            v += s.weights[a] * s.inward[d] * u[(dof(node, d), c)];
-                        }
+        match method {
+            SolveMethod::Whole => {
+                let mut f = Mat::<f64>::zeros(dofs, k);
+                for c in 0..k {
+                    let j = start + c;
+                    let node = load.nodes[j];
+                    for d in 0..3 {
+                        f[(dof(node, d), c)] = -load.normals[j][d];
                     }
-                    alpha[t][i * n + j] = v;
                 }
-            }
-            for i in 0..n {
-                let node = load.nodes[i];
-                let mut v = 0.0;
-                for d in 0..3 {
-                    v -= load.normals[i][d] * u[(dof(node, d), c)];
+                let u = model.solve_block(f.as_ref())?;
+                let t2 = Instant::now();
+                for c in 0..k {
+                    record(start + c, &|node, d| u[(dof(node, d), c)]);
                 }
-                surface[i * n + j] = v;
+                observe_s += t2.elapsed().as_secs_f64();
             }
-            fillet.observe(&u, c, j);
+            SolveMethod::Selected => {
+                let cases: Vec<Vec<(usize, f64)>> = (start..start + k)
+                    .map(|j| {
+                        let node = load.nodes[j];
+                        (0..3).map(|d| (dof(node, d), -load.normals[j][d])).collect()
+                    })
+                    .collect();
+                let u = model.solve_at_nodes(&cases, &observed)?;
+                let t2 = Instant::now();
+                for c in 0..k {
+                    record(start + c, &|node, d| u[(3 * slot[node] + d, c)]);
+                }
+                observe_s += t2.elapsed().as_secs_f64();
+            }
         }
-        observe_s += t2.elapsed().as_secs_f64();
         start += k;
         if progress {
             eprintln!(

@@ -54,12 +54,11 @@
 //! as the compliance does (ζ → b₀ − ζ, offsets reversed) and stress the back flank's fillet;
 //! the compressive effect of one flank's load on the other fillet is not reported.
 
-use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 use super::FlankCoord;
 use super::fe::stress::{StressPoint, locate_near_surface, project};
-use super::fe::{FeError, Material, Mesh, dof};
+use super::fe::{FeError, Material, Mesh};
 use super::interpolated::Axis;
 use crate::geometry::GearGeometry;
 
@@ -302,12 +301,12 @@ impl FilletObserver {
         })
     }
 
-    /// Records the surface stress of load case `case` from column `col` of the displacement
-    /// block `u` (dofs × k, m).
-    pub fn observe(&mut self, u: &Mat<f64>, col: usize, case: usize) {
+    /// Records the surface stress of load case `case` from the displacement field `u`
+    /// (`u(node, d)`: displacement of mesh node `node` in direction d, m).
+    pub fn observe(&mut self, case: usize, u: impl Fn(usize, usize) -> f64) {
         let per_tooth = self.points.len() / self.teeth.len().max(1);
         for (i, (sp, t1, t2)) in self.points.iter().enumerate() {
-            let s = sp.stress(|node, d| u[(dof(node, d), col)]);
+            let s = sp.stress(&u);
             let (t, o) = (i / per_tooth, i % per_tooth);
             let base = (case * per_tooth + o) * 3;
             let v = &mut self.values[t][base..base + 3];
@@ -315,6 +314,14 @@ impl FilletObserver {
             v[1] = project(&s, *t2, *t2);
             v[2] = project(&s, *t1, *t2);
         }
+    }
+
+    /// The mesh nodes whose displacements [`FilletObserver::observe`] reads (each once).
+    pub fn nodes(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = self.points.iter().flat_map(|p| p.0.nodes).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
     }
 
     /// The grid of the recorded values with the load grid's coordinates (profile rows, ζ

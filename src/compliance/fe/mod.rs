@@ -225,6 +225,69 @@ impl FeModel {
         Ok(u)
     }
 
+    /// Displacements (m) at the nodes `nodes` for load cases given sparsely: `loads[c]` lists
+    /// the (global DOF, force in N) pairs of load case c. Returns the (3·nodes.len()) × k
+    /// block whose row 3i + d is the displacement of `nodes[i]` in direction d; fixed DOFs are
+    /// exactly zero and loads on them are ignored. The values are those of
+    /// [`FeModel::solve_block`] at these DOFs, computed by the selected solve of
+    /// [`solver`] (only the substitution steps that reach the loads or the wanted DOFs).
+    /// Errors: a DOF or node out of range, or a non-finite load.
+    pub fn solve_at_nodes(
+        &self,
+        loads: &[Vec<(usize, f64)>],
+        nodes: &[usize],
+    ) -> Result<Mat<f64>, FeError> {
+        let t0 = Instant::now();
+        let n = self.dofs();
+        let mut free_loads = Vec::with_capacity(loads.len());
+        for (c, col) in loads.iter().enumerate() {
+            let mut fc = Vec::with_capacity(col.len());
+            for &(g, v) in col {
+                if g >= n {
+                    return Err(FeError::LoadShape { rows: g + 1, expected: n });
+                }
+                if !v.is_finite() {
+                    return Err(FeError::NonFiniteLoad { row: g, col: c });
+                }
+                if let Some(fi) = self.dof_map.free_index(g) {
+                    fc.push((fi, v));
+                }
+            }
+            free_loads.push(fc);
+        }
+        let mut wanted = Vec::with_capacity(3 * nodes.len());
+        let mut rows = Vec::with_capacity(3 * nodes.len());
+        for (i, &node) in nodes.iter().enumerate() {
+            if node >= self.mesh.nodes.len() {
+                return Err(FeError::InvalidInput(format!(
+                    "solve_at_nodes: node {node} ≥ {} nodes",
+                    self.mesh.nodes.len()
+                )));
+            }
+            for d in 0..3 {
+                if let Some(fi) = self.dof_map.free_index(dof(node, d)) {
+                    wanted.push(fi);
+                    rows.push(3 * i + d);
+                }
+            }
+        }
+        let x = self.cholesky.solve_selected(&free_loads, &wanted)?;
+        let k = loads.len();
+        let mut u = Mat::<f64>::zeros(3 * nodes.len(), k);
+        for j in 0..k {
+            for (i, &r) in rows.iter().enumerate() {
+                u[(r, j)] = x[(i, j)];
+            }
+        }
+        let dt = t0.elapsed().as_secs_f64();
+        // The closure always returns Some, so the update cannot fail.
+        let _ = self.solve_s_bits.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| {
+            Some((f64::from_bits(b) + dt).to_bits())
+        });
+        self.solved_cases.fetch_add(k, Ordering::Relaxed);
+        Ok(u)
+    }
+
     /// Displacements (m) for one load case given as a slice of dofs() nodal forces (N).
     pub fn solve(&self, loads: &[f64]) -> Result<Vec<f64>, FeError> {
         let f = MatRef::from_column_major_slice(loads, loads.len(), 1);
