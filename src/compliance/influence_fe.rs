@@ -197,6 +197,7 @@ pub fn fe_influence_with(
 
     // Observation stencils at depth h.
     let t1 = Instant::now();
+    let boxes = model.mesh().element_boxes();
     let mut stencils: Vec<Vec<Stencil>> = Vec::with_capacity(3);
     for f in &grids {
         let mut list = Vec::with_capacity(n);
@@ -210,7 +211,7 @@ pub fn fe_influence_with(
                 x[1] - depth_h * nv[1],
                 (x[2] - depth_h * nv[2]).clamp(0.0, p.face_width_m),
             ];
-            let (e, xi) = model.mesh().locate(target).ok_or_else(|| {
+            let (e, xi) = model.mesh().locate_with(&boxes, target).ok_or_else(|| {
                 FeError::InvalidInput(format!(
                     "point at depth h = {depth_h} m beneath flank node {node} ({:?}) is outside \
                      the mesh",

@@ -57,7 +57,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::FlankCoord;
-use super::fe::stress::{StressPoint, locate_near_surface, project};
+use super::fe::stress::{StressPoint, locate_near_surface_with, project};
 use super::fe::{FeError, Material, Mesh};
 use super::interpolated::Axis;
 use crate::geometry::GearGeometry;
@@ -261,6 +261,7 @@ impl FilletObserver {
         let local: Vec<_> =
             FILLET_TANGENT_ANGLES_DEG.iter().map(|a| fillet_at_angle(g, a.to_radians())).collect();
         let pitch = g.angular_pitch();
+        let boxes = mesh.element_boxes();
         let mut points = Vec::with_capacity(teeth.len() * local.len() * level_z.len());
         for &t in teeth {
             let th0 = pitch * f64::from(t).rem_euclid(f64::from(g.z));
@@ -277,13 +278,14 @@ impl FilletObserver {
                     let t2 = cross3(normal, t1);
                     let l2 = (t2[0] * t2[0] + t2[1] * t2[1] + t2[2] * t2[2]).sqrt();
                     let t2 = [t2[0] / l2, t2[1] / l2, t2[2] / l2];
-                    let (e, xi) = locate_near_surface(mesh, x, 0.05).ok_or_else(|| {
-                        FeError::InvalidInput(format!(
-                            "root fillet point ({:.4e}, {:.4e}, {:.4e}) m of tooth {t} is \
+                    let (e, xi) =
+                        locate_near_surface_with(mesh, &boxes, x, 0.05).ok_or_else(|| {
+                            FeError::InvalidInput(format!(
+                                "root fillet point ({:.4e}, {:.4e}, {:.4e}) m of tooth {t} is \
                              outside the mesh",
-                            x[0], x[1], x[2]
-                        ))
-                    })?;
+                                x[0], x[1], x[2]
+                            ))
+                        })?;
                     let sp =
                         StressPoint::new(mesh, material, e, xi).map_err(|j| j.in_element(e))?;
                     points.push((sp, t1, t2));
