@@ -66,7 +66,7 @@ use std::time::Instant;
 use faer::Mat;
 
 use super::fe::gear_mesh::{FlankGrid, GearMesh, GearMeshDensity};
-use super::fe::{FeError, FeModel, FeStats, Material, dof, element};
+use super::fe::{FeError, FeModel, FeStats, Material, ModelOptions, dof, element};
 use super::root_stress::{FilletObserver, RootStressGrid};
 use super::{FlankCoord, InfluenceGrid};
 use crate::geometry::{GearGeometry, Member, SegmentKind};
@@ -107,21 +107,24 @@ struct Stencil {
     inward: [f64; 3],
 }
 
-/// How [`fe_influence_with`] solves the load cases; both give the same values (to rounding).
+/// How [`fe_influence_with`] assembles and solves the same discretised problem; both give the
+/// same values to rounding (see the module docs, "Cost").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SolveMethod {
-    /// Forward and backward substitution of every load case over the whole factor, the
-    /// displacements of all nodes recovered (the reference).
-    Whole,
-    /// Selected solves ([`super::fe::solver`]): only the substitution steps that reach the
-    /// loaded nodes or the nodes the observations read; the default.
-    Selected,
+pub enum FeMethod {
+    /// Every element integrated; forward and backward substitution of every load case over
+    /// the whole factor, the displacements of all nodes recovered. The reference.
+    Reference,
+    /// The elements of one axial layer integrated, the other layers' stiffnesses turned from
+    /// them ([`GearMesh::layer_congruence`]); selected solves ([`super::fe::solver`]): only
+    /// the substitution steps that reach the loaded nodes or the nodes the observations read.
+    /// The default.
+    Fast,
 }
 
 /// FE influence data of gear `g` of pair `p` with mesh density `density` and depth `depth_h`
 /// (m): builds the mesh, factorises once, solves the unit normal loads at all flank grid nodes
 /// of tooth 0 and records α* for observations on teeth −1, 0, +1 (see the module docs).
-/// The load cases are solved by [`SolveMethod::Selected`].
+/// Assembled and solved by [`FeMethod::Fast`].
 ///
 /// Progress goes to stderr when `progress` is true. Errors: invalid density or depth, an FE
 /// failure, or an observation point at depth h that lies outside the mesh (h too large).
@@ -132,16 +135,16 @@ pub fn fe_influence(
     depth_h: f64,
     progress: bool,
 ) -> Result<FeInfluence, FeError> {
-    fe_influence_with(g, p, density, depth_h, SolveMethod::Selected, progress)
+    fe_influence_with(g, p, density, depth_h, FeMethod::Fast, progress)
 }
 
-/// [`fe_influence`] with the load cases solved by `method`.
+/// [`fe_influence`] assembled and solved by `method`.
 pub fn fe_influence_with(
     g: &GearGeometry,
     p: &GearPair,
     density: &GearMeshDensity,
     depth_h: f64,
-    method: SolveMethod,
+    method: FeMethod,
     progress: bool,
 ) -> Result<FeInfluence, FeError> {
     let mn = p.normal_module_m;
@@ -154,6 +157,10 @@ pub fn fe_influence_with(
     let t0 = Instant::now();
     let gm = GearMesh::build(g, p, density)?;
     let mesh_s = t0.elapsed().as_secs_f64();
+    let congruence = match method {
+        FeMethod::Reference => Vec::new(),
+        FeMethod::Fast => gm.layer_congruence(),
+    };
     let GearMesh { mesh, bore_nodes, flanks, level_z, .. } = gm;
     let grids: Vec<FlankGrid> = [-1i64, 0, 1]
         .iter()
@@ -184,7 +191,8 @@ pub fn fe_influence_with(
             mesh.elements.len()
         );
     }
-    let model = FeModel::new(mesh, material, &bore_nodes)?;
+    let options = ModelOptions { congruent: &congruence, node_ordering: method == FeMethod::Fast };
+    let model = FeModel::with_options(mesh, material, &bore_nodes, &options)?;
     let st = model.stats();
     if progress {
         eprintln!(
@@ -257,8 +265,8 @@ pub fn fe_influence_with(
     };
     // The nodes read by `record` (selected solves only), and the row block of each node.
     let observed: Vec<usize> = match method {
-        SolveMethod::Whole => Vec::new(),
-        SolveMethod::Selected => {
+        FeMethod::Reference => Vec::new(),
+        FeMethod::Fast => {
             let mut v: Vec<usize> = stencils
                 .iter()
                 .flatten()
@@ -280,7 +288,7 @@ pub fn fe_influence_with(
     while start < n {
         let k = CHUNK.min(n - start);
         match method {
-            SolveMethod::Whole => {
+            FeMethod::Reference => {
                 let mut f = Mat::<f64>::zeros(dofs, k);
                 for c in 0..k {
                     let j = start + c;
@@ -296,7 +304,7 @@ pub fn fe_influence_with(
                 }
                 observe_s += t2.elapsed().as_secs_f64();
             }
-            SolveMethod::Selected => {
+            FeMethod::Fast => {
                 let cases: Vec<Vec<(usize, f64)>> = (start..start + k)
                     .map(|j| {
                         let node = load.nodes[j];

@@ -38,6 +38,7 @@ pub mod error;
 pub mod gear_mesh;
 pub mod material;
 pub mod mesh;
+pub mod ordering;
 pub mod solver;
 pub mod stress;
 
@@ -94,6 +95,18 @@ impl FeStats {
     }
 }
 
+/// How [`FeModel::with_options`] assembles K_ff and orders its unknowns. The default is
+/// [`FeModel::new`]'s: every element integrated, faer's AMD on the DOF graph.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ModelOptions<'a> {
+    /// Elements whose stiffness is that of another turned about z
+    /// ([`assembly::assemble_lower_congruent`], e.g.
+    /// [`gear_mesh::GearMesh::layer_congruence`]); empty: every element integrated.
+    pub congruent: &'a [Option<assembly::Congruent>],
+    /// Order the unknowns by AMD on the node graph ([`ordering`]) instead of on the DOF graph.
+    pub node_ordering: bool,
+}
+
 /// An assembled and factorised linear-elastic FE model, ready for block solves.
 ///
 /// Immutable after construction except for the solve-time counters, which are atomic, so a
@@ -118,14 +131,33 @@ impl FeModel {
     /// element with non-positive Jacobian ([`FeError::NonPositiveJacobian`]), or a failed
     /// factorisation ([`FeError::NotPositiveDefinite`], [`FeError::Solver`]).
     pub fn new(mesh: Mesh, material: Material, fixed_nodes: &[usize]) -> Result<Self, FeError> {
+        Self::with_options(mesh, material, fixed_nodes, &ModelOptions::default())
+    }
+
+    /// As [`FeModel::new`], assembled and ordered as `options` says. The same K_ff to
+    /// rounding, and the same solution to rounding.
+    pub fn with_options(
+        mesh: Mesh,
+        material: Material,
+        fixed_nodes: &[usize],
+        options: &ModelOptions<'_>,
+    ) -> Result<Self, FeError> {
         material.validate()?;
         mesh.validate()?;
         let t0 = Instant::now();
         let dof_map = DofMap::new(mesh.nodes.len(), fixed_nodes)?;
         check_constraints(&mesh, fixed_nodes)?;
-        let k = assembly::assemble_lower(&mesh, &material, &dof_map)?;
+        let k = assembly::assemble_lower_congruent(&mesh, &material, &dof_map, options.congruent)?;
         let assembly_s = t0.elapsed().as_secs_f64();
-        let (cholesky, times) = SparseCholesky::new(&k)?;
+        let t1 = Instant::now();
+        let order = if options.node_ordering {
+            Some(ordering::expand_to_free_dofs(&ordering::node_amd(&mesh)?, &dof_map)?)
+        } else {
+            None
+        };
+        let ordering_s = t1.elapsed().as_secs_f64();
+        let (cholesky, mut times) = SparseCholesky::with_ordering(&k, order.as_deref())?;
+        times.symbolic_s += ordering_s;
         let stats = FeStats {
             nodes: mesh.nodes.len(),
             elements: mesh.elements.len(),

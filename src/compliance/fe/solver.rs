@@ -38,6 +38,7 @@ use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
+use faer::perm::PermRef;
 use faer::sparse::SparseColMat;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
@@ -78,8 +79,18 @@ const NONE: usize = usize::MAX;
 
 impl SparseCholesky {
     /// Factorises the square matrix whose lower triangle (row ≥ column) is stored in `lower`;
-    /// entries above the diagonal, if any, are ignored.
+    /// entries above the diagonal, if any, are ignored. The ordering is faer's AMD on the
+    /// matrix graph.
     pub fn new(lower: &SparseColMat<usize, f64>) -> Result<(Self, FactorTimes), FeError> {
+        Self::with_ordering(lower, None)
+    }
+
+    /// As [`SparseCholesky::new`] with the elimination order `order` (`order[k]` the row
+    /// eliminated k-th, a permutation of 0 … n − 1), or faer's AMD when `None`.
+    pub fn with_ordering(
+        lower: &SparseColMat<usize, f64>,
+        order: Option<&[usize]>,
+    ) -> Result<(Self, FactorTimes), FeError> {
         let n = lower.nrows();
         if lower.ncols() != n {
             return Err(FeError::InvalidInput(format!(
@@ -93,13 +104,33 @@ impl SparseCholesky {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let symbolic = factorize_symbolic_cholesky(
-            lower.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            params,
-        )
-        .map_err(|e| FeError::Solver(format!("symbolic Cholesky: {e:?}")))?;
+        let inverse = match order {
+            None => None,
+            Some(fwd) => {
+                if fwd.len() != n {
+                    return Err(FeError::InvalidInput(format!(
+                        "ordering of {} rows for a matrix of order {n}",
+                        fwd.len()
+                    )));
+                }
+                let mut inv = vec![NONE; n];
+                for (k, &r) in fwd.iter().enumerate() {
+                    if r >= n || inv[r] != NONE {
+                        return Err(FeError::InvalidInput(format!(
+                            "ordering: row {r} out of range or repeated"
+                        )));
+                    }
+                    inv[r] = k;
+                }
+                Some(inv)
+            }
+        };
+        let ordering = match (order, &inverse) {
+            (Some(fwd), Some(inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, n)),
+            _ => SymmetricOrdering::Amd,
+        };
+        let symbolic = factorize_symbolic_cholesky(lower.symbolic(), Side::Lower, ordering, params)
+            .map_err(|e| FeError::Solver(format!("symbolic Cholesky: {e:?}")))?;
         let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
             return Err(FeError::Solver(
                 "internal: simplicial factor where supernodal forced".into(),
