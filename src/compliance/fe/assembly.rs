@@ -121,7 +121,10 @@ pub fn assemble_lower_congruent(
         )));
     }
     let (col_ptr, row_idx) = lower_pattern(mesh, dofs);
-    let mut values = vec![0.0; row_idx.len()];
+    // Zeros written, not requested zeroed from the allocator: the first `+=` to a page of
+    // calloc'd memory would fault twice (read of the shared zero page, then copy on write).
+    let mut values = Vec::with_capacity(row_idx.len());
+    values.resize(row_idx.len(), 0.0);
     // Stiffness of every source element (integrated once), keyed by element.
     let ne = mesh.elements.len();
     let mut source_slot = vec![usize::MAX; ne];
