@@ -5,7 +5,11 @@
 //! (or any other chosen set) are fixed at zero displacement by elimination ([`assembly`]), and
 //! K_ff is factorised once by sparse Cholesky ([`solver`]) so that many load cases — columns of
 //! an n × k block, e.g. unit loads at the flank nodes for an influence-coefficient matrix — are
-//! solved by substitution only. Units are SI: m, N, Pa, N/m.
+//! solved by substitution only. When the loads sit on a few nodes and only a few nodes'
+//! displacements are wanted, [`FeModel::solve_at_nodes`] substitutes over the part of the
+//! factor that connects them only. [`FeModel::with_options`] can reuse the stiffness of
+//! congruent elements ([`assembly::assemble_lower_congruent`]) and order the unknowns on the
+//! node graph ([`ordering`]). Units are SI: m, N, Pa, N/m.
 //!
 //! Conventions used throughout:
 //! - element node order: Abaqus C3D20 / VTK (8 corners, then 12 mid-edge nodes), see

@@ -110,3 +110,29 @@ pub fn expand_to_free_dofs(order: &[usize], dofs: &DofMap) -> Result<Vec<usize>,
     }
     Ok(fwd)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_order_is_a_permutation_and_expands_to_the_free_dofs() {
+        let mesh = Mesh::structured_block([3, 2, 2], |u, v, w| [u, v, w]).expect("block");
+        let order = node_amd(&mesh).expect("amd");
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..mesh.nodes.len()).collect::<Vec<_>>());
+        let fixed = mesh.nodes_where(|x| x[0] < 1e-12);
+        let dofs = DofMap::new(mesh.nodes.len(), &fixed).expect("dofs");
+        let fwd = expand_to_free_dofs(&order, &dofs).expect("expand");
+        let mut seen = fwd.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..dofs.free_count()).collect::<Vec<_>>());
+        // A node's free DOFs stay together, x, y, z in turn.
+        assert_eq!(fwd[1], fwd[0] + 1);
+        assert!(expand_to_free_dofs(&order[1..], &dofs).is_err());
+        let mut twice = order.clone();
+        twice[1] = twice[0];
+        assert!(expand_to_free_dofs(&twice, &dofs).is_err());
+    }
+}

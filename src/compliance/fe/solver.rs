@@ -246,8 +246,8 @@ impl SparseCholesky {
         let mut slot = vec![NONE; n];
         let mut rows = 0usize;
         for s in (0..ns).filter(|&s| mark[s] != 0) {
-            for c in sn.supernode_begin()[s]..sn.supernode_end()[s] {
-                slot[c] = rows;
+            for v in &mut slot[sn.supernode_begin()[s]..sn.supernode_end()[s]] {
+                *v = rows;
                 rows += 1;
             }
         }
@@ -344,5 +344,56 @@ mod tests {
         t[0] = Triplet::new(0, 0, -2.0);
         let bad = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).expect("matrix");
         assert!(matches!(SparseCholesky::new(&bad), Err(FeError::NotPositiveDefinite { .. })));
+    }
+
+    /// 2D Laplacian (5-point) on an m × m grid, lower triangle.
+    fn laplacian(m: usize) -> SparseColMat<usize, f64> {
+        let n = m * m;
+        let mut t = Vec::new();
+        for j in 0..m {
+            for i in 0..m {
+                let k = j * m + i;
+                t.push(Triplet::new(k, k, 4.0));
+                if i + 1 < m {
+                    t.push(Triplet::new(k + 1, k, -1.0));
+                }
+                if j + 1 < m {
+                    t.push(Triplet::new(k + m, k, -1.0));
+                }
+            }
+        }
+        SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).expect("matrix")
+    }
+
+    #[test]
+    fn selected_solves_equal_whole_solves_for_any_ordering() {
+        let m = 12;
+        let n = m * m;
+        let k = laplacian(m);
+        let reversed: Vec<usize> = (0..n).rev().collect();
+        for order in [None, Some(&reversed[..])] {
+            let (chol, _) = SparseCholesky::with_ordering(&k, order).expect("spd");
+            let loads = vec![vec![(5, 1.0)], vec![(77, -2.0), (78, 0.5), (77, 1.0)], vec![]];
+            let wanted = [0, 5, 77, 140, 143, 5];
+            let x = chol.solve_selected(&loads, &wanted).expect("selected");
+            let mut b = Mat::<f64>::zeros(n, loads.len());
+            for (c, col) in loads.iter().enumerate() {
+                for &(r, v) in col {
+                    b[(r, c)] += v;
+                }
+            }
+            chol.solve_in_place(b.as_mut()).expect("whole");
+            for (i, &r) in wanted.iter().enumerate() {
+                for c in 0..loads.len() {
+                    assert!((x[(i, c)] - b[(r, c)]).abs() <= 1e-14, "row {r}, case {c}");
+                }
+            }
+            assert!(chol.solve_selected(&loads, &[n]).is_err());
+            assert!(chol.solve_selected(&[vec![(n, 1.0)]], &wanted).is_err());
+        }
+        assert!(SparseCholesky::with_ordering(&k, Some(&[0, 1])).is_err());
+        let mut repeated: Vec<usize> = (0..n).collect();
+        repeated[1] = 0;
+        assert!(SparseCholesky::with_ordering(&k, Some(&repeated)).is_err());
     }
 }
