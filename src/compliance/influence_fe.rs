@@ -70,7 +70,8 @@
 //!   claimed congruence checked on the node coordinates
 //!   ([`super::fe::assembly::assemble_lower_congruent`]).
 //! * **Ordering.** Approximate minimum degree on the node graph instead of the DOF graph
-//!   ([`super::fe::ordering`]): the same kind of order at under half the analysis time.
+//!   ([`super::fe::ordering`]): an order of the same quality (the same factor size) at half
+//!   the analysis time.
 //! * **Solves.** Only u at the nodes read by the observations (the stencil elements at depth
 //!   h on teeth −1, 0, +1, the flank nodes of tooth 0, the fillet stress elements) is needed,
 //!   and each load acts on one node. The forward substitution L y = P f is confined to the

@@ -155,7 +155,7 @@ impl FeModel {
         let assembly_s = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let order = if options.node_ordering {
-            Some(ordering::expand_to_free_dofs(&ordering::node_amd(&mesh)?, &dof_map)?)
+            Some(ordering::expand_to_free_dofs(&ordering::node_amd(&mesh, fixed_nodes)?, &dof_map)?)
         } else {
             None
         };
