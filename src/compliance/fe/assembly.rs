@@ -154,14 +154,20 @@ pub fn assemble_lower_congruent(
             base[a] = dofs.free_of[3 * n];
         }
         match plan[e] {
-            Some(c) => rotate(&sources[source_slot[c.source]], c.angle, &mut ke),
-            None if source_slot[e] != usize::MAX => ke = *sources[source_slot[e]],
+            Some(c) => {
+                let k = &sources[source_slot[c.source]];
+                scatter(k, Some(&rotation(c.angle)), &base, &col_ptr, &row_idx, &mut values)?;
+            }
+            None if source_slot[e] != usize::MAX => {
+                let k = &sources[source_slot[e]];
+                scatter(k, None, &base, &col_ptr, &row_idx, &mut values)?;
+            }
             None => {
                 let coords = element_coords(mesh, e);
                 element::stiffness(&coords, material, &mut ke).map_err(|err| err.in_element(e))?;
+                scatter(&ke, None, &base, &col_ptr, &row_idx, &mut values)?;
             }
         }
-        scatter(&ke, &base, &col_ptr, &row_idx, &mut values)?;
     }
     let n = dofs.free_count();
     let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
@@ -190,37 +196,48 @@ fn is_congruent(mesh: &Mesh, source: usize, e: usize, angle: f64) -> bool {
     })
 }
 
-/// `out` = Q·`k`·Qᵀ with Q = diag(R, …, R), R the rotation by `angle` about z.
-fn rotate(k: &[[f64; DOFS]; DOFS], angle: f64, out: &mut [[f64; DOFS]; DOFS]) {
+/// The rotation by `angle` about z.
+fn rotation(angle: f64) -> [[f64; 3]; 3] {
     let (s, c) = angle.sin_cos();
-    let r = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]];
-    for a in 0..NODES {
-        for b in 0..NODES {
-            // t = R·K_ab, then out_ab = t·Rᵀ.
-            let mut t = [[0.0; 3]; 3];
-            for i in 0..3 {
-                for j in 0..3 {
-                    t[i][j] = r[i][0] * k[3 * a][3 * b + j]
-                        + r[i][1] * k[3 * a + 1][3 * b + j]
-                        + r[i][2] * k[3 * a + 2][3 * b + j];
-                }
-            }
-            for i in 0..3 {
-                for j in 0..3 {
-                    out[3 * a + i][3 * b + j] =
-                        t[i][0] * r[j][0] + t[i][1] * r[j][1] + t[i][2] * r[j][2];
-                }
-            }
-        }
-    }
+    [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
 }
 
-/// Adds the lower-triangle entries of the element matrix `ke` to `values`. `base[a]` is the
-/// free index of the x DOF of element node a (its y, z DOFs follow) or `FIXED`. The three
-/// rows of a node are consecutive in every column's sorted pattern, so one search per node
-/// pair and column suffices. Each entry receives one addition per element, in element order.
+/// The 3 × 3 block (a, b) of the element matrix `k`, turned to R·K_ab·Rᵀ when `rot` = R.
+fn block(
+    k: &[[f64; DOFS]; DOFS],
+    a: usize,
+    b: usize,
+    rot: Option<&[[f64; 3]; 3]>,
+) -> [[f64; 3]; 3] {
+    let mut m = [[0.0; 3]; 3];
+    for (i, row) in m.iter_mut().enumerate() {
+        row.copy_from_slice(&k[3 * a + i][3 * b..3 * b + 3]);
+    }
+    let Some(r) = rot else { return m };
+    // t = R·K_ab, then R·K_ab·Rᵀ.
+    let mut t = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            t[i][j] = r[i][0] * m[0][j] + r[i][1] * m[1][j] + r[i][2] * m[2][j];
+        }
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            m[i][j] = t[i][0] * r[j][0] + t[i][1] * r[j][1] + t[i][2] * r[j][2];
+        }
+    }
+    m
+}
+
+/// Adds the lower-triangle entries of the element matrix `k` (turned block by block by `rot`,
+/// see [`block`]) to `values`. `base[a]` is the free index of the x DOF of element node a (its
+/// y, z DOFs follow) or `FIXED`. The pattern of column jb + j (node b's DOF j) is that of
+/// column jb without its first j rows, and a node's three rows are consecutive in it, so one
+/// search per node pair places nine entries. Each entry receives one addition per element, in
+/// element order.
 fn scatter(
-    ke: &[[f64; DOFS]; DOFS],
+    k: &[[f64; DOFS]; DOFS],
+    rot: Option<&[[f64; 3]; 3]>,
     base: &[usize; NODES],
     col_ptr: &[usize],
     row_idx: &[usize],
@@ -230,21 +247,29 @@ fn scatter(
         if jb == FIXED {
             continue;
         }
-        for j in 0..3 {
-            let jc = jb + j;
-            let (start, end) = (col_ptr[jc], col_ptr[jc + 1]);
-            let rows = &row_idx[start..end];
-            for (a, &ia) in base.iter().enumerate() {
-                if ia == FIXED || ia + 2 < jc {
-                    continue;
+        let rows = &row_idx[col_ptr[jb]..col_ptr[jb + 1]];
+        for (a, &ia) in base.iter().enumerate() {
+            if ia == FIXED || ia < jb {
+                continue;
+            }
+            let m = block(k, a, b, rot);
+            if ia == jb {
+                // Column jb + j starts with its own diagonal: row jb + i sits at i − j.
+                for j in 0..3 {
+                    let s = col_ptr[jb + j];
+                    for i in j..3 {
+                        values[s + i - j] += m[i][j];
+                    }
                 }
-                let i0 = jc.saturating_sub(ia);
-                let first = ia + i0;
-                let k = rows.binary_search(&first).map_err(|_| {
-                    FeError::Solver(format!("internal: entry ({first}, {jc}) missing from pattern"))
+            } else {
+                let k0 = rows.binary_search(&ia).map_err(|_| {
+                    FeError::Solver(format!("internal: entry ({ia}, {jb}) missing from pattern"))
                 })?;
-                for i in i0..3 {
-                    values[start + k + i - i0] += ke[3 * a + i][3 * b + j];
+                for j in 0..3 {
+                    let s = col_ptr[jb + j] + k0 - j;
+                    for i in 0..3 {
+                        values[s + i] += m[i][j];
+                    }
                 }
             }
         }
