@@ -58,10 +58,11 @@
 //! The gear is meshed whole and fixed at the bore; the mesh is not cyclically symmetric
 //! (teeth −`fine_teeth` … +`fine_teeth` are meshed finer than the others, and the web's
 //! transition rings group the rim's nodes by threes from tooth 0, with a pass-through where
-//! the count is not a multiple of three), so the
-//! discretised problem K u = f is solved as it stands. [`FeMethod::Fast`] (the default) and
-//! [`FeMethod::Reference`] solve the same K u = f for the same n load cases; what differs is
-//! the work (Table 1 pinion at the default density: 67 590 DOFs, 143 load cases):
+//! the count is not a multiple of three), so a cyclic (discrete Fourier) decomposition does
+//! not apply and the discretised problem K u = f is solved as it stands. [`FeMethod::Fast`]
+//! (the default) and [`FeMethod::Reference`] solve the same K u = f for the same n load
+//! cases; what differs is the work (Table 1 pinion at the default density: 67 590 DOFs, 143
+//! load cases):
 //!
 //! * **Assembly.** Layer L of the extruded mesh is layer 0 turned by ω·z_L about the axis
 //!   and moved up by z_L ([`GearMesh::layer_congruence`]), so its element stiffnesses are
