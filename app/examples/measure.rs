@@ -29,7 +29,9 @@ use std::time::Instant;
 
 use helical_gear_app::bench::{cpu_model, utc_now};
 use helical_gear_mesh::compliance::fe::gear_mesh::{GearMesh, GearMeshDensity};
-use helical_gear_mesh::compliance::influence_fe::{DEFAULT_DEPTH_MN, fe_influence};
+use helical_gear_mesh::compliance::influence_fe::{
+    DEFAULT_DEPTH_MN, FeMethod, fe_influence, fe_influence_with,
+};
 use helical_gear_mesh::dynamics::{DriveUnit, Drivetrain, UnitKind, UnitStepping};
 use helical_gear_mesh::geometry::PairGeometry;
 use helical_gear_mesh::geometry::inertia::polygon_area;
@@ -191,30 +193,64 @@ fn fe(dir: &Path) -> Result<Vec<PathBuf>, String> {
     md.push_str(
         "\n## Default-density influence runs\n\nThe influence data of the default mesh (what \
          the compliance build computes for a design without embedded data): DOFs, the flank \
-         grid (profile rows × axial levels), and the time of each stage.\n\n\
-         | z | DOFs | grid | mesh, s | assembly, s | factorisation, s | solve, s (cases) | observe, s |\n\
-         | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+         grid (profile rows × axial levels), and the time of each stage, one gear at a time, \
+         for the method the build uses (`fast`: one axial layer of element stiffnesses turned \
+         to the others, AMD on the node graph, selected solves) and the reference \
+         (`reference`: every element integrated, AMD on the DOF graph, whole solves); both \
+         solve the same discretised problem (`FeMethod` in `compliance::influence_fe`). The \
+         last column is the largest difference of the α* blocks, relative to each block's \
+         largest value.\n\n\
+         | z | method | DOFs | grid | mesh, s | assembly, s | factorisation, s | solve, s (cases) | observe, s | α* difference |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
     );
     for g in [&geo.pinion, &geo.gear] {
-        let inf = fe_influence(g, &p, &GearMeshDensity::default(), depth, true).map_err(e)?;
-        let st = inf.stats;
-        writeln!(
-            md,
-            "| {} | {} | {} × {} | {:.2} | {:.2} | {:.2} | {:.2} ({}) | {:.2} |",
-            g.z,
-            st.dofs,
-            inf.grid.profile.len(),
-            inf.grid.zeta.len(),
-            inf.mesh_s,
-            st.assembly_s,
-            st.factorisation_s(),
-            st.solve_s,
-            st.solved_cases,
-            inf.observe_s
-        )
-        .ok();
+        let fast =
+            fe_influence_with(g, &p, &GearMeshDensity::default(), depth, FeMethod::Fast, true)
+                .map_err(e)?;
+        let reference =
+            fe_influence_with(g, &p, &GearMeshDensity::default(), depth, FeMethod::Reference, true)
+                .map_err(e)?;
+        let diff = fast.grid.alpha.iter().zip(&reference.grid.alpha).fold(0.0f64, |m, (a, b)| {
+            let scale = b.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let d = a.iter().zip(b).fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
+            m.max(d / scale)
+        });
+        for (name, inf) in [("fast", &fast), ("reference", &reference)] {
+            let st = inf.stats;
+            let d = if name == "fast" { format!("{diff:.1e}") } else { "—".to_string() };
+            writeln!(
+                md,
+                "| {} | {name} | {} | {} × {} | {:.2} | {:.2} | {:.2} | {:.2} ({}) | {:.2} | {d} |",
+                g.z,
+                st.dofs,
+                inf.grid.profile.len(),
+                inf.grid.zeta.len(),
+                inf.mesh_s,
+                st.assembly_s,
+                st.factorisation_s(),
+                st.solve_s,
+                st.solved_cases,
+                inf.observe_s
+            )
+            .ok();
+        }
         eprintln!("fe: influence z = {}", g.z);
     }
+    let t0 = std::time::Instant::now();
+    helical_gear_mesh::compliance::data::ComplianceData::compute(
+        &p,
+        &GearMeshDensity::default(),
+        depth,
+        false,
+    )
+    .map_err(|e| e.to_string())?;
+    writeln!(
+        md,
+        "\n`ComplianceData::compute` of the pair at the default density (both gears side by \
+         side, FE and fits, the fast method): {:.2} s.",
+        t0.elapsed().as_secs_f64()
+    )
+    .ok();
 
     md.push_str(
         "\n## α* mesh convergence\n\nα* of the pinion (tooth 0 loaded, observed on teeth −1, \

@@ -113,7 +113,7 @@ use super::influence_fe::{DEFAULT_DEPTH_MN, FeInfluence, axial_gauss_resample, f
 use super::interpolated::InterpolatedInfluence;
 use super::root_stress::RootStressGrid;
 use super::stiffness::{PairStiffness, pair_stiffness};
-use crate::geometry::{Member, PairGeometry};
+use crate::geometry::{GearGeometry, Member, PairGeometry};
 use crate::params::GearPair;
 
 /// Version of the data format; files of another version are not read.
@@ -649,20 +649,26 @@ impl ComplianceData {
     ) -> Result<Self, ComplianceError> {
         let geo = PairGeometry::new(pair)?;
         let b0 = geo.b0();
-        let mut members = Vec::with_capacity(2);
-        let mut stress = Vec::with_capacity(2);
         let mut diameters = [pair.bore_diameter_m; 2];
-        for (i, g) in [&geo.pinion, &geo.gear].into_iter().enumerate() {
+        if rim {
+            diameters = [
+                rim_support_diameter(&geo.pinion, pair, density),
+                rim_support_diameter(&geo.gear, pair, density),
+            ];
+        }
+        // One gear's FE run and fit; the two gears are independent and run side by side.
+        let run = |g: &GearGeometry,
+                   diameter: f64|
+         -> Result<(GearCompliance, RootStressGrid), ComplianceError> {
             let member = member_name(g.member);
             let mut fe_pair = pair.clone();
             if rim {
-                diameters[i] = rim_support_diameter(g, pair, density);
-                fe_pair.bore_diameter_m = diameters[i];
+                fe_pair.bore_diameter_m = diameter;
                 if progress {
                     eprintln!(
                         "compliance of the {member}: body fixed just inside the rim (diameter \
                          {:.2} mm)",
-                        diameters[i] * 1e3
+                        diameter * 1e3
                     );
                 }
             }
@@ -678,12 +684,11 @@ impl ComplianceData {
                 );
             }
             let fe = FeRecord::of(&inf);
-            stress.push(inf.root_stress);
-            members.push(GearCompliance { grid: inf.grid, fit, fe });
-        }
-        let gear = members.pop().ok_or_else(|| ComplianceError::Input("no gear data".into()))?;
-        let pinion =
-            members.pop().ok_or_else(|| ComplianceError::Input("no pinion data".into()))?;
+            Ok((GearCompliance { grid: inf.grid, fit, fe }, inf.root_stress))
+        };
+        let (pinion, gear) =
+            rayon::join(|| run(&geo.pinion, diameters[0]), || run(&geo.gear, diameters[1]));
+        let ((pinion, stress_p), (gear, stress_g)) = (pinion?, gear?);
         let key = ComplianceKey::of(pair);
         let default_run = *density == GearMeshDensity::default()
             && depth_h_m == DEFAULT_DEPTH_MN * pair.normal_module_m;
@@ -712,9 +717,6 @@ impl ComplianceData {
             depth_h_m,
             command,
             support,
-        };
-        let (Some(stress_g), Some(stress_p)) = (stress.pop(), stress.pop()) else {
-            return Err(ComplianceError::Input("no root-stress data".into()));
         };
         let root_stress = RootStressData {
             format_version: ROOT_STRESS_FORMAT_VERSION,

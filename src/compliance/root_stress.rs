@@ -54,12 +54,11 @@
 //! as the compliance does (ζ → b₀ − ζ, offsets reversed) and stress the back flank's fillet;
 //! the compressive effect of one flank's load on the other fillet is not reported.
 
-use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 use super::FlankCoord;
-use super::fe::stress::{StressPoint, locate_near_surface, project};
-use super::fe::{FeError, Material, Mesh, dof};
+use super::fe::stress::{StressPoint, locate_near_surface_with, project};
+use super::fe::{FeError, Material, Mesh};
 use super::interpolated::Axis;
 use crate::geometry::GearGeometry;
 
@@ -262,6 +261,7 @@ impl FilletObserver {
         let local: Vec<_> =
             FILLET_TANGENT_ANGLES_DEG.iter().map(|a| fillet_at_angle(g, a.to_radians())).collect();
         let pitch = g.angular_pitch();
+        let boxes = mesh.element_boxes();
         let mut points = Vec::with_capacity(teeth.len() * local.len() * level_z.len());
         for &t in teeth {
             let th0 = pitch * f64::from(t).rem_euclid(f64::from(g.z));
@@ -278,13 +278,14 @@ impl FilletObserver {
                     let t2 = cross3(normal, t1);
                     let l2 = (t2[0] * t2[0] + t2[1] * t2[1] + t2[2] * t2[2]).sqrt();
                     let t2 = [t2[0] / l2, t2[1] / l2, t2[2] / l2];
-                    let (e, xi) = locate_near_surface(mesh, x, 0.05).ok_or_else(|| {
-                        FeError::InvalidInput(format!(
-                            "root fillet point ({:.4e}, {:.4e}, {:.4e}) m of tooth {t} is \
+                    let (e, xi) =
+                        locate_near_surface_with(mesh, &boxes, x, 0.05).ok_or_else(|| {
+                            FeError::InvalidInput(format!(
+                                "root fillet point ({:.4e}, {:.4e}, {:.4e}) m of tooth {t} is \
                              outside the mesh",
-                            x[0], x[1], x[2]
-                        ))
-                    })?;
+                                x[0], x[1], x[2]
+                            ))
+                        })?;
                     let sp =
                         StressPoint::new(mesh, material, e, xi).map_err(|j| j.in_element(e))?;
                     points.push((sp, t1, t2));
@@ -302,12 +303,12 @@ impl FilletObserver {
         })
     }
 
-    /// Records the surface stress of load case `case` from column `col` of the displacement
-    /// block `u` (dofs × k, m).
-    pub fn observe(&mut self, u: &Mat<f64>, col: usize, case: usize) {
+    /// Records the surface stress of load case `case` from the displacement field `u`
+    /// (`u(node, d)`: displacement of mesh node `node` in direction d, m).
+    pub fn observe(&mut self, case: usize, u: impl Fn(usize, usize) -> f64) {
         let per_tooth = self.points.len() / self.teeth.len().max(1);
         for (i, (sp, t1, t2)) in self.points.iter().enumerate() {
-            let s = sp.stress(|node, d| u[(dof(node, d), col)]);
+            let s = sp.stress(&u);
             let (t, o) = (i / per_tooth, i % per_tooth);
             let base = (case * per_tooth + o) * 3;
             let v = &mut self.values[t][base..base + 3];
@@ -315,6 +316,14 @@ impl FilletObserver {
             v[1] = project(&s, *t2, *t2);
             v[2] = project(&s, *t1, *t2);
         }
+    }
+
+    /// The mesh nodes whose displacements [`FilletObserver::observe`] reads (each once).
+    pub fn nodes(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = self.points.iter().flat_map(|p| p.0.nodes).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
     }
 
     /// The grid of the recorded values with the load grid's coordinates (profile rows, ζ

@@ -49,6 +49,7 @@
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
+use super::assembly::Congruent;
 use super::element::NODES;
 use super::error::FeError;
 use super::mesh::Mesh;
@@ -231,8 +232,11 @@ pub struct GearMesh {
     pub web_radii: Vec<f64>,
     /// Bore radius, m.
     pub r_bore: f64,
-    /// Number of quads of the transverse mesh.
+    /// Number of quads of the transverse mesh (= elements per axial layer).
     pub quads: usize,
+    /// Twist rate ω of the helix, rad/m: the node at axial position z is the transverse node
+    /// turned by ω·z.
+    pub twist_rate: f64,
 }
 
 /// 2D node pool with coincidence detection (spatial hash, absolute tolerance).
@@ -757,7 +761,33 @@ impl GearMesh {
                 normals,
             });
         }
-        Ok(Self { mesh, bore_nodes, flanks, level_z, web_radii, r_bore, quads: quads.len() })
+        Ok(Self {
+            mesh,
+            bore_nodes,
+            flanks,
+            level_z,
+            web_radii,
+            r_bore,
+            quads: quads.len(),
+            twist_rate: g.twist_rate,
+        })
+    }
+
+    /// The congruence of the axial layers: element q of layer L (element L·`quads` + q) is
+    /// element q of layer 0 turned about the axis by ω·z_L (z_L the bottom of layer L) and
+    /// moved up by z_L, since every node at height z is its transverse node turned by ω·z
+    /// ([`Congruent`]; layer 0 has no entry). [`super::assembly::assemble_lower_congruent`]
+    /// then integrates the `quads` elements of one layer only.
+    pub fn layer_congruence(&self) -> Vec<Option<Congruent>> {
+        let nq = self.quads;
+        let ne = self.mesh.elements.len();
+        (0..ne)
+            .map(|e| {
+                let layer = e / nq.max(1);
+                let z = self.level_z.get(2 * layer).copied()?;
+                (layer > 0).then_some(Congruent { source: e % nq, angle: self.twist_rate * z })
+            })
+            .collect()
     }
 
     /// The flank grid of the tooth `offset` teeth counter-clockwise from tooth 0 (negative:

@@ -295,6 +295,44 @@ impl Mesh {
         None
     }
 
+    /// The node bounding box of every element, for repeated [`Mesh::locate_with`] queries.
+    pub fn element_boxes(&self) -> Vec<ElementBox> {
+        self.elements
+            .iter()
+            .map(|conn| {
+                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for &n in conn {
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(self.nodes[n][k]);
+                        hi[k] = hi[k].max(self.nodes[n][k]);
+                    }
+                }
+                ElementBox { lo, hi }
+            })
+            .collect()
+    }
+
+    /// [`Mesh::locate`] with the element boxes `boxes` of [`Mesh::element_boxes`] computed once:
+    /// the same candidates in the same order, so the same result, without recomputing every
+    /// element's box per query. `None` also when `boxes` does not match the element count.
+    pub fn locate_with(&self, boxes: &[ElementBox], x: [f64; 3]) -> Option<(usize, [f64; 3])> {
+        if boxes.len() != self.elements.len() {
+            return None;
+        }
+        for (e, b) in boxes.iter().enumerate() {
+            if !b.contains_widened(x) {
+                continue;
+            }
+            let c = self.element_coords(e)?;
+            if let Some(xi) = element::natural_coordinates(&c, x)
+                && xi.iter().all(|v| v.abs() <= 1.0 + 1e-9)
+            {
+                return Some((e, xi));
+            }
+        }
+        None
+    }
+
     /// The global node indices of a face: four corners counter-clockwise seen from outside,
     /// then four mid-edge nodes ([`super::element::FACES`] order). `None` for a face that does
     /// not exist.
@@ -379,6 +417,25 @@ impl Mesh {
 
 /// True when `x` lies in the bounding box of the element nodes `c`, widened on every side by
 /// 2 % of the sum of its edge lengths (the candidate test before the inverse isoparametric map).
+/// The node bounding box of one element (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElementBox {
+    /// Smallest node coordinates, m.
+    pub lo: [f64; 3],
+    /// Largest node coordinates, m.
+    pub hi: [f64; 3],
+}
+
+impl ElementBox {
+    /// Whether `x` (m) lies in the box widened by 2 % of the sum of its edge lengths on every
+    /// side (the candidate test of [`Mesh::locate`]).
+    pub fn contains_widened(&self, x: [f64; 3]) -> bool {
+        let (lo, hi) = (self.lo, self.hi);
+        let margin = 0.02 * ((hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]));
+        (0..3).all(|k| x[k] >= lo[k] - margin && x[k] <= hi[k] + margin)
+    }
+}
+
 pub(crate) fn in_widened_box(c: &[[f64; 3]], x: [f64; 3]) -> bool {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for p in c {

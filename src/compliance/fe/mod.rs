@@ -5,7 +5,11 @@
 //! (or any other chosen set) are fixed at zero displacement by elimination ([`assembly`]), and
 //! K_ff is factorised once by sparse Cholesky ([`solver`]) so that many load cases — columns of
 //! an n × k block, e.g. unit loads at the flank nodes for an influence-coefficient matrix — are
-//! solved by substitution only. Units are SI: m, N, Pa, N/m.
+//! solved by substitution only. When the loads sit on a few nodes and only a few nodes'
+//! displacements are wanted, [`FeModel::solve_at_nodes`] substitutes over the part of the
+//! factor that connects them only. [`FeModel::with_options`] can reuse the stiffness of
+//! congruent elements ([`assembly::assemble_lower_congruent`]) and order the unknowns on the
+//! node graph ([`ordering`]). Units are SI: m, N, Pa, N/m.
 //!
 //! Conventions used throughout:
 //! - element node order: Abaqus C3D20 / VTK (8 corners, then 12 mid-edge nodes), see
@@ -38,6 +42,7 @@ pub mod error;
 pub mod gear_mesh;
 pub mod material;
 pub mod mesh;
+pub mod ordering;
 pub mod solver;
 pub mod stress;
 
@@ -94,6 +99,18 @@ impl FeStats {
     }
 }
 
+/// How [`FeModel::with_options`] assembles K_ff and orders its unknowns. The default is
+/// [`FeModel::new`]'s: every element integrated, faer's AMD on the DOF graph.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ModelOptions<'a> {
+    /// Elements whose stiffness is that of another turned about z
+    /// ([`assembly::assemble_lower_congruent`], e.g.
+    /// [`gear_mesh::GearMesh::layer_congruence`]); empty: every element integrated.
+    pub congruent: &'a [Option<assembly::Congruent>],
+    /// Order the unknowns by AMD on the node graph ([`ordering`]) instead of on the DOF graph.
+    pub node_ordering: bool,
+}
+
 /// An assembled and factorised linear-elastic FE model, ready for block solves.
 ///
 /// Immutable after construction except for the solve-time counters, which are atomic, so a
@@ -118,14 +135,33 @@ impl FeModel {
     /// element with non-positive Jacobian ([`FeError::NonPositiveJacobian`]), or a failed
     /// factorisation ([`FeError::NotPositiveDefinite`], [`FeError::Solver`]).
     pub fn new(mesh: Mesh, material: Material, fixed_nodes: &[usize]) -> Result<Self, FeError> {
+        Self::with_options(mesh, material, fixed_nodes, &ModelOptions::default())
+    }
+
+    /// As [`FeModel::new`], assembled and ordered as `options` says. The same K_ff to
+    /// rounding, and the same solution to rounding.
+    pub fn with_options(
+        mesh: Mesh,
+        material: Material,
+        fixed_nodes: &[usize],
+        options: &ModelOptions<'_>,
+    ) -> Result<Self, FeError> {
         material.validate()?;
         mesh.validate()?;
         let t0 = Instant::now();
         let dof_map = DofMap::new(mesh.nodes.len(), fixed_nodes)?;
         check_constraints(&mesh, fixed_nodes)?;
-        let k = assembly::assemble_lower(&mesh, &material, &dof_map)?;
+        let k = assembly::assemble_lower_congruent(&mesh, &material, &dof_map, options.congruent)?;
         let assembly_s = t0.elapsed().as_secs_f64();
-        let (cholesky, times) = SparseCholesky::new(&k)?;
+        let t1 = Instant::now();
+        let order = if options.node_ordering {
+            Some(ordering::expand_to_free_dofs(&ordering::node_amd(&mesh, fixed_nodes)?, &dof_map)?)
+        } else {
+            None
+        };
+        let ordering_s = t1.elapsed().as_secs_f64();
+        let (cholesky, mut times) = SparseCholesky::with_ordering(&k, order.as_deref())?;
+        times.symbolic_s += ordering_s;
         let stats = FeStats {
             nodes: mesh.nodes.len(),
             elements: mesh.elements.len(),
@@ -214,6 +250,69 @@ impl FeModel {
         for j in 0..k {
             for (fi, &g) in free.iter().enumerate() {
                 u[(g, j)] = x[(fi, j)];
+            }
+        }
+        let dt = t0.elapsed().as_secs_f64();
+        // The closure always returns Some, so the update cannot fail.
+        let _ = self.solve_s_bits.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| {
+            Some((f64::from_bits(b) + dt).to_bits())
+        });
+        self.solved_cases.fetch_add(k, Ordering::Relaxed);
+        Ok(u)
+    }
+
+    /// Displacements (m) at the nodes `nodes` for load cases given sparsely: `loads[c]` lists
+    /// the (global DOF, force in N) pairs of load case c. Returns the (3·nodes.len()) × k
+    /// block whose row 3i + d is the displacement of `nodes[i]` in direction d; fixed DOFs are
+    /// exactly zero and loads on them are ignored. The values are those of
+    /// [`FeModel::solve_block`] at these DOFs, computed by the selected solve of
+    /// [`solver`] (only the substitution steps that reach the loads or the wanted DOFs).
+    /// Errors: a DOF or node out of range, or a non-finite load.
+    pub fn solve_at_nodes(
+        &self,
+        loads: &[Vec<(usize, f64)>],
+        nodes: &[usize],
+    ) -> Result<Mat<f64>, FeError> {
+        let t0 = Instant::now();
+        let n = self.dofs();
+        let mut free_loads = Vec::with_capacity(loads.len());
+        for (c, col) in loads.iter().enumerate() {
+            let mut fc = Vec::with_capacity(col.len());
+            for &(g, v) in col {
+                if g >= n {
+                    return Err(FeError::LoadShape { rows: g + 1, expected: n });
+                }
+                if !v.is_finite() {
+                    return Err(FeError::NonFiniteLoad { row: g, col: c });
+                }
+                if let Some(fi) = self.dof_map.free_index(g) {
+                    fc.push((fi, v));
+                }
+            }
+            free_loads.push(fc);
+        }
+        let mut wanted = Vec::with_capacity(3 * nodes.len());
+        let mut rows = Vec::with_capacity(3 * nodes.len());
+        for (i, &node) in nodes.iter().enumerate() {
+            if node >= self.mesh.nodes.len() {
+                return Err(FeError::InvalidInput(format!(
+                    "solve_at_nodes: node {node} ≥ {} nodes",
+                    self.mesh.nodes.len()
+                )));
+            }
+            for d in 0..3 {
+                if let Some(fi) = self.dof_map.free_index(dof(node, d)) {
+                    wanted.push(fi);
+                    rows.push(3 * i + d);
+                }
+            }
+        }
+        let x = self.cholesky.solve_selected(&free_loads, &wanted)?;
+        let k = loads.len();
+        let mut u = Mat::<f64>::zeros(3 * nodes.len(), k);
+        for j in 0..k {
+            for (i, &r) in rows.iter().enumerate() {
+                u[(r, j)] = x[(i, j)];
             }
         }
         let dt = t0.elapsed().as_secs_f64();

@@ -33,7 +33,7 @@
 use super::element::{self, NODES};
 use super::error::JacobianError;
 use super::material::Material;
-use super::mesh::Mesh;
+use super::mesh::{ElementBox, Mesh};
 
 /// The stress stencil of one point in one element: the element's nodes and the physical
 /// shape-function gradients ∇Nₐ (1/m) at the point, with the material's Lamé constants (Pa).
@@ -119,12 +119,26 @@ pub fn project(sigma: &[f64; 6], t: [f64; 3], s: [f64; 3]) -> f64 {
 /// Candidates are the elements whose node bounding box, widened by 2 % of its size, contains
 /// `x`; among them the one whose coordinates exceed the unit cube least is taken.
 pub fn locate_near_surface(mesh: &Mesh, x: [f64; 3], tol: f64) -> Option<(usize, [f64; 3])> {
+    locate_near_surface_with(mesh, &mesh.element_boxes(), x, tol)
+}
+
+/// [`locate_near_surface`] with the element boxes of [`Mesh::element_boxes`] computed once
+/// (same candidates, same result). `None` also when `boxes` does not match the element count.
+pub fn locate_near_surface_with(
+    mesh: &Mesh,
+    boxes: &[ElementBox],
+    x: [f64; 3],
+    tol: f64,
+) -> Option<(usize, [f64; 3])> {
+    if boxes.len() != mesh.elements.len() {
+        return None;
+    }
     let mut best: Option<(f64, usize, [f64; 3])> = None;
-    for e in 0..mesh.elements.len() {
-        let c = mesh.element_coords(e)?;
-        if !super::mesh::in_widened_box(&c, x) {
+    for (e, b) in boxes.iter().enumerate() {
+        if !b.contains_widened(x) {
             continue;
         }
+        let c = mesh.element_coords(e)?;
         if let Some(xi) = element::natural_coordinates(&c, x) {
             let excess = xi.iter().map(|v| v.abs() - 1.0).fold(0.0f64, f64::max);
             if excess <= tol && best.is_none_or(|b| excess < b.0) {
