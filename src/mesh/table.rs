@@ -503,7 +503,7 @@ impl MeshTable {
 
     /// [`MeshTable::evaluate`] for a right-hand side ([`crate::mesh::MeshTorques::torques`]):
     /// on the periodic table only M_F, M_D, TE (and the extent behind M_D) are interpolated,
-    /// from the packed node records ([`TeAxis::torques`]) with the same operations in the same
+    /// from the packed node records (32 bytes per node) with the same operations in the same
     /// order as [`MeshTable::evaluate`], so they agree bit for bit; the flag says whether the
     /// outputs are complete. `te` is the state's TE, `dot2(φp, g_p, φg, g_g)`, as the caller
     /// has it from its validity check.
