@@ -106,7 +106,7 @@
 //! and columns of the assembled compliance matrix of those slices, and four times their line
 //! length (each stands for four slices). That problem has a sixteenth of the matrix and a
 //! 64th of the factorisation work. Its loads, interpolated linearly in k along each line
-//! (held at the last coarse value beyond it, zero on slices without overlap), start the fine
+//! (held at the last coarse value beyond it), start the fine
 //! solve, whose convergence test is unchanged: the result is the same solution, to the load
 //! solver's tolerance, as from q = 0. Measured on the Table 1 benchmark states at 200
 //! slices: 2.5 instead of 6.8 factorisations per cold solve, a cold evaluation about 1.6×
@@ -1418,7 +1418,7 @@ impl CoarseStart {
     /// [`COARSE_STRIDE`]-th slice of each contact line (slice keys k ≡ stride/2 mod stride;
     /// line length × stride, the compliance the rows and columns of `cmat` of those slices),
     /// interpolated linearly in k along each line between the coarse slices of the same
-    /// (side, pair) and held constant beyond the last; slices with no overlap start at 0.
+    /// (side, pair) and held constant beyond the last (every slice of the problem overlaps).
     /// Returns false, leaving `start` as it was, when there are too few slices, the coarse
     /// problem is unloaded or its solve fails (the caller then starts cold).
     #[allow(clippy::too_many_arguments)]
@@ -1494,7 +1494,7 @@ impl CoarseStart {
                 (None, Some(a)) => q[a],
                 (None, None) => 0.0,
             };
-            start[i] = if approach[i] > 0.0 { value.max(0.0) } else { 0.0 };
+            start[i] = value.max(0.0);
         }
         true
     }

@@ -332,6 +332,23 @@ struct PairTable {
     flags: Vec<u8>,
 }
 
+/// A state's place on the periodic table ([`MeshTable::cell`]).
+struct Cell<'a> {
+    /// The TE axis (driving or back flanks).
+    axis: &'a TeAxis,
+    /// Phase coordinate in node units, and the weights of phase rows `ip0 … ip0 + 3` (mod np).
+    xp: f64,
+    wp: [f64; 4],
+    ip0: i64,
+    /// Distance from the axis's onset, m, and the TE coordinate in node units.
+    dist: f64,
+    xt: f64,
+    /// First TE node, its weights and how many of them (3 at an axis end, else 4).
+    it0: usize,
+    wt: [f64; 4],
+    nt: usize,
+}
+
 impl PairTable {
     /// Packs the per-pair samples `(phase row, TE node, pair outputs)` of the driving axis
     /// (pair numbers in the table's phase frame, where the sampled angles need no reduction).
@@ -501,6 +518,36 @@ impl MeshTable {
         self.evaluate_periodic(model, state)
     }
 
+    /// The periodic table's cell of the state at pinion angle `phi_p` (rad) and TE `te` (m):
+    /// `None` outside the covered TE range, `Some(None)` between the axes (no flank touches),
+    /// otherwise the axis and the interpolation weights in phase (periodic, Catmull–Rom) and TE.
+    #[inline(always)]
+    fn cell(&self, phi_p: f64, te: f64) -> Option<Option<Cell<'_>>> {
+        let axis = if te > 0.0 {
+            if te > self.drive.end() {
+                return None;
+            }
+            &self.drive
+        } else if te < -self.backlash_te {
+            if te < self.back.end() {
+                return None;
+            }
+            &self.back
+        } else {
+            return Some(None);
+        };
+        // The reduction of ContactSolver::reduce (exact in the given doubles, see
+        // crate::numeric), with the constants kept here.
+        let (phi_p_red, _) = self.pitch_p.reduce(phi_p);
+        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
+        let ipf = crate::numeric::floor(xp);
+        let wp = weights_central(xp - ipf);
+        let dist = (te - axis.onset).abs();
+        let xt = ((dist / axis.range).sqrt() * (axis.n - 1) as f64).clamp(0.0, (axis.n - 1) as f64);
+        let (it0, wt, nt) = axis_weights(xt, axis.n);
+        Some(Some(Cell { axis, xp, wp, ip0: ipf as i64 - 1, dist, xt, it0, wt, nt }))
+    }
+
     /// [`MeshTable::evaluate`] for a right-hand side ([`crate::mesh::MeshTorques::torques`]):
     /// on the periodic table only M_F, M_D, TE (and the extent behind M_D) are interpolated,
     /// from the packed node records (32 bytes per node) with the same operations in the same
@@ -517,27 +564,10 @@ impl MeshTable {
         if let Some(pt) = &self.pairs {
             return self.evaluate_pairs(pt, model, state, None).map(|o| (o, true));
         }
-        let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
-        let axis = if te > 0.0 {
-            if te > self.drive.end() {
-                return None;
-            }
-            &self.drive
-        } else if te < -self.backlash_te {
-            if te < self.back.end() {
-                return None;
-            }
-            &self.back
-        } else {
+        let Some(Cell { axis, wp, ip0, dist, it0, wt, nt, .. }) = self.cell(state.phi_p, te)?
+        else {
             return Some((MeshOutputs { te, separated: true, ..MeshOutputs::default() }, false));
         };
-        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
-        let ipf = crate::numeric::floor(xp);
-        let wp = weights_central(xp - ipf);
-        let ip0 = ipf as i64 - 1;
-        let dist = (te - axis.onset).abs();
-        let xt = ((dist / axis.range).sqrt() * (axis.n - 1) as f64).clamp(0.0, (axis.n - 1) as f64);
-        let (it0, wt, nt) = axis_weights(xt, axis.n);
         let np = self.np as i64;
         let mut v = [0.0; 4];
         for (a, &wa) in wp.iter().enumerate() {
@@ -712,33 +742,11 @@ impl MeshTable {
 
     /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations).
     fn evaluate_periodic(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
-        // The reduction of ContactSolver::reduce (exact in the given doubles, see
-        // crate::numeric), with the constants kept here.
-        let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
         let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
-        let axis = if te > 0.0 {
-            if te > self.drive.end() {
-                return None;
-            }
-            &self.drive
-        } else if te < -self.backlash_te {
-            if te < self.back.end() {
-                return None;
-            }
-            &self.back
-        } else {
+        let Some(Cell { axis, xp, wp, ip0, dist, xt, it0, wt, nt }) = self.cell(state.phi_p, te)?
+        else {
             return Some(MeshOutputs { te, separated: true, ..MeshOutputs::default() });
         };
-        // Phase weights (periodic).
-        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
-        let ipf = crate::numeric::floor(xp);
-        let tp = xp - ipf;
-        let wp = weights_central(tp);
-        let ip0 = ipf as i64 - 1;
-        // TE weights.
-        let dist = (te - axis.onset).abs();
-        let xt = ((dist / axis.range).sqrt() * (axis.n - 1) as f64).clamp(0.0, (axis.n - 1) as f64);
-        let (it0, wt, nt) = axis_weights(xt, axis.n);
         let np = self.np as i64;
         let mut v = [0.0; NV];
         for (a, &wa) in wp.iter().enumerate() {

@@ -277,10 +277,10 @@ fn scatter(
     Ok(())
 }
 
-/// Column pointers and sorted row indices of the lower triangle of K_ff.
-fn lower_pattern(mesh: &Mesh, dofs: &DofMap) -> (Vec<usize>, Vec<usize>) {
+/// Node → elements incidence in compressed form: the elements holding node n are
+/// `incident[start[n]..start[n + 1]]`, in ascending order.
+pub(super) fn node_elements(mesh: &Mesh) -> (Vec<usize>, Vec<usize>) {
     let nn = mesh.nodes.len();
-    // Node → elements incidence in compressed form.
     let mut start = vec![0usize; nn + 1];
     for conn in &mesh.elements {
         for &n in conn {
@@ -298,6 +298,13 @@ fn lower_pattern(mesh: &Mesh, dofs: &DofMap) -> (Vec<usize>, Vec<usize>) {
             fill[n] += 1;
         }
     }
+    (start, incident)
+}
+
+/// Column pointers and sorted row indices of the lower triangle of K_ff.
+fn lower_pattern(mesh: &Mesh, dofs: &DofMap) -> (Vec<usize>, Vec<usize>) {
+    let nn = mesh.nodes.len();
+    let (start, incident) = node_elements(mesh);
     let mut col_ptr = Vec::with_capacity(dofs.free_count() + 1);
     col_ptr.push(0);
     let mut row_idx = Vec::new();

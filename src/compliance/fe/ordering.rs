@@ -25,7 +25,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::amd;
 
-use super::assembly::DofMap;
+use super::assembly::{DofMap, node_elements};
 use super::error::FeError;
 use super::mesh::Mesh;
 
@@ -45,23 +45,7 @@ pub fn node_amd(mesh: &Mesh, fixed: &[usize]) -> Result<Vec<usize>, FeError> {
         return Ok((0..nn).collect());
     }
     // Node → elements incidence, then each node's higher-numbered neighbours (upper pattern).
-    let mut start = vec![0usize; nn + 1];
-    for conn in &mesh.elements {
-        for &n in conn {
-            start[n + 1] += 1;
-        }
-    }
-    for i in 0..nn {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut incident = vec![0usize; start[nn]];
-    for (e, conn) in mesh.elements.iter().enumerate() {
-        for &n in conn {
-            incident[fill[n]] = e;
-            fill[n] += 1;
-        }
-    }
+    let (start, incident) = node_elements(mesh);
     let mut col_ptr = Vec::with_capacity(nn + 1);
     col_ptr.push(0usize);
     let mut row_idx = Vec::new();
