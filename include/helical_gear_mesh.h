@@ -168,6 +168,35 @@ typedef struct {
    * Tooth-root stress of the gear, Pa (as [`MeshOutputs::root_stress_p`]).
    */
   double root_stress_g;
+  /**
+   * Friction torque on the pinion M_R,p ([`friction`]), N·m: the part of
+   * [`MeshOutputs::m_f_p`] due to the friction at the flanks, signed as M_F,p (enters Eq. 2
+   * with a minus sign). 0 without friction.
+   */
+  double m_r_p;
+  /**
+   * Friction torque on the gear M_R,g, N·m (as [`MeshOutputs::m_r_p`], part of
+   * [`MeshOutputs::m_f_g`]). M_R,p·φ̇p + M_R,g·φ̇g = P_loss.
+   */
+  double m_r_g;
+  /**
+   * Mesh friction power loss P_loss, W (≥ 0; 0 without friction and at standstill).
+   */
+  double p_loss;
+  /**
+   * Instantaneous mesh efficiency 1 − P_loss/P_in ([`friction`]: P_in the power the
+   * driving gear puts into the mesh), 0 … 1; 1 where P_in ≤ 0 and without friction.
+   */
+  double eta_mesh;
+  /**
+   * Heat of the friction into the pinion's flanks Q_p, W (Blok's partition; Q_p + Q_g =
+   * P_loss).
+   */
+  double q_p;
+  /**
+   * Heat of the friction into the gear's flanks Q_g, W.
+   */
+  double q_g;
 } HgmOutputs;
 
 /**

@@ -697,7 +697,7 @@ mod tests {
             }
             planted += 1;
         }
-        assert_eq!(planted, 20, "every Real mesh output");
+        assert_eq!(planted, 26, "every Real mesh output");
         for (k, (name, _, _)) in crate::dynamics::unit::UNIT_OUTPUT_FIELDS.iter().enumerate() {
             // Each scalar field by its position in the repr(C) struct: t, then the fields in
             // table order, checked against the table's reader.

@@ -293,7 +293,14 @@ fn hgm_outputs_carry_the_force_and_moments_after_the_flags_at_fixed_c_offsets() 
     // Then the two root stresses (double each).
     assert_eq!(offset_of!(HgmOutputs, root_stress_p), 152);
     assert_eq!(offset_of!(HgmOutputs, root_stress_g), 160);
-    assert_eq!(std::mem::size_of::<HgmOutputs>(), 168);
+    // Then the six of the friction (double each).
+    assert_eq!(offset_of!(HgmOutputs, m_r_p), 168);
+    assert_eq!(offset_of!(HgmOutputs, m_r_g), 176);
+    assert_eq!(offset_of!(HgmOutputs, p_loss), 184);
+    assert_eq!(offset_of!(HgmOutputs, eta_mesh), 192);
+    assert_eq!(offset_of!(HgmOutputs, q_p), 200);
+    assert_eq!(offset_of!(HgmOutputs, q_g), 208);
+    assert_eq!(std::mem::size_of::<HgmOutputs>(), 216);
 }
 
 // Bearing loads (`mesh::bearings`): a rigid shaft on a locating and a floating bearing.

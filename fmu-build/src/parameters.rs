@@ -85,6 +85,11 @@ pub const MESH_OPTIONS: &[(&str, &str, &str)] = &[
     ("table_phase_points", "—", "`table_size=(phase, te)`"),
     ("table_te_points", "—", "`table_size=(phase, te)`"),
     ("table_design_torque_nm", "— (the drive line's torque)", "`table_design_torque=`"),
+    (
+        "friction",
+        "`--friction FILE\\|none` (`static`, `simulate`, `sweep`)",
+        "`friction=` (dict or JSON text)",
+    ),
 ];
 
 /// The modification keys below `modifications.<gear>.` (and `mesh_misalignment_m` of the

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{fd0e24d1-9df2-8e44-bc10-d28d5713d6e7}"
+#define HelicalGearDrive_GUID "{0dc71edb-b028-8d81-b622-31db89763998}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -41,6 +41,12 @@ typedef enum {
     HelicalGearDrive_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearDrive_vr_sigma_F_p = 410, /* output Real Pa */
     HelicalGearDrive_vr_sigma_F_g = 411, /* output Real Pa */
+    HelicalGearDrive_vr_M_R_p = 412, /* output Real N.m */
+    HelicalGearDrive_vr_M_R_g = 413, /* output Real N.m */
+    HelicalGearDrive_vr_P_loss = 414, /* output Real W */
+    HelicalGearDrive_vr_eta_mesh = 415, /* output Real  */
+    HelicalGearDrive_vr_Q_p = 416, /* output Real W */
+    HelicalGearDrive_vr_Q_g = 417, /* output Real W */
     HelicalGearDrive_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearDrive_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearDrive_vr_J_p = 32, /* calculatedParameter Real kg.m2 */
@@ -83,6 +89,7 @@ typedef enum {
     HelicalGearDrive_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearDrive_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearDrive_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearDrive_vr_friction = 208, /* parameter String  */
     HelicalGearDrive_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearDrive_vr_integrator = 301, /* parameter Integer  */
     HelicalGearDrive_vr_rk4_steps_per_mesh_period = 302, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{1ed05741-4e83-8691-9658-f89174da19bb}"
+#define HelicalGearMesh_GUID "{5f8e4785-6077-81d5-956d-dd9bb027ad14}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -34,6 +34,12 @@ typedef enum {
     HelicalGearMesh_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearMesh_vr_sigma_F_p = 410, /* output Real Pa */
     HelicalGearMesh_vr_sigma_F_g = 411, /* output Real Pa */
+    HelicalGearMesh_vr_M_R_p = 412, /* output Real N.m */
+    HelicalGearMesh_vr_M_R_g = 413, /* output Real N.m */
+    HelicalGearMesh_vr_P_loss = 414, /* output Real W */
+    HelicalGearMesh_vr_eta_mesh = 415, /* output Real  */
+    HelicalGearMesh_vr_Q_p = 416, /* output Real W */
+    HelicalGearMesh_vr_Q_g = 417, /* output Real W */
     HelicalGearMesh_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearMesh_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearMesh_vr_J_p = 32, /* calculatedParameter Real kg.m2 */
@@ -69,6 +75,7 @@ typedef enum {
     HelicalGearMesh_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearMesh_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearMesh_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearMesh_vr_friction = 208, /* parameter String  */
     HelicalGearMesh_vr_table_design_torque_nm = 207, /* parameter Real N.m */
 } HelicalGearMesh_ValueReference;
 

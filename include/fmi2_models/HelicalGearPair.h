@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{b8d2fee3-6185-8b40-920a-7f14c3bb04e5}"
+#define HelicalGearPair_GUID "{a3e3ce5b-0871-865e-8a70-cd2a542dfdba}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -38,6 +38,12 @@ typedef enum {
     HelicalGearPair_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearPair_vr_sigma_F_p = 410, /* output Real Pa */
     HelicalGearPair_vr_sigma_F_g = 411, /* output Real Pa */
+    HelicalGearPair_vr_M_R_p = 412, /* output Real N.m */
+    HelicalGearPair_vr_M_R_g = 413, /* output Real N.m */
+    HelicalGearPair_vr_P_loss = 414, /* output Real W */
+    HelicalGearPair_vr_eta_mesh = 415, /* output Real  */
+    HelicalGearPair_vr_Q_p = 416, /* output Real W */
+    HelicalGearPair_vr_Q_g = 417, /* output Real W */
     HelicalGearPair_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearPair_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearPair_vr_J_p = 32, /* calculatedParameter Real kg.m2 */
@@ -74,6 +80,7 @@ typedef enum {
     HelicalGearPair_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearPair_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearPair_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearPair_vr_friction = 208, /* parameter String  */
     HelicalGearPair_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearPair_vr_integrator = 301, /* parameter Integer  */
     HelicalGearPair_vr_rk4_steps_per_mesh_period = 302, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{dd01b4a9-4686-8b85-bd54-bc12b3b07f52}"
+#define HelicalGearStage_GUID "{e451dbe9-ee6c-8637-8313-e218549d501d}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -42,6 +42,12 @@ typedef enum {
     HelicalGearStage_vr_M_g_y = 409, /* output Real N.m */
     HelicalGearStage_vr_sigma_F_p = 410, /* output Real Pa */
     HelicalGearStage_vr_sigma_F_g = 411, /* output Real Pa */
+    HelicalGearStage_vr_M_R_p = 412, /* output Real N.m */
+    HelicalGearStage_vr_M_R_g = 413, /* output Real N.m */
+    HelicalGearStage_vr_P_loss = 414, /* output Real W */
+    HelicalGearStage_vr_eta_mesh = 415, /* output Real  */
+    HelicalGearStage_vr_Q_p = 416, /* output Real W */
+    HelicalGearStage_vr_Q_g = 417, /* output Real W */
     HelicalGearStage_vr_base_radius_p = 30, /* calculatedParameter Real m */
     HelicalGearStage_vr_base_radius_g = 31, /* calculatedParameter Real m */
     HelicalGearStage_vr_J_p = 32, /* calculatedParameter Real kg.m2 */
@@ -82,6 +88,7 @@ typedef enum {
     HelicalGearStage_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearStage_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearStage_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearStage_vr_friction = 208, /* parameter String  */
     HelicalGearStage_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearStage_vr_integrator = 301, /* parameter Integer  */
     HelicalGearStage_vr_rk4_steps_per_mesh_period = 302, /* parameter Integer  */

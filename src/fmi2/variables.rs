@@ -22,8 +22,9 @@
 //! gear-pair parameters ([`GEAR_PARAMS`], 100–122 and 130, the String `modifications`), the
 //! drive line's ([`DRIVE_TORQUE`], [`DRIVE_INERTIAS`], [`DRIVE_SHAFTS`], 123–129; each model
 //! lists only those it uses: the mesh element none, the Pair the torque of its static start,
-//! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
-//! ([`MESH_OUTPUTS`], 10–21; the 3D force and moments 400–409; the root stresses 410–411)
+//! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206 and the String `friction` 208), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
+//! ([`MESH_OUTPUTS`], 10–21; the 3D force and moments 400–409; the root stresses 410–411;
+//! the friction torques, loss, efficiency and heat 412–417)
 //! and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
 //!
 //! Naming: parameters are named by their key in the gear-pair JSON (`GearPair`), nested keys
@@ -671,7 +672,7 @@ pub(crate) const TORQUE: Option<&str> = Some("Torque");
 /// written from a [`crate::mesh::MeshOutputs`] by `fmi2::models::write_mesh_outputs`, which
 /// loops over the same table: a new mesh output is a field and an entry there, and an entry
 /// here with its value reference and dependencies.
-pub const MESH_OUTPUTS: [Variable; 24] = [
+pub const MESH_OUTPUTS: [Variable; 30] = [
     mesh_output!(0, 10, Continuous, None, TORQUE, ELASTIC_DEPS), // "M_F_p"
     mesh_output!(1, 11, Continuous, None, TORQUE, ELASTIC_DEPS), // "M_F_g"
     mesh_output!(
@@ -736,6 +737,12 @@ pub const MESH_OUTPUTS: [Variable; 24] = [
     mesh_output!(21, 409, Continuous, None, TORQUE, FORCE_DEPS), // "M_g_y"
     mesh_output!(22, 410, Continuous, Some("MPa"), Some("Pressure"), ELASTIC_DEPS), // "sigma_F_p"
     mesh_output!(23, 411, Continuous, Some("MPa"), Some("Pressure"), ELASTIC_DEPS), // "sigma_F_g"
+    mesh_output!(24, 412, Continuous, None, TORQUE, FORCE_DEPS), // "M_R_p"
+    mesh_output!(25, 413, Continuous, None, TORQUE, FORCE_DEPS), // "M_R_g"
+    mesh_output!(26, 414, Continuous, None, Some("Power"), FORCE_DEPS), // "P_loss"
+    mesh_output!(27, 415, Continuous, None, None, FORCE_DEPS),   // "eta_mesh"
+    mesh_output!(28, 416, Continuous, None, Some("Power"), FORCE_DEPS), // "Q_p"
+    mesh_output!(29, 417, Continuous, None, Some("Power"), FORCE_DEPS), // "Q_g"
 ];
 
 /// Parameters calculated when the model is built (value references 30–33).
@@ -1198,7 +1205,7 @@ fn set_modifications_json(s: &mut Settings, text: &str) -> Result<(), String> {
 }
 
 /// Options of the mesh model (value references 200–206).
-pub const MESH_OPTIONS: [Variable; 7] = [
+pub const MESH_OPTIONS: [Variable; 8] = [
     Variable {
         name: "fidelity",
         vr: 200,
@@ -1304,7 +1311,30 @@ pub const MESH_OPTIONS: [Variable; 7] = [
         ),
         ..NONE
     },
+    Variable {
+        name: "friction",
+        vr: 208,
+        description: "Mesh friction: the JSON object {\"model\": \"none\" | \"constant\" | \
+                      \"iso_tr_14179_2\", \"mu\", \"oil_viscosity_pa_s\", \"roughness_ra_m\", \
+                      \"lubricant_factor\", \"regularisation_speed_m_s\"} (docs/friction.md); \
+                      empty or none for the paper's frictionless model",
+        group: group::OPTIONS,
+        access: Access::StringParam(friction_json, set_friction_json),
+        ..NONE
+    },
 ];
+
+/// The `friction` parameter's text: `none`, or the JSON of the option.
+fn friction_json(s: &Settings) -> String {
+    if s.options.friction.is_on() { s.options.friction.to_json() } else { "none".into() }
+}
+
+/// Parses the `friction` parameter (empty text or `none`: no friction); the values are
+/// checked, an error names the key.
+fn set_friction_json(s: &mut Settings, text: &str) -> Result<(), String> {
+    s.options.friction = crate::mesh::Friction::from_json(text)?;
+    Ok(())
+}
 
 /// The start state parameter of state `i` (φ1, φp, φg, φ2, φ̇1, φ̇p, φ̇g, φ̇2).
 macro_rules! start_param {
@@ -1591,6 +1621,7 @@ pub const UNITS: &[UnitDef] = &[
     UnitDef { name: "rad/s2", base: &[("s", -2), ("rad", 1)], display: &[] },
     UnitDef { name: "N", base: &[("kg", 1), ("m", 1), ("s", -2)], display: &[] },
     UnitDef { name: "N.m", base: &[("kg", 1), ("m", 2), ("s", -2)], display: &[] },
+    UnitDef { name: "W", base: &[("kg", 1), ("m", 2), ("s", -3)], display: &[] },
     UnitDef {
         name: "Pa",
         base: &[("kg", 1), ("m", -1), ("s", -2)],

@@ -48,6 +48,7 @@
 pub mod bearings;
 pub mod face_load;
 pub mod forces;
+pub mod friction;
 pub mod model;
 pub mod outputs;
 pub mod statics;
@@ -67,13 +68,15 @@ use crate::params::GearPair;
 
 pub use face_load::{FaceLoad, face_load, k_h_beta_crowned, k_h_beta_iso};
 pub use forces::{ForceFrame, MeshWrench};
+pub use friction::{Friction, FrictionModel};
 pub use model::{
     FullMesh, GearCompliance, MAX_WARM_LOADS, MeshModel, MeshWorkspace, SolveStats, WarmLoad,
     WarmStart,
 };
 pub use statics::{
     Equilibrium, EquilibriumSettings, StaticCurve, TipThreshold, WaterfallRow, equilibrium,
-    pressure_waterfall, static_curve, tip_contact_threshold, tip_contact_threshold_curve,
+    pressure_waterfall, static_curve, static_curve_with, tip_contact_threshold,
+    tip_contact_threshold_curve,
 };
 pub use table::{MeshTable, TableMesh, TableTruncation};
 pub use validity::ValidityRange;
@@ -93,7 +96,7 @@ pub struct MeshState {
 
 /// Results of one mesh evaluation (the C API's `HgmOutputs`).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshOutputs {
     /// Elastic mesh torque on the pinion M_F,p (Eq. 13), N·m; enters Eq. 2 with a minus sign.
     pub m_f_p: f64,
@@ -143,6 +146,55 @@ pub struct MeshOutputs {
     pub root_stress_p: f64,
     /// Tooth-root stress of the gear, Pa (as [`MeshOutputs::root_stress_p`]).
     pub root_stress_g: f64,
+    /// Friction torque on the pinion M_R,p ([`friction`]), N·m: the part of
+    /// [`MeshOutputs::m_f_p`] due to the friction at the flanks, signed as M_F,p (enters Eq. 2
+    /// with a minus sign). 0 without friction.
+    pub m_r_p: f64,
+    /// Friction torque on the gear M_R,g, N·m (as [`MeshOutputs::m_r_p`], part of
+    /// [`MeshOutputs::m_f_g`]). M_R,p·φ̇p + M_R,g·φ̇g = P_loss.
+    pub m_r_g: f64,
+    /// Mesh friction power loss P_loss, W (≥ 0; 0 without friction and at standstill).
+    pub p_loss: f64,
+    /// Instantaneous mesh efficiency 1 − P_loss/P_in ([`friction`]: P_in the power the
+    /// driving gear puts into the mesh), 0 … 1; 1 where P_in ≤ 0 and without friction.
+    pub eta_mesh: f64,
+    /// Heat of the friction into the pinion's flanks Q_p, W (Blok's partition; Q_p + Q_g =
+    /// P_loss).
+    pub q_p: f64,
+    /// Heat of the friction into the gear's flanks Q_g, W.
+    pub q_g: f64,
+}
+
+impl Default for MeshOutputs {
+    /// All zero and false, except the efficiency: 1 (nothing is lost).
+    fn default() -> Self {
+        Self {
+            m_f_p: 0.0,
+            m_f_g: 0.0,
+            m_d_p: 0.0,
+            m_d_g: 0.0,
+            te: 0.0,
+            f_n: 0.0,
+            contact_length: 0.0,
+            p_max: 0.0,
+            n_pairs: 0,
+            tip_contact: false,
+            separated: false,
+            back_contact: false,
+            force_p: [0.0; 3],
+            moment_p: [0.0; 2],
+            force_g: [0.0; 3],
+            moment_g: [0.0; 2],
+            root_stress_p: 0.0,
+            root_stress_g: 0.0,
+            m_r_p: 0.0,
+            m_r_g: 0.0,
+            p_loss: 0.0,
+            eta_mesh: 1.0,
+            q_p: 0.0,
+            q_g: 0.0,
+        }
+    }
 }
 
 /// How each evaluation is computed (the C API's `HgmFidelity`: the values of
@@ -208,6 +260,10 @@ pub struct MeshOptions {
     /// between the gears. `None` (default): the FE compliance of [`MeshOptions::compliance`].
     /// Combine with `local_contact: false` for the pure elastic-foundation model of ISO 6336.
     pub winkler_c_prime: Option<f64>,
+    /// Friction at the flanks ([`friction`]): `none` (default, the paper's model) or a law
+    /// with its inputs. With friction the torques, forces and moments include the friction
+    /// forces, and the loss outputs ([`MeshOutputs::p_loss`] …) are filled.
+    pub friction: Friction,
 }
 
 impl Default for MeshOptions {
@@ -225,6 +281,7 @@ impl Default for MeshOptions {
             table_te_points: 48,
             table_design_torque_nm: 100.0,
             winkler_c_prime: None,
+            friction: Friction::none(),
         }
     }
 }
@@ -257,6 +314,10 @@ pub struct SliceDetail {
     pub kind: &'static str,
     /// True if the contact lies on the tip rounding or tip circle of either flank.
     pub tip: bool,
+    /// Sliding speed of the flanks |v_t| ([`friction`]), m/s (0 without friction).
+    pub sliding_speed_m_s: f64,
+    /// Magnitude of the slice's friction force, N (0 without friction).
+    pub friction_n: f64,
 }
 
 /// Errors of the mesh model.

@@ -122,6 +122,9 @@ use std::sync::Arc;
 use faer::Mat;
 
 use super::forces::{ForceFrame, MeshWrench};
+use super::friction::{
+    FrictionConst, FrictionSums, add_friction_jacobian, mesh_efficiency, slice_friction,
+};
 use super::validity::ValidityRange;
 use super::{MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
 use crate::compliance::data::RootStressData;
@@ -267,6 +270,8 @@ pub struct MeshModel {
     separation: Option<Arc<Separation>>,
     /// The frame of the 3D force and moments ([`super::forces`]).
     frame: ForceFrame,
+    /// The friction's constants ([`super::friction`]); `None` without friction.
+    friction: Option<FrictionConst>,
 }
 
 // The model is shared between threads by `Arc` (Python, sweeps, the table build).
@@ -609,7 +614,8 @@ pub const SLICES: crate::params::Bounds<i64> = crate::params::Bounds::new(10, 40
 /// own check (`mesh::table::check_table_size`), made beside this one before any compliance
 /// data are computed.
 pub(crate) fn check_options(o: &MeshOptions) -> Result<(), ParamError> {
-    SLICES.check_int("slices", i64::try_from(o.slices).unwrap_or(i64::MAX))
+    SLICES.check_int("slices", i64::try_from(o.slices).unwrap_or(i64::MAX))?;
+    o.friction.check()
 }
 
 impl MeshModel {
@@ -638,6 +644,7 @@ impl MeshModel {
         let validity = ValidityRange::of(&geo);
         let separation = Separation::new(&geo).map(Arc::new);
         let frame = ForceFrame::new(&geo);
+        let friction = options.friction.is_on().then(|| FrictionConst::new(&geo, options.friction));
         Ok(Self {
             pair: pair.clone(),
             geo: Arc::new(geo),
@@ -654,6 +661,7 @@ impl MeshModel {
             cos_theta,
             separation,
             frame,
+            friction,
         })
     }
 
@@ -1068,11 +1076,44 @@ impl MeshModel {
                     pressure_pa: pressure,
                     kind: kind_name(c.kind_p, c.kind_g),
                     tip: on_tip(c),
+                    sliding_speed_m_s: 0.0,
+                    friction_n: 0.0,
                 });
             }
         }
         out.n_pairs = n_pairs as u32;
         out.separated = n_pairs == 0;
+        if let Some(fc) = &self.friction {
+            // Friction at every loaded slice (module docs of `friction`), with μ from the
+            // elastic torque.
+            let mu = fc.mu(out.m_f_p, state.w_p);
+            let v0 = fc.friction.regularisation_speed_m_s;
+            let mut sums = FrictionSums::default();
+            for (i, s) in ws.slices.iter().enumerate() {
+                if q[i] > 0.0 {
+                    let sf = slice_friction(
+                        &self.frame,
+                        &s.contact,
+                        q[i] * axial,
+                        state.w_p,
+                        state.w_g,
+                        v0,
+                    );
+                    sums.add(&sf, mu);
+                    if ws.keep_detail {
+                        ws.detail[i].sliding_speed_m_s = sf.sliding_speed;
+                        ws.detail[i].friction_n = mu * sf.force;
+                    }
+                }
+            }
+            wrench.add(&sums.wrench);
+            (out.m_r_p, out.m_r_g) = sums.torques();
+            out.m_f_p += out.m_r_p;
+            out.m_f_g += out.m_r_g;
+            out.p_loss = sums.loss;
+            out.q_p = sums.heat_p;
+            out.q_g = sums.loss - sums.heat_p;
+        }
         (out.m_d_p, out.m_d_g) = self.damping_for(state, extent);
         for (side, [e, z1]) in [FlankSide::Drive, FlankSide::Back].into_iter().zip(side_extent) {
             if let Some(w) = self.damping_wrench(state, side, e, z1) {
@@ -1080,6 +1121,13 @@ impl MeshModel {
             }
         }
         wrench.write(&mut out);
+        out.eta_mesh = mesh_efficiency(
+            out.m_f_p + out.m_d_p,
+            out.m_f_g + out.m_d_g,
+            state.w_p,
+            state.w_g,
+            out.p_loss,
+        );
         ws.wrench = wrench;
         ws.first_moment = side_extent[0][1] + side_extent[1][1];
         if let Some(kernel) = self.root_stress.as_deref() {
@@ -1125,6 +1173,32 @@ impl MeshModel {
         &self.frame
     }
 
+    /// The friction's constants; `None` without friction ([`super::friction`]).
+    pub fn friction(&self) -> Option<&FrictionConst> {
+        self.friction.as_ref()
+    }
+
+    /// The friction sums of the last evaluation in `ws` for the table's nodes
+    /// ([`super::table`]): μ = 1, the pinion at +1 rad/s and the gear at the rigid ratio,
+    /// pure Coulomb (the direction of the sliding, no regularisation):
+    /// [M_R,p, M_R,g, F_x, F_y, F_z, M_x, M_y of the pinion, L, L_p] with L = Σ F·|v_t| (W
+    /// per rad/s) and L_p its share that heats the pinion. Zero without friction.
+    pub(crate) fn unit_friction(&self, ws: &MeshWorkspace) -> [f64; FRICTION_NODE] {
+        let Some(fc) = &self.friction else { return [0.0; FRICTION_NODE] };
+        let q = ws.solver.load();
+        let axial = self.pair.normal_module_m * self.dzeta;
+        let mut sums = FrictionSums::default();
+        for (s, &qi) in ws.slices.iter().zip(q) {
+            if qi > 0.0 {
+                let sf = slice_friction(&self.frame, &s.contact, qi * axial, 1.0, fc.ratio, 0.0);
+                sums.add(&sf, 1.0);
+            }
+        }
+        let (rp, rg) = sums.torques();
+        let (f, m) = (sums.wrench.force_p, sums.wrench.moment_p);
+        [rp, rg, f[0], f[1], f[2], m[0], m[1], sums.loss, sums.heat_p]
+    }
+
     /// Damping torques (Eq. 14) for a loaded axial extent `extent` (Σ(ζ_e − ζ_b), units of
     /// m_n) at `state`, N·m; zero when damping is off.
     #[inline]
@@ -1149,6 +1223,9 @@ impl MeshModel {
         self.pair.normal_module_m / self.cos_theta
     }
 }
+
+/// Number of friction values per table node ([`MeshModel::unit_friction`]).
+pub(crate) const FRICTION_NODE: usize = 9;
 
 /// A [`MeshModel`] at full fidelity with its own [`MeshWorkspace`] and [`WarmStart`]: the
 /// shared model plus what one caller needs to evaluate it, as a [`MeshTorques`]. Each
@@ -1223,7 +1300,16 @@ impl FullMesh {
         &mut self,
         state: &MeshState,
     ) -> Result<(MeshOutputs, super::MeshJacobian), MeshError> {
-        self.model.jacobian(state, &mut self.ws, &mut self.warm)
+        let (out, mut jac) = self.model.jacobian(state, &mut self.ws, &mut self.warm)?;
+        if self.model.friction.is_some() {
+            // The friction torques' derivatives by central differences (`friction` module
+            // docs), from the loads of this state.
+            let saved = self.warm.clone();
+            let r = add_friction_jacobian(&mut |s| self.evaluate(s), state, &mut jac);
+            self.warm.copy_from(&saved);
+            r?;
+        }
+        Ok((out, jac))
     }
 
     /// Sets d_mesh, N·s/m ([`MeshModel::with_d_mesh`]; the model is copied when shared).

@@ -13,8 +13,8 @@
 //! only what is FMI's own (value reference, dependencies, display unit), and a test holds the
 //! two in the same order.
 //!
-//! Units are SI, spelled as the FMI unit definitions spell them (`N.m`); counts and flags have
-//! the empty unit. Order: the FMI output order (value references 10–21, then 400–411), which is
+//! Units are SI, spelled as the FMI unit definitions spell them (`N.m`); counts, flags and
+//! the efficiency have the empty unit. Order: the FMI output order (value references 10–21, then 400–417), which is
 //! also the order of the FMU's output slots and of the outputs cached in an FMU state.
 
 use super::MeshOutputs;
@@ -158,7 +158,7 @@ macro_rules! boolean {
 
 /// Every output of [`MeshOutputs`], in the FMI output order.
 #[rustfmt::skip]
-pub const MESH_OUTPUT_FIELDS: [OutputField; 24] = [
+pub const MESH_OUTPUT_FIELDS: [OutputField; 30] = [
     real!("M_F_p", "m_f_p_nm", "N.m", m_f_p,
         "Elastic mesh torque on the pinion (Eq. 13), N.m; enters the pinion equation with a \
          minus sign: J_p*phi_p'' = c1*(phi_1 - phi_p) + ... - M_F_p - M_D_p; positive in \
@@ -253,6 +253,31 @@ pub const MESH_OUTPUT_FIELDS: [OutputField; 24] = [
     real!("sigma_F_g", "root_stress_g_pa", "Pa", root_stress_g,
         "Tooth-root stress of the gear, Pa (as sigma_F_p)"
     ),
+    real!("M_R_p", "m_r_p_nm", "N.m", m_r_p,
+        "Friction torque on the pinion, N.m: the part of M_F_p due to the friction at the \
+         flanks (option friction), signed as M_F_p; M_R_p*w_p + M_R_g*w_g = P_loss; 0 without \
+         friction"
+    ),
+    real!("M_R_g", "m_r_g_nm", "N.m", m_r_g,
+        "Friction torque on the gear, N.m: the part of M_F_g due to the friction at the \
+         flanks, signed as M_F_g; 0 without friction"
+    ),
+    real!("P_loss", "p_loss_w", "W", p_loss,
+        "Mesh friction power loss, W (>= 0): the work of the friction forces on the sliding \
+         of the flanks; 0 without friction and at standstill"
+    ),
+    real!("eta_mesh", "eta_mesh", "", eta_mesh,
+        "Instantaneous mesh efficiency 1 - P_loss/P_in (P_in: the power the driving gear puts \
+         into the mesh, (M_F + M_D)*w of that gear), 0...1; 1 where P_in <= 0 and without \
+         friction"
+    ),
+    real!("Q_p", "q_p_w", "W", q_p,
+        "Heat of the mesh friction into the pinion's flanks, W (Blok's partition for equal \
+         thermal effusivity; Q_p + Q_g = P_loss)"
+    ),
+    real!("Q_g", "q_g_w", "W", q_g,
+        "Heat of the mesh friction into the gear's flanks, W (Q_p + Q_g = P_loss)"
+    ),
 ];
 
 #[cfg(test)]
@@ -265,7 +290,8 @@ mod tests {
     fn every_real_field_is_described_once() {
         for (k, f) in MESH_OUTPUT_FIELDS.iter().enumerate() {
             let FieldAccess::Real { get_mut, .. } = f.access else { continue };
-            let mut o = MeshOutputs::default();
+            // All zero (the efficiency's default is 1), then one field planted.
+            let mut o = MeshOutputs { eta_mesh: 0.0, ..MeshOutputs::default() };
             *get_mut(&mut o) = 1.0 + k as f64;
             let hits: Vec<_> = real_fields().filter(|g| g.real(&o) != Some(0.0)).collect();
             assert_eq!(hits.len(), 1, "{}", f.name);
@@ -278,9 +304,9 @@ mod tests {
             MESH_OUTPUT_FIELDS.iter().map(|f| f.name).collect();
         assert_eq!(names.len(), MESH_OUTPUT_FIELDS.len(), "names are unique");
         let reals = real_fields().count();
-        // 20 f64 values in MeshOutputs: 8 scalars, 3 + 2 + 3 + 2 force and moment
-        // components, 2 stresses.
-        assert_eq!(reals, 8 + 10 + 2);
+        // 26 f64 values in MeshOutputs: 8 scalars, 3 + 2 + 3 + 2 force and moment
+        // components, 2 stresses, 6 of the friction.
+        assert_eq!(reals, 8 + 10 + 2 + 6);
     }
 
     #[test]
@@ -290,5 +316,6 @@ mod tests {
         assert_eq!(OutputField::slot(11), 2, "back_contact is the third Boolean");
         assert_eq!(OutputField::slot(12), 8, "F_p_x follows the eight first Reals");
         assert_eq!(OutputField::slot(23), 19);
+        assert_eq!(OutputField::slot(29), 25, "Q_g is the last Real");
     }
 }

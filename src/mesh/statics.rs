@@ -27,7 +27,7 @@ pub struct Equilibrium {
     pub phi_g: f64,
     /// Static transmission error at this φp, m.
     pub te: f64,
-    /// Mesh outputs at the equilibrium (zero speeds).
+    /// Mesh outputs at the equilibrium (at the speeds of [`EquilibriumSettings::w_p`]).
     pub outputs: MeshOutputs,
     /// Number of mesh evaluations used.
     pub evaluations: usize,
@@ -44,12 +44,17 @@ pub struct EquilibriumSettings {
     pub te_tol: f64,
     /// Largest number of mesh evaluations.
     pub max_evaluations: usize,
+    /// Pinion speed of the quasi-static state, rad/s (default 0: standstill), the gear
+    /// turning at the rigid ratio φ̇g = −φ̇p·g_p/g_g, so that TE does not change and the
+    /// damping of Eq. 14 is zero. It matters only with friction ([`super::friction`]): the
+    /// sliding speeds, the friction torques inside M_F,p and the loss.
+    pub w_p: f64,
 }
 
 impl Default for EquilibriumSettings {
     /// |M_F,p − M| ≤ 1e-11·|M|, TE to 1e-15 m, at most 200 evaluations.
     fn default() -> Self {
-        Self { rel_tol: 1e-11, te_tol: 1e-15, max_evaluations: 200 }
+        Self { rel_tol: 1e-11, te_tol: 1e-15, max_evaluations: 200, w_p: 0.0 }
     }
 }
 
@@ -64,7 +69,9 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
     te_guess: f64,
     settings: &EquilibriumSettings,
 ) -> Result<Equilibrium, MeshError> {
-    for (name, v) in [("phi_p", phi_p), ("torque", torque), ("te_guess", te_guess)] {
+    for (name, v) in
+        [("phi_p", phi_p), ("torque", torque), ("te_guess", te_guess), ("w_p", settings.w_p)]
+    {
         if !v.is_finite() {
             return Err(MeshError::NonFinite { name, value: v });
         }
@@ -80,8 +87,8 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         let state = MeshState {
             phi_p,
             phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
-            w_p: 0.0,
-            w_g: 0.0,
+            w_p: settings.w_p,
+            w_g: -settings.w_p * gp / gg,
         };
         let o = mesh.mesh(&state)?;
         Ok((o.m_f_p - torque, o))
@@ -294,13 +301,27 @@ pub fn static_curve<M: MeshTorques + ?Sized>(
     points_per_pitch: usize,
     pitches: usize,
 ) -> Result<StaticCurve, MeshError> {
+    let settings = EquilibriumSettings::default();
+    static_curve_with(mesh, torque, phi_start, pinion_pitch, points_per_pitch, pitches, &settings)
+}
+
+/// [`static_curve`] with `settings` (e.g. a running speed [`EquilibriumSettings::w_p`] for
+/// the friction).
+pub fn static_curve_with<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    torque: f64,
+    phi_start: f64,
+    pinion_pitch: f64,
+    points_per_pitch: usize,
+    pitches: usize,
+    settings: &EquilibriumSettings,
+) -> Result<StaticCurve, MeshError> {
     let n = points_per_pitch.max(1) * pitches.max(1);
     let mut points = Vec::with_capacity(n);
     let mut guess = 1e-5;
-    let settings = EquilibriumSettings::default();
     for k in 0..n {
         let phi_p = phi_start + pinion_pitch * k as f64 / points_per_pitch.max(1) as f64;
-        let eq = equilibrium(mesh, phi_p, torque, guess, &settings)?;
+        let eq = equilibrium(mesh, phi_p, torque, guess, settings)?;
         guess = eq.te;
         points.push(eq);
     }

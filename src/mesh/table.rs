@@ -67,6 +67,24 @@
 //! moments are less accurate than the torques there (Table 1's pitch errors: 2.3e-2 of
 //! F_nominal·b against 7.2e-3 of the nominal torque, `tests/mesh_forces.rs`).
 //!
+//! # Friction
+//! With friction ([`super::friction`]) each TE axis carries a block of 9 node values beside
+//! the others ([`MeshModel::unit_friction`], over δ like the torques): the friction torques,
+//! force and tilting moments for μ = 1 with the pinion turning at +1 rad/s and the gear at the
+//! rigid ratio −g_p/g_g, pure Coulomb (each slice's force along its sliding direction), and
+//! the loss per unit pinion speed L = Σ F_i·|v_t,i| with the part L_p that heats the pinion.
+//! The build samples at rest, so the block comes from the loads of the same solves. An
+//! evaluation scales the block by κ = μ·g(v̄/v₀)·sign φ̇p: μ from the interpolated elastic
+//! M_F,p (ISO/TR 14179-2) or constant, and the regularisation at the load-weighted mean
+//! sliding speed v̄ = |φ̇p|·L/F_n; P_loss = μ·g(v̄/v₀)·|φ̇p|·L. This differs from the full
+//! model in two stated ways: the sliding direction is that of the rigid ratio (the full model
+//! adds the TE rate, which changes the sliding by (φ̇p·g_p + φ̇g·g_g) against speeds of m/s),
+//! and the regularisation acts on the mean sliding speed instead of each slice's (at running
+//! speeds only the slices within v₀ of the pitch line differ; near standstill both vanish
+//! linearly with the speed). The torques-only path evaluates the whole periodic table when
+//! the model has friction. With tooth deviations (the per-pair table) friction is refused at
+//! build ([`MeshError::Unsupported`]): use the full fidelity.
+//!
 //! # Tooth deviations
 //! Pitch deviations and runout (`crate::modifications`) make the mesh repeat only after the
 //! hunting period, but they are constant over each tooth's flank: tooth pair k is moved as a
@@ -96,7 +114,8 @@
 use std::sync::Arc;
 
 use super::forces::MeshWrench;
-use super::model::{FullMesh, MeshModel, PairSum, WarmStart, damping_rows};
+use super::friction::{FrictionConst, add_friction_jacobian, mesh_efficiency};
+use super::model::{FRICTION_NODE, FullMesh, MeshModel, PairSum, WarmStart, damping_rows};
 use super::{MeshError, MeshJacobian, MeshOutputs, MeshState, MeshTorques};
 use crate::contact::FlankSide;
 use crate::modifications::Separation;
@@ -219,6 +238,9 @@ struct TeAxis {
     torques: Vec<[f64; 4]>,
     /// `flags[ip * n + it]`: n_pairs | tip << 8 | back << 9.
     flags: Vec<u16>,
+    /// The friction block (module docs, "Friction"), `friction[ip * n + it]`: the node values
+    /// of [`MeshModel::unit_friction`] over δ; empty when the model has no friction.
+    friction: Vec<[f64; FRICTION_NODE]>,
 }
 
 impl TeAxis {
@@ -231,6 +253,7 @@ impl TeAxis {
             values: vec![0.0; np * n * NV],
             torques: vec![[0.0; 4]; np * n],
             flags: vec![0; np * n],
+            friction: Vec::new(),
         }
     }
 
@@ -273,6 +296,9 @@ impl TeAxis {
             axis.values[ip * m * NV..(ip + 1) * m * NV]
                 .copy_from_slice(&self.values[src * NV..(src + m) * NV]);
             axis.flags[ip * m..(ip + 1) * m].copy_from_slice(&self.flags[src..src + m]);
+            if !self.friction.is_empty() {
+                axis.friction.extend_from_slice(&self.friction[src..src + m]);
+            }
         }
         axis.pack();
         axis
@@ -564,6 +590,9 @@ impl MeshTable {
         if let Some(pt) = &self.pairs {
             return self.evaluate_pairs(pt, model, state, None).map(|o| (o, true));
         }
+        if model.friction().is_some() {
+            return self.evaluate_periodic(model, state).map(|o| (o, true));
+        }
         let Some(Cell { axis, wp, ip0, dist, it0, wt, nt, .. }) = self.cell(state.phi_p, te)?
         else {
             return Some((MeshOutputs { te, separated: true, ..MeshOutputs::default() }, false));
@@ -810,8 +839,28 @@ impl MeshTable {
             if let Some(w) = model.damping_wrench(state, side, extent, v[V_FIRST_MOMENT].max(0.0)) {
                 wrench.add(&w);
             }
+            if let Some(fc) = model.friction() {
+                let mut fv = [0.0; FRICTION_NODE];
+                for (a, &wa) in wp.iter().enumerate() {
+                    let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+                    for (b, &wb) in wt.iter().enumerate().take(nt) {
+                        let x = &axis.friction[ip * axis.n + it0 + b];
+                        for (f, &xk) in fv.iter_mut().zip(x) {
+                            *f += wa * wb * xk * dist;
+                        }
+                    }
+                }
+                wrench.add(&apply_friction(fc, model, state, &fv, &mut out));
+            }
             wrench.write(&mut out);
         }
+        out.eta_mesh = mesh_efficiency(
+            out.m_f_p + out.m_d_p,
+            out.m_f_g + out.m_d_g,
+            state.w_p,
+            state.w_g,
+            out.p_loss,
+        );
         Some(out)
     }
 
@@ -991,11 +1040,43 @@ impl MeshTorques for TableMesh {
         state: &MeshState,
     ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
         self.full.model().check_state(state)?;
-        if let Some(r) = self.table.evaluate_jacobian(self.full.model(), state) {
-            return Ok(r);
+        if let Some((out, mut jac)) = self.table.evaluate_jacobian(self.full.model(), state) {
+            if self.full.model().friction().is_some() {
+                add_friction_jacobian(&mut |s| self.evaluate(s), state, &mut jac)?;
+            }
+            return Ok((out, jac));
         }
         self.full.jacobian(state)
     }
+}
+
+/// Applies the interpolated unit friction `fv` (node values of [`MeshModel::unit_friction`]
+/// times δ) at `state` to `out` (module docs, "Friction"): μ from the elastic M_F,p, the
+/// regularisation at the load-weighted mean sliding speed v̄ = |φ̇p|·L/F_n, the sense of the
+/// pinion's rotation. Adds the friction torques to M_F and fills the loss outputs; returns the
+/// friction's wrench.
+fn apply_friction(
+    fc: &FrictionConst,
+    model: &MeshModel,
+    state: &MeshState,
+    fv: &[f64; FRICTION_NODE],
+    out: &mut MeshOutputs,
+) -> MeshWrench {
+    let mu = fc.mu(out.m_f_p, state.w_p);
+    let loss_per_w = fv[7].max(0.0);
+    let mean_speed = if out.f_n > 0.0 { state.w_p.abs() * loss_per_w / out.f_n } else { 0.0 };
+    let g = fc.regularisation(mean_speed);
+    let k = mu * g * state.w_p.signum();
+    let k = if state.w_p == 0.0 { 0.0 } else { k };
+    out.m_r_p = k * fv[0];
+    out.m_r_g = k * fv[1];
+    out.m_f_p += out.m_r_p;
+    out.m_f_g += out.m_r_g;
+    out.p_loss = mu * g * state.w_p.abs() * loss_per_w;
+    out.q_p = (mu * g * state.w_p.abs() * fv[8]).clamp(0.0, out.p_loss);
+    out.q_g = out.p_loss - out.q_p;
+    let f = [k * fv[2], k * fv[3], k * fv[4]];
+    MeshWrench::from_pinion(model.force_frame(), f, [k * fv[5], k * fv[6], -out.m_r_p])
 }
 
 /// The elastic wrench of interpolated node values `v` already multiplied by δ (force and

@@ -295,8 +295,8 @@ mod tests {
     #[test]
     fn the_table_is_inputs_outputs_calculated_parameters_options() {
         // 24 gear-pair parameters: none of the drive line's seven (the element does not use
-        // them); 7 mesh options and the table's design torque.
-        assert_eq!(VARIABLES.len(), 4 + 24 + 4 + 24 + 7 + 1);
+        // them); 8 mesh options (friction included) and the table's design torque.
+        assert_eq!(VARIABLES.len(), 4 + 30 + 4 + 24 + 8 + 1);
         assert_eq!(VARIABLES[0].name, "phi_p");
         assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
         assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));

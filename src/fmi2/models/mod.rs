@@ -145,7 +145,8 @@ mod tests {
             else {
                 continue;
             };
-            let mut mesh = MeshOutputs::default();
+            // All zero (the efficiency's default is 1), then one field planted.
+            let mut mesh = MeshOutputs { eta_mesh: 0.0, ..MeshOutputs::default() };
             *get_mut(&mut mesh) = 1.0 + k as f64;
             write_mesh_outputs(&mesh, &mut o);
             assert_eq!(o.reals[slot], 1.0 + k as f64, "{}", v.name);

@@ -69,7 +69,7 @@ const DRIVE_STATES: [&str; 8] =
     ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2"];
 const DRIVE_KNOWN: [&str; 9] =
     ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2", "M"];
-const UNIT_MESH_OUTPUTS: [Variable; 24] = with_depends(MESH_OUTPUTS, STATE_ONLY);
+const UNIT_MESH_OUTPUTS: [Variable; 30] = with_depends(MESH_OUTPUTS, STATE_ONLY);
 
 /// Input slots of the stateful models: one per field of [`UnitInputs`] (each model's table
 /// names only its own; the others stay 0, as the unit's unused inputs are).

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use super::super::model::{FullMesh, MeshModel, PairSum};
 use super::super::statics::{EquilibriumSettings, equilibrium};
 use super::super::{MeshError, MeshState};
-use super::{MeshTable, NV, PairTable, TableTruncation, TeAxis};
+use super::{FRICTION_NODE, MeshTable, NV, PairTable, TableTruncation, TeAxis};
 use crate::error::ParamError;
 use crate::modifications::Separation;
 
@@ -23,6 +23,12 @@ impl MeshTable {
         deviations: Option<Arc<Separation>>,
     ) -> Result<Self, MeshError> {
         let t0 = std::time::Instant::now();
+        if deviations.is_some() && model.friction().is_some() {
+            return Err(MeshError::Unsupported(
+                "friction at table fidelity with pitch deviations or runout (the per-pair table \
+                 carries no friction values): use fidelity full, or no friction",
+            ));
+        }
         let record = deviations.is_some();
         let new_full = || {
             let mut f = FullMesh::new(model.clone());
@@ -255,6 +261,10 @@ fn assemble(
         let (lo, hi) = (ip * proto.n, ip * proto.n + k);
         axis.values[lo * NV..hi * NV].copy_from_slice(&row.values);
         axis.flags[lo..hi].copy_from_slice(&row.flags);
+        if !row.friction.is_empty() {
+            axis.friction.resize(np * proto.n, [0.0; FRICTION_NODE]);
+            axis.friction[lo..hi].copy_from_slice(&row.friction);
+        }
         pairs.extend(row.pairs.into_iter().map(|(it, ps)| (ip, it, ps)));
         if k < proto.n && cause.as_ref().is_none_or(|(m, _)| k < *m) {
             cause = row.out_of_range.map(|e| (k, e));
@@ -306,6 +316,7 @@ fn assemble(
 fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow, MeshError> {
     let mut values = Vec::with_capacity(axis.n * NV);
     let mut flags = Vec::with_capacity(axis.n);
+    let mut friction = Vec::new();
     let mut pairs = Vec::new();
     let per_extent = model.model().length_per_extent();
     for it in 0..axis.n {
@@ -321,7 +332,7 @@ fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow
             Ok(o) => o,
             // Beyond the model's range: the row ends at the last node that was well posed.
             Err(e @ MeshError::OutOfRange { .. }) if it > 0 => {
-                return Ok(AxisRow { values, flags, pairs, out_of_range: Some(e) });
+                return Ok(AxisRow { values, flags, friction, pairs, out_of_range: Some(e) });
             }
             Err(e) => return Err(e),
         };
@@ -346,13 +357,16 @@ fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow
         ]);
         // The block of the root stresses.
         values.extend_from_slice(&[o.root_stress_p / dist, o.root_stress_g / dist]);
+        if model.model().friction().is_some() {
+            friction.push(model.model().unit_friction(model.workspace()).map(|x| x / dist));
+        }
         flags.push(
             (o.n_pairs.min(255) as u16)
                 | if o.tip_contact { 0x100 } else { 0 }
                 | if o.back_contact { 0x200 } else { 0 },
         );
     }
-    Ok(AxisRow { values, flags, pairs, out_of_range: None })
+    Ok(AxisRow { values, flags, friction, pairs, out_of_range: None })
 }
 
 /// The samples of one phase row along one TE axis: the node values and flags of the first
@@ -361,6 +375,8 @@ fn sample_row(model: &mut FullMesh, phi_p: f64, axis: &TeAxis) -> Result<AxisRow
 struct AxisRow {
     values: Vec<f64>,
     flags: Vec<u16>,
+    /// The friction block of each node (empty without friction).
+    friction: Vec<[f64; FRICTION_NODE]>,
     pairs: Vec<(usize, PairSum)>,
     out_of_range: Option<MeshError>,
 }
