@@ -24,11 +24,20 @@
 //!   ISO/TR 14179-2's H_V has (1 − ε_α + ε₁² + ε₂²) in place of (ε₁² + ε₂²)/ε_α: the spur
 //!   gear's load sharing (one pair carries all, two carry half each). The model's true load
 //!   sharing lies between and is stated against H_V.
+//! * **Energy of a steady run.** Over a whole number of mesh periods of the steady state, the
+//!   work of the input torque minus that of the brake equals the energy dissipated (shaft
+//!   dampers, mesh damper of Eq. 14, friction loss) plus the net work of the elastic mesh
+//!   torques plus the change of the stored energies (kinetic, shafts), each term integrated
+//!   along the trajectory with the states (quadrature states of the same RK4 steps). The
+//!   elastic term is not zero by construction (the mesh stiffness turns with the phase), so
+//!   the test reports it beside the friction loss, and holds the balance itself.
 //! * **Scaling.** The loss is linear in μ (μ multiplies every slice), and at speeds far above
 //!   v₀ linear in the speed (the sliding is); ISO/TR 14179-2's μ falls as v_Σc^−0.2, so the
 //!   loss with it grows as the speed^0.8.
 
 mod common;
+
+use std::ops::ControlFlow;
 
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::contact::{ContactSolver, FlankSide};
@@ -37,6 +46,11 @@ use helical_gear_mesh::mesh::friction::{FrictionModel, loss_factor_h_v, slice_fr
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, ForceFrame, Friction, Mesh, MeshJacobian, MeshOptions,
     MeshState, MeshTorques, static_curve_with, winkler_compliances,
+};
+
+use helical_gear_mesh::dynamics::model::{PHI_1, PHI_2, W_1, W_2, W_G, W_P};
+use helical_gear_mesh::dynamics::{
+    Drivetrain, GearDynamics, OdeError, OdeSystem, Rk4, SteadyRunOptions, run_to_steady,
 };
 
 use common::table1_pitch;
@@ -295,6 +309,109 @@ fn friction_jacobian_matches_differences_of_the_evaluation() {
             let scale = row.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             eprintln!("{fidelity:?} col {col}: jacobian {:.6e}, differences {fd:.6e}", row[col]);
             assert!((row[col] - fd).abs() < 2e-3 * scale, "{} vs {fd}", row[col]);
+        }
+    }
+}
+
+/// Eqs. 1–4 with quadrature states: [8] shaft dampers, [9] mesh damper, [10] friction loss,
+/// [11] power of the elastic mesh torques into the mesh, (M_F − M_R)·φ̇ of both gears.
+struct Quadrature {
+    model: GearDynamics<Mesh>,
+}
+
+impl OdeSystem for Quadrature {
+    fn dim(&self) -> usize {
+        12
+    }
+
+    fn rhs(&mut self, t: f64, y: &[f64], d: &mut [f64]) -> Result<(), OdeError> {
+        self.model.rhs(t, &y[..8], &mut d[..8])?;
+        let o = self.model.outputs(&y[..8]).map_err(|e| OdeError::rhs(t, e))?;
+        let dr = self.model.drive();
+        d[8] = dr.d1 * (y[W_1] - y[W_P]).powi(2) + dr.d2 * (y[W_G] - y[W_2]).powi(2);
+        d[9] = o.m_d_p * y[W_P] + o.m_d_g * y[W_G];
+        d[10] = o.p_loss;
+        d[11] = (o.m_f_p - o.m_r_p) * y[W_P] + (o.m_f_g - o.m_r_g) * y[W_G];
+        Ok(())
+    }
+}
+
+#[test]
+fn steady_drive_line_balances_input_output_and_the_losses() {
+    let pair = GearPair::paper_table1();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
+    let omega = 300.0;
+    for mu in [0.0, 0.05] {
+        let opts = MeshOptions {
+            table_design_torque_nm: drive.torque,
+            ..options(Friction::constant(mu), Fidelity::Table, 100)
+        };
+        let mesh = Mesh::new(&pair, opts).unwrap();
+        let mut model = GearDynamics::new(mesh, drive).unwrap();
+        let r = run_to_steady(&mut model, omega, &SteadyRunOptions::default()).unwrap();
+        assert!(r.steady);
+        let (n_per, periods) = (r.samples_per_period, 16usize);
+        let t_m = r.mesh_period;
+        let mut y = [0.0; 12];
+        y[..8].copy_from_slice(&r.y_end);
+        let y0 = y;
+        let mut sys = Quadrature { model };
+        let d = *sys.model.drive();
+        let stored = |sys: &mut Quadrature, y: &[f64]| {
+            0.5 * (d.j1 * y[W_1].powi(2)
+                + d.j_p * y[W_P].powi(2)
+                + d.j_g * y[W_G].powi(2)
+                + d.j2 * y[W_2].powi(2))
+                + 0.5 * d.c1 * (y[PHI_1] - y[1]).powi(2)
+                + 0.5 * d.c2 * (y[2] - y[PHI_2]).powi(2)
+                + 0.0 * sys.model.te(&y[..8])
+        };
+        let e0 = stored(&mut sys, &y0);
+        let (mut te, mut fz) = (Vec::new(), Vec::new());
+        let mut rk4 = Rk4::new(12);
+        let mut yy = y;
+        let mut samples = Vec::new();
+        rk4.integrate(&mut sys, 0.0, periods as f64 * t_m, periods * n_per, &mut yy, |_, _, y| {
+            samples.push(*<&[f64; 12]>::try_from(y).unwrap());
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+        for s in &samples {
+            let o = sys.model.outputs(&s[..8]).unwrap();
+            te.push(o.te);
+            fz.push(o.force_p[2]);
+        }
+        y = yy;
+        let t = periods as f64 * t_m;
+        let input = d.torque * (y[PHI_1] - y0[PHI_1]) / t;
+        let output = -d.brake_torque() * (y[PHI_2] - y0[PHI_2]) / t;
+        let (shafts, damper, friction, elastic) = (y[8] / t, y[9] / t, y[10] / t, y[11] / t);
+        let change = (stored(&mut sys, &y) - e0) / t;
+        let residual = input - output - shafts - damper - friction - elastic - change;
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let p2p = |v: &[f64]| {
+            v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min)
+        };
+        eprintln!(
+            "μ = {mu}: input {input:.4} W, output {output:.4} W; shafts {shafts:.4e}, mesh damper \
+             {damper:.4e}, friction {friction:.4} W, elastic mesh work {elastic:.4e} W, stored \
+             {change:.3e} W; residual {:.2e} of the input; TE mean {:.4} µm, p-p {:.4} µm; F_p,z \
+             mean {:.3} N, p-p {:.3} N",
+            residual / input,
+            mean(&te) * 1e6,
+            p2p(&te) * 1e6,
+            mean(&fz),
+            p2p(&fz)
+        );
+        assert!(residual.abs() < 1e-6 * input, "balance {residual:e} W of {input} W");
+        if mu > 0.0 {
+            // The dynamic mean loss is the quasi-static one of the same mesh cycle (the brake
+            // was set from it) within the small dynamic TE.
+            let quasi_static = 1.0 - sys.model.drive().brake_factor;
+            let dynamic = friction / input;
+            eprintln!("mean loss over input: dynamic {dynamic:.5}, quasi-static {quasi_static:.5}");
+            assert!((dynamic / quasi_static - 1.0).abs() < 0.02);
         }
     }
 }

@@ -59,7 +59,7 @@ use super::integrators::{OdeError, OdeSystem};
 use super::steady::SteadyError;
 use crate::error::ParamError;
 use crate::geometry::PairGeometry;
-use crate::mesh::statics::{EquilibriumSettings, equilibrium};
+use crate::mesh::statics::{EquilibriumSettings, equilibrium, static_curve_with};
 use crate::mesh::{MeshError, MeshOutputs, MeshState, MeshTorques, WarmStart};
 use crate::params::{DriveLine, GearPair};
 
@@ -228,6 +228,12 @@ pub struct Drivetrain {
     pub z_p: u32,
     /// Number of gear teeth z_g.
     pub z_g: u32,
+    /// Factor of the brake torque, dimensionless: 1 (Eq. 4) unless the mesh has friction
+    /// ([`crate::mesh::friction`]); then [`GearDynamics::static_start`] sets it to the mean
+    /// mesh efficiency of the quasi-static mesh cycle at the start speed,
+    /// 1 − P̄_loss/(M·ω_p), so that the brake takes the power the mesh delivers and the
+    /// nominal speed is a steady state (the brake of a speed-held test rig).
+    pub brake_factor: f64,
 }
 
 impl Drivetrain {
@@ -249,6 +255,7 @@ impl Drivetrain {
             d2: d.d2_nms_per_rad,
             z_p: geo.params.z_p,
             z_g: geo.params.z_g,
+            brake_factor: 1.0,
         })
     }
 
@@ -258,10 +265,11 @@ impl Drivetrain {
         Self::new(&PairGeometry::new(pair)?, drive)
     }
 
-    /// Braking torque on J₂, M·z_g/z_p, N·m (enters Eq. 4 with a plus sign; see the module
-    /// doc for why that sign balances the gear side).
+    /// Braking torque on J₂, M·z_g/z_p times [`Drivetrain::brake_factor`] (1 without mesh
+    /// friction), N·m (enters Eq. 4 with a plus sign; see the module doc for why that sign
+    /// balances the gear side).
     pub fn brake_torque(&self) -> f64 {
-        self.torque * self.z_g as f64 / self.z_p as f64
+        self.torque * self.z_g as f64 / self.z_p as f64 * self.brake_factor
     }
 
     /// Gear speed −ω_p·z_p/z_g at pinion speed `omega_p`, rad/s (negative for ω_p > 0).
@@ -542,8 +550,23 @@ impl<M: MeshTorques> GearDynamics<M> {
         let d = self.drive;
         // Guess: the TE of a 100 N/µm mesh; the bracket search expands from there.
         let guess = d.torque / (self.g_p * 1e8);
+        // With friction the equilibrium holds at the start speed (the friction torques are
+        // part of M_F), and the brake takes the power the mesh delivers over a mesh cycle.
+        let friction = self.mesh.has_friction();
+        let running = EquilibriumSettings { w_p: omega_p, ..*settings };
+        let settings = if friction { &running } else { settings };
         let eq = equilibrium(&mut self.mesh, phi_p0, d.torque, guess, settings)
             .map_err(|source| DynamicsError::Mesh { t: None, source })?;
+        self.drive.brake_factor = 1.0;
+        let p_in = d.torque * omega_p;
+        if friction && p_in != 0.0 {
+            let pitch = 2.0 * std::f64::consts::PI / d.z_p as f64;
+            let curve = static_curve_with(&mut self.mesh, d.torque, phi_p0, pitch, 16, 1, settings)
+                .map_err(|source| DynamicsError::Mesh { t: None, source })?;
+            let n = curve.points.len() as f64;
+            let loss = curve.points.iter().map(|e| e.outputs.p_loss).sum::<f64>() / n;
+            self.drive.brake_factor = 1.0 - loss / p_in;
+        }
         self.cache = None;
         let w_g = d.gear_speed(omega_p);
         let y = [

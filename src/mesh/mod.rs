@@ -495,6 +495,12 @@ pub trait MeshTorques {
         (f64::NEG_INFINITY, f64::INFINITY)
     }
 
+    /// True when the mesh has friction ([`friction`]): its torques then depend on the speeds
+    /// at rest in TE, and a steady run loses power in the mesh. The default is false.
+    fn has_friction(&self) -> bool {
+        false
+    }
+
     /// Mesh outputs and their partial derivatives with respect to the state at `state`,
     /// computed from the model (not by finite differences). Implementations that cannot give
     /// them return [`MeshError::Unsupported`].
@@ -786,6 +792,10 @@ impl MeshTorques for Mesh {
 
     fn te_range(&self) -> (f64, f64) {
         self.full().te_range()
+    }
+
+    fn has_friction(&self) -> bool {
+        self.full().has_friction()
     }
 
     fn mesh_jacobian(

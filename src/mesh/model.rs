@@ -1376,6 +1376,10 @@ impl MeshTorques for FullMesh {
         (self.model.validity.te_min, self.model.validity.te_max)
     }
 
+    fn has_friction(&self) -> bool {
+        self.model.friction.is_some()
+    }
+
     /// Exact partial derivatives from the load solution's sensitivity (see the `jacobian`
     /// module docs).
     fn mesh_jacobian(

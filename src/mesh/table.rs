@@ -76,7 +76,9 @@
 //! The build samples at rest, so the block comes from the loads of the same solves. An
 //! evaluation scales the block by κ = μ·g(v̄/v₀)·sign φ̇p: μ from the interpolated elastic
 //! M_F,p (ISO/TR 14179-2) or constant, and the regularisation at the load-weighted mean
-//! sliding speed v̄ = |φ̇p|·L/F_n; P_loss = μ·g(v̄/v₀)·|φ̇p|·L. This differs from the full
+//! sliding speed v̄ = |φ̇p|·L/F_n. P_loss is the power the friction torques take from the
+//! gears, M_R,p·φ̇p + M_R,g·φ̇g (never below 0), which at the rigid ratio is μ·g(v̄/v₀)·|φ̇p|·L
+//! and with a TE rate keeps the drive line's energy balance closed. This differs from the full
 //! model in two stated ways: the sliding direction is that of the rigid ratio (the full model
 //! adds the TE rate, which changes the sliding by (φ̇p·g_p + φ̇g·g_g) against speeds of m/s),
 //! and the regularisation acts on the mean sliding speed instead of each slice's (at running
@@ -1033,6 +1035,10 @@ impl MeshTorques for TableMesh {
         self.full.te_range()
     }
 
+    fn has_friction(&self) -> bool {
+        self.full.has_friction()
+    }
+
     /// Exact partial derivatives of the table's interpolant
     /// ([`MeshTable::evaluate_jacobian`]); outside the table those of the full model.
     fn mesh_jacobian(
@@ -1072,8 +1078,12 @@ fn apply_friction(
     out.m_r_g = k * fv[1];
     out.m_f_p += out.m_r_p;
     out.m_f_g += out.m_r_g;
-    out.p_loss = mu * g * state.w_p.abs() * loss_per_w;
-    out.q_p = (mu * g * state.w_p.abs() * fv[8]).clamp(0.0, out.p_loss);
+    // The power the interpolated friction torques take from the gears: μ·g·|φ̇p|·L at the
+    // rigid ratio, and with a TE rate what the drive line's equations actually lose, so that
+    // its energy balance closes (never below 0).
+    out.p_loss = (out.m_r_p * state.w_p + out.m_r_g * state.w_g).max(0.0);
+    let heat_share = if loss_per_w > 0.0 { (fv[8] / loss_per_w).clamp(0.0, 1.0) } else { 0.5 };
+    out.q_p = heat_share * out.p_loss;
     out.q_g = out.p_loss - out.q_p;
     let f = [k * fv[2], k * fv[3], k * fv[4]];
     MeshWrench::from_pinion(model.force_frame(), f, [k * fv[5], k * fv[6], -out.m_r_p])
