@@ -914,7 +914,7 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut cycle_series = Vec::new();
     let mut cycle_csv: Vec<Vec<f64>> =
         (0..points).map(|k| vec![k as f64 / points as f64]).collect();
-    let mut path_state = None;
+    let mut path_states = Vec::new();
     let variants = [
         ("constant μ = 0.05", constant, pair.clone()),
         ("ISO/TR 14179-2 (η_oil 0.05 Pa·s, Ra 0.5 µm, X_L 1)", iso, pair.clone()),
@@ -966,7 +966,7 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
             });
         }
         if k == 0 {
-            path_state = Some(curve.points[points / 4]);
+            path_states = curve.points.iter().step_by(points / 16).copied().collect();
         }
     }
     writeln!(
@@ -998,46 +998,51 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
     )
     .map_err(|e| e.to_string())?;
 
-    // The friction force per unit length along the path of contact at one static state.
-    let eq = path_state.expect("constant μ ran");
+    // The friction force per unit length along the path of contact: every loaded slice of 16
+    // static states over the cycle.
     let mut m = Mesh::new(
         &pair,
         MeshOptions { friction: constant, detail: true, ..MeshOptions::default() },
     )
     .map_err(e)?;
     let (gp, gg) = (geo.pinion.rb, geo.gear.rb);
-    let state = MeshState { phi_p: eq.phi_p, phi_g: eq.phi_g, w_p, w_g: -w_p * gp / gg };
-    m.evaluate(&state).map_err(e)?;
-    let detail = m.slices().to_vec();
     let cs = ContactSolver::new(&geo);
-    let zetas: Vec<f64> = detail.iter().map(|d| d.zeta).collect();
-    let mut contacts = Vec::new();
-    cs.contacts_on(FlankSide::Drive, state.phi_p, state.phi_g, &zetas, &mut contacts);
     let frame = helical_gear_mesh::mesh::ForceFrame::new(&geo);
     let (sin_wt, cos_wt) = geo.alpha_wt.sin_cos();
     let r_wp = gp / cos_wt;
     let dz = geo.b0() / m.slices_per_line() as f64;
     let axial = pair.normal_module_m * dz;
-    let mut by_pair: std::collections::BTreeMap<i64, Vec<(f64, f64)>> = Default::default();
+    let (mut tip, mut root) = (Vec::new(), Vec::new());
     let mut path_csv = Vec::new();
-    for d in detail.iter().filter(|d| d.q_n_per_m > 0.0 && !d.back) {
-        let Some(c) = contacts.iter().find(|c| c.pair == d.pair && c.zeta == d.zeta) else {
-            continue;
-        };
-        let s = (c.point_p[0] - r_wp) * sin_wt + c.point_p[1] * cos_wt;
-        let sf = slice_friction(&frame, c, d.q_n_per_m * axial, state.w_p, state.w_g, 0.05);
-        let t = [-c.normal_angle.sin(), c.normal_angle.cos()];
-        let f = &sf.wrench.force_p;
-        let ft = 0.05 * (f[0] * t[0] + f[1] * t[1]) / (axial / geo.base_helix_angle.cos());
-        by_pair.entry(d.pair).or_default().push((s * 1e3, ft * 1e-3));
-        path_csv.push(vec![
-            d.pair as f64,
-            d.zeta,
-            s * 1e3,
-            d.q_n_per_m * 1e-3,
-            ft * 1e-3,
-            sf.sliding_speed,
-        ]);
+    let mut contacts = Vec::new();
+    for (k, eq) in path_states.iter().enumerate() {
+        let state = MeshState { phi_p: eq.phi_p, phi_g: eq.phi_g, w_p, w_g: -w_p * gp / gg };
+        m.evaluate(&state).map_err(e)?;
+        let detail = m.slices().to_vec();
+        let zetas: Vec<f64> = detail.iter().map(|d| d.zeta).collect();
+        cs.contacts_on(FlankSide::Drive, state.phi_p, state.phi_g, &zetas, &mut contacts);
+        for d in detail.iter().filter(|d| d.q_n_per_m > 0.0 && !d.back) {
+            let Some(c) = contacts.iter().find(|c| c.pair == d.pair && c.zeta == d.zeta) else {
+                continue;
+            };
+            let s = (c.point_p[0] - r_wp) * sin_wt + c.point_p[1] * cos_wt;
+            let sf = slice_friction(&frame, c, d.q_n_per_m * axial, state.w_p, state.w_g, 0.05);
+            let t = [-c.normal_angle.sin(), c.normal_angle.cos()];
+            let f = &sf.wrench.force_p;
+            let ft = 0.05 * (f[0] * t[0] + f[1] * t[1]) / (axial / geo.base_helix_angle.cos());
+            let on_involute = d.kind == "involute/involute";
+            if on_involute { &mut root } else { &mut tip }.push((s * 1e3, ft * 1e-3));
+            path_csv.push(vec![
+                k as f64,
+                d.pair as f64,
+                d.zeta,
+                s * 1e3,
+                d.q_n_per_m * 1e-3,
+                ft * 1e-3,
+                sf.sliding_speed,
+                f64::from(u8::from(on_involute)),
+            ]);
+        }
     }
     line_chart(
         &dir.join("friction_path.png"),
@@ -1047,14 +1052,18 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
             ),
             x_label: "position on the line of action from the pitch point (mm; + towards the pinion tip)".into(),
             y_label: "friction per unit contact length along the profile (N/mm)".into(),
-            series: by_pair
-                .into_iter()
-                .map(|(k, pts)| Series {
-                    name: format!("tooth pair {k}"),
-                    points: pts,
-                    style: SeriesStyle::LinePoints,
-                })
-                .collect(),
+            series: vec![
+                Series {
+                    name: "slices on both involutes".into(),
+                    points: root,
+                    style: SeriesStyle::Points,
+                },
+                Series {
+                    name: "slices off the involute (tip relief or rounding)".into(),
+                    points: tip,
+                    style: SeriesStyle::Points,
+                },
+            ],
             ..LineChart::default()
         },
         (900, 500),
@@ -1062,16 +1071,25 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
     .map_err(|e| e.to_string())?;
     write_csv(
         &dir.join("friction_path.csv"),
-        &["pair", "zeta", "s_mm", "q_n_per_mm", "friction_n_per_mm", "sliding_speed_m_s"],
+        &[
+            "state",
+            "pair",
+            "zeta",
+            "s_mm",
+            "q_n_per_mm",
+            "friction_n_per_mm",
+            "sliding_speed_m_s",
+            "on_involute",
+        ],
         path_csv,
     )
     .map_err(|e| e.to_string())?;
     md.push_str(
         "![Friction along the path of contact](friction_path.png)\n\n\
          The friction per unit length of contact line on the pinion flank, along the profile \
-         (positive towards the pinion tip), at one static state of the cycle: it reverses at \
-         the pitch point (s = 0), where the sliding does, and falls to zero at the line ends \
-         with the load (tip relief).\n\n\
+         (positive towards the pinion tip), at every loaded slice of 16 static states over the \
+         mesh cycle: it reverses at the pitch point (s = 0), where the sliding does, and falls \
+         towards the ends of the path with the load (tip relief).\n\n\
          ![Loss over a mesh cycle](friction_cycle.png)\n\n",
     );
 
