@@ -201,11 +201,19 @@ fn periodic_in_the_pitch() {
 
 /// `MeshTorques::torques` (the right-hand side's evaluation) gives M_F, M_D and TE bit for bit
 /// as `mesh` does, across the table's range (driving flanks, backlash, back flanks) and
-/// outside it (the full model, complete).
+/// outside it (the full model, complete); with friction also the friction torques and loss.
 #[test]
 fn torques_only_evaluation_matches_the_complete_one() {
+    use helical_gear_mesh::mesh::{Friction, MeshTorques};
+    for friction in [Friction::none(), Friction::constant(0.05)] {
+        torques_only_matches(friction);
+    }
+}
+
+fn torques_only_matches(friction: helical_gear_mesh::mesh::Friction) {
     use helical_gear_mesh::mesh::MeshTorques;
-    let mut table = model(MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() });
+    let mut table =
+        model(MeshOptions { fidelity: Fidelity::Table, friction, ..MeshOptions::default() });
     let (lo, hi) = table.table().expect("table").te_range();
     let mut partial = 0;
     for i in 0..60 {
@@ -222,6 +230,9 @@ fn torques_only_evaluation_matches_the_complete_one() {
             (a.m_d_p, b.m_d_p),
             (a.m_d_g, b.m_d_g),
             (a.te, b.te),
+            (a.m_r_p, b.m_r_p),
+            (a.m_r_g, b.m_r_g),
+            (a.p_loss, b.p_loss),
         ] {
             assert_eq!(x.to_bits(), y.to_bits(), "TE {te:e}: {x:e} vs {y:e}");
         }

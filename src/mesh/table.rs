@@ -243,6 +243,9 @@ struct TeAxis {
     /// The friction block (module docs, "Friction"), `friction[ip * n + it]`: the node values
     /// of [`MeshModel::unit_friction`] over δ; empty when the model has no friction.
     friction: Vec<[f64; FRICTION_NODE]>,
+    /// The friction values the torques need, packed per node like [`Self::torques`]:
+    /// [M_R,p/δ, M_R,g/δ, L/δ, F_n/δ] ([`Self::pack`]); empty without friction.
+    friction_torques: Vec<[f64; 4]>,
 }
 
 impl TeAxis {
@@ -256,6 +259,7 @@ impl TeAxis {
             torques: vec![[0.0; 4]; np * n],
             flags: vec![0; np * n],
             friction: Vec::new(),
+            friction_torques: Vec::new(),
         }
     }
 
@@ -265,6 +269,50 @@ impl TeAxis {
         for (t, v) in self.torques.iter_mut().zip(self.values.chunks_exact(NV)) {
             *t = [v[0], v[1], v[3], 0.0];
         }
+        self.friction_torques = self
+            .friction
+            .iter()
+            .zip(self.values.chunks_exact(NV))
+            .map(|(f, v)| [f[0], f[1], f[7], v[2]])
+            .collect();
+    }
+
+    /// The packed records `recs` (per node, as [`Self::torques`]) interpolated with the
+    /// weights of a cell: the one sum behind both periodic table paths, so that they agree
+    /// bit for bit.
+    #[inline(always)]
+    fn interpolate_packed(
+        &self,
+        recs: &[[f64; 4]],
+        np: i64,
+        (wp, ip0): (&[f64; 4], i64),
+        (it0, wt, nt): (usize, &[f64; 4], usize),
+    ) -> [f64; 4] {
+        let mut v = [0.0; 4];
+        for (a, &wa) in wp.iter().enumerate() {
+            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            let base = ip * self.n + it0;
+            if nt == 4 {
+                let row: &[[f64; 4]; 4] = recs[base..base + 4].try_into().expect("4 TE nodes");
+                let mut r = [0.0; 4];
+                for (x, &wb) in row.iter().zip(wt) {
+                    for (rk, &xk) in r.iter_mut().zip(x) {
+                        *rk += wb * xk;
+                    }
+                }
+                for (vk, &rk) in v.iter_mut().zip(&r) {
+                    *vk += wa * rk;
+                }
+                continue;
+            }
+            for (x, &wb) in recs[base..base + nt].iter().zip(wt) {
+                let w = wa * wb;
+                for (vk, &xk) in v.iter_mut().zip(x) {
+                    *vk += w * xk;
+                }
+            }
+        }
+        v
     }
 
     /// Distance of node `k` from the onset, m (node 0 is taken a tenth of the first cell in,
@@ -592,42 +640,15 @@ impl MeshTable {
         if let Some(pt) = &self.pairs {
             return self.evaluate_pairs(pt, model, state, None).map(|o| (o, true));
         }
-        if model.friction().is_some() {
-            return self.evaluate_periodic(model, state).map(|o| (o, true));
-        }
         let Some(Cell { axis, wp, ip0, dist, it0, wt, nt, .. }) = self.cell(state.phi_p, te)?
         else {
             return Some((MeshOutputs { te, separated: true, ..MeshOutputs::default() }, false));
         };
         let np = self.np as i64;
-        let mut v = [0.0; 4];
-        for (a, &wa) in wp.iter().enumerate() {
-            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
-            let base = ip * axis.n + it0;
-            if nt == 4 {
-                let row: &[[f64; 4]; 4] =
-                    axis.torques[base..base + 4].try_into().expect("4 TE nodes");
-                let mut r = [0.0; 4];
-                for (x, &wb) in row.iter().zip(&wt) {
-                    for (rk, &xk) in r.iter_mut().zip(x) {
-                        *rk += wb * xk;
-                    }
-                }
-                for (vk, &rk) in v.iter_mut().zip(&r) {
-                    *vk += wa * rk;
-                }
-                continue;
-            }
-            for (x, &wb) in axis.torques[base..base + nt].iter().zip(&wt) {
-                let w = wa * wb;
-                for (vk, &xk) in v.iter_mut().zip(x) {
-                    *vk += w * xk;
-                }
-            }
-        }
+        let v = axis.interpolate_packed(&axis.torques, np, (&wp, ip0), (it0, &wt, nt));
         let extent = v[2].max(0.0);
         let (m_d_p, m_d_g) = model.damping_for(state, extent);
-        let out = MeshOutputs {
+        let mut out = MeshOutputs {
             m_f_p: v[0] * dist,
             m_f_g: v[1] * dist,
             m_d_p,
@@ -636,6 +657,10 @@ impl MeshTable {
             contact_length: extent * model.length_per_extent(),
             ..MeshOutputs::default()
         };
+        if let Some(fc) = model.friction() {
+            let f = axis.interpolate_packed(&axis.friction_torques, np, (&wp, ip0), (it0, &wt, nt));
+            friction_torques(fc, state, f.map(|x| x * dist), &mut out);
+        }
         Some((out, false))
     }
 
@@ -852,7 +877,11 @@ impl MeshTable {
                         }
                     }
                 }
-                wrench.add(&apply_friction(fc, model, state, &fv, &mut out));
+                // The torques and the loss from the packed records, as the torques-only path.
+                let f =
+                    axis.interpolate_packed(&axis.friction_torques, np, (&wp, ip0), (it0, &wt, nt));
+                let k = friction_torques(fc, state, f.map(|x| x * dist), &mut out);
+                wrench.add(&friction_wrench(model, k, &fv, &mut out));
             }
             wrench.write(&mut out);
         }
@@ -1056,33 +1085,48 @@ impl MeshTorques for TableMesh {
     }
 }
 
-/// Applies the interpolated unit friction `fv` (node values of [`MeshModel::unit_friction`]
-/// times δ) at `state` to `out` (module docs, "Friction"): μ from the elastic M_F,p, the
+/// Adds the friction torques of the interpolated packed friction values `f` =
+/// [M_R,p, M_R,g, L, F_n] (node values times δ, for μ = 1 at +1 rad/s) at `state` to `out`
+/// (module docs, "Friction"): μ from the elastic M_F,p (`out.m_f_p` on entry), the
 /// regularisation at the load-weighted mean sliding speed v̄ = |φ̇p|·L/F_n, the sense of the
-/// pinion's rotation. Adds the friction torques to M_F and fills the loss outputs; returns the
-/// friction's wrench.
-fn apply_friction(
+/// pinion's rotation; the loss is the power the friction torques take from the gears (never
+/// below 0), the heat split by `out`'s caller. Returns the scale κ = μ·g·sign φ̇p.
+#[inline]
+fn friction_torques(
     fc: &FrictionConst,
-    model: &MeshModel,
     state: &MeshState,
+    f: [f64; 4],
+    out: &mut MeshOutputs,
+) -> f64 {
+    let mu = fc.mu(out.m_f_p, state.w_p);
+    let loss_per_w = f[2].max(0.0);
+    let mean_speed = if f[3] > 0.0 { state.w_p.abs() * loss_per_w / f[3] } else { 0.0 };
+    let k = if state.w_p == 0.0 {
+        0.0
+    } else {
+        mu * fc.regularisation(mean_speed) * state.w_p.signum()
+    };
+    out.m_r_p = k * f[0];
+    out.m_r_g = k * f[1];
+    out.m_f_p += out.m_r_p;
+    out.m_f_g += out.m_r_g;
+    // With a TE rate this is what the drive line's equations actually lose, so that its
+    // energy balance closes; at the rigid ratio it is μ·g·|φ̇p|·L.
+    out.p_loss = (out.m_r_p * state.w_p + out.m_r_g * state.w_g).max(0.0);
+    k
+}
+
+/// The friction's wrench and heat split from the interpolated unit friction `fv` (node values
+/// of [`MeshModel::unit_friction`] times δ) scaled by κ of [`friction_torques`], which put
+/// the friction torques and loss in `out`: the force and tilting moments scaled as the torques, the
+/// heat of the pinion in proportion L_p/L. Fills `out.q_p`, `out.q_g`.
+fn friction_wrench(
+    model: &MeshModel,
+    k: f64,
     fv: &[f64; FRICTION_NODE],
     out: &mut MeshOutputs,
 ) -> MeshWrench {
-    let mu = fc.mu(out.m_f_p, state.w_p);
-    let loss_per_w = fv[7].max(0.0);
-    let mean_speed = if out.f_n > 0.0 { state.w_p.abs() * loss_per_w / out.f_n } else { 0.0 };
-    let g = fc.regularisation(mean_speed);
-    let k = mu * g * state.w_p.signum();
-    let k = if state.w_p == 0.0 { 0.0 } else { k };
-    out.m_r_p = k * fv[0];
-    out.m_r_g = k * fv[1];
-    out.m_f_p += out.m_r_p;
-    out.m_f_g += out.m_r_g;
-    // The power the interpolated friction torques take from the gears: μ·g·|φ̇p|·L at the
-    // rigid ratio, and with a TE rate what the drive line's equations actually lose, so that
-    // its energy balance closes (never below 0).
-    out.p_loss = (out.m_r_p * state.w_p + out.m_r_g * state.w_g).max(0.0);
-    let heat_share = if loss_per_w > 0.0 { (fv[8] / loss_per_w).clamp(0.0, 1.0) } else { 0.5 };
+    let heat_share = if fv[7] > 0.0 { (fv[8] / fv[7]).clamp(0.0, 1.0) } else { 0.5 };
     out.q_p = heat_share * out.p_loss;
     out.q_g = out.p_loss - out.q_p;
     let f = [k * fv[2], k * fv[3], k * fv[4]];
