@@ -204,7 +204,7 @@ fn periodic_in_the_pitch() {
 /// outside it (the full model, complete); with friction also the friction torques and loss.
 #[test]
 fn torques_only_evaluation_matches_the_complete_one() {
-    use helical_gear_mesh::mesh::{Friction, MeshTorques};
+    use helical_gear_mesh::mesh::Friction;
     for friction in [Friction::none(), Friction::constant(0.05)] {
         torques_only_matches(friction);
     }
