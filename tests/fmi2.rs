@@ -530,6 +530,65 @@ fn modifications_string_parameter() {
     assert!(e.unwrap_err().contains("runout"));
 }
 
+/// The String parameter `friction` (docs/friction.md): set through `fmi2SetString`, the
+/// mesh element gives exactly the library model's outputs with that friction at a running
+/// state (loss, efficiency, heat, friction torques inside M_F), reads back, survives a reset
+/// to none; a bad value or an unknown key is refused naming it.
+#[test]
+fn friction_string_parameter() {
+    use helical_gear_mesh::GearPair;
+    use helical_gear_mesh::mesh::{Friction, Mesh, MeshOptions, MeshState};
+    let set = |f: &Fmu, text: &str| {
+        let c = CString::new(text).unwrap();
+        let ptr = [c.as_ptr()];
+        let r = [vr("friction")];
+        unsafe { fmi2SetString(f.0, r.as_ptr(), 1, ptr.as_ptr()) }
+    };
+    let json = r#"{"model": "constant", "mu": 0.06}"#;
+    let f = Fmu::new();
+    assert_eq!(set(&f, json), fmi2Status::Ok);
+    f.init();
+    let friction = Friction::from_json(json).unwrap();
+    let options = MeshOptions { friction, ..MeshOptions::default() };
+    let mut lib = Mesh::new(&GearPair::paper_table1(), options).unwrap();
+    let names = ["M_F_p", "M_F_g", "M_R_p", "M_R_g", "P_loss", "eta_mesh", "Q_p", "Q_g", "F_p_y"];
+    for k in 0..4 {
+        let phi_p = -0.04 + 0.02 * k as f64;
+        let phi_g = lib.geometry().phi_g_for_te(phi_p, 25e-6);
+        let (w_p, w_g) = (300.0, -300.0 * 30.0 / 47.0);
+        assert_eq!(
+            f.set(&["phi_p", "phi_g", "w_p", "w_g"], &[phi_p, phi_g, w_p, w_g]),
+            fmi2Status::Ok
+        );
+        let got = f.get(&names).unwrap();
+        let o = lib.evaluate(&MeshState { phi_p, phi_g, w_p, w_g }).unwrap();
+        let want =
+            [o.m_f_p, o.m_f_g, o.m_r_p, o.m_r_g, o.p_loss, o.eta_mesh, o.q_p, o.q_g, o.force_p[1]];
+        for ((n, g), w) in names.iter().zip(&got).zip(want) {
+            assert_eq!(g.to_bits(), w.to_bits(), "{n} at φp = {phi_p}");
+        }
+        assert!(o.p_loss > 0.0 && o.eta_mesh < 1.0);
+    }
+    unsafe {
+        let r = [vr("friction")];
+        let mut x: fmi2String = null();
+        assert_eq!(fmi2GetString(f.0, r.as_ptr(), 1, &mut x), fmi2Status::Ok);
+        let back = std::ffi::CStr::from_ptr(x).to_str().unwrap();
+        assert_eq!(Friction::from_json(back).unwrap(), friction);
+    }
+    // Errors name the key; `none` is the default.
+    let bad = Fmu::new();
+    assert_eq!(set(&bad, r#"{"mu": 2}"#), fmi2Status::Error);
+    bad.reset();
+    assert_eq!(set(&bad, r#"{"model": "constant", "viscosity": 1}"#), fmi2Status::Error);
+    bad.reset();
+    assert_eq!(set(&bad, "none"), fmi2Status::Ok);
+    let e = Friction::from_json(r#"{"mu": 2}"#).unwrap_err();
+    assert!(e.contains("friction.mu"), "{e}");
+    let e = Friction::from_json(r#"{"viscosity": 1}"#).unwrap_err();
+    assert!(e.contains("viscosity"), "{e}");
+}
+
 /// The mesh element's table is sized by its parameter `table_design_torque_nm`: built for
 /// 500 N·m it covers the static TE at 500 N·m, which lies beyond the range of the table built
 /// for the default 100 N·m, and the FMU's outputs there are the library's table mesh at that
