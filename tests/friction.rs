@@ -415,3 +415,46 @@ fn steady_drive_line_balances_input_output_and_the_losses() {
         }
     }
 }
+
+/// The Drive unit (the engine of the Drive FMU) with friction: its static start sets the brake
+/// to take the power the mesh delivers, so the drive line keeps its mean speed (without it the
+/// brake would take 0.44 % more power than arrives and the line would slow down).
+#[test]
+fn drive_unit_with_friction_keeps_its_speed() {
+    use helical_gear_mesh::dynamics::{DriveUnit, UnitKind, UnitStepping};
+    let pair = GearPair::paper_table1();
+    let drive =
+        Drivetrain::from_pair(&pair, &helical_gear_mesh::DriveLine::paper_table1()).unwrap();
+    let opts = MeshOptions {
+        table_design_torque_nm: drive.torque,
+        ..options(Friction::constant(0.05), Fidelity::Table, 100)
+    };
+    let mesh = Mesh::new(&pair, opts).unwrap();
+    let stepping = UnitStepping::Rk4 { steps_per_mesh_period: 64 };
+    let mut u = DriveUnit::new(UnitKind::Drive, mesh, drive, stepping).unwrap();
+    let omega = 300.0;
+    u.start_static(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    let (mut loss, n) = (0.0, 4000);
+    let (mut first, mut last) = (0.0, 0.0);
+    for k in 0..n {
+        u.advance(5e-5).unwrap();
+        let o = u.outputs().unwrap();
+        loss += o.mesh.p_loss / n as f64;
+        if k < n / 4 {
+            first += o.w_p / (n / 4) as f64;
+        } else if k >= n - n / 4 {
+            last += o.w_p / (n / 4) as f64;
+        }
+    }
+    // A brake that did not take the loss off would decelerate the line by the loss torque
+    // over the inertia reduced to the pinion.
+    let r = drive.z_p as f64 / drive.z_g as f64;
+    let j = drive.j1 + drive.j_p + (drive.j_g + drive.j2) * r * r;
+    let drift_unbalanced = loss / omega / j * 0.15;
+    eprintln!(
+        "Drive unit, μ = 0.05: mean ω_p {first:.4} rad/s over the first 0.05 s, {last:.4} over \
+         the last 0.05 s (an unbalanced brake: −{drift_unbalanced:.3} rad/s); mean loss {loss:.2} W"
+    );
+    assert!((last - first).abs() < 0.1 * drift_unbalanced, "{first} → {last}");
+    assert!(loss > 0.003 * drive.torque * omega && loss < 0.006 * drive.torque * omega, "{loss}");
+}
