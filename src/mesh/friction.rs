@@ -436,7 +436,11 @@ impl FrictionSums {
 
 /// The instantaneous mesh efficiency of the module docs from the total torques on each gear
 /// (elastic, friction and damping; N·m), the speeds (rad/s) and the loss power (W).
+#[inline]
 pub fn mesh_efficiency(m_p: f64, m_g: f64, w_p: f64, w_g: f64, loss: f64) -> f64 {
+    if loss == 0.0 {
+        return 1.0;
+    }
     let p_in = (m_p * w_p).max(m_g * w_g);
     if p_in <= 0.0 || !p_in.is_finite() {
         return 1.0;
