@@ -339,6 +339,9 @@ pub struct SweepRecord {
     /// static peak), at each speed: the dynamic factor of the root stress; null for a mesh
     /// without FE data.
     pub root_stress_max_over_static: Vec<Option<f64>>,
+    /// Mean mesh efficiency over the steady window at each speed, 1 − mean P_loss / mean
+    /// mesh input power (M_F,p + M_D,p)·φ̇p (dimensionless; 1 without friction).
+    pub mesh_efficiency_mean: Vec<f64>,
     /// Period of the steady TE in mesh periods.
     pub period_multiple: Vec<usize>,
     /// Mesh periods integrated at each speed.
@@ -379,6 +382,7 @@ impl SweepRecord {
             steady: pts.iter().map(|p| p.steady).collect(),
             mesh_force_max_over_static: pts.iter().map(|p| p.over_static.mesh_force).collect(),
             root_stress_max_over_static: pts.iter().map(|p| p.over_static.root_stress).collect(),
+            mesh_efficiency_mean: pts.iter().map(|p| p.mesh_efficiency_mean).collect(),
             period_multiple: pts.iter().map(|p| p.period_multiple).collect(),
             periods: pts.iter().map(|p| p.periods).collect(),
             resonances_rad_s: r.resonances.iter().map(|x| x.omega_p).collect(),
@@ -414,6 +418,7 @@ impl SweepRecord {
         finite_all("mesh_force_max_over_static", &ratios)?;
         let ratios: Vec<f64> = self.root_stress_max_over_static.iter().flatten().copied().collect();
         finite_all("root_stress_max_over_static", &ratios)?;
+        finite_all("mesh_efficiency_mean", &self.mesh_efficiency_mean)?;
         finite_all("periods", &self.periods)?;
         finite_all("resonances_rad_s", &self.resonances_rad_s)?;
         finite_all("resonance_te_max_over_ste_max", &self.resonance_te_max_over_ste_max)?;

@@ -58,6 +58,7 @@ fn sweep_record() -> SweepRecord {
     s.back_contact = vec![false; 3];
     s.tip_contact = vec![false, true, false];
     s.steady = vec![true; 3];
+    s.mesh_efficiency_mean = vec![1.0, 0.99, 0.985];
     s.period_multiple = vec![1; 3];
     s.periods = vec![40.0, 52.5, 40.0];
     s.resonances_rad_s = vec![205.0];
