@@ -139,6 +139,14 @@ fn bad_friction_and_speed_fail_naming_the_flag_file_and_key() {
             assert!(stderr.contains(part), "{args:?}: {stderr}");
         }
     }
+    // spectrum: with --dynamic, refused before the table is built; without, refused as
+    // meaningless (the static spectrum is at standstill).
+    let args = ["spectrum", "--dynamic", "--speed", "300", "--friction", &big_mu];
+    let (ok, _, stderr) = run(&args);
+    assert!(!ok && stderr.contains("friction.mu") && stderr.contains("big_mu.json"), "{stderr}");
+    let constant = write(&dir, "constant.json", r#"{"model": "constant", "mu": 0.05}"#);
+    let (ok, _, stderr) = run(&["spectrum", "--friction", &constant]);
+    assert!(!ok && stderr.contains("--friction") && stderr.contains("--dynamic"), "{stderr}");
     let missing = dir.join("missing.json");
     let (ok, _, stderr) = run(&["static", "--friction", missing.to_str().unwrap()]);
     assert!(!ok && stderr.contains("--friction") && stderr.contains("no such file"), "{stderr}");
