@@ -389,6 +389,22 @@ HgmStatus hgm_evaluate(HgmModel *h,
 HgmStatus hgm_set_d_mesh(HgmModel *h, double d_mesh);
 
 /**
+ * Sets the mesh friction option (`MeshOptions::friction`) from `json`, the JSON object
+ * `{"model": "none" | "constant" | "iso_tr_14179_2", "mu": …, "oil_viscosity_pa_s": …,
+ * "roughness_ra_m": …, "lubricant_factor": …, "regularisation_speed_m_s": …}` (every key
+ * optional, SI units; the text `none`, an empty text or a NULL `json`: no friction, the paper's
+ * model). The model is rebuilt with the new option, keeping the handle's gear pair, mesh
+ * damping (`hgm_set_d_mesh`) and other options (its compliance data from the same source as
+ * at creation: embedded, disk cache or a fresh FE run); the warm start begins cold. An
+ * unknown key, a wrong type or a value out of range is `HGM_STATUS_INVALID_ARGUMENT` with a
+ * message naming the key (`friction.mu`, …), and the handle keeps its previous option.
+ *
+ * # Safety
+ * `h` must be NULL or a live handle; `json` NULL or a zero-terminated string.
+ */
+HgmStatus hgm_set_friction(HgmModel *h, const char *json);
+
+/**
  * The last error message: of the handle `h`, or with `h` NULL of the calling thread (which
  * includes every handle's errors raised on this thread). Empty when there was none. The text
  * stays valid until the next failing call on the same handle or thread.

@@ -320,6 +320,43 @@ pub unsafe extern "C" fn hgm_set_d_mesh(h: *mut HgmModel, d_mesh: f64) -> HgmSta
     })
 }
 
+/// Sets the mesh friction option (`MeshOptions::friction`) from `json`, the JSON object
+/// `{"model": "none" | "constant" | "iso_tr_14179_2", "mu": …, "oil_viscosity_pa_s": …,
+/// "roughness_ra_m": …, "lubricant_factor": …, "regularisation_speed_m_s": …}` (every key
+/// optional, SI units; the text `none`, an empty text or a NULL `json`: no friction, the paper's
+/// model). The model is rebuilt with the new option, keeping the handle's gear pair, mesh
+/// damping (`hgm_set_d_mesh`) and other options (its compliance data from the same source as
+/// at creation: embedded, disk cache or a fresh FE run); the warm start begins cold. An
+/// unknown key, a wrong type or a value out of range is `HGM_STATUS_INVALID_ARGUMENT` with a
+/// message naming the key (`friction.mu`, …), and the handle keeps its previous option.
+///
+/// # Safety
+/// `h` must be NULL or a live handle; `json` NULL or a zero-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_set_friction(h: *mut HgmModel, json: *const c_char) -> HgmStatus {
+    with_model(h, "hgm_set_friction", |m| {
+        let friction = if json.is_null() {
+            crate::mesh::Friction::none()
+        } else {
+            // SAFETY: non-null zero-terminated string (caller contract).
+            let text = unsafe { CStr::from_ptr(json) }
+                .to_str()
+                .map_err(|e| (HgmStatus::InvalidArgument, format!("`json` is not UTF-8: {e}")))?;
+            crate::mesh::Friction::from_json(text).map_err(|e| (HgmStatus::InvalidArgument, e))?
+        };
+        let mut options = *m.options();
+        options.friction = friction;
+        let d_mesh = m.d_mesh();
+        let detail = m.detail();
+        let mut rebuilt =
+            Mesh::new(m.pair(), options).map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
+        rebuilt.set_d_mesh(d_mesh).map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
+        rebuilt.set_detail(detail);
+        *m = rebuilt;
+        Ok(())
+    })
+}
+
 /// The last error message: of the handle `h`, or with `h` NULL of the calling thread (which
 /// includes every handle's errors raised on this thread). Empty when there was none. The text
 /// stays valid until the next failing call on the same handle or thread.

@@ -339,6 +339,9 @@ pub struct SweepRecord {
     /// static peak), at each speed: the dynamic factor of the root stress; null for a mesh
     /// without FE data.
     pub root_stress_max_over_static: Vec<Option<f64>>,
+    /// Mean mesh efficiency over the steady window at each speed, 1 − mean P_loss / mean
+    /// mesh input power (M_F,p + M_D,p)·φ̇p (dimensionless; 1 without friction).
+    pub mesh_efficiency_mean: Vec<f64>,
     /// Period of the steady TE in mesh periods.
     pub period_multiple: Vec<usize>,
     /// Mesh periods integrated at each speed.
@@ -379,6 +382,7 @@ impl SweepRecord {
             steady: pts.iter().map(|p| p.steady).collect(),
             mesh_force_max_over_static: pts.iter().map(|p| p.over_static.mesh_force).collect(),
             root_stress_max_over_static: pts.iter().map(|p| p.over_static.root_stress).collect(),
+            mesh_efficiency_mean: pts.iter().map(|p| p.mesh_efficiency_mean).collect(),
             period_multiple: pts.iter().map(|p| p.period_multiple).collect(),
             periods: pts.iter().map(|p| p.periods).collect(),
             resonances_rad_s: r.resonances.iter().map(|x| x.omega_p).collect(),
@@ -414,6 +418,7 @@ impl SweepRecord {
         finite_all("mesh_force_max_over_static", &ratios)?;
         let ratios: Vec<f64> = self.root_stress_max_over_static.iter().flatten().copied().collect();
         finite_all("root_stress_max_over_static", &ratios)?;
+        finite_all("mesh_efficiency_mean", &self.mesh_efficiency_mean)?;
         finite_all("periods", &self.periods)?;
         finite_all("resonances_rad_s", &self.resonances_rad_s)?;
         finite_all("resonance_te_max_over_ste_max", &self.resonance_te_max_over_ste_max)?;
@@ -1024,6 +1029,82 @@ pub struct StaticPointRecord {
     pub root_stress_p_pa: f64,
     /// Tooth-root stress of the gear, Pa.
     pub root_stress_g_pa: f64,
+    /// Mesh friction power loss P_loss at the run's pinion speed, W (0 without friction and
+    /// at standstill; [`crate::mesh::MeshOutputs::p_loss`]).
+    pub p_loss_w: f64,
+    /// Instantaneous mesh efficiency 1 − P_loss/P_in, dimensionless (1 without friction).
+    pub eta_mesh: f64,
+    /// Friction torque on the pinion M_R,p, N·m (part of the elastic-plus-friction torque
+    /// M_F,p, which equals the run's torque).
+    pub m_r_p_nm: f64,
+    /// Friction torque on the gear M_R,g, N·m.
+    pub m_r_g_nm: f64,
+    /// Friction heat into the pinion's flanks Q_p, W.
+    pub q_p_w: f64,
+    /// Friction heat into the gear's flanks Q_g, W.
+    pub q_g_w: f64,
+}
+
+/// The mesh friction summary of a static run at a running speed (`helical-gear static
+/// --json`, Python's `static_curve`): the loss and efficiency averaged over the points, the
+/// ISO/TR 14179-2 loss factor of the geometry and the coefficient of friction used.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StaticFrictionSummary {
+    /// Pinion speed of the quasi-static states ω_p, rad/s (the gear at the rigid ratio).
+    pub omega_p_rad_s: f64,
+    /// Mean friction power loss P_loss over the points, W (0 without friction).
+    pub mesh_loss_mean_w: f64,
+    /// Mean mesh efficiency 1 − `mesh_loss_mean_w`/(M·|ω_p|) with M the run's torque,
+    /// dimensionless; 1 at standstill.
+    pub mesh_efficiency_mean: f64,
+    /// Gear loss factor H_V of ISO/TR 14179-2 from the geometry (dimensionless; always given,
+    /// with or without friction): the mean loss of that method is μ·H_V·P_in.
+    pub loss_factor_h_v: f64,
+    /// Coefficient of friction μ, dimensionless: the option's μ for `constant`, the mean over
+    /// the points of μ_mz at each point's elastic torque and ω_p for `iso_tr_14179_2`, null
+    /// without friction.
+    pub mu_mean: Option<f64>,
+}
+
+impl StaticFrictionSummary {
+    /// The summary of `curve` (equilibria at pinion speed `omega_p`, rad/s) on the pair of
+    /// geometry `geo` with the friction option `friction`.
+    pub fn new(
+        curve: &StaticCurve,
+        geo: &PairGeometry,
+        friction: crate::mesh::Friction,
+        omega_p: f64,
+    ) -> Self {
+        use crate::mesh::FrictionModel;
+        use crate::mesh::friction::{FrictionConst, loss_factor_h_v};
+        let pts = &curve.points;
+        let loss = mean(pts.iter().map(|e| e.outputs.p_loss));
+        let p_in = (curve.torque * omega_p).abs();
+        let fc = FrictionConst::new(geo, friction);
+        let mu_mean = match friction.model {
+            FrictionModel::None => None,
+            FrictionModel::Constant => Some(friction.mu),
+            FrictionModel::IsoTr14179_2 => {
+                Some(mean(pts.iter().map(|e| fc.mu(e.outputs.m_f_p - e.outputs.m_r_p, omega_p))))
+            }
+        };
+        Self {
+            omega_p_rad_s: omega_p,
+            mesh_loss_mean_w: loss,
+            mesh_efficiency_mean: if p_in > 0.0 { 1.0 - loss / p_in } else { 1.0 },
+            loss_factor_h_v: loss_factor_h_v(geo),
+            mu_mean,
+        }
+    }
+
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite("omega_p_rad_s", self.omega_p_rad_s)?;
+        finite("mesh_loss_mean_w", self.mesh_loss_mean_w)?;
+        finite("mesh_efficiency_mean", self.mesh_efficiency_mean)?;
+        finite("loss_factor_h_v", self.loss_factor_h_v)?;
+        finite_opt("mu_mean", self.mu_mean)
+    }
 }
 
 /// `helical-gear static --json`: the static curve ([`StaticCurveRecord`], its keys at the top
@@ -1053,6 +1134,10 @@ pub struct StaticRunRecord {
     /// level).
     #[serde(flatten)]
     pub iso: IsoRootStressSummary,
+    /// The mesh friction at the run's speed ([`StaticFrictionSummary`], its keys at the top
+    /// level).
+    #[serde(flatten)]
+    pub friction: StaticFrictionSummary,
     /// The points with their face load.
     pub points: Vec<StaticPointRecord>,
     /// The bearing loads over the points (with `--bearings`; absent otherwise).
@@ -1141,6 +1226,7 @@ impl StaticRunRecord {
             finite(name, v)?;
         }
         self.iso.check_finite()?;
+        self.friction.check_finite()?;
         for (i, p) in self.points.iter().enumerate() {
             for (name, v) in [
                 ("phi_p_rad", p.phi_p_rad),
@@ -1152,6 +1238,12 @@ impl StaticRunRecord {
                 ("line_load_mean_n_per_mm", p.line_load_mean_n_per_mm),
                 ("root_stress_p_pa", p.root_stress_p_pa),
                 ("root_stress_g_pa", p.root_stress_g_pa),
+                ("p_loss_w", p.p_loss_w),
+                ("eta_mesh", p.eta_mesh),
+                ("m_r_p_nm", p.m_r_p_nm),
+                ("m_r_g_nm", p.m_r_g_nm),
+                ("q_p_w", p.q_p_w),
+                ("q_g_w", p.q_g_w),
             ] {
                 finite(&format!("points[{i}].{name}"), v)?;
             }

@@ -58,6 +58,7 @@ fn sweep_record() -> SweepRecord {
     s.back_contact = vec![false; 3];
     s.tip_contact = vec![false, true, false];
     s.steady = vec![true; 3];
+    s.mesh_efficiency_mean = vec![1.0, 0.99, 0.985];
     s.period_multiple = vec![1; 3];
     s.periods = vec![40.0, 52.5, 40.0];
     s.resonances_rad_s = vec![205.0];
@@ -164,8 +165,8 @@ fn keys<T: Serialize>(r: &T) -> Vec<String> {
 fn run_records_round_trip_with_their_keys() {
     use helical_gear_mesh::results::{
         DynamicSpectrumRecord, HarrisRecord, HarrisVariantRecord, IsoRootStressSummary,
-        SpectrumRecord, StaticPointRecord, StaticRunRecord, SteadyRunRecord, SweepRunRecord,
-        TrajectoryRunRecord,
+        SpectrumRecord, StaticFrictionSummary, StaticPointRecord, StaticRunRecord, SteadyRunRecord,
+        SweepRunRecord, TrajectoryRunRecord,
     };
     let point = StaticPointRecord {
         phi_p_rad: 0.01,
@@ -183,6 +184,12 @@ fn run_records_round_trip_with_their_keys() {
         moment_g_nm: [-1.5, 6.0],
         root_stress_p_pa: 1.4e8,
         root_stress_g_pa: 1.2e8,
+        p_loss_w: 250.0,
+        eta_mesh: 0.992,
+        m_r_p_nm: 0.4,
+        m_r_g_nm: -0.7,
+        q_p_w: 120.0,
+        q_g_w: 130.0,
     };
     let st = StaticRunRecord {
         curve: static_record(),
@@ -198,6 +205,13 @@ fn run_records_round_trip_with_their_keys() {
             &PairGeometry::new(&GearPair::paper_table1()).unwrap(),
             100.0,
         ),
+        friction: StaticFrictionSummary {
+            omega_p_rad_s: 300.0,
+            mesh_loss_mean_w: 250.0,
+            mesh_efficiency_mean: 1.0 - 250.0 / 30_000.0,
+            loss_factor_h_v: 0.12,
+            mu_mean: Some(0.05),
+        },
         points: vec![point],
         bearings: None,
     };
@@ -218,6 +232,11 @@ fn run_records_round_trip_with_their_keys() {
             "root_stress_iso_g_pa",
             "iso6336",
             "iso6336_error",
+            "omega_p_rad_s",
+            "mesh_loss_mean_w",
+            "mesh_efficiency_mean",
+            "loss_factor_h_v",
+            "mu_mean",
             "points",
         ]
         .map(String::from),
@@ -227,6 +246,17 @@ fn run_records_round_trip_with_their_keys() {
     let mut bad = st.clone();
     bad.points[0].k_h_beta = f64::NAN;
     assert!(bad.check_finite().unwrap_err().contains("points[0].k_h_beta"));
+    let mut bad = st.clone();
+    bad.points[0].p_loss_w = f64::NAN;
+    assert!(bad.check_finite().unwrap_err().contains("points[0].p_loss_w"));
+    let mut bad = st.clone();
+    bad.friction.mu_mean = Some(f64::INFINITY);
+    assert!(bad.check_finite().unwrap_err().contains("mu_mean"));
+    // Without friction μ is null.
+    let mut none = st.clone();
+    none.friction.mu_mean = None;
+    round_trip(&none);
+    assert!(serde_json::to_string(&none).unwrap().contains("\"mu_mean\":null"));
 
     let tr = TrajectoryRunRecord {
         trajectory: trajectory_record(),

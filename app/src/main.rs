@@ -98,6 +98,13 @@ enum Command {
         bearings: Option<std::path::PathBuf>,
         #[command(flatten)]
         model: mods::ModelArgs,
+        #[command(flatten)]
+        friction: cli::FrictionArg,
+        /// Pinion speed ω_p of the quasi-static states, rad/s (the gear at the rigid ratio;
+        /// 0: standstill, negative: running backwards): the sliding speeds, the friction loss
+        /// and the ISO/TR 14179-2 μ. Without friction the states do not depend on it.
+        #[arg(long, default_value_t = 300.0, allow_hyphen_values = true)]
+        omega_p: f64,
     },
     /// Harris map: peak-to-peak static TE against torque for a set of modification variants.
     Harris(mods::HarrisArgs),
@@ -162,6 +169,8 @@ fn main() -> ExitCode {
             plot,
             bearings,
             model,
+            friction,
+            omega_p,
         } => statics::static_cmd(
             common,
             drive,
@@ -172,6 +181,8 @@ fn main() -> ExitCode {
             plot.as_deref(),
             bearings.as_deref(),
             model,
+            friction,
+            *omega_p,
         ),
         Command::Harris(args) => mods::harris_cmd(args),
         Command::Spectrum(args) => mods::spectrum_cmd(args),

@@ -87,8 +87,8 @@ pub const MESH_OPTIONS: &[(&str, &str, &str)] = &[
     ("table_design_torque_nm", "— (the drive line's torque)", "`table_design_torque=`"),
     (
         "friction",
-        "`--friction FILE\\|none` (`static`, `simulate`, `sweep`)",
-        "`friction=` (dict or JSON text)",
+        "`--friction FILE\\|none` (`static`, `simulate`, `sweep`, `spectrum --dynamic`)",
+        "`friction=` (dict, JSON text or None)",
     ),
 ];
 

@@ -25,6 +25,7 @@ from ._native import (
 from ._pair import BOUNDS, DRIVE_SYMBOLS, ISO_SYMBOLS, DriveLine, GearPair, Group
 from ._api import (
     FORCE_NAMES,
+    LOSS_NAMES,
     OUTPUT_NAMES,
     OUTPUT_UNITS,
     STATE_NAMES,
@@ -62,6 +63,7 @@ __all__ = [
     "Geometry",
     "Group",
     "ISO_SYMBOLS",
+    "LOSS_NAMES",
     "MeshModel",
     "OUTPUT_NAMES",
     "OUTPUT_UNITS",

@@ -34,6 +34,11 @@ OUTPUT_UNITS = {name: unit for name, unit, _kind, _meaning in _native.MESH_OUTPU
 #: (x from the pinion axis to the gear axis, z along the pinion axis, y = z × x).
 FORCE_NAMES = OUTPUT_NAMES[OUTPUT_NAMES.index("F_p_x") : OUTPUT_NAMES.index("M_g_y") + 1]
 
+#: The mesh friction outputs (the FMU output names): the loss ``P_loss`` (W), the mesh
+#: efficiency ``eta_mesh``, the friction torques ``M_R_p``, ``M_R_g`` (N·m) and the heat into
+#: each gear ``Q_p``, ``Q_g`` (W).
+LOSS_NAMES = ("P_loss", "eta_mesh", "M_R_p", "M_R_g", "Q_p", "Q_g")
+
 FE_DENSITIES = ("coarse", "default", "refined")
 
 
@@ -202,6 +207,22 @@ def _count(name: str, value, lo: int = 0) -> int:
     return v
 
 
+def _friction_text(friction) -> str | None:
+    """JSON text of the `friction` option: a mapping (its non-finite values named by key), a
+    JSON string (or ``"none"``), or None (no friction); anything else is a
+    ``ParameterError``. The keys and values are checked by the library."""
+    if friction is None:
+        return None
+    if isinstance(friction, Mapping):
+        _finite_keys(friction, "friction")
+        return json.dumps(dict(friction))
+    if isinstance(friction, str):
+        return friction
+    raise _native.ParameterError(
+        f"friction = {friction!r}: allowed a dict, JSON text, \"none\" or None"
+    )
+
+
 class MeshModel:
     """The Andersson–Vedmar mesh model of a pair.
 
@@ -217,8 +238,14 @@ class MeshModel:
     their ``drive``); a torque the pair cannot carry within the model's overlap limit (Table 1:
     about 2.2 kN·m) is a ``ParameterError`` naming it. `slices` and `table_size` are whole
     numbers (else ``ParameterError`` naming them); the table's points × slices are at most
-    65 536 × 100 (about a minute of build). Pickles as pair + options (+ the compliance when given) and is rebuilt on
-    unpickling.
+    65 536 × 100 (about a minute of build). `friction`: the mesh friction option, a dict or
+    JSON text ``{"model": "none" | "constant" | "iso_tr_14179_2", "mu": …,
+    "oil_viscosity_pa_s": …, "roughness_ra_m": …, "lubricant_factor": …,
+    "regularisation_speed_m_s": …}`` (every key optional, SI units; an unknown key or a value
+    out of range is a ``ParameterError`` naming it), or None (default) for the paper's
+    frictionless model; with friction the torques include the friction torques ``M_R_p``,
+    ``M_R_g`` and the outputs ``P_loss`` (W), ``eta_mesh``, ``Q_p``, ``Q_g`` (W) are filled.
+    Pickles as pair + options (+ the compliance when given) and is rebuilt on unpickling.
     """
 
     def __init__(
@@ -229,8 +256,10 @@ class MeshModel:
         compliance: Compliance | None = None,
         table_size: tuple[int, int] = (64, 48),
         table_design_torque: float = 100.0,
+        friction: Mapping[str, Any] | str | None = None,
     ):
         self.pair = _pair(pair)
+        self.friction = _friction_text(friction)
         self.fidelity = fidelity
         self.slices = _count("slices", slices, 1)
         self.compliance = compliance
@@ -246,6 +275,7 @@ class MeshModel:
             None if compliance is None else compliance._c,
             *self.table_size,
             self.table_design_torque,
+            self.friction,
         )
 
     def __reduce__(self):
@@ -258,6 +288,7 @@ class MeshModel:
                 self.compliance,
                 self.table_size,
                 self.table_design_torque,
+                self.friction,
             ),
         )
 
@@ -278,7 +309,10 @@ class MeshModel:
         the broadcast shape:
         ``M_F_p``, ``M_F_g``, ``M_D_p``, ``M_D_g`` (N·m), ``TE`` (m), ``F_n`` (N),
         ``contact_length`` (m), ``p_max`` (Pa), ``sigma_F_p``, ``sigma_F_g`` (tooth-root
-        stresses, Pa), ``n_pairs``, ``tip_contact``, ``separated``, ``back_contact``."""
+        stresses, Pa), ``n_pairs``, ``tip_contact``, ``separated``, ``back_contact``, the
+        friction torques ``M_R_p``, ``M_R_g`` (N·m, inside ``M_F_p``, ``M_F_g``), the loss
+        ``P_loss`` (W), the mesh efficiency ``eta_mesh`` and the heat ``Q_p``, ``Q_g`` (W)
+        (0, 1, 0 without friction), and every other name of `OUTPUT_NAMES`."""
         arrays = np.broadcast_arrays(
             *(np.asarray(a, dtype=np.float64) for a in (phi_p, phi_g, w_p, w_g))
         )
@@ -294,11 +328,19 @@ def _model(
     slices: int,
     compliance: Compliance | None,
     drive: DriveLine | None = None,
+    friction: Mapping[str, Any] | str | None = None,
 ) -> MeshModel:
     if isinstance(pair_or_model, MeshModel):
+        if friction is not None:
+            raise _native.ParameterError(
+                "friction= applies to a model built here; a MeshModel carries its own "
+                "(MeshModel(..., friction=...))"
+            )
         return pair_or_model
     torque = _design_torque(_drive(drive))
-    return MeshModel(_pair(pair_or_model), fidelity, slices, compliance, (64, 48), torque)
+    return MeshModel(
+        _pair(pair_or_model), fidelity, slices, compliance, (64, 48), torque, friction
+    )
 
 
 @dataclass(frozen=True)
@@ -343,6 +385,22 @@ class StaticCurve(_Result):
     #: The force and moments per point (`FORCE_NAMES`: N, N·m), keyed by name; also
     #: attributes (``curve.F_p_x``) and columns of `to_dataframe()`.
     forces: dict = field(default_factory=dict, repr=False)
+    #: Pinion speed of the quasi-static states, rad/s (the gear at the rigid ratio; the
+    #: states run at it with friction, at rest without).
+    w_p: float = 0.0
+    #: Mean mesh friction loss over the points, W (0 without friction or at standstill).
+    mesh_loss_mean: float = 0.0
+    #: Mean mesh efficiency 1 − `mesh_loss_mean`/(M·|w_p|) (1 at standstill).
+    mesh_efficiency_mean: float = 1.0
+    #: Gear loss factor H_V of ISO/TR 14179-2 from the geometry.
+    loss_factor_h_v: float = float("nan")
+    #: Coefficient of friction: the option's μ (``constant``), the mean μ_mz over the points
+    #: (``iso_tr_14179_2``), None without friction.
+    mu_mean: float | None = None
+    #: The friction outputs per point (`LOSS_NAMES`: ``P_loss`` W, ``eta_mesh``, ``M_R_p``,
+    #: ``M_R_g`` N·m, ``Q_p``, ``Q_g`` W), keyed by name; also attributes (``curve.P_loss``)
+    #: and columns of `to_dataframe()`.
+    losses: dict = field(default_factory=dict, repr=False)
     #: The gear pair the curve was computed for (its face width places the gear centres of
     #: `bearing_loads`).
     pair: GearPair | None = field(default=None, repr=False, compare=False)
@@ -355,12 +413,13 @@ class StaticCurve(_Result):
         "contact_length",
         "sigma_F_p",
         "sigma_F_g",
-    ) + FORCE_NAMES
+    ) + FORCE_NAMES + LOSS_NAMES
 
     def __getattr__(self, k):
-        forces = self.__dict__.get("forces", {})
-        if k in forces:
-            return forces[k]
+        for group in ("forces", "losses"):
+            values = self.__dict__.get(group, {})
+            if k in values:
+                return values[k]
         raise AttributeError(k)
 
     @property
@@ -386,17 +445,26 @@ def static_curve(
     slices: int = 200,
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
+    friction: Mapping[str, Any] | str | None = None,
+    w_p: float = 300.0,
 ) -> StaticCurve:
     """Static TE of `pair` (or of a `MeshModel`, full fidelity recommended) at `torque` N·m
     (default: the torque of `drive`, default Table 1's 100 N·m) on `points_per_pitch` angles
     per pinion pitch over `pitches` pitches from φp = 0 (the library's ``mesh::static_curve``,
     as the CLI's ``static``), with the ISO 6336-3 method B root stress at that torque
     (``root_stress_iso_p_pa``, ``root_stress_iso_g_pa``, ``iso6336``: the keys of
-    ``helical-gear static --json``)."""
+    ``helical-gear static --json``). `friction`: the mesh friction option (see `MeshModel`;
+    a `MeshModel` passed as `pair` carries its own). `w_p`: the pinion speed of the
+    quasi-static states, rad/s (default 300, as the CLI's ``--omega-p``; 0: standstill,
+    negative: running backwards), which sets the sliding speeds, the loss and the ISO μ; the
+    result's ``P_loss``, ``eta_mesh``, ``M_R_p``, ``M_R_g``, ``Q_p``, ``Q_g`` per point and
+    ``mesh_loss_mean``, ``mesh_efficiency_mean``, ``loss_factor_h_v``, ``mu_mean``."""
     drive = _drive(drive)
-    m = _model(pair, "full", slices, compliance, drive)
+    m = _model(pair, "full", slices, compliance, drive, friction)
     t = drive.torque_nm if torque is None else float(torque)
-    d = json.loads(m._m.static_curve_json(t, int(points_per_pitch), int(pitches)))
+    d = json.loads(
+        m._m.static_curve_json(t, int(points_per_pitch), int(pitches), float(w_p))
+    )
     iso = json.loads(_native.iso_root_stress_summary_json(m.pair.to_json(), t))
     return StaticCurve(
         torque_nm=d["torque_nm"],
@@ -420,6 +488,17 @@ def static_curve(
         sigma_F_max_p=d["root_stress_max_p_pa"],
         sigma_F_max_g=d["root_stress_max_g_pa"],
         pair=m.pair,
+        w_p=d["omega_p_rad_s"],
+        mesh_loss_mean=d["mesh_loss_mean_w"],
+        mesh_efficiency_mean=d["mesh_efficiency_mean"],
+        loss_factor_h_v=d["loss_factor_h_v"],
+        mu_mean=d["mu_mean"],
+        losses={
+            name: np.array(d[key], dtype=float)
+            for name, key in zip(
+                LOSS_NAMES, ("p_loss_w", "eta_mesh", "m_r_p_nm", "m_r_g_nm", "q_p_w", "q_g_w")
+            )
+        },
     )
 
 
@@ -629,6 +708,7 @@ def simulate(
     slices: int = 200,
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
+    friction: Mapping[str, Any] | str | None = None,
 ) -> Trajectory:
     """One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
     (rad/s, |w_p| ≤ 1e5; standstill and low speed are normal operation, a negative speed runs
@@ -639,9 +719,11 @@ def simulate(
     `t_end`. An explicit `dt` outside RK4's stability region for that mode, or a trajectory of
     more than 2·10⁶ samples, raises `ParameterError` before anything runs. Mesh damping and
     gear bodies from the pair, the drive line (torque, inertias, shafts) from `drive`
-    (default Table 1's)."""
+    (default Table 1's). `friction`: the mesh friction option (see `MeshModel`; a `MeshModel`
+    passed as `pair` carries its own); the trajectory's ``P_loss``, ``eta_mesh``, ``M_R_p``,
+    ``M_R_g``, ``Q_p``, ``Q_g`` carry it."""
     drive = _drive(drive)
-    m = _model(pair, fidelity, slices, compliance, drive)
+    m = _model(pair, fidelity, slices, compliance, drive, friction)
     d = m._m.simulate(
         m.pair.to_json(),
         drive.to_json(),
@@ -676,6 +758,9 @@ class SweepResult(_Result):
     #: ``mesh_force_max_over_static`` and ``root_stress_max_over_static``.
     mesh_force_max_over_static: np.ndarray
     root_stress_max_over_static: np.ndarray
+    #: Mean mesh efficiency over the steady window per speed, 1 − mean P_loss / mean mesh
+    #: input power (1 without friction), as the CLI's ``mesh_efficiency_mean``.
+    mesh_efficiency_mean: np.ndarray
     #: Resonance speeds (rad/s) and their TE_max/STE_max (refined by golden section).
     resonances: np.ndarray
     resonance_te_max_over_ste_max: np.ndarray
@@ -696,6 +781,7 @@ class SweepResult(_Result):
         "steady",
         "mesh_force_max_over_static",
         "root_stress_max_over_static",
+        "mesh_efficiency_mean",
     )
 
     @property
@@ -733,6 +819,7 @@ def sweep(
     slices: int = 200,
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
+    friction: Mapping[str, Any] | str | None = None,
 ) -> SweepResult:
     """Steady-state runs at every speed (rad/s; default a uniform grid of `points` from
     `w_from` to `w_to`) and the resonances, as the CLI's ``sweep`` (the library's
@@ -743,7 +830,10 @@ def sweep(
     (torque, inertias, shafts) is `drive` (default Table 1's). The speeds (non-empty, in
     (0, 1e5] rad/s, ascending), `threads`, `min_prominence` and `refine_runs` are checked
     before the model is built. The result carries the dynamic factors of the mesh force and the
-    root stress per speed (``mesh_force_max_over_static``, ``root_stress_max_over_static``)."""
+    root stress per speed (``mesh_force_max_over_static``, ``root_stress_max_over_static``)
+    and, with `friction` (the mesh friction option, see `MeshModel`; a `MeshModel` passed as
+    `pair` carries its own), the mean mesh efficiency per speed
+    (``mesh_efficiency_mean``)."""
     drive = _drive(drive)
     if speeds is None:
         speeds = np.linspace(w_from, w_to, int(points)) if points > 1 else np.array([w_from])
@@ -755,7 +845,7 @@ def sweep(
         float(min_prominence),
         None if threads is None else _count("threads", threads),
     )
-    m = _model(pair, fidelity, slices, compliance, drive)
+    m = _model(pair, fidelity, slices, compliance, drive, friction)
     d = json.loads(
         m._m.sweep_json(
             m.pair.to_json(),
@@ -782,6 +872,7 @@ def sweep(
         root_stress_max_over_static=np.array(
             [np.nan if v is None else v for v in d["root_stress_max_over_static"]], dtype=float
         ),
+        mesh_efficiency_mean=np.array(d["mesh_efficiency_mean"], dtype=float),
         resonances=np.array(d["resonances_rad_s"], dtype=float),
         resonance_te_max_over_ste_max=np.array(d["resonance_te_max_over_ste_max"], dtype=float),
         peak_te_ratio=d["peak_te_max_over_ste_max"],

@@ -62,7 +62,15 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from ._api import Compliance, MeshModel, _design_torque, compliance, static_curve, sweep
+from ._api import (
+    Compliance,
+    MeshModel,
+    _design_torque,
+    _friction_text,
+    compliance,
+    static_curve,
+    sweep,
+)
 from ._pair import DriveLine, GearPair
 
 #: Result columns of the contract, in order.
@@ -95,6 +103,8 @@ class Settings:
     refine_runs: int
     table_size: tuple
     cache_dir: str | None
+    #: The mesh friction option as JSON text (None: the paper's frictionless model).
+    friction: str | None = None
 
 
 def _event(kind: str, key: str) -> None:
@@ -236,7 +246,7 @@ def design_task(
     try:
         if "static" in settings.analyses:
             t0 = time.perf_counter()
-            m = MeshModel(pair, "full", settings.slices, c)
+            m = MeshModel(pair, "full", settings.slices, c, friction=settings.friction)
             s = static_curve(m, points_per_pitch=settings.static_points, drive=drive)
             row["ste_max_um"] = s.ste_max * 1e6
             row["ste_peak_to_peak_um"] = s.ste_peak_to_peak * 1e6
@@ -245,7 +255,13 @@ def design_task(
         if "sweep" in settings.analyses:
             t0 = time.perf_counter()
             m = MeshModel(
-                pair, "table", settings.slices, c, settings.table_size, _design_torque(drive)
+                pair,
+                "table",
+                settings.slices,
+                c,
+                settings.table_size,
+                _design_torque(drive),
+                friction=settings.friction,
             )
             t1 = time.perf_counter()
             row["table_s"] = t1 - t0
@@ -368,6 +384,7 @@ def run(
     cache_dir: str | os.PathLike | None = None,
     progress: bool = True,
     flush_seconds: float = 2.0,
+    friction=None,
 ):
     """Runs `analyses` on every design of the DataFrame `designs` and returns the table (see
     the module doc). `client`: None (serial, in this process), a ``distributed.Client``, or a
@@ -375,7 +392,9 @@ def run(
     (from, to, points), rad/s. `refine_runs`: extra runs per resonance (golden section).
     `static_points`: pinion angles of the static TE curve; `slices`: axial slices of the mesh
     model; `table_size`: the sweep's table resolution (see `MeshModel`); `max_periods`,
-    `steps_per_period`: the steady-state runs (as the CLI's ``sweep``)."""
+    `steps_per_period`: the steady-state runs (as the CLI's ``sweep``). `friction`: the mesh
+    friction option of every design's models (a dict, JSON text or None; see `MeshModel`),
+    the static curve then at its default running speed of 300 rad/s."""
     import pandas as pd
 
     if isinstance(analyses, str):
@@ -398,6 +417,7 @@ def run(
         refine_runs=int(refine_runs),
         table_size=(int(table_size[0]), int(table_size[1])),
         cache_dir=None if cache_dir is None else os.fspath(cache_dir),
+        friction=_friction_text(friction),
     )
 
     # Parse every design here (cheap): its pair, speed range and content key.

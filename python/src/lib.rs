@@ -34,12 +34,13 @@ use helical_gear_mesh::iso6336::nominal_root_stress;
 use helical_gear_mesh::mesh::bearings::BearingArrangement;
 use helical_gear_mesh::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS, OutputKind, real_fields};
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, Fidelity, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
-    static_curve,
+    EquilibriumSettings, Fidelity, Friction, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
+    static_curve_with,
 };
 use helical_gear_mesh::options::Integrator;
 use helical_gear_mesh::results::{
-    ComplianceRecord, GeometryRecord, IsoRootStressSummary, StaticCurveRecord, SweepRecord,
+    ComplianceRecord, GeometryRecord, IsoRootStressSummary, StaticCurveRecord,
+    StaticFrictionSummary, SweepRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair, PairGeometry, ParamError};
 use numpy::{PyArray1, PyReadonlyArray1};
@@ -497,9 +498,11 @@ impl MeshModel {
     /// pair) or from the library's default source ([`Compliance::for_pair`]). The table
     /// fidelity's resolution: `table_phase_points` per mesh period × `table_te_points` along TE
     /// (the library's defaults 64 × 48), its TE range sized for `table_design_torque` N·m
-    /// (default 100, Table 1's torque).
+    /// (default 100, Table 1's torque). `friction`: the mesh friction option as JSON text
+    /// (the library's `mesh::Friction::from_json`: `{"model": …, "mu": …, …}`, `none` or
+    /// None for the paper's frictionless model).
     #[new]
-    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48, table_design_torque = 100.0))]
+    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48, table_design_torque = 100.0, friction = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -510,16 +513,22 @@ impl MeshModel {
         table_phase_points: usize,
         table_te_points: usize,
         table_design_torque: f64,
+        friction: Option<&str>,
     ) -> PyResult<Self> {
         let data = compliance.map(|c| c.data.clone());
         run(py, move || {
             let p = parse_pair(pair_json)?;
+            let friction = match friction {
+                None => Friction::none(),
+                Some(text) => Friction::from_json(text).map_err(Failure::Param)?,
+            };
             let options = MeshOptions {
                 fidelity: self::fidelity(fidelity)?,
                 slices,
                 table_phase_points,
                 table_te_points,
                 table_design_torque_nm: table_design_torque,
+                friction,
                 ..MeshOptions::default()
             };
             let model = match data {
@@ -614,16 +623,28 @@ impl MeshModel {
     /// `moment_g_nm`, `root_stress_p_pa`, `root_stress_g_pa`; summary `ste_max_um`,
     /// `ste_min_um`, `ste_mean_um`, `ste_peak_to_peak_um`, `mesh_stiffness_mean_n_per_um`,
     /// `force_p_mean_n`, `force_p_peak_to_peak_n`, `root_stress_max_p_pa`,
-    /// `root_stress_max_g_pa`).
-    #[pyo3(signature = (torque, points_per_pitch = 20, pitches = 1))]
+    /// `root_stress_max_g_pa`), with the mesh friction at pinion speed `w_p` (rad/s; the
+    /// states run at it when the model has friction, at rest otherwise): the keys of the
+    /// library's `results::StaticFrictionSummary` (`omega_p_rad_s`, `mesh_loss_mean_w`,
+    /// `mesh_efficiency_mean`, `loss_factor_h_v`, `mu_mean`) and the per-point arrays
+    /// `p_loss_w`, `eta_mesh`, `m_r_p_nm`, `m_r_g_nm`, `q_p_w`, `q_g_w` (W, N·m).
+    #[pyo3(signature = (torque, points_per_pitch = 20, pitches = 1, w_p = 0.0))]
     fn static_curve_json(
         &self,
         py: Python<'_>,
         torque: f64,
         points_per_pitch: usize,
         pitches: usize,
+        w_p: f64,
     ) -> PyResult<String> {
         run(py, || {
+            if !(w_p.is_finite() && w_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
+            {
+                return Err(Failure::Param(format!(
+                    "w_p = {w_p}: allowed finite, |w_p| <= 1e5 rad/s (0: standstill, negative: \
+                     running backwards)"
+                )));
+            }
             if !(torque.is_finite() && torque > 0.0) {
                 return Err(Failure::Param(format!(
                     "torque = {torque} N·m: allowed > 0 and finite"
@@ -638,10 +659,48 @@ impl MeshModel {
             let mut m = self.model.clone();
             let geo = m.geometry().clone();
             let pitch = geo.pinion.angular_pitch();
-            let c = static_curve(&mut m, torque, 0.0, pitch, points_per_pitch, pitches)?;
+            let friction = m.options().friction;
+            // Without friction the speed changes nothing: the states at rest, bit for bit.
+            let settings = EquilibriumSettings {
+                w_p: if friction.is_on() { w_p } else { 0.0 },
+                ..EquilibriumSettings::default()
+            };
+            let c = static_curve_with(
+                &mut m,
+                torque,
+                0.0,
+                pitch,
+                points_per_pitch,
+                pitches,
+                &settings,
+            )?;
             let record = StaticCurveRecord::new(&c, geo.pinion.rb);
             record.check_finite().map_err(Failure::Solver)?;
-            to_json_text(&record)
+            for (k, e) in c.points.iter().enumerate() {
+                finite_outputs(&format!("static point {k}"), &e.outputs)?;
+            }
+            let summary = StaticFrictionSummary::new(&c, &geo, friction, w_p);
+            summary.check_finite().map_err(Failure::Solver)?;
+            let mut v =
+                serde_json::to_value(&record).map_err(|e| Failure::Solver(e.to_string()))?;
+            let s = serde_json::to_value(&summary).map_err(|e| Failure::Solver(e.to_string()))?;
+            if let (Value::Object(o), Value::Object(s)) = (&mut v, s) {
+                o.extend(s);
+                type Get = fn(&helical_gear_mesh::mesh::MeshOutputs) -> f64;
+                let per_point: [(&str, Get); 6] = [
+                    ("p_loss_w", |o| o.p_loss),
+                    ("eta_mesh", |o| o.eta_mesh),
+                    ("m_r_p_nm", |o| o.m_r_p),
+                    ("m_r_g_nm", |o| o.m_r_g),
+                    ("q_p_w", |o| o.q_p),
+                    ("q_g_w", |o| o.q_g),
+                ];
+                for (key, get) in per_point {
+                    let values: Vec<f64> = c.points.iter().map(|e| get(&e.outputs)).collect();
+                    o.insert(key.into(), values.into());
+                }
+            }
+            to_json_text(&v)
         })
     }
 
@@ -651,7 +710,10 @@ impl MeshModel {
     /// mesh damping from `pair_json`, the drivetrain from `pair_json` and the drive line
     /// `drive_json`. Returns a dict of arrays: `time`, the eight states, `TE`, `M_F_p`,
     /// `M_F_g`, `M_D_p`, `M_D_g`, the force and moments `F_p_x` … `M_g_y`, `sigma_F_p`,
-    /// `sigma_F_g` (tooth-root stresses, Pa); and `steps`, `mesh_evaluations`.
+    /// `sigma_F_g` (tooth-root stresses, Pa), the friction outputs `M_R_p`, `M_R_g` (N·m),
+    /// `P_loss`, `eta_mesh`, `Q_p`, `Q_g` (W) of the model's friction option (the start is
+    /// the quasi-static state at `w_p` with friction, at rest without); and `steps`,
+    /// `mesh_evaluations`.
     #[pyo3(signature = (pair_json, drive_json, w_p, t_end, dt = None, method = "rk4", phi_p0 = 0.0, rtol = 1e-8, atol = 1e-12))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
@@ -721,8 +783,14 @@ impl MeshModel {
                     Stepping::Dopri5 { options, output_dt: dt }
                 }
             };
+            // With friction the start is the quasi-static state at the nominal speed; without,
+            // the state at rest (the speed changes nothing).
+            let settings = EquilibriumSettings {
+                w_p: if self.model.options().friction.is_on() { w_p } else { 0.0 },
+                ..EquilibriumSettings::default()
+            };
             let start = model
-                .static_start(phi_p0, w_p, &EquilibriumSettings::default())
+                .static_start(phi_p0, w_p, &settings)
                 .map_err(|e| Failure::Solver(format!("static start: {e}")))?;
             let tr = simulate(&mut model, &start.y, t_end, &stepping)?;
             for (k, (y, o)) in tr.states.iter().zip(&tr.outputs).enumerate() {
@@ -750,7 +818,7 @@ impl MeshModel {
     /// mesh damping of `pair_json`, the drivetrain of `pair_json` and the drive line
     /// `drive_json`, and the located resonances (the library's
     /// `dynamics::sweep`): JSON of the library's `results::SweepRecord` (per-speed arrays,
-    /// `resonances_rad_s`, `resonance_te_max_over_ste_max`, `ste_max_um`,
+    /// among them `mesh_efficiency_mean` of the model's friction option, `resonances_rad_s`, `resonance_te_max_over_ste_max`, `ste_max_um`,
     /// `mesh_stiffness_n_per_um`, `warnings`).
     #[pyo3(signature = (pair_json, drive_json, speeds, steps_per_period = DEFAULT_STEPS_PER_MESH_PERIOD, max_periods = 3000, refine_runs = 6, min_prominence = 0.005, threads = None))]
     #[allow(clippy::too_many_arguments)]

@@ -483,6 +483,13 @@ pub struct SteadyResponse {
     /// `root_stress_p`, `root_stress_g`) over the same recorded points, Pa (0 for a mesh
     /// without FE data).
     pub root_stress_max: [f64; 2],
+    /// Mean mesh friction loss P_loss ([`crate::mesh::MeshOutputs::p_loss`]) over the steady
+    /// window, W: the time average (trapezoidal) over the same recorded points (0 without
+    /// friction).
+    pub p_loss_mean: f64,
+    /// Mean power the pinion puts into the mesh, (M_F,p + M_D,p)·φ̇p, over the steady window
+    /// (time average over the same recorded points), W.
+    pub p_in_mean: f64,
     /// Recorded points of the steady window (RK4: every step; DOPRI5: every accepted step);
     /// empty unless [`SteadyRunOptions::keep_window`].
     pub window: Vec<WindowSample>,
@@ -745,11 +752,22 @@ pub fn run_to_steady<M: MeshTorques>(
     let (mut separated, mut tip_contact, mut back_contact) = (false, false, false);
     let mut force_p_max: f64 = 0.0;
     let mut root_stress_max = [0.0f64; 2];
+    // Time integrals of the loss and the mesh input power (trapezoidal) for their means.
+    let (mut loss_int, mut p_in_int, mut span) = (0.0, 0.0, 0.0);
+    let mut last: Option<(f64, f64, f64)> = None;
     for (t, ys, o) in ring.iter().filter(|r| r.0 >= t_from) {
         let o = match o {
             Some(o) => *o,
             None => model.outputs(ys)?,
         };
+        let p_in = (o.m_f_p + o.m_d_p) * ys[5];
+        if let Some((t0, l0, p0)) = last {
+            let dt = *t - t0;
+            loss_int += 0.5 * (l0 + o.p_loss) * dt;
+            p_in_int += 0.5 * (p0 + p_in) * dt;
+            span += dt;
+        }
+        last = Some((*t, o.p_loss, p_in));
         separated |= o.separated;
         tip_contact |= o.tip_contact;
         back_contact |= o.back_contact;
@@ -776,6 +794,9 @@ pub fn run_to_steady<M: MeshTorques>(
         back_contact,
         force_p_max,
         root_stress_max,
+        // One recorded point only (a window shorter than a step): its values.
+        p_loss_mean: if span > 0.0 { loss_int / span } else { last.map_or(0.0, |l| l.1) },
+        p_in_mean: if span > 0.0 { p_in_int / span } else { last.map_or(0.0, |l| l.2) },
         window,
         steps,
         samples_per_period: n,

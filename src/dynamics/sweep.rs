@@ -136,6 +136,10 @@ pub struct SweepPoint {
     pub mesh_evaluations: usize,
     /// Peak outputs over the steady window against their static values at the same torque.
     pub over_static: PeakOverStatic,
+    /// Mean mesh efficiency over the steady window, 1 − mean P_loss / mean mesh input power
+    /// ([`SteadyResponse::p_loss_mean`], [`SteadyResponse::p_in_mean`]), dimensionless; 1
+    /// without friction or where the mean input power is not positive.
+    pub mesh_efficiency_mean: f64,
 }
 
 /// The static peaks of a sweep's outputs over a mesh cycle at the sweep's torque (from the
@@ -193,8 +197,11 @@ impl PeakOverStatic {
 
 impl SweepPoint {
     fn from_response(r: &SteadyResponse, ste_max: f64, statics: &StaticPeaks) -> Self {
+        let mesh_efficiency_mean =
+            if r.p_in_mean > 0.0 { 1.0 - r.p_loss_mean / r.p_in_mean } else { 1.0 };
         Self {
             over_static: PeakOverStatic::new(r, statics),
+            mesh_efficiency_mean,
             omega_p: r.omega_p,
             te_max_over_ste_max: r.te_max / ste_max,
             te_min_over_ste_max: r.te_min / ste_max,
@@ -561,6 +568,7 @@ mod tests {
                 periods: 0.0,
                 mesh_evaluations: 0,
                 over_static: PeakOverStatic::default(),
+                mesh_efficiency_mean: 1.0,
             })
         };
         let (best, (a, c), made) = golden_max((1.0, 1.2, 1.6), f(1.2).unwrap(), 20, f).unwrap();

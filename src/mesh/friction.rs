@@ -114,6 +114,7 @@ pub enum FrictionModel {
     Constant,
     /// The mean coefficient of ISO/TR 14179-2 ([`iso_mean_mu`]) at the current load and
     /// speed, from the oil viscosity, the roughness and the lubricant factor.
+    #[serde(rename = "iso_tr_14179_2")]
     IsoTr14179_2,
 }
 

@@ -22,14 +22,14 @@ use helical_gear_mesh::dynamics::{
     sweep,
 };
 use helical_gear_mesh::mesh::{
-    EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshTorques,
+    EquilibriumSettings, Fidelity, Friction, Mesh, MeshError, MeshOptions, MeshTorques,
 };
 use helical_gear_mesh::results::{
     SweepRecord, SweepRunRecord, TrajectoryRecord, TrajectoryRunRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair};
 
-use super::{Common, DriveArg, load_drive, load_params};
+use super::{Common, DriveArg, FrictionArg, load_drive, load_friction, load_params};
 
 /// Mesh evaluation fidelity on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -100,6 +100,8 @@ pub struct SimulateArgs {
     /// Mesh evaluation fidelity.
     #[arg(long, value_enum, default_value_t = CliFidelity::Full)]
     fidelity: CliFidelity,
+    #[command(flatten)]
+    friction: FrictionArg,
     /// DOPRI5 relative tolerance.
     #[arg(long, default_value_t = 1e-8)]
     rtol: f64,
@@ -131,6 +133,8 @@ pub struct SweepArgs {
     /// Mesh evaluation fidelity (the table is built once and shared by all workers).
     #[arg(long, value_enum, default_value_t = CliFidelity::Table)]
     fidelity: CliFidelity,
+    #[command(flatten)]
+    friction: FrictionArg,
     /// RK4 steps per mesh period (raised at low speeds to resolve the fastest mode).
     #[arg(long, default_value_t = DEFAULT_STEPS_PER_MESH_PERIOD)]
     steps_per_period: usize,
@@ -149,25 +153,30 @@ pub struct SweepArgs {
 }
 
 /// The mesh model the dynamics run with: the full Andersson–Vedmar [`Mesh`] of `pair`
-/// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity`, a table sized for the drive
-/// line `drive`.
+/// (its `d_mesh_n_s_per_m` is the mesh damping) at `fidelity` with the mesh friction
+/// `friction`, a table sized for the drive line `drive`.
 fn build_mesh(
     pair: &GearPair,
     drive: &DriveLine,
     fidelity: CliFidelity,
+    friction: Friction,
 ) -> Result<impl MeshTorques + Clone + Send + use<>, MeshError> {
-    let options = MeshOptions { fidelity: fidelity.fidelity(), ..MeshOptions::default() };
+    let options = MeshOptions { fidelity: fidelity.fidelity(), friction, ..MeshOptions::default() };
     Mesh::new(pair, options.sized_for(drive))
 }
 
-/// Parameters with `--d-mesh` applied, the drivetrain of `--drive`, and the mesh model
-/// (building it may take a while: a note goes to stderr).
+/// Parameters with `--d-mesh` applied, the drivetrain of `--drive`, the mesh model with the
+/// friction of `--friction` (building it may take a while: a note goes to stderr) and that
+/// friction option.
+#[allow(clippy::type_complexity)]
 fn setup(
     common: &Common,
     drive: &DriveArg,
     d_mesh: Option<f64>,
     fidelity: CliFidelity,
-) -> Result<(GearPair, Drivetrain, impl MeshTorques + Clone + Send + use<>), String> {
+    friction: &FrictionArg,
+) -> Result<(GearPair, Drivetrain, impl MeshTorques + Clone + Send + use<>, Friction), String> {
+    let friction = load_friction(friction)?;
     let mut pair = load_params(common)?;
     if let Some(d) = d_mesh {
         if !(d.is_finite() && d >= 0.0) {
@@ -179,9 +188,10 @@ fn setup(
     let drive = Drivetrain::from_pair(&pair, &line).map_err(|e| e.to_string())?;
     eprintln!("building the mesh model ({} fidelity)…", fidelity.name());
     let t0 = std::time::Instant::now();
-    let mesh = build_mesh(&pair, &line, fidelity).map_err(|e| format!("mesh model: {e}"))?;
+    let mesh =
+        build_mesh(&pair, &line, fidelity, friction).map_err(|e| format!("mesh model: {e}"))?;
     eprintln!("mesh model ready in {:.1} s", t0.elapsed().as_secs_f64());
-    Ok((pair, drive, mesh))
+    Ok((pair, drive, mesh, friction))
 }
 
 fn io_err(e: std::io::Error) -> String {
@@ -223,7 +233,7 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
         check_samples((a.t_end / dt).floor() + 1.0, "lower --t-end or raise --dt")
             .map_err(|e| e.to_string())?;
     }
-    let (_, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
+    let (_, drive, mesh, friction) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity, &a.friction)?;
     let t_m = drive.mesh_period(a.omega_p);
     let mut model = GearDynamics::new(mesh, drive).map_err(|e| e.to_string())?;
     let stepping = match a.method {
@@ -244,8 +254,14 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             Stepping::Dopri5 { options, output_dt: a.dt }
         }
     };
+    // With friction the start is the quasi-static state at the nominal speed (its friction
+    // torques inside M_F); without, the state at rest (the speed changes nothing).
+    let settings = EquilibriumSettings {
+        w_p: if friction.is_on() { a.omega_p } else { 0.0 },
+        ..EquilibriumSettings::default()
+    };
     let start = model
-        .static_start(a.phi_p0, a.omega_p, &EquilibriumSettings::default())
+        .static_start(a.phi_p0, a.omega_p, &settings)
         .map_err(|e| format!("static start: {e}"))?;
     let t0 = std::time::Instant::now();
     let tr = simulate(&mut model, &start.y, a.t_end, &stepping).map_err(|e| e.to_string())?;
@@ -319,6 +335,12 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             hi * 1e6
         )
         .map_err(io_err)?;
+        let loss: &[f64] = record.mesh_column("p_loss_w");
+        if loss.iter().any(|&x| x > 0.0) {
+            let mean = loss.iter().sum::<f64>() / loss.len() as f64;
+            writeln!(w, "  mesh friction loss P_loss: mean over the output times {mean:.3} W")
+                .map_err(io_err)?;
+        }
         writeln!(
             w,
             "  {:>12} {:>12} {:>12} {:>12} {:>12}",
@@ -379,7 +401,7 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     };
     helical_gear_mesh::dynamics::check_sweep_request(&speeds, &request)
         .map_err(|e| e.to_string())?;
-    let (pair, drive, mesh) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity)?;
+    let (pair, drive, mesh, _) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity, &a.friction)?;
     // Tooth deviations: steady over their period (at least three periods integrated).
     let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
     let opts = SweepOptions {
@@ -454,6 +476,14 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
                 x.omega_p, x.bracket.0, x.bracket.1, x.te_max_over_ste_max
             )
             .map_err(io_err)?;
+        }
+        if r.points.iter().any(|p| p.mesh_efficiency_mean < 1.0) {
+            writeln!(w, "  mean mesh efficiency over the steady window (friction):")
+                .map_err(io_err)?;
+            for p in &r.points {
+                writeln!(w, "  {:12.3} {:10.6}", p.omega_p, p.mesh_efficiency_mean)
+                    .map_err(io_err)?;
+            }
         }
         for s in warnings {
             writeln!(w, "  warning: {s}").map_err(io_err)?;

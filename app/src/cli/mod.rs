@@ -1,6 +1,7 @@
 //! The subcommands of `helical-gear`, one module each, and what they share: the common
 //! arguments ([`Common`]: `--params FILE`, `--json`), the drive line of the commands that use
-//! it ([`DriveArg`]: `--drive FILE`) and the loading of both.
+//! it ([`DriveArg`]: `--drive FILE`), the mesh friction of the analyses that take it
+//! ([`FrictionArg`]: `--friction FILE|none`) and the loading of them.
 
 pub mod bench;
 pub mod compliance;
@@ -13,6 +14,7 @@ pub mod statics;
 
 use clap::Args;
 use helical_gear_mesh::GearPair;
+use helical_gear_mesh::mesh::Friction;
 use helical_gear_mesh::params::DriveLine;
 
 /// Arguments every subcommand takes.
@@ -26,7 +28,8 @@ pub struct Common {
     pub json: bool,
 }
 
-/// Largest JSON file read for `--params`, `--drive`, `--bearings` and the variants file,
+/// Largest JSON file read for `--params`, `--drive`, `--bearings`, `--friction` and the
+/// variants file,
 /// bytes: 16 MiB, far above any parameter file (a few kB) and far below a runaway read
 /// (`--params /dev/zero` read 4.2 GB before failing).
 pub const MAX_JSON_FILE_BYTES: u64 = 16 * 1024 * 1024;
@@ -99,4 +102,28 @@ pub fn load_drive(a: &DriveArg) -> Result<DriveLine, String> {
     };
     d.check().map_err(|e| e.to_string())?;
     Ok(d)
+}
+
+/// The mesh friction option of `static`, `simulate` and `sweep`.
+#[derive(Args, Clone, Default)]
+pub struct FrictionArg {
+    /// Mesh friction: a JSON file `{"model": "none" | "constant" | "iso_tr_14179_2", "mu": …,
+    /// "oil_viscosity_pa_s": …, "roughness_ra_m": …, "lubricant_factor": …,
+    /// "regularisation_speed_m_s": …}` (every key optional, SI units; docs/friction.md), or
+    /// `none`; default none, the paper's frictionless model.
+    #[arg(long, value_name = "FILE|none")]
+    pub friction: Option<std::path::PathBuf>,
+}
+
+/// The friction option of `--friction` (the JSON of [`Friction::from_json`], or `none`);
+/// the error names the flag, the file and the bad key or value.
+pub fn load_friction(a: &FrictionArg) -> Result<Friction, String> {
+    match &a.friction {
+        None => Ok(Friction::none()),
+        Some(path) if path.as_os_str() == "none" => Ok(Friction::none()),
+        Some(path) => {
+            let text = read_json_file("--friction", path)?;
+            Friction::from_json(&text).map_err(|e| format!("--friction {}: {e}", path.display()))
+        }
+    }
 }

@@ -19,7 +19,7 @@ use helical_gear_mesh::results::{
 use helical_gear_mesh::{DriveLine, GearPair};
 use serde::Deserialize;
 
-use super::{Common, DriveArg, load_drive, load_params};
+use super::{Common, DriveArg, FrictionArg, load_drive, load_friction, load_params};
 
 /// `--compliance` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -290,6 +290,10 @@ pub struct SpectrumArgs {
     drive: DriveArg,
     #[command(flatten)]
     model: ModelArgs,
+    // `--friction`: with `--dynamic` only (the static spectrum is at standstill, where nothing
+    // slides).
+    #[command(flatten)]
+    friction: FrictionArg,
     /// Driving torque, N·m (default: the drive line's `torque_nm`).
     #[arg(long)]
     torque: Option<f64>,
@@ -345,6 +349,7 @@ fn dynamic_te(
     let mut options = a.model.options(a.slices);
     options.detail = false;
     options.fidelity = helical_gear_mesh::mesh::Fidelity::Table;
+    options.friction = load_friction(&a.friction)?;
     eprintln!("spectrum: building the table");
     let mesh = Mesh::new(pair, options.sized_for(drive)).map_err(|e| e.to_string())?;
     let drive = Drivetrain::new(mesh.geometry(), drive).map_err(|e| e.to_string())?;
@@ -385,6 +390,11 @@ pub fn spectrum_cmd(a: &SpectrumArgs) -> Result<(), String> {
     let t0 = std::time::Instant::now();
     if a.dynamic {
         return dynamic_spectrum(a, &pair, &drive, t0);
+    }
+    if load_friction(&a.friction)?.is_on() {
+        return Err("--friction applies to --dynamic only (the static spectrum is taken at \
+                    standstill, where nothing slides)"
+            .into());
     }
     // One static equilibrium per sample: bounded before the model is built or memory reserved.
     let hunting = Modifications::hunting_meshes(pair.z_p, pair.z_g);

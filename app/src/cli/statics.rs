@@ -1,18 +1,22 @@
 //! The `static` subcommand: static transmission error over the mesh cycle (Eq. 16), the face
-//! load distribution and, with `--plot`, the pressure waterfall (Fig. 7).
+//! load distribution, with `--friction` the mesh loss and efficiency at the running speed
+//! `--omega-p`, and with `--plot` the pressure waterfall (Fig. 7).
 
 use helical_gear_app::paper;
 use helical_gear_mesh::mesh::bearings::BearingArrangement;
-use helical_gear_mesh::mesh::{Mesh, pressure_waterfall, static_curve};
+use helical_gear_mesh::mesh::{EquilibriumSettings, Mesh, pressure_waterfall, static_curve_with};
 use helical_gear_mesh::results::{
-    BearingLoadRecord, IsoRootStressSummary, StaticCurveRecord, StaticPointRecord, StaticRunRecord,
+    BearingLoadRecord, IsoRootStressSummary, StaticCurveRecord, StaticFrictionSummary,
+    StaticPointRecord, StaticRunRecord,
 };
 
-use super::{Common, DriveArg, load_drive, load_params, mods};
+use super::{Common, DriveArg, FrictionArg, load_drive, load_friction, load_params, mods};
 
 /// Runs `helical-gear static`: the static TE curve under `torque` (N·m on the pinion; default
 /// the torque of the drive line of `--drive`) at `points_per_pitch` angles over `pitches` pinion pitches,
-/// the face load and K_Hβ per point, and with `plot` the CSV/PNG figures into that directory.
+/// the face load and K_Hβ per point, the mesh friction of `friction` at pinion speed `omega_p`
+/// (rad/s; the quasi-static states run at it when friction is on), and with `plot` the CSV/PNG
+/// figures into that directory.
 #[allow(clippy::too_many_arguments)]
 pub fn static_cmd(
     common: &Common,
@@ -24,7 +28,17 @@ pub fn static_cmd(
     plot: Option<&std::path::Path>,
     bearings: Option<&std::path::Path>,
     model_args: &mods::ModelArgs,
+    friction: &FrictionArg,
+    omega_p: f64,
 ) -> Result<(), String> {
+    if !(omega_p.is_finite() && omega_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
+    {
+        return Err(format!(
+            "--omega-p = {omega_p:.4e}: allowed finite, |ω_p| <= 1e5 rad/s (0: standstill, \
+             negative: running backwards)"
+        ));
+    }
+    let friction = load_friction(friction)?;
     // The bearing arrangement is read and checked before anything is computed.
     let bearings = match bearings {
         Some(path) => {
@@ -49,13 +63,21 @@ pub fn static_cmd(
         ));
     }
     let t0 = std::time::Instant::now();
-    let options = model_args.options(slices).sized_for(&drive);
+    let mut options = model_args.options(slices).sized_for(&drive);
+    options.friction = friction;
     let mut model = Mesh::new(&p, options).map_err(|e| e.to_string())?;
     let build_s = t0.elapsed().as_secs_f64();
     let geo = model.geometry().clone();
     let pitch = geo.pinion.angular_pitch();
-    let curve = static_curve(&mut model, torque, 0.0, pitch, points_per_pitch, pitches)
-        .map_err(|e| e.to_string())?;
+    // Without friction the speed changes nothing (TE and its rate are those of standstill, no
+    // damping): the states are taken at rest, bit for bit the frictionless results.
+    let settings = EquilibriumSettings {
+        w_p: if friction.is_on() { omega_p } else { 0.0 },
+        ..EquilibriumSettings::default()
+    };
+    let curve =
+        static_curve_with(&mut model, torque, 0.0, pitch, points_per_pitch, pitches, &settings)
+            .map_err(|e| e.to_string())?;
     let fl = mods::face_loads(&mut model, &curve, pitch, points_per_pitch, pitches)?;
     let rb = geo.pinion.rb;
     let stiffness = curve.mean_stiffness(rb);
@@ -89,6 +111,12 @@ pub fn static_cmd(
             moment_g_nm: e.outputs.moment_g,
             root_stress_p_pa: e.outputs.root_stress_p,
             root_stress_g_pa: e.outputs.root_stress_g,
+            p_loss_w: e.outputs.p_loss,
+            eta_mesh: e.outputs.eta_mesh,
+            m_r_p_nm: e.outputs.m_r_p,
+            m_r_g_nm: e.outputs.m_r_g,
+            q_p_w: e.outputs.q_p,
+            q_g_w: e.outputs.q_g,
         })
         .collect();
     // The shared static record (per-point arrays and summary), then the face load and the
@@ -104,6 +132,7 @@ pub fn static_cmd(
         model_build_s: build_s,
         seconds,
         iso: IsoRootStressSummary::new(&geo, torque),
+        friction: StaticFrictionSummary::new(&curve, &geo, friction, omega_p),
         points,
         bearings: bearings.map(|b| {
             let outs: Vec<_> = curve.points.iter().map(|e| e.outputs).collect();
@@ -148,6 +177,16 @@ pub fn static_cmd(
             "  tooth-root stress max: pinion {:.1} MPa, gear {:.1} MPa",
             record.curve.root_stress_max_p_pa * 1e-6,
             record.curve.root_stress_max_g_pa * 1e-6
+        );
+        let fr = &record.friction;
+        println!(
+            "  mesh friction ({}) at ω_p = {omega_p} rad/s: mean loss {:.3} W, mean efficiency \
+             {:.5}, ISO/TR 14179-2 loss factor H_V {:.4}, μ {}",
+            friction.model.name(),
+            fr.mesh_loss_mean_w,
+            fr.mesh_efficiency_mean,
+            fr.loss_factor_h_v,
+            fr.mu_mean.map_or("none".into(), |mu| format!("{mu:.4}"))
         );
         println!(
             "  K_Hβ max {:.4}, of the cycle-averaged line load {:.4}; ISO 6336-1 method C {:.4} \
