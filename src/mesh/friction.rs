@@ -87,8 +87,8 @@
 //! # Table fidelity and the Jacobian
 //! The table carries the friction as node values (module docs of [`super::table`],
 //! "Friction"). The partial derivatives of the friction torques are taken by central
-//! differences of the evaluation ([`add_friction_jacobian`]); those of the elastic and damping
-//! torques stay exact.
+//! differences of the evaluation (steps 1e-7 rad and 1e-6 of the speed); those of the elastic
+//! and damping torques stay exact.
 //!
 //! # ISO/TR 14179-2 for comparison
 //! [`loss_factor_h_v`]: the gear loss factor H_V (Ohlendorf) from the geometry, the load

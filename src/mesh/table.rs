@@ -69,9 +69,9 @@
 //!
 //! # Friction
 //! With friction ([`super::friction`]) each TE axis carries a block of 9 node values beside
-//! the others ([`MeshModel::unit_friction`], over δ like the torques): the friction torques,
-//! force and tilting moments for μ = 1 with the pinion turning at +1 rad/s and the gear at the
-//! rigid ratio −g_p/g_g, pure Coulomb (each slice's force along its sliding direction), and
+//! the others (over δ like the torques): the friction torques, force and tilting moments for
+//! μ = 1 with the pinion turning at +1 rad/s and the gear at the rigid ratio −g_p/g_g, pure
+//! Coulomb (each slice's force along its sliding direction), and
 //! the loss per unit pinion speed L = Σ F_i·|v_t,i| with the part L_p that heats the pinion.
 //! The build samples at rest, so the block comes from the loads of the same solves. An
 //! evaluation scales the block by κ = μ·g(v̄/v₀)·sign φ̇p: μ from the interpolated elastic
