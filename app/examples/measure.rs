@@ -1143,9 +1143,14 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
         "\n## Cost per evaluation\n\nMean wall time per `evaluate` over 400 running states \
          (50 pinion angles × 8 TEs around the static TE, 300 rad/s, each from the previous \
          state's warm start), without and with constant μ = 0.05.\n\n\
-         | fidelity | no friction | with friction | added |\n| --- | --- | --- | --- |\n",
+         | fidelity, outputs | no friction | with friction | added |\n| --- | --- | --- | --- |\n",
     );
-    for fidelity in [Fidelity::Full, Fidelity::Table] {
+    // (label, fidelity, torques only: the right-hand side's `MeshTorques::torques`)
+    for (label, fidelity, torques_only) in [
+        ("Full, every output", Fidelity::Full, false),
+        ("Table, every output", Fidelity::Table, false),
+        ("Table, torques only (right-hand side)", Fidelity::Table, true),
+    ] {
         let mut times = Vec::new();
         for friction in [Friction::none(), constant] {
             let mut m =
@@ -1165,13 +1170,20 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
                 .collect();
             let reps = if fidelity == Fidelity::Full { 1 } else { 200 };
             let mut sink = 0.0;
+            let one = |m: &mut Mesh, s: &MeshState| -> Result<f64, String> {
+                Ok(if torques_only {
+                    m.torques(s).map_err(e)?.0.m_f_p
+                } else {
+                    m.evaluate(s).map_err(e)?.m_f_p
+                })
+            };
             for s in &states {
-                sink += m.evaluate(s).map_err(e)?.m_f_p;
+                sink += one(&mut m, s)?;
             }
             let t0 = Instant::now();
             for _ in 0..reps {
                 for s in &states {
-                    sink += m.evaluate(s).map_err(e)?.m_f_p;
+                    sink += one(&mut m, s)?;
                 }
             }
             std::hint::black_box(sink);
@@ -1180,7 +1192,7 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
         let (unit, scale) = if fidelity == Fidelity::Full { ("µs", 1e6) } else { ("ns", 1e9) };
         writeln!(
             md,
-            "| {fidelity:?} | {:.1} {unit} | {:.1} {unit} | {:+.1} % |",
+            "| {label} | {:.1} {unit} | {:.1} {unit} | {:+.1} % |",
             times[0] * scale,
             times[1] * scale,
             100.0 * (times[1] / times[0] - 1.0)

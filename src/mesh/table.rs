@@ -867,15 +867,22 @@ impl MeshTable {
                 wrench.add(&w);
             }
             if let Some(fc) = model.friction() {
+                // Row by row (Σ_b w_b·x, then Σ_a w_a·row), scaled by δ once.
                 let mut fv = [0.0; FRICTION_NODE];
                 for (a, &wa) in wp.iter().enumerate() {
-                    let ip = (ip0 + a as i64).rem_euclid(np) as usize;
-                    for (b, &wb) in wt.iter().enumerate().take(nt) {
-                        let x = &axis.friction[ip * axis.n + it0 + b];
-                        for (f, &xk) in fv.iter_mut().zip(x) {
-                            *f += wa * wb * xk * dist;
+                    let base = (ip0 + a as i64).rem_euclid(np) as usize * axis.n + it0;
+                    let mut r = [0.0; FRICTION_NODE];
+                    for (x, &wb) in axis.friction[base..base + nt].iter().zip(&wt) {
+                        for (rk, &xk) in r.iter_mut().zip(x) {
+                            *rk += wb * xk;
                         }
                     }
+                    for (f, &rk) in fv.iter_mut().zip(&r) {
+                        *f += wa * rk;
+                    }
+                }
+                for f in &mut fv {
+                    *f *= dist;
                 }
                 // The torques and the loss from the packed records, as the torques-only path.
                 let f =
