@@ -435,6 +435,19 @@ impl FrictionSums {
     }
 }
 
+/// Sets `out.eta_mesh` ([`mesh_efficiency`]) from the torques and loss already in `out` at
+/// `state`: the one place both fidelities fill it.
+#[inline]
+pub(crate) fn set_efficiency(out: &mut MeshOutputs, state: &MeshState) {
+    out.eta_mesh = mesh_efficiency(
+        out.m_f_p + out.m_d_p,
+        out.m_f_g + out.m_d_g,
+        state.w_p,
+        state.w_g,
+        out.p_loss,
+    );
+}
+
 /// The instantaneous mesh efficiency of the module docs from the total torques on each gear
 /// (elastic, friction and damping; N·m), the speeds (rad/s) and the loss power (W).
 #[inline]

@@ -123,7 +123,7 @@ use faer::Mat;
 
 use super::forces::{ForceFrame, MeshWrench};
 use super::friction::{
-    FrictionConst, FrictionSums, add_friction_jacobian, mesh_efficiency, slice_friction,
+    FrictionConst, FrictionSums, add_friction_jacobian, set_efficiency, slice_friction,
 };
 use super::validity::ValidityRange;
 use super::{MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
@@ -1121,13 +1121,7 @@ impl MeshModel {
             }
         }
         wrench.write(&mut out);
-        out.eta_mesh = mesh_efficiency(
-            out.m_f_p + out.m_d_p,
-            out.m_f_g + out.m_d_g,
-            state.w_p,
-            state.w_g,
-            out.p_loss,
-        );
+        set_efficiency(&mut out, state);
         ws.wrench = wrench;
         ws.first_moment = side_extent[0][1] + side_extent[1][1];
         if let Some(kernel) = self.root_stress.as_deref() {

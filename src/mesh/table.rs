@@ -116,7 +116,7 @@
 use std::sync::Arc;
 
 use super::forces::MeshWrench;
-use super::friction::{FrictionConst, add_friction_jacobian, mesh_efficiency};
+use super::friction::{FrictionConst, add_friction_jacobian, set_efficiency};
 use super::model::{FRICTION_NODE, FullMesh, MeshModel, PairSum, WarmStart, damping_rows};
 use super::{MeshError, MeshJacobian, MeshOutputs, MeshState, MeshTorques};
 use crate::contact::FlankSide;
@@ -892,13 +892,7 @@ impl MeshTable {
             }
             wrench.write(&mut out);
         }
-        out.eta_mesh = mesh_efficiency(
-            out.m_f_p + out.m_d_p,
-            out.m_f_g + out.m_d_g,
-            state.w_p,
-            state.w_g,
-            out.p_loss,
-        );
+        set_efficiency(&mut out, state);
         Some(out)
     }
 
