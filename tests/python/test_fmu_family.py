@@ -28,10 +28,11 @@ def test_one_binary_serves_every_model_by_guid():
 
 
 @pytest.fixture(scope="module")
-def drive():
+def drive(tmp_path_factory):
     path = fmu_file("HelicalGearDrive")
     md = read_model_description(path)
-    return md, extract(path)
+    # Extracted under pytest's temporary directory, which pytest prunes.
+    return md, extract(path, unzipdir=str(tmp_path_factory.mktemp("drive")))
 
 
 def test_drive_reproduces_helical_gear_simulate(drive, tmp_path):
