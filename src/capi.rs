@@ -298,7 +298,7 @@ pub unsafe extern "C" fn hgm_evaluate(
             }
         }
         let o = m
-            .evaluate(&MeshState { phi_p, phi_g, w_p, w_g })
+            .evaluate(&MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() })
             .map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
         check_mesh_outputs(&o)?;
         // SAFETY: non-null, caller contract.

@@ -132,6 +132,33 @@ pub struct ReducedAngles {
     pub te: f64,
 }
 
+/// The gear body's displacement relative to the pinion body, in the pinion's frame ([`crate::mesh::pose`],
+/// "The gear seen from the pinion"): translation U of the gear centre (m) and tilt Θ
+/// (rad), or their rates.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct RelativePose {
+    /// U, m.
+    pub u: [f64; 3],
+    /// Θ = (Θ_x, Θ_y), rad.
+    pub th: [f64; 2],
+}
+
+impl RelativePose {
+    /// Offset (x, y) of the gear axis in the slice at height `z` (m) for face width `b` (m).
+    #[inline]
+    pub fn axis_offset(&self, z: f64, b: f64) -> [f64; 2] {
+        let h = z - 0.5 * b;
+        [self.u[0] + self.th[1] * h, self.u[1] - self.th[0] * h]
+    }
+
+    /// Axial displacement (m) of the gear material at transverse offset `rho` (m) from its
+    /// displaced axis: w = U_z + Θ_x·ρ_y − Θ_y·ρ_x.
+    #[inline]
+    pub fn axial(&self, rho: [f64; 2]) -> f64 {
+        self.u[2] + self.th[0] * rho[1] - self.th[1] * rho[0]
+    }
+}
+
 /// Instant-line-of-contact solver for one gear pair.
 #[derive(Debug, Clone)]
 pub struct ContactSolver<'a> {
@@ -335,6 +362,52 @@ impl<'a> ContactSolver<'a> {
         red
     }
 
+    /// Like [`ContactSolver::contacts_on`] with the gear body displaced relative to the pinion
+    /// by `pose` ([`crate::mesh::pose`], "The contact on the displaced geometry"): in each slice
+    /// the gear's axis is offset, its tooth turned by the helix for the axial displacement at
+    /// the operating pitch point, and each contact's overlap corrected for the axial
+    /// displacement at its own point.
+    pub(crate) fn contacts_posed(
+        &self,
+        side: FlankSide,
+        phi_p: f64,
+        phi_g: f64,
+        zetas: &[f64],
+        pose: &RelativePose,
+        out: &mut Vec<ContactPoint>,
+    ) -> ReducedAngles {
+        out.clear();
+        let red = self.reduce(phi_p, phi_g);
+        if zetas.is_empty() || phi_p.abs() > self.max_angle() {
+            return red;
+        }
+        let g = self.geo;
+        let mn = g.params.normal_module_m;
+        let b = g.params.face_width_m;
+        let tw = g.gear.twist_rate;
+        let r_wg = g.gear.rb / g.alpha_wt.cos();
+        let w_ref = pose.axial([-r_wg, 0.0]);
+        let zmin = zetas.iter().copied().fold(f64::INFINITY, f64::min);
+        let zmax = zetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let (lo, hi) = self.pair_range(red.phi_p, zmin, zmax, side);
+        // The pair window holds for the nominal geometry; the pose moves the contact by at most
+        // 0.05·m_n plus the helix turn, well inside its half-pitch margin.
+        for k in lo..=hi {
+            for &zeta in zetas {
+                let o = pose.axis_offset(zeta * mn, b);
+                let center = [self.center_g[0] + o[0], self.center_g[1] + o[1]];
+                let phi_g_k = red.phi_g - tw * w_ref;
+                if let Some(mut c) = self.contact_walk(side, red.phi_p, phi_g_k, k, zeta, center) {
+                    let rho = [c.point_g[0] - center[0], c.point_g[1] - center[1]];
+                    c.overlap_m -= c.arm_g_m * tw * (pose.axial(rho) - w_ref);
+                    c.pair = k - red.pitches;
+                    out.push(c);
+                }
+            }
+        }
+        red
+    }
+
     /// Tooth rotation angles (Θp, Θg), rad, of the teeth of contact `pair` (as numbered in
     /// [`ContactPoint::pair`]) on flanks `side` at slice `zeta`, for the reduced angles `red`
     /// of the call that found the contact. Θ = φ + constant, so ∂Θp/∂φp = ∂Θg/∂φg = 1.
@@ -366,11 +439,19 @@ impl<'a> ContactSolver<'a> {
     }
 
     /// Solves one combination of pieces; returns up to two trial normals.
-    fn trials(&self, pp: Piece, pg: Piece, tp: f64, tg: f64, buf: &mut [Option<Trial>; 2]) {
+    fn trials(
+        &self,
+        pp: Piece,
+        pg: Piece,
+        tp: f64,
+        tg: f64,
+        center_g: [f64; 2],
+        buf: &mut [Option<Trial>; 2],
+    ) {
         *buf = [None, None];
         let a1 = rot(tp, pp.anchor());
         let ag = rot(tg, pg.anchor());
-        let a2 = [self.center_g[0] + ag[0], self.center_g[1] + ag[1]];
+        let a2 = [center_g[0] + ag[0], center_g[1] + ag[1]];
         let d = [a2[0] - a1[0], a2[1] - a1[1]];
         let dist = d[0].hypot(d[1]);
         if dist <= 0.0 {
@@ -385,7 +466,7 @@ impl<'a> ContactSolver<'a> {
         for (slot, nu) in buf.iter_mut().zip([delta + asin, delta + PI - asin]) {
             // The pinion's outward normal must point towards the gear side.
             let (sn, cn) = nu.sin_cos();
-            if cn * self.center_g[0] + sn * self.center_g[1] <= 0.0 {
+            if cn * center_g[0] + sn * center_g[1] <= 0.0 {
                 continue;
             }
             let mid_p = 0.5 * (pp.nu_min() + pp.nu_max());
@@ -413,6 +494,7 @@ impl<'a> ContactSolver<'a> {
         tp: f64,
         tg: f64,
         zeta: f64,
+        center_g: [f64; 2],
     ) -> ContactPoint {
         let g = self.geo;
         let (s, c) = tr.nu.sin_cos();
@@ -420,7 +502,7 @@ impl<'a> ContactSolver<'a> {
         let m = [s, -c];
         let a1 = rot(tp, pp.anchor());
         let ag = rot(tg, pg.anchor());
-        let a2 = [self.center_g[0] + ag[0], self.center_g[1] + ag[1]];
+        let a2 = [center_g[0] + ag[0], center_g[1] + ag[1]];
         let d = [a2[0] - a1[0], a2[1] - a1[1]];
         let l1 = pp.reach(tr.nu_p_local);
         let l2 = pg.reach(tr.nu_g_local);
@@ -429,7 +511,7 @@ impl<'a> ContactSolver<'a> {
         let p2 = [a2[0] - k2 * m[0] - l2 * n[0], a2[1] - k2 * m[1] - l2 * n[1]];
         let overlap = l1 + l2 - (d[0] * n[0] + d[1] * n[1]);
         let arm_p = p1[0] * m[0] + p1[1] * m[1];
-        let r2 = [p2[0] - self.center_g[0], p2[1] - self.center_g[1]];
+        let r2 = [p2[0] - center_g[0], p2[1] - center_g[1]];
         let arm_g = -(r2[0] * m[0] + r2[1] * m[1]);
         let mn = g.params.normal_module_m;
         // Flank coordinates in the unmirrored tooth frame (η* uses x only, τ the normal angle).
@@ -484,6 +566,19 @@ impl<'a> ContactSolver<'a> {
         k: i64,
         zeta: f64,
     ) -> Option<ContactPoint> {
+        self.contact_walk(side, phi_p, phi_g, k, zeta, self.center_g)
+    }
+
+    /// [`Self::contact_fast_on`] with the gear's centre in this slice at `center_g` (m).
+    fn contact_walk(
+        &self,
+        side: FlankSide,
+        phi_p: f64,
+        phi_g: f64,
+        k: i64,
+        zeta: f64,
+        center_g: [f64; 2],
+    ) -> Option<ContactPoint> {
         let (tp, tg) = self.theta(side, phi_p, phi_g, k, zeta);
         let mirror = side == FlankSide::Back;
         let fp = &self.geo.pinion.flank.primitives;
@@ -493,12 +588,12 @@ impl<'a> ContactSolver<'a> {
         for _ in 0..(2 * (fp.len() + fg.len())) {
             let pp = Piece { prim: &fp[i], mirror };
             let pg = Piece { prim: &fg[j], mirror };
-            self.trials(pp, pg, tp, tg, &mut buf);
+            self.trials(pp, pg, tp, tg, center_g, &mut buf);
             // Pick the trial closest to valid.
             let best = buf.iter().flatten().min_by_key(|t| t.side_p.abs() + t.side_g.abs());
             let Some(t) = best else { break };
             if t.side_p == 0 && t.side_g == 0 {
-                return Some(self.build(side, pp, pg, t, tp, tg, zeta));
+                return Some(self.build(side, pp, pg, t, tp, tg, zeta, center_g));
             }
             let ni = (i as i64 + t.side_p as i64).clamp(0, fp.len() as i64 - 1) as usize;
             let nj = (j as i64 + t.side_g as i64).clamp(0, fg.len() as i64 - 1) as usize;
@@ -510,7 +605,7 @@ impl<'a> ContactSolver<'a> {
             i = ni;
             j = nj;
         }
-        self.contact_exhaustive_on(side, phi_p, phi_g, k, zeta)
+        self.contact_search(side, phi_p, phi_g, k, zeta, center_g)
     }
 
     /// Driving-flank contact of pair `k` at slice `zeta` by trying every combination of pieces.
@@ -534,6 +629,19 @@ impl<'a> ContactSolver<'a> {
         k: i64,
         zeta: f64,
     ) -> Option<ContactPoint> {
+        self.contact_search(side, phi_p, phi_g, k, zeta, self.center_g)
+    }
+
+    /// [`Self::contact_exhaustive_on`] with the gear's centre in this slice at `center_g` (m).
+    fn contact_search(
+        &self,
+        side: FlankSide,
+        phi_p: f64,
+        phi_g: f64,
+        k: i64,
+        zeta: f64,
+        center_g: [f64; 2],
+    ) -> Option<ContactPoint> {
         let (tp, tg) = self.theta(side, phi_p, phi_g, k, zeta);
         let mirror = side == FlankSide::Back;
         let mut best: Option<ContactPoint> = None;
@@ -542,10 +650,10 @@ impl<'a> ContactSolver<'a> {
             for prim_g in &self.geo.gear.flank.primitives {
                 let pp = Piece { prim: prim_p, mirror };
                 let pg = Piece { prim: prim_g, mirror };
-                self.trials(pp, pg, tp, tg, &mut buf);
+                self.trials(pp, pg, tp, tg, center_g, &mut buf);
                 for t in buf.iter().flatten() {
                     if t.side_p == 0 && t.side_g == 0 {
-                        let c = self.build(side, pp, pg, t, tp, tg, zeta);
+                        let c = self.build(side, pp, pg, t, tp, tg, zeta, center_g);
                         if best.is_none_or(|b| c.overlap_m > b.overlap_m) {
                             best = Some(c);
                         }

@@ -38,7 +38,7 @@
 //!     let phi_g = mesh.geometry().phi_g_for_te(phi_p, 30e-6);
 //!     let w_p = 300.0;
 //!     let w_g = -w_p * f64::from(pair.z_p) / f64::from(pair.z_g);
-//!     let out = mesh.evaluate(&MeshState { phi_p, phi_g, w_p, w_g })?;
+//!     let out = mesh.evaluate(&MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() })?;
 //!     let (m, n, te) = (out.m_f_p, out.n_pairs, out.te * 1e6);
 //!     println!("M_F,p = {m:.1} N·m on {n} tooth pairs, TE = {te:.1} µm");
 //!     assert!(out.m_f_p > 0.0 && out.n_pairs >= 1);

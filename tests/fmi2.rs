@@ -481,7 +481,7 @@ fn modifications_string_parameter() {
             fmi2Status::Ok
         );
         let got = f.get(&["M_F_p", "TE"]).unwrap();
-        let s = MeshState { phi_p, phi_g, w_p: 0.0, w_g: 0.0 };
+        let s = MeshState { phi_p, phi_g, w_p: 0.0, w_g: 0.0, ..Default::default() };
         let o = lib.evaluate(&s).unwrap();
         assert_eq!(got[0].to_bits(), o.m_f_p.to_bits(), "φp = {phi_p}");
         assert_eq!(got[1].to_bits(), o.te.to_bits());
@@ -561,7 +561,7 @@ fn friction_string_parameter() {
             fmi2Status::Ok
         );
         let got = f.get(&names).unwrap();
-        let o = lib.evaluate(&MeshState { phi_p, phi_g, w_p, w_g }).unwrap();
+        let o = lib.evaluate(&MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() }).unwrap();
         let want =
             [o.m_f_p, o.m_f_g, o.m_r_p, o.m_r_g, o.p_loss, o.eta_mesh, o.q_p, o.q_g, o.force_p[1]];
         for ((n, g), w) in names.iter().zip(&got).zip(want) {
@@ -629,7 +629,7 @@ fn mesh_fmu_table_covers_its_design_torque() {
     assert_eq!(f.set(&["table_design_torque_nm"], &[torque]), fmi2Status::Ok);
     f.init();
     let phi_g = lib.geometry().phi_g_for_te(phi_p, eq.te);
-    let s = MeshState { phi_p, phi_g, w_p: 0.0, w_g: 0.0 };
+    let s = MeshState { phi_p, phi_g, w_p: 0.0, w_g: 0.0, ..Default::default() };
     assert_eq!(f.set(&["phi_p", "phi_g", "w_p", "w_g"], &[phi_p, phi_g, 0.0, 0.0]), fmi2Status::Ok);
     let got = f.get(&["M_F_p", "TE"]).unwrap();
     let o = lib.evaluate(&s).unwrap();

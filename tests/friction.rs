@@ -75,7 +75,13 @@ fn table1(friction: Friction, fidelity: Fidelity, slices: usize) -> Mesh {
 fn running(m: &Mesh, phi_p: f64, te: f64, w_p: f64, te_rate: f64) -> MeshState {
     let g = m.geometry();
     let (gp, gg) = (g.pinion.rb, g.gear.rb);
-    MeshState { phi_p, phi_g: g.phi_g_for_te(phi_p, te), w_p, w_g: -w_p * gp / gg + te_rate / gg }
+    MeshState {
+        phi_p,
+        phi_g: g.phi_g_for_te(phi_p, te),
+        w_p,
+        w_g: -w_p * gp / gg + te_rate / gg,
+        ..Default::default()
+    }
 }
 
 /// Mean loss over a mesh cycle at torque 100 N·m and `w_p`, over μ·P_in.

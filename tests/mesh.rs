@@ -86,7 +86,15 @@ fn force_balance_and_static_equilibrium() {
         let eq = equilibrium(&mut m, phi, 100.0, 2e-5, &EquilibriumSettings::default())
             .expect("equilibrium");
         assert!((eq.outputs.m_f_p - 100.0).abs() <= 1e-9 * 100.0, "M_F,p = {}", eq.outputs.m_f_p);
-        let o = m.evaluate(&MeshState { phi_p: phi, phi_g: eq.phi_g, w_p: 0.0, w_g: 0.0 }).unwrap();
+        let o = m
+            .evaluate(&MeshState {
+                phi_p: phi,
+                phi_g: eq.phi_g,
+                w_p: 0.0,
+                w_g: 0.0,
+                ..Default::default()
+            })
+            .unwrap();
         if m.slices().iter().filter(|s| s.q_n_per_m > 0.0).all(|s| s.kind == "involute/involute") {
             assert!((o.m_f_g / o.m_f_p - ratio).abs() < 1e-12);
         } else {

@@ -46,7 +46,13 @@ fn steady_evaluations_do_not_allocate() {
     let state = |k: usize| {
         let phi_p = 3.0 * pitch * k as f64 / 400.0;
         let te = 30e-6 + 5e-6 * (k as f64 * 0.37).sin();
-        MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 300.0, w_g: -191.0 }
+        MeshState {
+            phi_p,
+            phi_g: geo.phi_g_for_te(phi_p, te),
+            w_p: 300.0,
+            w_g: -191.0,
+            ..Default::default()
+        }
     };
     for k in 0..400 {
         m.evaluate(&state(k)).expect("warm-up");

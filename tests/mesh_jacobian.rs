@@ -28,7 +28,7 @@ fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
     let geo = m.geometry();
     let w_p = 300.0;
     let w_g = (1e-3 - w_p * geo.pinion.rb) / geo.gear.rb;
-    MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p, w_g }
+    MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p, w_g, ..Default::default() }
 }
 
 fn torques(o: &MeshOutputs) -> [f64; 4] {

@@ -30,7 +30,13 @@ fn model(fidelity: Fidelity) -> Mesh {
 }
 
 fn state(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
-    MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 100.0, w_g: -63.83 }
+    MeshState {
+        phi_p,
+        phi_g: m.geometry().phi_g_for_te(phi_p, te),
+        w_p: 100.0,
+        w_g: -63.83,
+        ..Default::default()
+    }
 }
 
 /// Asserts that `r` is the out-of-range error of TE outside the validity range (no load-solver

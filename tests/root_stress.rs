@@ -220,6 +220,7 @@ fn root_stress_at_full_fidelity_leaves_the_other_outputs_unchanged() {
                 phi_g: geo.phi_g_for_te(phi_p, te),
                 w_p: 0.0,
                 w_g: 0.0,
+                ..Default::default()
             };
             let a = with.evaluate(&state, &mut w1, &mut WarmStart::default()).expect("eval");
             let b = without.evaluate(&state, &mut w2, &mut WarmStart::default()).expect("eval");

@@ -103,8 +103,8 @@ fn huge_states(geo: &PairGeometry) -> Vec<(MeshState, MeshState)> {
         let rg = (te_ref - rp * gp) / gg;
         let w = (150.0, -150.0 * 30.0 / 47.0);
         out.push((
-            MeshState { phi_p, phi_g, w_p: w.0, w_g: w.1 },
-            MeshState { phi_p: rp, phi_g: rg, w_p: w.0, w_g: w.1 },
+            MeshState { phi_p, phi_g, w_p: w.0, w_g: w.1, ..Default::default() },
+            MeshState { phi_p: rp, phi_g: rg, w_p: w.0, w_g: w.1, ..Default::default() },
         ));
     }
     out
@@ -207,8 +207,13 @@ fn whole_turns_agree_within_the_input_rounding() {
     for n in [1e3, 1e6, 1e9, 3.386e9] {
         let k = n * zp * zg;
         for (phi0, te0) in [(0.0, 20e-6), (0.07, 30e-6), (-0.05, 5e-6)] {
-            let small =
-                MeshState { phi_p: phi0, phi_g: geo.phi_g_for_te(phi0, te0), w_p: 0.0, w_g: 0.0 };
+            let small = MeshState {
+                phi_p: phi0,
+                phi_g: geo.phi_g_for_te(phi0, te0),
+                w_p: 0.0,
+                w_g: 0.0,
+                ..Default::default()
+            };
             // Φ = φ + k·pitch, rounded once (double-double pitch).
             let shift = |phi: f64, p: &helical_gear_mesh::numeric::Pitch, sign: f64| {
                 let (h, e) = helical_gear_mesh::numeric::two_prod(sign * k, p.hi);
@@ -219,6 +224,7 @@ fn whole_turns_agree_within_the_input_rounding() {
                 phi_g: shift(small.phi_g, &pitch_g, -1.0),
                 w_p: 0.0,
                 w_g: 0.0,
+                ..Default::default()
             };
             let bound =
                 0.5 * ulp(big.phi_p) * gp + 0.5 * ulp(big.phi_g) * gg + (k * defect).abs() + 1e-18;
@@ -239,6 +245,7 @@ fn whole_turns_agree_within_the_input_rounding() {
                         phi_g: geo.phi_g_for_te(phi, os.te + b * bound),
                         w_p: 0.0,
                         w_g: 0.0,
+                        ..Default::default()
                     };
                     let m = model.evaluate(&s).unwrap().m_f_p;
                     lo = lo.min(m);

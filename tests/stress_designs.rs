@@ -51,7 +51,13 @@ fn options() -> MeshOptions {
 }
 
 fn state(geo: &PairGeometry, phi_p: f64, te: f64) -> MeshState {
-    MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
+    MeshState {
+        phi_p,
+        phi_g: geo.phi_g_for_te(phi_p, te),
+        w_p: 0.0,
+        w_g: 0.0,
+        ..Default::default()
+    }
 }
 
 fn finite(o: &MeshOutputs) -> bool {

@@ -466,7 +466,13 @@ fn jacobian(dir: &Path) -> Result<Vec<PathBuf>, String> {
                 let phi_p = pitch * k as f64 / 64.0;
                 let w_p = 300.0;
                 let w_g = (1e-3 - w_p * geo.pinion.rb) / geo.gear.rb;
-                MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, 30e-6), w_p, w_g }
+                MeshState {
+                    phi_p,
+                    phi_g: geo.phi_g_for_te(phi_p, 30e-6),
+                    w_p,
+                    w_g,
+                    ..Default::default()
+                }
             })
             .collect();
         let mut time = |jac: bool| -> Result<f64, String> {
@@ -861,7 +867,13 @@ fn evaluation_cost(fidelity: Fidelity) -> Result<(f64, f64), String> {
     let states: Vec<MeshState> = (0..64)
         .map(|k| {
             let phi_p = pitch * k as f64 / 64.0;
-            MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, 30e-6), w_p: 0.0, w_g: 0.0 }
+            MeshState {
+                phi_p,
+                phi_g: geo.phi_g_for_te(phi_p, 30e-6),
+                w_p: 0.0,
+                w_g: 0.0,
+                ..Default::default()
+            }
         })
         .collect();
     let pass = |m: &mut Mesh| -> Result<f64, String> {
@@ -1016,7 +1028,13 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut path_csv = Vec::new();
     let mut contacts = Vec::new();
     for (k, eq) in path_states.iter().enumerate() {
-        let state = MeshState { phi_p: eq.phi_p, phi_g: eq.phi_g, w_p, w_g: -w_p * gp / gg };
+        let state = MeshState {
+            phi_p: eq.phi_p,
+            phi_g: eq.phi_g,
+            w_p,
+            w_g: -w_p * gp / gg,
+            ..Default::default()
+        };
         m.evaluate(&state).map_err(e)?;
         let detail = m.slices().to_vec();
         let zetas: Vec<f64> = detail.iter().map(|d| d.zeta).collect();
@@ -1165,6 +1183,7 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
                         phi_g: geo.phi_g_for_te(phi_p, te),
                         w_p,
                         w_g: -w_p * gp / gg,
+                        ..Default::default()
                     }
                 })
                 .collect();

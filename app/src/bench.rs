@@ -557,7 +557,7 @@ fn bench_states(m: &Mesh, n_phase: usize) -> Vec<MeshState> {
         for k in 0..n_phase {
             let phi_p = (k as f64 + 0.37) / n_phase as f64 * pitch;
             let phi_g = geo.phi_g_for_te(phi_p, f * 30e-6);
-            v.push(MeshState { phi_p, phi_g, w_p, w_g });
+            v.push(MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() });
         }
     }
     v
@@ -860,7 +860,7 @@ fn hunting_case(
         .iter()
         .step_by(stride)
         .take(n_samples)
-        .map(|y| MeshState { phi_p: y[1], phi_g: y[2], w_p: y[5], w_g: y[6] })
+        .map(|y| MeshState { phi_p: y[1], phi_g: y[2], w_p: y[5], w_g: y[6], ..Default::default() })
         .collect();
     let mut table = dynm.into_mesh();
     let (us, out) = time_eval(&mut table, &states, min_pass_s)?;

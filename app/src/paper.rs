@@ -529,7 +529,7 @@ fn steady_samples(
 }
 
 fn state_of(y: &[f64; 8]) -> MeshState {
-    MeshState { phi_p: y[PHI_P], phi_g: y[PHI_G], w_p: y[W_P], w_g: y[W_G] }
+    MeshState { phi_p: y[PHI_P], phi_g: y[PHI_G], w_p: y[W_P], w_g: y[W_G], ..Default::default() }
 }
 
 /// Runs the paper job for `pair` driven by the drive line `drive` (the paper's:

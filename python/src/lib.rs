@@ -568,6 +568,7 @@ impl MeshModel {
                 phi_g: inputs[1][i],
                 w_p: inputs[2][i],
                 w_g: inputs[3][i],
+                ..Default::default()
             })
             .collect();
         // One column per field of the core's table of the mesh outputs, in its order.

@@ -66,6 +66,12 @@ fn check_state(s: &MeshState) -> Result<(), MeshError> {
             return Err(MeshError::NonFinite { name, value });
         }
     }
+    if !s.bodies_at_rest() {
+        // These meshes have no geometry to displace.
+        return Err(MeshError::Unsupported(
+            "a gear body off its bearing axis (pose or pose rate) in an analytic mesh",
+        ));
+    }
     Ok(())
 }
 

@@ -499,7 +499,7 @@ impl<M: MeshTorques> GearDynamics<M> {
         {
             return Ok(*o);
         }
-        let state = MeshState { phi_p, phi_g, w_p, w_g };
+        let state = MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() };
         self.evaluations += 1;
         let (o, c) =
             if complete { (self.mesh.mesh(&state)?, true) } else { self.mesh.torques(&state)? };
@@ -660,6 +660,7 @@ pub fn mesh_linearisation<M: MeshTorques + ?Sized>(
         phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
         w_p,
         w_g: 0.0,
+        ..Default::default()
     };
     let hi = mesh.mesh(&state(eq.te + dte, 0.0))?.m_f_p;
     let lo = mesh.mesh(&state(eq.te - dte, 0.0))?.m_f_p;

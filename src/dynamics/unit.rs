@@ -867,6 +867,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
             phi_g: crate::numeric::phi_g_for_te(0.0, self.te_nominal, gp, gg),
             w_p: v / gp,
             w_g: 0.0,
+            ..Default::default()
         };
         let mesh = self.sys.model.mesh_mut();
         let m_d =
@@ -1263,7 +1264,13 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
         let n = kind.n_states();
         let t = self.t;
         let hub = self.sys.hub(&self.y);
-        let state = MeshState { phi_p: hub[0], phi_g: hub[1], w_p: hub[2], w_g: hub[3] };
+        let state = MeshState {
+            phi_p: hub[0],
+            phi_g: hub[1],
+            w_p: hub[2],
+            w_g: hub[3],
+            ..Default::default()
+        };
         self.sys.model.set_warm_start(&self.warm);
         let (_, jac) = self
             .sys

@@ -51,6 +51,7 @@ pub mod forces;
 pub mod friction;
 pub mod model;
 pub mod outputs;
+pub mod pose;
 pub mod statics;
 pub mod table;
 pub mod validity;
@@ -73,6 +74,7 @@ pub use model::{
     FullMesh, GearCompliance, MAX_WARM_LOADS, MeshModel, MeshWorkspace, SolveStats, WarmLoad,
     WarmStart,
 };
+pub use pose::BodyPose;
 pub use statics::{
     Equilibrium, EquilibriumSettings, StaticCurve, TipThreshold, WaterfallRow, equilibrium,
     pressure_waterfall, static_curve, static_curve_with, tip_contact_threshold,
@@ -92,6 +94,27 @@ pub struct MeshState {
     pub w_p: f64,
     /// Gear speed φ̇g, rad/s.
     pub w_g: f64,
+    /// Pinion body's displacement from its nominal bearing axis (m, rad; [`pose`]); zero: the
+    /// rigid-bearing model.
+    pub pose_p: BodyPose,
+    /// Gear body's displacement from its nominal bearing axis (m, rad; [`pose`]).
+    pub pose_g: BodyPose,
+    /// Rate of `pose_p` (m/s, rad/s).
+    pub rate_p: BodyPose,
+    /// Rate of `pose_g` (m/s, rad/s).
+    pub rate_g: BodyPose,
+}
+
+impl MeshState {
+    /// True when both bodies are at their nominal axes and at rest there (the rigid-bearing
+    /// model of the paper).
+    #[inline]
+    pub fn bodies_at_rest(&self) -> bool {
+        self.pose_p.is_zero()
+            && self.pose_g.is_zero()
+            && self.rate_p.is_zero()
+            && self.rate_g.is_zero()
+    }
 }
 
 /// Results of one mesh evaluation (the C API's `HgmOutputs`).

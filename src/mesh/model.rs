@@ -125,6 +125,7 @@ use super::forces::{ForceFrame, MeshWrench};
 use super::friction::{
     FrictionConst, FrictionSums, add_friction_jacobian, set_efficiency, slice_friction,
 };
+use super::pose::{RelativePose, approach_rate, to_housing};
 use super::validity::ValidityRange;
 use super::{MeshError, MeshOptions, MeshOutputs, MeshState, MeshTorques, SliceDetail};
 use crate::compliance::data::RootStressData;
@@ -818,19 +819,45 @@ impl MeshModel {
         let red = cs.reduce(state.phi_p, state.phi_g);
         let te = red.te;
         self.check_te(te, state.phi_p)?;
+        // The gear body relative to the pinion's (`super::pose`); `None`: rigid bearings.
+        let posed = if state.bodies_at_rest() {
+            None
+        } else {
+            super::pose::check(&geo, &state.pose_p, &state.pose_g, &state.rate_p, &state.rate_g)?;
+            let a = geo.center_distance;
+            Some((
+                RelativePose::new(&state.pose_p, &state.pose_g, a),
+                RelativePose::new(&state.rate_p, &state.rate_g, a),
+            ))
+        };
+        let reach = posed.map_or(0.0, |(p, _)| p.overlap_reach(&geo));
         ws.slices.clear();
         let nl = self.zetas.len();
         // Drive flanks only when TE > 0 and back flanks only below −backlash: the actual
         // flanks lie inside the full involutes, whose overlap is TE (resp. −TE − backlash).
         // Flank modifications (material added) can let the driving flanks touch below TE = 0.
-        let tol = 1e-12 - self.separation.as_ref().map_or(0.0, |s| s.min_bound());
-        for (side, active) in
-            [(FlankSide::Drive, te > -tol), (FlankSide::Back, te < -geo.backlash_te + 1e-12)]
-        {
+        // A body pose moves every overlap by at most `reach`.
+        let tol = 1e-12 - self.separation.as_ref().map_or(0.0, |s| s.min_bound()) + reach;
+        for (side, active) in [
+            (FlankSide::Drive, te > -tol),
+            (FlankSide::Back, te < -geo.backlash_te + 1e-12 + reach),
+        ] {
             if !active {
                 continue;
             }
-            cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut ws.contacts);
+            match &posed {
+                None => {
+                    cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut ws.contacts)
+                }
+                Some((pose, _)) => cs.contacts_posed(
+                    side,
+                    state.phi_p,
+                    state.phi_g,
+                    &self.zetas,
+                    pose,
+                    &mut ws.contacts,
+                ),
+            };
             for c in &ws.contacts {
                 let mut c = *c;
                 if let Some(sep) = &self.separation {
@@ -1114,11 +1141,22 @@ impl MeshModel {
             out.q_p = sums.heat_p;
             out.q_g = sums.loss - sums.heat_p;
         }
-        (out.m_d_p, out.m_d_g) = self.damping_for(state, extent);
+        // Eq. 14 damps the approach rate, which the body motion adds to (`super::pose`,
+        // "Damping"): as a gear speed, φ̇g + ḋ_pose/r_bg.
+        let damped = match &posed {
+            None => *state,
+            Some((_, rate)) => {
+                MeshState { w_g: state.w_g + approach_rate(&geo, rate) / geo.gear.rb, ..*state }
+            }
+        };
+        (out.m_d_p, out.m_d_g) = self.damping_for(&damped, extent);
         for (side, [e, z1]) in [FlankSide::Drive, FlankSide::Back].into_iter().zip(side_extent) {
-            if let Some(w) = self.damping_wrench(state, side, e, z1) {
+            if let Some(w) = self.damping_wrench(&damped, side, e, z1) {
                 wrench.add(&w);
             }
+        }
+        if let Some((pose, _)) = &posed {
+            to_housing(&mut wrench, pose, &state.pose_p);
         }
         wrench.write(&mut out);
         set_efficiency(&mut out, state);

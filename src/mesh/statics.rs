@@ -89,6 +89,7 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
             phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
             w_p: settings.w_p,
             w_g: -settings.w_p * gp / gg,
+            ..Default::default()
         };
         let o = mesh.mesh(&state)?;
         Ok((o.m_f_p - torque, o))
@@ -371,7 +372,13 @@ pub fn pressure_waterfall(
             let phi_p = phi_from + (phi_to - phi_from) * i as f64 / n as f64;
             let eq = equilibrium(model, phi_p, torque, guess, &settings)?;
             guess = eq.te;
-            model.evaluate(&MeshState { phi_p, phi_g: eq.phi_g, w_p: 0.0, w_g: 0.0 })?;
+            model.evaluate(&MeshState {
+                phi_p,
+                phi_g: eq.phi_g,
+                w_p: 0.0,
+                w_g: 0.0,
+                ..Default::default()
+            })?;
             let mut pressure = vec![0.0; nl];
             let mut tip_contact = false;
             for s in model.slices() {
@@ -449,7 +456,13 @@ pub fn tip_contact_threshold(
     let geo = model.geometry().clone();
     let te_max = te_max.min(model.validity().te_max);
     let mut tip = |te: f64| -> Result<bool, MeshError> {
-        let s = MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 };
+        let s = MeshState {
+            phi_p,
+            phi_g: geo.phi_g_for_te(phi_p, te),
+            w_p: 0.0,
+            w_g: 0.0,
+            ..Default::default()
+        };
         Ok(model.evaluate_full(&s)?.tip_contact)
     };
     let steps = steps.max(1);

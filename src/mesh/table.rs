@@ -1020,6 +1020,7 @@ impl TableMesh {
     /// model's validity range first), the full model's outside it.
     pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         self.full.model().check_state(state)?;
+        refuse_pose(state)?;
         if let Some(o) = self.table.evaluate(self.full.model(), state) {
             return Ok(o);
         }
@@ -1051,6 +1052,7 @@ impl MeshTorques for TableMesh {
     #[inline]
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
         let te = self.full.model().check_state_te(state)?;
+        refuse_pose(state)?;
         if let Some(r) = self.table.evaluate_torques(self.full.model(), state, te) {
             return Ok(r);
         }
@@ -1076,6 +1078,7 @@ impl MeshTorques for TableMesh {
         state: &MeshState,
     ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
         self.full.model().check_state(state)?;
+        refuse_pose(state)?;
         if let Some((out, mut jac)) = self.table.evaluate_jacobian(self.full.model(), state) {
             if self.full.model().friction().is_some() {
                 add_friction_jacobian(&mut |s| self.evaluate(s), state, &mut jac)?;
@@ -1083,6 +1086,20 @@ impl MeshTorques for TableMesh {
             return Ok((out, jac));
         }
         self.full.jacobian(state)
+    }
+}
+
+/// The table holds the rigid-bearing mesh: a state with a gear body off its axis (a pose or a
+/// pose rate, [`super::pose`]) is refused, not evaluated as if the bodies were at rest.
+#[inline]
+fn refuse_pose(state: &MeshState) -> Result<(), MeshError> {
+    if state.bodies_at_rest() {
+        Ok(())
+    } else {
+        Err(MeshError::Unsupported(
+            "a gear body off its bearing axis (pose or pose rate) at table fidelity: evaluate \
+             at full fidelity",
+        ))
     }
 }
 

@@ -77,7 +77,13 @@ pub fn small_table_options() -> MeshOptions {
 /// A state of `m` at rest (zero speeds) with pinion angle `phi_p` (rad) and transmission error
 /// `te` (m, positive loading the driving flanks).
 pub fn state_at_rest(m: &Mesh, phi_p: f64, te: f64) -> MeshState {
-    MeshState { phi_p, phi_g: m.geometry().phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
+    MeshState {
+        phi_p,
+        phi_g: m.geometry().phi_g_for_te(phi_p, te),
+        w_p: 0.0,
+        w_g: 0.0,
+        ..Default::default()
+    }
 }
 
 /// |a − b| / |b|: the relative difference of `a` from the reference `b`.

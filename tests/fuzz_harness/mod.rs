@@ -340,6 +340,7 @@ pub fn mesh_evaluate(data: &[u8]) {
                     phi_g: b.f64_near(LOADED[1], 1e-2),
                     w_p: b.f64_near(LOADED[2], 20.0),
                     w_g: b.f64_near(LOADED[3], 20.0),
+                    ..Default::default()
                 };
                 let phi_g = if b.bool() {
                     // Near the loaded TE: φg from φp so that TE is small (−50 … 100 µm).

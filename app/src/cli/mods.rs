@@ -97,7 +97,8 @@ pub fn face_loads(
     let mut k_max = f64::NEG_INFINITY;
     let mut sum = vec![0.0; model.slices_per_line()];
     for e in &curve.points {
-        let s = MeshState { phi_p: e.phi_p, phi_g: e.phi_g, w_p: 0.0, w_g: 0.0 };
+        let s =
+            MeshState { phi_p: e.phi_p, phi_g: e.phi_g, w_p: 0.0, w_g: 0.0, ..Default::default() };
         model.evaluate(&s).map_err(|e| e.to_string())?;
         let fl = face_load(model);
         for (a, w) in sum.iter_mut().zip(&fl.line_load) {

@@ -30,7 +30,7 @@ const W_G: usize = 3;
 /// The mesh state the inputs hold.
 fn mesh_state(i: &InputValues) -> MeshState {
     let v = &i.values;
-    MeshState { phi_p: v[PHI_P], phi_g: v[PHI_G], w_p: v[W_P], w_g: v[W_G] }
+    MeshState { phi_p: v[PHI_P], phi_g: v[PHI_G], w_p: v[W_P], w_g: v[W_G], ..Default::default() }
 }
 
 /// The inputs of the mesh element (value references 0–3).

@@ -202,6 +202,11 @@ impl MeshModel {
         ws: &mut MeshWorkspace,
         warm: &mut WarmStart,
     ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
+        if !state.bodies_at_rest() {
+            return Err(MeshError::Unsupported(
+                "the mesh Jacobian with a gear body off its bearing axis (pose or pose rate)",
+            ));
+        }
         let out = self.evaluate(state, ws, warm)?;
         let mut jac = MeshJacobian::default();
         let n = ws.slices.len();

@@ -227,7 +227,13 @@ type RowSamples = (usize, AxisRow, AxisRow);
 /// State with pinion angle `phi_p` and transmission error `te`, at rest.
 fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
     let geo = model.geometry();
-    MeshState { phi_p, phi_g: geo.phi_g_for_te(phi_p, te), w_p: 0.0, w_g: 0.0 }
+    MeshState {
+        phi_p,
+        phi_g: geo.phi_g_for_te(phi_p, te),
+        w_p: 0.0,
+        w_g: 0.0,
+        ..Default::default()
+    }
 }
 
 /// Packs the phase rows of one TE axis into the axis and cuts it at the model's range (see
