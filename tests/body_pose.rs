@@ -1,8 +1,9 @@
 //! The mesh at a small pose of the gear bodies (`helical_gear_mesh::mesh::pose`) against
 //! oracles derived in each test: a rigid motion of both bodies changes nothing, a centre
 //! distance change moves every flank by Δa·sin α_wt along the line of action, a tilt is the
-//! misalignment it projects to, the bounds name the component, and the paths that hold only the
-//! rigid-bearing mesh refuse a pose.
+//! misalignment it projects to, the Jacobian's pose columns are the derivatives of the model as
+//! evaluated, the bounds name the component, and the table, which holds only the rigid-bearing
+//! mesh, refuses a pose.
 
 mod common;
 
@@ -194,8 +195,8 @@ fn a_tilt_is_the_misalignment_it_projects_to() {
 }
 
 /// A pose component beyond 0.05·m_n (tilt: 0.05·m_n/b) or a non-finite one is an error naming
-/// it; every limit is usable (the bound itself evaluates); the table and the Jacobian, which
-/// hold only the rigid-bearing mesh, refuse a pose instead of ignoring it.
+/// it; every limit is usable (the bound itself evaluates); the table, which holds only the
+/// rigid-bearing mesh, refuses a pose instead of ignoring it.
 #[test]
 fn the_bounds_name_the_component_and_rigid_only_paths_refuse() {
     let pair = GearPair::paper_table1();
@@ -220,10 +221,8 @@ fn the_bounds_name_the_component_and_rigid_only_paths_refuse() {
     assert!(m.evaluate(&fast).unwrap().m_d_p.is_finite());
 
     let small = BodyPose { u_x: 1e-6, ..BodyPose::default() };
-    assert!(matches!(
-        m.mesh_jacobian(&posed(s0, BodyPose::default(), small)),
-        Err(MeshError::Unsupported(_))
-    ));
+    // The Jacobian at a pose is provided (`the_pose_jacobian_matches_central_differences`).
+    assert!(m.mesh_jacobian(&posed(s0, BodyPose::default(), small)).unwrap().1.pose.is_some());
     let topts = MeshOptions { fidelity: Fidelity::Table, ..common::small_table_options() };
     let mut t = Mesh::new(&pair, topts).unwrap();
     let e = t.evaluate(&posed(s0, BodyPose::default(), small)).unwrap_err();
@@ -250,4 +249,145 @@ fn body_velocity_enters_the_damping_as_an_approach_rate() {
     assert!((o1.m_d_g - o2.m_d_g).abs() <= 1e-12 * o2.m_d_g.abs());
     // The elastic part does not see a rate.
     assert_eq!(o1.m_f_p, eval(&mut m, &s0).0.m_f_p);
+}
+
+/// The pose columns of the Jacobian, in the order pose_p, pose_g, rate_p, rate_g (five
+/// components each), and the angle and speed columns, against central differences of
+/// `evaluate`, at a state where the loaded set of slices is the same at ±step; at rest and at a
+/// pose with every component non-zero. Per row and per group of columns of one unit (angles,
+/// speeds, translations, tilts, translation rates, tilt rates), the largest disagreement beyond
+/// the difference quotient's rounding (1e3·ε·|torque|/step) must stay within 1e-5 of the
+/// group's largest entry.
+#[test]
+fn the_pose_jacobian_matches_central_differences() {
+    let pair = GearPair::paper_table1();
+    let mut m =
+        Mesh::new(&pair, MeshOptions { slices: 50, detail: true, ..MeshOptions::default() })
+            .unwrap();
+    let geo = m.geometry().clone();
+    let pitch = geo.pinion.angular_pitch();
+    let w_p = 300.0;
+    let w_g = (1e-3 - w_p * geo.pinion.rb) / geo.gear.rb;
+    let pose_p = BodyPose { u_x: -3e-6, u_y: 2e-6, u_z: 5e-6, th_x: 1.5e-4, th_y: -1e-4 };
+    let pose_g = BodyPose { u_x: 4e-6, u_y: -1e-6, u_z: -6e-6, th_x: -2e-4, th_y: 2.5e-4 };
+    let rate = BodyPose { u_x: 1e-3, u_y: -2e-3, u_z: 5e-4, th_x: 0.02, th_y: -0.01 };
+    let torques = |o: &MeshOutputs| [o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g];
+    let loaded = |m: &Mesh| -> Vec<(i64, bool, u64)> {
+        m.slices()
+            .iter()
+            .filter(|s| s.q_n_per_m > 0.0)
+            .map(|s| (s.pair, s.back, s.zeta.to_bits()))
+            .collect()
+    };
+    let (mut checked, mut worst) = (0, 0.0f64);
+    for at_rest in [true, false] {
+        for k in 0..4 {
+            let phi_p = pitch * (k as f64 + 0.3) / 4.0;
+            let mut s = MeshState {
+                phi_p,
+                phi_g: geo.phi_g_for_te(phi_p, 40e-6),
+                w_p,
+                w_g,
+                ..Default::default()
+            };
+            if !at_rest {
+                s = MeshState {
+                    pose_p,
+                    pose_g,
+                    rate_p: rate,
+                    rate_g: BodyPose { u_x: -rate.u_y, ..rate },
+                    ..s
+                };
+            }
+            m.forget_history();
+            let (out, jac) = m.mesh_jacobian(&s).unwrap();
+            let pj = jac.pose.expect("full fidelity provides the pose columns");
+            // Exact columns: angles and speeds, then the 20 pose columns.
+            let mut exact = [[0.0; 24]; 4];
+            for i in 0..4 {
+                exact[i][..4].copy_from_slice(&jac.d[i]);
+                for (b, block) in
+                    [pj.d_pose_p, pj.d_pose_g, pj.d_rate_p, pj.d_rate_g].iter().enumerate()
+                {
+                    exact[i][4 + 5 * b..9 + 5 * b].copy_from_slice(&block[i]);
+                }
+            }
+            m.forget_history();
+            m.evaluate(&s).unwrap();
+            let base = loaded(&m);
+            let step = |j: usize| match j {
+                0 | 1 => 3e-9,
+                2 | 3 => 1e-3,
+                _ => match ((j - 4) / 5, (j - 4) % 5) {
+                    (0 | 1, 0..=2) => 1e-10,
+                    (0 | 1, _) => 1e-8,
+                    _ => 1e-3,
+                },
+            };
+            let mut fd = [[0.0; 24]; 4];
+            let mut same = true;
+            for j in 0..24 {
+                let h = step(j);
+                let mut at = |sign: f64| {
+                    let mut x = s;
+                    match j {
+                        0 => x.phi_p += sign * h,
+                        1 => x.phi_g += sign * h,
+                        2 => x.w_p += sign * h,
+                        3 => x.w_g += sign * h,
+                        _ => {
+                            let body = match (j - 4) / 5 {
+                                0 => &mut x.pose_p,
+                                1 => &mut x.pose_g,
+                                2 => &mut x.rate_p,
+                                _ => &mut x.rate_g,
+                            };
+                            let mut v = body.values();
+                            v[(j - 4) % 5] += sign * h;
+                            *body = BodyPose::from_values(v);
+                        }
+                    }
+                    m.forget_history();
+                    let o = m.evaluate(&x).unwrap();
+                    (torques(&o), loaded(&m) == base)
+                };
+                let ((plus, sp), (minus, sm)) = (at(1.0), at(-1.0));
+                same &= sp && sm;
+                for i in 0..4 {
+                    fd[i][j] = (plus[i] - minus[i]) / (2.0 * h);
+                }
+            }
+            if !same {
+                continue;
+            }
+            let t = torques(&out);
+            let groups: [std::ops::Range<usize>; 10] =
+                [0..2, 2..4, 4..7, 7..9, 9..12, 12..14, 14..17, 17..19, 19..22, 22..24];
+            for i in 0..4 {
+                for g in groups.iter().cloned() {
+                    let scale = g
+                        .clone()
+                        .map(|j| fd[i][j].abs().max(exact[i][j].abs()))
+                        .fold(0.0, f64::max);
+                    for j in g {
+                        let noise = 1e3 * f64::EPSILON * t[i].abs() / step(j);
+                        let e = ((exact[i][j] - fd[i][j]).abs() - noise).max(0.0);
+                        if e > 0.0 {
+                            let rel = e / (1e-5 * scale);
+                            worst = worst.max(rel);
+                            assert!(
+                                rel <= 1.0,
+                                "rest {at_rest}, phase {k}, row {i}, column {j}: exact {:e}, differences {:e}",
+                                exact[i][j],
+                                fd[i][j]
+                            );
+                        }
+                    }
+                }
+            }
+            checked += 1;
+        }
+    }
+    eprintln!("pose Jacobian: {checked} states, worst disagreement {worst:.3}·1e-5 of the group");
+    assert!(checked >= 5, "only {checked} states kept their loaded set");
 }

@@ -473,6 +473,37 @@ impl From<LoadError> for MeshError {
 pub struct MeshJacobian {
     /// ∂torque_i/∂state_j, see the type's doc.
     pub d: [[f64; 4]; 4],
+    /// The derivatives with respect to the gear bodies' poses and pose rates ([`pose`]), same
+    /// rows; `None` where not provided (the table, which holds the rigid-bearing mesh; friction).
+    pub pose: Option<PoseJacobian>,
+}
+
+/// ∂torque_i/∂(pose component) of [`MeshJacobian`]: rows as [`MeshJacobian`]'s (M_F,p, M_F,g,
+/// M_D,p, M_D,g), columns the five components of a body's pose or rate in the order of
+/// [`BodyPose::values`] (u_x, u_y, u_z: N·m/m or N·m/(m/s); th_x, th_y: N·m/rad or
+/// N·m/(rad/s)). The elastic torques depend on the poses, the damping torques on the rates
+/// (the loaded extent is piecewise constant).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PoseJacobian {
+    /// ∂torque/∂pose_p.
+    pub d_pose_p: [[f64; 5]; 4],
+    /// ∂torque/∂pose_g.
+    pub d_pose_g: [[f64; 5]; 4],
+    /// ∂torque/∂rate_p.
+    pub d_rate_p: [[f64; 5]; 4],
+    /// ∂torque/∂rate_g.
+    pub d_rate_g: [[f64; 5]; 4],
+}
+
+impl PoseJacobian {
+    /// True when every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        [self.d_pose_p, self.d_pose_g, self.d_rate_p, self.d_rate_g]
+            .iter()
+            .flatten()
+            .flatten()
+            .all(|v| v.is_finite())
+    }
 }
 
 impl MeshJacobian {

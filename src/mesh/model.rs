@@ -1340,6 +1340,8 @@ impl FullMesh {
             let r = add_friction_jacobian(&mut |s| self.evaluate(s), state, &mut jac);
             self.warm.copy_from(&saved);
             r?;
+            // The friction's pose derivatives are not part of those differences.
+            jac.pose = None;
         }
         Ok((out, jac))
     }

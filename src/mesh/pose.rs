@@ -74,6 +74,12 @@
 //! (the tilt rates' in-plane parts are zero at mid-face; their moment about the face is not
 //! damped, as the paper's Eq. 14 damps only the mean approach).
 //!
+//! # Jacobian
+//! The full model's Jacobian ([`super::MeshJacobian::pose`]) holds the exact derivatives of the
+//! torques with respect to every pose and rate component, at rest and at any pose within the
+//! bounds (module docs of `model/jacobian.rs`, "Body poses"). The table holds the rigid-bearing
+//! mesh and refuses a pose; with friction the pose columns are not provided (`None`).
+//!
 //! # Bounds
 //! Small displacements: every translation component within ±[`MAX_TRANSLATION_MN`]·m_n and
 //! every tilt within ±[`MAX_TRANSLATION_MN`]·m_n/b (the tilt moves a face end by at most half

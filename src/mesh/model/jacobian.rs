@@ -34,6 +34,30 @@
 //!   (a fixed point of the tooth) does not change; with ρ = R/cos θ, R = ρ_p·ρ_g/(ρ_p + ρ_g):
 //!   ∂ρ = R²·(∂ρ_p/ρ_p² + ∂ρ_g/ρ_g²)/cos θ.
 //!
+//! # Body poses
+//! With the gear bodies off their axes ([`crate::mesh::pose`]) the contact of a slice is found
+//! with the gear's centre at c = (a + o_x, o_y) and its tooth turned by −ω_g·w_ref; the rates
+//! above hold with that centre (O_g = c). A translation dc of the centre in the slice moves
+//! D = A2 − A1 by dc, so
+//!
+//! ```text
+//! ∂ν/∂c = −m/(D·n),   ∂Δ/∂c = −n,   ∂s_p/∂c = (A1 − O_p)·n·∂ν/∂c,   ∂s_g/∂c = −(A2 − O_g)·n·∂ν/∂c
+//! ```
+//!
+//! and the flank points slide along their profiles by ∂ν/∂c relative to both teeth (the
+//! flank coordinates, radii and curvatures follow as for the angles). The relative pose
+//! (U_x, U_y, U_z, Θ_x, Θ_y) enters each slice at height h = z − b/2 as
+//! dc = (dU_x + h·dΘ_y, dU_y − h·dΘ_x) and as the gear tooth's turn
+//! dΘg = −ω_g·(dU_z + r_wg·dΘ_y); the overlap's axial correction
+//! −s_g·ω_g·(Θ_x·ρ_y − Θ_y·(ρ_x + r_wg)) (ρ = P2 − c) adds its explicit derivatives in Θ_x and
+//! Θ_y and, in every direction, its rate through s_g and ρ (P2 − c turns with the tooth and
+//! slides along the profile: ∂ρ = J·ρ·∂Θg + L2·(∂ν − ∂Θg)·m). The sensitivity system gets one
+//! right-hand side per column (Θp, Θg and the five relative components); the body columns
+//! follow from U = u_g − u_p + (0, 0, θ_py·a), Θ = θ_g − θ_p. The damping torques depend on the
+//! pose rates through the approach rate of the body motion, linearly. Measured against central
+//! differences of `evaluate` on Table 1 (50 slices, at rest and at a pose with every component
+//! non-zero): within 1e-7 of each column group's largest entry (`tests/body_pose.rs`).
+//!
 //! Units: angles rad, lengths m, loads N/m, torques N·m; the signs are those of
 //! [`MeshJacobian`]. Measured against central differences of `evaluate` on Table 1 (50
 //! slices, light load to 15× nominal TE, tip and back-flank contacts): agreement to 1.4e-6 of
@@ -66,25 +90,34 @@ use faer::linalg::solvers::Solve;
 use super::{GearCompliance, MeshModel, MeshWorkspace, Slice, WarmStart};
 use crate::compliance::FlankCoord;
 use crate::compliance::interpolated::{SliceInfluence, SliceWeights};
+use crate::contact::RelativePose;
 use crate::contact::{ContactPoint, ContactSolver, FlankSide, ReducedAngles};
 use crate::geometry::{PairGeometry, SegmentKind};
-use crate::mesh::{MeshError, MeshJacobian, MeshOutputs, MeshState};
+use crate::mesh::{MeshError, MeshJacobian, MeshOutputs, MeshState, PoseJacobian};
 
-/// Derivatives of one slice's geometric quantities with respect to (Θp, Θg).
+/// The directions of a slice's geometric rates: the tooth angles Θp, Θg and a translation of
+/// the gear's centre in the slice along x and y (`super::super::pose`).
+const NDIR: usize = 4;
+
+/// Derivatives of one slice's geometric quantities with respect to (Θp, Θg, c_x, c_y).
 #[derive(Debug, Clone, Copy, Default)]
 struct SliceRates {
+    /// ∂Δ of the overlap (body-motion correction included), m/rad or m/m.
+    overlap: [f64; NDIR],
     /// ∂s_p, ∂s_g, m/rad.
-    arm_p: [f64; 2],
-    arm_g: [f64; 2],
+    arm_p: [f64; NDIR],
+    arm_g: [f64; NDIR],
     /// ∂p of the pinion and gear profile coordinates, m_n/rad.
-    prof_p: [f64; 2],
-    prof_g: [f64; 2],
+    prof_p: [f64; NDIR],
+    prof_g: [f64; NDIR],
     /// ∂ρ of the reduced normal-section radius, m/rad.
-    rho: [f64; 2],
+    rho: [f64; NDIR],
     /// ∂r_p, ∂r_g of the contact radii on pinion and gear, m/rad (the profile
     /// modifications' separation depends on them).
-    radius_p: [f64; 2],
-    radius_g: [f64; 2],
+    radius_p: [f64; NDIR],
+    radius_g: [f64; NDIR],
+    /// ∂(P2 − O_g), the gear contact point relative to the gear's centre, m/rad.
+    rel_g: [[f64; 2]; NDIR],
 }
 
 #[inline]
@@ -100,10 +133,12 @@ fn is_involute(k: SegmentKind) -> bool {
 
 /// Geometric rates of contact `c` with tooth angles (`tp`, `tg`) (see the module docs);
 /// `rates_p`, `rates_g` map (∂η*, ∂τ) to ∂p of each gear's compliance grid.
+#[allow(clippy::too_many_arguments)]
 fn contact_rates(
     geo: &PairGeometry,
     c: &ContactPoint,
     (tp, tg): (f64, f64),
+    cg: [f64; 2],
     obs: [FlankCoord; 2],
     rates: [(f64, f64); 2],
     cos_theta: f64,
@@ -111,7 +146,6 @@ fn contact_rates(
     let (sn, cn) = c.normal_angle.sin_cos();
     let n = [cn, sn];
     let m = [sn, -cn];
-    let cg = [geo.center_distance, 0.0];
     let (l1, l2) = (c.rho_p_m, c.rho_g_m);
     let a1 = if is_involute(c.kind_p) {
         [0.0, 0.0]
@@ -126,9 +160,10 @@ fn contact_rates(
     let d = [cg[0] + ag[0] - a1[0], cg[1] + ag[1] - a1[1]];
     let dn = dot(d, n);
     let (a1n, agn) = (dot(a1, n), dot(ag, n));
-    let dnu = [-a1n / dn, agn / dn];
-    let dtp = [1.0, 0.0];
-    let dtg = [0.0, 1.0];
+    // A translation dc of the gear's centre moves D by dc: ∂ν = −dc·m/(D·n), ∂Δ = −dc·n.
+    let dnu = [-a1n / dn, agn / dn, -m[0] / dn, -m[1] / dn];
+    let dtp = [1.0, 0.0, 0.0, 0.0];
+    let dtg = [0.0, 1.0, 0.0, 0.0];
     let mirror = if c.side == FlankSide::Back { -1.0 } else { 1.0 };
     let mn = geo.params.normal_module_m;
     let e_p = [tp.cos(), tp.sin()];
@@ -141,8 +176,10 @@ fn contact_rates(
     let corner_p = c.kind_p == SegmentKind::ReliefCorner || c.rho_p_m <= 0.0;
     let corner_g = c.kind_g == SegmentKind::ReliefCorner || c.rho_g_m <= 0.0;
     let rt = 1.0 / (1.0 / rp + 1.0 / rg);
-    let mut r = SliceRates::default();
-    for j in 0..2 {
+    let mut r =
+        SliceRates { overlap: [c.arm_p_m, c.arm_g_m, -n[0], -n[1]], ..SliceRates::default() };
+    let rel = [c.point_g[0] - cg[0], c.point_g[1] - cg[1]];
+    for j in 0..NDIR {
         let (up, ug) = (dnu[j] - dtp[j], dnu[j] - dtg[j]);
         r.arm_p[j] = -a1n * dtp[j] + a1n * dnu[j];
         r.arm_g[j] = agn * dtg[j] - agn * dnu[j];
@@ -165,6 +202,8 @@ fn contact_rates(
         if c.radius_g_m > 0.0 {
             r.radius_g[j] = l2 * ug * dot(pg, m) / c.radius_g_m;
         }
+        // P2 − O_g turns with the gear tooth and slides along the profile.
+        r.rel_g[j] = [-rel[1] * dtg[j] + l2 * ug * m[0], rel[0] * dtg[j] + l2 * ug * m[1]];
     }
     r
 }
@@ -202,13 +241,9 @@ impl MeshModel {
         ws: &mut MeshWorkspace,
         warm: &mut WarmStart,
     ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
-        if !state.bodies_at_rest() {
-            return Err(MeshError::Unsupported(
-                "the mesh Jacobian with a gear body off its bearing axis (pose or pose rate)",
-            ));
-        }
         let out = self.evaluate(state, ws, warm)?;
-        let mut jac = MeshJacobian::default();
+        let mut jac =
+            MeshJacobian { pose: Some(PoseJacobian::default()), ..MeshJacobian::default() };
         let n = ws.slices.len();
         let q: Vec<f64> = if n == 0 { Vec::new() } else { ws.solver.load()[..n].to_vec() };
         let active: Vec<usize> = (0..n).filter(|&i| q[i] > 0.0).collect();
@@ -233,9 +268,17 @@ impl MeshModel {
         let red: ReducedAngles = cs.reduce(state.phi_p, state.phi_g);
         let nl = self.zetas.len();
         let ct = self.cos_theta;
+        // The gear body relative to the pinion's (zero at rest; `super::super::pose`).
+        let a = geo.center_distance;
+        let rel = RelativePose::new(&state.pose_p, &state.pose_g, a);
+        let b = geo.params.face_width_m;
+        let tw = geo.gear.twist_rate;
+        let r_wg = geo.gear.rb / geo.alpha_wt.cos();
+        let w_ref = rel.axial([-r_wg, 0.0]);
+        let mn = geo.params.normal_module_m;
 
-        // Per-slice geometric rates.
-        let rates: Vec<SliceRates> = ws
+        // Per-slice geometric rates, by column (module docs, "Body poses").
+        let rates: Vec<ColRates> = ws
             .slices
             .iter()
             .enumerate()
@@ -247,23 +290,36 @@ impl MeshModel {
                     }
                     None => [(0.0, 0.0); 2],
                 };
-                let angles = cs.tooth_angles(c.side, &red, c.pair, c.zeta);
-                contact_rates(&geo, c, angles, [ws.obs_p[i], ws.obs_g[i]], pr, ct)
+                let (tp, tg) = cs.tooth_angles(c.side, &red, c.pair, c.zeta);
+                let h = c.zeta * mn - 0.5 * b;
+                let o = rel.axis_offset(c.zeta * mn, b);
+                let cg = [a + o[0], o[1]];
+                let base = contact_rates(
+                    &geo,
+                    c,
+                    (tp, tg - tw * w_ref),
+                    cg,
+                    [ws.obs_p[i], ws.obs_g[i]],
+                    pr,
+                    ct,
+                );
+                ColRates::of(&base, c, cg, &rel, [tw, r_wg, h])
             })
             .collect();
 
-        // Right-hand sides: ∂d − (∂C·w q) − ∂u_c/∂ρ·∂ρ, per angle direction.
-        let mut rhs = Mat::<f64>::zeros(n, 2);
+        // Right-hand sides: ∂d − (∂C·w q) − ∂u_c/∂ρ·∂ρ, per column.
+        let mut rhs = Mat::<f64>::zeros(n, NCOL);
         for i in 0..n {
             let c = &ws.slices[i].contact;
-            rhs[(i, 0)] = c.arm_p_m * ct;
-            rhs[(i, 1)] = c.arm_g_m * ct;
+            for j in 0..NCOL {
+                rhs[(i, j)] = rates[i].overlap[j] * ct;
+            }
             // Profile modifications: the separation moves with the contact's roll position.
             if let Some(sep) = &self.separation
                 && c.side == FlankSide::Drive
             {
                 let (dsp, dsg) = sep.radial_rates(c.zeta, c.radius_p_m, c.radius_g_m);
-                for j in 0..2 {
+                for j in 0..NCOL {
                     rhs[(i, j)] -= (dsp * rates[i].radius_p[j] + dsg * rates[i].radius_g[j]) * ct;
                 }
             }
@@ -283,7 +339,7 @@ impl MeshModel {
                     .collect();
                 let (d_obs, d_load) =
                     derivative_blocks(&sc[g], g, &ws.slices, &ws.runs, self, sw, &dsw, n);
-                for j in 0..2 {
+                for j in 0..NCOL {
                     let dp =
                         |i: usize| if g == 0 { rates[i].prof_p[j] } else { rates[i].prof_g[j] };
                     for &i in &active {
@@ -302,7 +358,7 @@ impl MeshModel {
                     MeshError::Load(crate::load::LoadError::Hertz { slice: i, source: e })
                 })?;
                 let du_drho = -(d.total - q[i] * d.d_total_dq) / ws.rho[i];
-                for j in 0..2 {
+                for j in 0..NCOL {
                     rhs[(i, j)] -= du_drho * rates[i].rho[j];
                 }
             }
@@ -318,21 +374,33 @@ impl MeshModel {
             }
             v
         });
-        let rhs_a = Mat::<f64>::from_fn(m, 2, |a, j| rhs[(active[a], j)]);
+        let rhs_a = Mat::<f64>::from_fn(m, NCOL, |a, j| rhs[(active[a], j)]);
         let dq = kmat.partial_piv_lu().solve(&rhs_a);
 
         let axial = self.pair.normal_module_m * self.dzeta;
-        for j in 0..2 {
+        let mut d_rel = [[0.0; 5]; 2];
+        for j in 0..NCOL {
             let (mut dp, mut dg) = (0.0, 0.0);
             for (a, &i) in active.iter().enumerate() {
                 let c = &ws.slices[i].contact;
                 dp += (rates[i].arm_p[j] * q[i] + c.arm_p_m * dq[(a, j)]) * axial;
                 dg += (rates[i].arm_g[j] * q[i] + c.arm_g_m * dq[(a, j)]) * axial;
             }
-            jac.d[MeshJacobian::M_F_P][j] = dp;
-            jac.d[MeshJacobian::M_F_G][j] = dg;
+            if j < 2 {
+                jac.d[MeshJacobian::M_F_P][j] = dp;
+                jac.d[MeshJacobian::M_F_G][j] = dg;
+            } else {
+                d_rel[0][j - 2] = dp;
+                d_rel[1][j - 2] = dg;
+            }
         }
-        if jac.d.iter().flatten().any(|v| !v.is_finite()) {
+        if let Some(p) = &mut jac.pose {
+            for (row, d) in [MeshJacobian::M_F_P, MeshJacobian::M_F_G].into_iter().zip(d_rel) {
+                (p.d_pose_p[row], p.d_pose_g[row]) = body_columns(d, a);
+            }
+        }
+        if jac.d.iter().flatten().any(|v| !v.is_finite()) || jac.pose.iter().any(|p| !p.is_finite())
+        {
             return Err(MeshError::Unsupported(
                 "mesh Jacobian: singular sensitivity system (degenerate contact)",
             ));
@@ -386,5 +454,87 @@ pub(crate) fn damping_rows(
         jac.d[row][MeshJacobian::W_G] = d * rb_g * extent * rb_k;
         jac.d[row][MeshJacobian::PHI_P] = d * rate * d_extent[0] * rb_k;
         jac.d[row][MeshJacobian::PHI_G] = d * rate * d_extent[1] * rb_k;
+    }
+    // The body motion's approach rate (`super::super::pose`, "Damping"): linear in the
+    // relative rates (U̇_x, U̇_y, U̇_z, Θ̇_x, Θ̇_y).
+    if let Some(p) = &mut jac.pose {
+        let geo = model.geometry();
+        let (sin_wt, cos_wt) = geo.alpha_wt.sin_cos();
+        let k = -rb_g * geo.gear.twist_rate;
+        let r_wg = rb_g / cos_wt;
+        let da = [-sin_wt, -cos_wt, k, 0.0, k * r_wg];
+        for (row, rb_k) in [(MeshJacobian::M_D_P, rb_p), (MeshJacobian::M_D_G, rb_g)] {
+            let g = da.map(|v| d * v * extent * rb_k);
+            (p.d_rate_p[row], p.d_rate_g[row]) = body_columns(g, geo.center_distance);
+        }
+    }
+}
+
+/// The derivatives with respect to each body's pose components (u_x, u_y, u_z, th_x, th_y) from
+/// those with respect to the relative pose `g` = ∂/∂(U_x, U_y, U_z, Θ_x, Θ_y), with U = u_g −
+/// u_p + (0, 0, θ_py·a) and Θ = θ_g − θ_p (`super::super::pose`): (pinion, gear).
+fn body_columns(g: [f64; 5], a: f64) -> ([f64; 5], [f64; 5]) {
+    let p = [-g[0], -g[1], -g[2], -g[3], -g[4] + a * g[2]];
+    (p, g)
+}
+
+/// Number of columns of the sensitivity system: Θp, Θg and the relative pose (U_x, U_y, U_z,
+/// Θ_x, Θ_y).
+const NCOL: usize = 7;
+
+/// One slice's geometric rates by column of the sensitivity system.
+#[derive(Debug, Clone, Copy, Default)]
+struct ColRates {
+    overlap: [f64; NCOL],
+    arm_p: [f64; NCOL],
+    arm_g: [f64; NCOL],
+    prof_p: [f64; NCOL],
+    prof_g: [f64; NCOL],
+    rho: [f64; NCOL],
+    radius_p: [f64; NCOL],
+    radius_g: [f64; NCOL],
+}
+
+impl ColRates {
+    /// The columns from the rates `r` in the directions (Θp, Θg, c_x, c_y) of contact `c` in a
+    /// slice where the gear's centre is at `cg`, at height h above mid-face, for the relative
+    /// pose `rel`; `k` = [ω_g, r_wg, h]. Module docs, "Body poses".
+    fn of(r: &SliceRates, c: &ContactPoint, cg: [f64; 2], rel: &RelativePose, k: [f64; 3]) -> Self {
+        let [tw, r_wg, h] = k;
+        // Each column as a combination of the four directions.
+        let coef: [[f64; NDIR]; NCOL] = [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0, -tw, 0.0, 0.0],
+            [0.0, 0.0, 0.0, -h],
+            [0.0, -tw * r_wg, h, 0.0],
+        ];
+        let comb = |f: &[f64; NDIR]| -> [f64; NCOL] {
+            coef.map(|cf| cf.iter().zip(f).map(|(a, b)| a * b).sum())
+        };
+        // The axial correction −s_g·ω_g·(w(ρ) − w_ref), w(ρ) − w_ref = Θ_x·ρ_y − Θ_y·(ρ_x + r_wg):
+        // its rate in each direction through s_g and ρ, and its explicit pose derivatives.
+        let rho = [c.point_g[0] - cg[0], c.point_g[1] - cg[1]];
+        let dw = rel.th[0] * rho[1] - rel.th[1] * (rho[0] + r_wg);
+        let mut ov = r.overlap;
+        for (j, o) in ov.iter_mut().enumerate() {
+            let drho = r.rel_g[j];
+            *o -= tw * (r.arm_g[j] * dw + c.arm_g_m * (rel.th[0] * drho[1] - rel.th[1] * drho[0]));
+        }
+        let mut overlap = comb(&ov);
+        overlap[5] -= c.arm_g_m * tw * rho[1];
+        overlap[6] += c.arm_g_m * tw * (rho[0] + r_wg);
+        Self {
+            overlap,
+            arm_p: comb(&r.arm_p),
+            arm_g: comb(&r.arm_g),
+            prof_p: comb(&r.prof_p),
+            prof_g: comb(&r.prof_g),
+            rho: comb(&r.rho),
+            radius_p: comb(&r.radius_p),
+            radius_g: comb(&r.radius_g),
+        }
     }
 }
