@@ -368,6 +368,64 @@ fn mesh_element_directional_derivatives_at_full_fidelity() {
     assert_eq!(f.dd(&["M_F_p"], "d_mesh"), Err(fmi2Status::Error));
 }
 
+/// The mesh element as a force element of a multibody master: the twenty pose inputs
+/// (`u_p_x` … `om_g_y`) displace the gear bodies; the outputs are the library's at that state
+/// and the directional derivatives with respect to every pose input agree with central
+/// differences of the outputs; a pose beyond its bound is an error status whose message names
+/// the input.
+#[test]
+fn mesh_element_pose_inputs_and_their_directional_derivatives() {
+    use helical_gear_mesh::GearPair;
+    use helical_gear_mesh::mesh::{BodyPose, Mesh, MeshOptions, MeshState, pose};
+    let f = Fmu::new(&MESH, FMI2_MODEL_EXCHANGE, &[], &[("slices", 30)]);
+    f.to_continuous_time();
+    let gp = f.get(&["base_radius_p"])[0];
+    let gg = f.get(&["base_radius_g"])[0];
+    let phi_p = 0.013;
+    let phi_g = (15e-6 - gp * phi_p) / gg;
+    let (w_p, w_g) = (300.0, -300.0 * gp / gg + 1e-3 / gg);
+    f.set(&["phi_p", "phi_g", "w_p", "w_g"], &[phi_p, phi_g, w_p, w_g]);
+    let values = [
+        -2e-6, 1e-6, 3e-6, 1e-4, -5e-5, 3e-6, -2e-6, -4e-6, -1e-4, 2e-4, 1e-3, -2e-3, 5e-4, 0.02,
+        -0.01, -1e-3, 1e-3, 0.0, 0.01, 0.03,
+    ];
+    f.set(&pose::INPUT_NAMES, &values);
+    let unknowns = ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"];
+    let got = f.get(&unknowns);
+    let options = MeshOptions { slices: 30, ..MeshOptions::default() };
+    let mut lib = Mesh::new(&GearPair::paper_table1(), options).unwrap();
+    let mut s = MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() };
+    pose::set_inputs(&mut s, &values);
+    assert!(s.pose_g != BodyPose::default());
+    let o = lib.evaluate(&s).unwrap();
+    let want = [o.m_f_p, o.m_f_g, o.m_d_p, o.m_d_g, o.te];
+    assert!(rel(&got, &want, 1e-12) < 1e-9, "{got:?} vs the library's {want:?}");
+    let mut worst: f64 = 0.0;
+    for (k, name) in pose::INPUT_NAMES.iter().enumerate() {
+        // Steps large enough that the warm-started solves' rounding stays below 1e-6 of the
+        // quotient, small enough that no slice changes its load state.
+        let d = match (k / 10, k % 5 < 3) {
+            (0, true) => 1e-9,
+            (0, false) => 1e-7,
+            _ => 1e-3,
+        };
+        let ad = f.dd(&unknowns, name).unwrap();
+        let fd = central(&f, name, false, d, &|f: &Fmu| f.get(&unknowns));
+        let e = rel(&ad, &fd, 1e-6);
+        worst = worst.max(e);
+        assert!(e < 1e-5, "d/d{name}: exact {ad:?} vs central {fd:?} ({e:.2e})");
+    }
+    eprintln!(
+        "mesh element pose inputs: directional derivatives vs central differences {worst:.2e}"
+    );
+    // Beyond its bound (0.05·m_n = 150 µm for Table 1): an error, not a number.
+    f.set(&["u_g_x"], &[2e-4]);
+    let r = f.vrs(&["M_F_p"]);
+    let mut x = [0.0];
+    let st = unsafe { fmi2GetReal(f.0, r.as_ptr(), 1, x.as_mut_ptr()) };
+    assert_eq!(st, fmi2Status::Error);
+}
+
 /// Model Exchange at large angles: the states are (φp, TE, …) and the gear angle is formed from
 /// them, so TE keeps its digits only up to the stated bound (|φp|·g_p ≤ 4.5·10⁶ m, about 10⁸ rad
 /// for Table 1). Up to it the outputs at a state whole pitches away (φp + k·2π/z_p, the same TE)

@@ -3,13 +3,33 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{5f8e4785-6077-81d5-956d-dd9bb027ad14}"
+#define HelicalGearMesh_GUID "{d320be3d-f95a-8ee2-b21f-5b27bdfae2e0}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
     HelicalGearMesh_vr_phi_g = 1, /* input Real rad */
     HelicalGearMesh_vr_w_p = 2, /* input Real rad/s */
     HelicalGearMesh_vr_w_g = 3, /* input Real rad/s */
+    HelicalGearMesh_vr_u_p_x = 500, /* input Real m */
+    HelicalGearMesh_vr_u_p_y = 501, /* input Real m */
+    HelicalGearMesh_vr_u_p_z = 502, /* input Real m */
+    HelicalGearMesh_vr_th_p_x = 503, /* input Real rad */
+    HelicalGearMesh_vr_th_p_y = 504, /* input Real rad */
+    HelicalGearMesh_vr_u_g_x = 505, /* input Real m */
+    HelicalGearMesh_vr_u_g_y = 506, /* input Real m */
+    HelicalGearMesh_vr_u_g_z = 507, /* input Real m */
+    HelicalGearMesh_vr_th_g_x = 508, /* input Real rad */
+    HelicalGearMesh_vr_th_g_y = 509, /* input Real rad */
+    HelicalGearMesh_vr_v_p_x = 510, /* input Real m/s */
+    HelicalGearMesh_vr_v_p_y = 511, /* input Real m/s */
+    HelicalGearMesh_vr_v_p_z = 512, /* input Real m/s */
+    HelicalGearMesh_vr_om_p_x = 513, /* input Real rad/s */
+    HelicalGearMesh_vr_om_p_y = 514, /* input Real rad/s */
+    HelicalGearMesh_vr_v_g_x = 515, /* input Real m/s */
+    HelicalGearMesh_vr_v_g_y = 516, /* input Real m/s */
+    HelicalGearMesh_vr_v_g_z = 517, /* input Real m/s */
+    HelicalGearMesh_vr_om_g_x = 518, /* input Real rad/s */
+    HelicalGearMesh_vr_om_g_y = 519, /* input Real rad/s */
     HelicalGearMesh_vr_M_F_p = 10, /* output Real N.m */
     HelicalGearMesh_vr_M_F_g = 11, /* output Real N.m */
     HelicalGearMesh_vr_M_D_p = 12, /* output Real N.m */

@@ -25,6 +25,12 @@ from ._pair import DriveLine, GearPair
 #: of the mesh outputs (`_native.MESH_OUTPUTS`: name, SI unit, kind, meaning), in its order.
 OUTPUT_NAMES = tuple(name for name, _unit, _kind, _meaning in _native.MESH_OUTPUTS)
 
+#: Keywords of `MeshModel.evaluate` for the gear bodies off their bearing axes: each body's
+#: translation ``u_*_x``, ``u_*_y``, ``u_*_z`` (m) and tilts ``th_*_x``, ``th_*_y`` (rad) at its
+#: centre at mid-face, then their rates ``v_*`` (m/s) and ``om_*`` (rad/s), pinion ``p`` then
+#: gear ``g``: the FMU's input names, from the library (`_native.POSE_INPUTS`).
+POSE_NAMES = tuple(_native.POSE_INPUTS)
+
 #: SI unit of each output of `OUTPUT_NAMES` ("" for counts and flags).
 OUTPUT_UNITS = {name: unit for name, unit, _kind, _meaning in _native.MESH_OUTPUTS}
 
@@ -300,7 +306,7 @@ class MeshModel:
         """Seconds the table took to build (0 for the full fidelity)."""
         return self._m.table_build_seconds()
 
-    def evaluate(self, phi_p, phi_g, w_p=0.0, w_g=0.0) -> dict[str, np.ndarray]:
+    def evaluate(self, phi_p, phi_g, w_p=0.0, w_g=0.0, **pose) -> dict[str, np.ndarray]:
         """Mesh outputs at the states (φp, φg, φ̇p, φ̇g) (rad, rad/s); the four arguments are
         broadcast against each other (numpy rules) and evaluated in C order, each exactly as
         the library's ``Mesh::evaluate`` (the first state from a cold start, each next one
@@ -312,13 +318,33 @@ class MeshModel:
         stresses, Pa), ``n_pairs``, ``tip_contact``, ``separated``, ``back_contact``, the
         friction torques ``M_R_p``, ``M_R_g`` (N·m, inside ``M_F_p``, ``M_F_g``), the loss
         ``P_loss`` (W), the mesh efficiency ``eta_mesh`` and the heat ``Q_p``, ``Q_g`` (W)
-        (0, 1, 0 without friction), and every other name of `OUTPUT_NAMES`."""
+        (0, 1, 0 without friction), and every other name of `OUTPUT_NAMES`.
+
+        The gear bodies off their bearing axes (``docs/gear-bodies.md``): the keywords of
+        `POSE_NAMES`, each broadcast like the angles, all 0 by default (the rigid-bearing
+        model): ``u_p_x``, ``u_p_y``, ``u_p_z`` (m), ``th_p_x``, ``th_p_y`` (rad), the pinion
+        body's translation and tilts at its centre at mid-face; ``v_p_x`` … ``om_p_y`` their
+        rates (m/s, rad/s); the same with ``_g_`` for the gear. A pose beyond its bound
+        (0.05·m_n, tilts 0.05·m_n/b) raises `ParameterError` naming it."""
+        unknown = sorted(set(pose) - set(POSE_NAMES))
+        if unknown:
+            raise _native.ParameterError(
+                f"evaluate: unknown keyword(s) {', '.join(unknown)}; the pose keywords are "
+                + ", ".join(POSE_NAMES)
+            )
+        names = [k for k in POSE_NAMES if k in pose]
         arrays = np.broadcast_arrays(
-            *(np.asarray(a, dtype=np.float64) for a in (phi_p, phi_g, w_p, w_g))
+            *(np.asarray(a, dtype=np.float64) for a in (phi_p, phi_g, w_p, w_g)),
+            *(np.asarray(pose[k], dtype=np.float64) for k in names),
         )
         shape = arrays[0].shape
         flat = [np.ascontiguousarray(a.ravel()) for a in arrays]
-        out = self._m.evaluate(*flat)
+        poses = None
+        if names:
+            poses = np.zeros((flat[0].size, len(POSE_NAMES)))
+            for k, a in zip(names, flat[4:]):
+                poses[:, POSE_NAMES.index(k)] = a
+        out = self._m.evaluate(*flat[:4], poses)
         return {k: out[k].reshape(shape) for k in OUTPUT_NAMES}
 
 

@@ -43,7 +43,7 @@ use helical_gear_mesh::results::{
     StaticFrictionSummary, SweepRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair, PairGeometry, ParamError};
-use numpy::{PyArray1, PyReadonlyArray1};
+use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -542,7 +542,10 @@ impl MeshModel {
     /// Evaluates the mesh at every state (φp, φg, φ̇p, φ̇g) of four equally long float64 arrays
     /// (rad, rad/s), in order, exactly as the library's `Mesh::evaluate` does one after
     /// another from a cold start (each state warm-started from the one before; the first
-    /// cold); returns a dict of arrays keyed like the FMU outputs.
+    /// cold); returns a dict of arrays keyed like the FMU outputs. `pose`, when given, is an
+    /// (n, 20) float64 array of the gear bodies' poses and rates per state, columns in the order
+    /// of the library's `mesh::pose::INPUT_NAMES` (m, rad, m/s, rad/s).
+    #[pyo3(signature = (phi_p, phi_g, w_p, w_g, pose = None))]
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
@@ -550,6 +553,7 @@ impl MeshModel {
         phi_g: PyReadonlyArray1<'py, f64>,
         w_p: PyReadonlyArray1<'py, f64>,
         w_g: PyReadonlyArray1<'py, f64>,
+        pose: Option<PyReadonlyArray2<'py, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let inputs = [phi_p.as_array(), phi_g.as_array(), w_p.as_array(), w_g.as_array()];
         let n = inputs[0].len();
@@ -562,13 +566,29 @@ impl MeshModel {
                 inputs[3].len()
             )));
         }
+        let pose = pose.as_ref().map(|p| p.as_array());
+        if let Some(p) = &pose
+            && p.shape() != [n, 20]
+        {
+            return Err(ParameterError::new_err(format!(
+                "evaluate: the pose array must have shape ({n}, 20) (got {:?})",
+                p.shape()
+            )));
+        }
         let states: Vec<MeshState> = (0..n)
-            .map(|i| MeshState {
-                phi_p: inputs[0][i],
-                phi_g: inputs[1][i],
-                w_p: inputs[2][i],
-                w_g: inputs[3][i],
-                ..Default::default()
+            .map(|i| {
+                let mut s = MeshState {
+                    phi_p: inputs[0][i],
+                    phi_g: inputs[1][i],
+                    w_p: inputs[2][i],
+                    w_g: inputs[3][i],
+                    ..Default::default()
+                };
+                if let Some(p) = &pose {
+                    let v: [f64; 20] = std::array::from_fn(|k| p[[i, k]]);
+                    helical_gear_mesh::mesh::pose::set_inputs(&mut s, &v);
+                }
+                s
             })
             .collect();
         // One column per field of the core's table of the mesh outputs, in its order.
@@ -945,6 +965,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         })
         .collect();
     m.add("MESH_OUTPUTS", outputs)?;
+    m.add("POSE_INPUTS", helical_gear_mesh::mesh::pose::INPUT_NAMES.to_vec())?;
     m.add_class::<Compliance>()?;
     m.add_class::<MeshModel>()?;
     m.add_function(wrap_pyfunction!(default_pair_json, m)?)?;

@@ -179,7 +179,7 @@ impl UnitOptions {
 /// The most Real inputs a model may have: the length of [`InputValues`]' arrays. Each
 /// model's input variables name their slot ([`Access::Input`]); a test holds every model's
 /// slots below this bound.
-pub const MAX_INPUTS: usize = 8;
+pub const MAX_INPUTS: usize = 24;
 /// The most Real outputs (outputs and Model Exchange locals) a model may have: the length of
 /// [`OutputValues::reals`].
 pub const MAX_REAL_OUTPUTS: usize = 64;

@@ -823,7 +823,7 @@ impl MeshModel {
         let posed = if state.bodies_at_rest() {
             None
         } else {
-            super::pose::check(&geo, &state.pose_p, &state.pose_g, &state.rate_p, &state.rate_g)?;
+            super::pose::check(&geo, state)?;
             let a = geo.center_distance;
             Some((
                 RelativePose::new(&state.pose_p, &state.pose_g, a),

@@ -7,7 +7,7 @@
 //! face ζ = 0, `x` towards the gear axis, `z` along the pinion axis): translation
 //! `u = (u_x, u_y, u_z)` (m) and tilts `θ = (θ_x, θ_y)` (rad, right-handed about the frame's x
 //! and y axes through that centre). The rotation about the body's own axis stays its angle φ.
-//! The rates ([`MeshState::rate_p`], [`MeshState::rate_g`]) are u̇ (m/s) and θ̇ (rad/s). All
+//! The rates ([`super::MeshState::rate_p`], [`super::MeshState::rate_g`]) are u̇ (m/s) and θ̇ (rad/s). All
 //! zero by default, and then every result is the rigid-bearing model's bit for bit. A positive
 //! gear `u_x` opens the centre distance.
 //!
@@ -84,7 +84,7 @@
 //! Small displacements: every translation component within ±[`MAX_TRANSLATION_MN`]·m_n and
 //! every tilt within ±[`MAX_TRANSLATION_MN`]·m_n/b (the tilt moves a face end by at most half
 //! that) per body; rates need only be finite. A pose beyond it is an error naming the
-//! component (`pose_g.u_x`, …) with the value and the limit. Soft supports deflect by tens of
+//! component by its interface name (`u_g_x`, …, [`INPUT_NAMES`]) with the value and the limit. Soft supports deflect by tens of
 //! micrometres; the bound is 150 µm and 0.01 rad for Table 1 (m_n = 3 mm, b = 15 mm).
 
 use crate::error::ParamError;
@@ -135,8 +135,30 @@ impl BodyPose {
     }
 }
 
-/// Names of the components, as in the error messages: `pose_p.u_x`, …, `rate_g.th_y`.
-pub const COMPONENT_NAMES: [&str; 5] = ["u_x", "u_y", "u_z", "th_x", "th_y"];
+/// The interface names of the twenty pose inputs, in the order pose_p, pose_g, rate_p,
+/// rate_g (five components each, as [`BodyPose::values`]): the FMU input names of
+/// `HelicalGearMesh`, the Python keywords and the names in error messages.
+pub const INPUT_NAMES: [&str; 20] = [
+    "u_p_x", "u_p_y", "u_p_z", "th_p_x", "th_p_y", "u_g_x", "u_g_y", "u_g_z", "th_g_x", "th_g_y",
+    "v_p_x", "v_p_y", "v_p_z", "om_p_x", "om_p_y", "v_g_x", "v_g_y", "v_g_z", "om_g_x", "om_g_y",
+];
+
+/// The twenty pose inputs of `state` in the order of [`INPUT_NAMES`].
+pub fn inputs_of(state: &super::MeshState) -> [f64; 20] {
+    let mut v = [0.0; 20];
+    for (k, b) in [state.pose_p, state.pose_g, state.rate_p, state.rate_g].iter().enumerate() {
+        v[5 * k..5 * k + 5].copy_from_slice(&b.values());
+    }
+    v
+}
+
+/// Sets the poses and rates of `state` from twenty values in the order of [`INPUT_NAMES`].
+pub fn set_inputs(state: &mut super::MeshState, v: &[f64; 20]) {
+    let part = |k: usize| {
+        BodyPose::from_values([v[5 * k], v[5 * k + 1], v[5 * k + 2], v[5 * k + 3], v[5 * k + 4]])
+    };
+    (state.pose_p, state.pose_g, state.rate_p, state.rate_g) = (part(0), part(1), part(2), part(3));
+}
 
 pub(crate) use crate::contact::RelativePose;
 
@@ -164,38 +186,34 @@ impl RelativePose {
 }
 
 /// Checks both poses and their rates: finite, and each pose component within its bound (module
-/// docs, "Bounds"). The error names the component (`pose_g.u_x`), the value and the limit.
-pub(crate) fn check(
-    geo: &PairGeometry,
-    pose_p: &BodyPose,
-    pose_g: &BodyPose,
-    rate_p: &BodyPose,
-    rate_g: &BodyPose,
-) -> Result<(), ParamError> {
+/// docs, "Bounds"). The error names the component by its interface name ([`INPUT_NAMES`],
+/// `u_g_x`, …), with the value and the limit.
+pub(crate) fn check(geo: &PairGeometry, state: &super::MeshState) -> Result<(), ParamError> {
     let mn = geo.params.normal_module_m;
     let b = geo.params.face_width_m;
     let u_max = MAX_TRANSLATION_MN * mn;
     let th_max = u_max / b;
-    for (body, pose) in [("pose_p", pose_p), ("pose_g", pose_g)] {
-        for (k, (name, v)) in COMPONENT_NAMES.iter().zip(pose.values()).enumerate() {
-            let (lim, what) =
-                if k < 3 { (u_max, "m (0.05·m_n)") } else { (th_max, "rad (0.05·m_n/b)") };
-            if !(v.is_finite() && v.abs() <= lim) {
+    for (k, (name, v)) in INPUT_NAMES.iter().zip(inputs_of(state)).enumerate() {
+        if k >= 10 {
+            if !v.is_finite() {
                 return Err(ParamError::new(
-                    &format!("{body}.{name}"),
+                    name,
                     v,
-                    format!(
-                        "finite, |value| <= {lim:.4e} {what}: a small displacement of the gear body"
-                    ),
+                    "finite (a rate of the gear body, m/s or rad/s)",
                 ));
             }
+            continue;
         }
-    }
-    for (body, rate) in [("rate_p", rate_p), ("rate_g", rate_g)] {
-        for (name, v) in COMPONENT_NAMES.iter().zip(rate.values()) {
-            if !v.is_finite() {
-                return Err(ParamError::new(&format!("{body}.{name}"), v, "finite"));
-            }
+        let (lim, what) =
+            if k % 5 < 3 { (u_max, "m (0.05·m_n)") } else { (th_max, "rad (0.05·m_n/b)") };
+        if !(v.is_finite() && v.abs() <= lim) {
+            return Err(ParamError::new(
+                name,
+                v,
+                format!(
+                    "finite, |value| <= {lim:.4e} {what}: a small displacement of the gear body"
+                ),
+            ));
         }
     }
     Ok(())

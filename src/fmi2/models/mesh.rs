@@ -1,9 +1,13 @@
 //! `HelicalGearMesh`: the mesh element without state. Inputs are the hub angles and speeds
-//! (φp, φg, φ̇p, φ̇g), outputs the mesh torques of Eqs. 13–14 with diagnostics, every output
-//! a direct function of the inputs (direct feedthrough); `fmi2DoStep` only advances the time.
+//! (φp, φg, φ̇p, φ̇g) and the poses and pose rates of both gear bodies
+//! ([`crate::mesh::pose`]), outputs the mesh torques of Eqs. 13–14 with diagnostics, every
+//! output a direct function of the inputs (direct feedthrough); `fmi2DoStep` only advances the
+//! time.
 //!
-//! Slots: the inputs φp, φg, φ̇p, φ̇g are input slots 0–3 (a [`MeshState`]; their time
-//! derivatives are accepted and not used), the outputs the shared mesh outputs
+//! Slots: the inputs φp, φg, φ̇p, φ̇g are input slots 0–3 and the twenty pose inputs
+//! ([`crate::mesh::pose::INPUT_NAMES`], value references 500–519) slots 4–23 (a
+//! [`MeshState`]; their time derivatives are accepted and not used), the outputs the shared
+//! mesh outputs
 //! (`super::write_mesh_outputs`). A serialised FMU state carries the cached outputs (the
 //! element evaluates lazily) and the load solver's warm start.
 
@@ -17,7 +21,7 @@ use crate::fmi2::variables::{
     NONE, OutputValues, Settings, Variability, Variable, concat, total_len,
 };
 use crate::mesh::table::TABLE_DESIGN_TORQUE_NM;
-use crate::mesh::{Mesh, MeshError, MeshState, MeshTorques, WarmStart};
+use crate::mesh::{Mesh, MeshError, MeshState, MeshTorques, WarmStart, pose};
 
 use Variable as V;
 
@@ -27,11 +31,80 @@ const PHI_G: usize = 1;
 const W_P: usize = 2;
 const W_G: usize = 3;
 
+/// Input slot of the first pose input.
+const POSE: usize = 4;
+
 /// The mesh state the inputs hold.
 fn mesh_state(i: &InputValues) -> MeshState {
     let v = &i.values;
-    MeshState { phi_p: v[PHI_P], phi_g: v[PHI_G], w_p: v[W_P], w_g: v[W_G], ..Default::default() }
+    let mut s = MeshState {
+        phi_p: v[PHI_P],
+        phi_g: v[PHI_G],
+        w_p: v[W_P],
+        w_g: v[W_G],
+        ..Default::default()
+    };
+    let pose: &[f64; 20] = v[POSE..POSE + 20].try_into().expect("MAX_INPUTS holds the pose");
+    pose::set_inputs(&mut s, pose);
+    s
 }
+
+/// Meaning of each pose input, in the order of [`pose::INPUT_NAMES`].
+const POSE_MEANING: [&str; 20] = [
+    "Pinion body: translation along x (towards the gear axis) from its nominal bearing axis at its centre at mid-face, m",
+    "Pinion body: translation along y = z x x, m",
+    "Pinion body: translation along z (the pinion axis, towards zeta = b), m",
+    "Pinion body: tilt about x through its centre, rad (right-handed)",
+    "Pinion body: tilt about y through its centre, rad (right-handed)",
+    "Gear body: translation along x from its nominal bearing axis at its centre at mid-face, m (positive opens the centre distance)",
+    "Gear body: translation along y, m",
+    "Gear body: translation along z, m",
+    "Gear body: tilt about x through its centre, rad",
+    "Gear body: tilt about y through its centre, rad",
+    "Rate of u_p_x, m/s",
+    "Rate of u_p_y, m/s",
+    "Rate of u_p_z, m/s",
+    "Rate of th_p_x, rad/s",
+    "Rate of th_p_y, rad/s",
+    "Rate of u_g_x, m/s",
+    "Rate of u_g_y, m/s",
+    "Rate of u_g_z, m/s",
+    "Rate of th_g_x, rad/s",
+    "Rate of th_g_y, rad/s",
+];
+
+/// The pose input `k` (value reference 500 + k, slot 4 + k), start 0 (the rigid-bearing
+/// model).
+const fn pose_input(k: usize) -> Variable {
+    let (unit, quantity) = match (k / 10, k % 5 < 3) {
+        (0, true) => (Some("m"), Some("Length")),
+        (0, false) => (RAD, ANGLE),
+        (_, true) => (Some("m/s"), Some("Velocity")),
+        (_, false) => (Some("rad/s"), Some("AngularVelocity")),
+    };
+    Variable {
+        name: pose::INPUT_NAMES[k],
+        vr: 500 + k as u32,
+        causality: Causality::Input,
+        variability: Variability::Continuous,
+        description: POSE_MEANING[k],
+        unit,
+        quantity,
+        access: Access::Input { slot: POSE + k, derivative: false },
+        ..NONE
+    }
+}
+
+/// The twenty pose inputs ([`crate::mesh::pose`]).
+const POSE_INPUTS: [Variable; 20] = {
+    let mut v = [NONE; 20];
+    let mut k = 0;
+    while k < 20 {
+        v[k] = pose_input(k);
+        k += 1;
+    }
+    v
+};
 
 /// The inputs of the mesh element (value references 0–3).
 const INPUTS: [Variable; 4] = [
@@ -108,8 +181,15 @@ const TABLE_DESIGN_TORQUE: [Variable; 1] = [Variable {
     ..NONE
 }];
 
-const PARTS: &[&[Variable]] =
-    &[&INPUTS, &MESH_OUTPUTS, &CALCULATED, &GEAR_PARAMS, &MESH_OPTIONS, &TABLE_DESIGN_TORQUE];
+const PARTS: &[&[Variable]] = &[
+    &INPUTS,
+    &POSE_INPUTS,
+    &MESH_OUTPUTS,
+    &CALCULATED,
+    &GEAR_PARAMS,
+    &MESH_OPTIONS,
+    &TABLE_DESIGN_TORQUE,
+];
 
 /// Every variable of `HelicalGearMesh`, in `modelDescription.xml` order (the ScalarVariable
 /// index is the position in this table plus one).
@@ -141,8 +221,10 @@ pub static INFO: ModelInfo = ModelInfo {
     guid_cell: &GUID,
 };
 
-const DOC: &str = "<p>Inputs are the hub angles and speeds of pinion and gear; outputs are the \
-mesh torques of Eqs. 13&ndash;14 and diagnostics. The element has no state: every output is a \
+const DOC: &str = "<p>Inputs are the hub angles and speeds of pinion and gear, and the small \
+displacements of both gear bodies from their bearing axes with their rates (<code>u_p_x</code> \
+&hellip; <code>om_g_y</code>, start 0: rigid bearings), so that a multibody master can wire the \
+mesh to its own bodies; outputs are the mesh torques of Eqs. 13&ndash;14 and diagnostics. The element has no state: every output is a \
 direct function of the inputs, so a master may set inputs and read outputs at every stage of \
 its own integrator (the outputs are recomputed on the first read after an input changed). \
 <code>fmi2DoStep</code> only advances the time. Causality: kinematics in, torque out; the \
@@ -212,12 +294,18 @@ impl Clone for MeshEngine {
     }
 }
 
-/// The state for an error message, SI units.
+/// The state for an error message, SI units; the pose inputs that are not zero.
 fn state_text(s: &MeshState) -> String {
-    format!(
+    let mut t = format!(
         "phi_p = {} rad, phi_g = {} rad, w_p = {} rad/s, w_g = {} rad/s",
         s.phi_p, s.phi_g, s.w_p, s.w_g
-    )
+    );
+    for (name, v) in pose::INPUT_NAMES.iter().zip(pose::inputs_of(s)) {
+        if v != 0.0 {
+            t.push_str(&format!(", {name} = {v}"));
+        }
+    }
+    t
 }
 
 impl Engine for MeshEngine {
@@ -267,7 +355,9 @@ impl Engine for MeshEngine {
 
     /// ∂(M_F_p, M_F_g, M_D_p, M_D_g, TE)/∂(phi_p, phi_g, w_p, w_g): the mesh stiffness and
     /// damping from [`MeshTorques::mesh_jacobian`] (table interpolant or load-solution
-    /// sensitivity), TE = g_p·phi_p + g_g·phi_g exactly.
+    /// sensitivity), TE = g_p·phi_p + g_g·phi_g exactly; and with respect to the twenty pose
+    /// inputs where the mesh provides them (full fidelity without friction; TE does not depend
+    /// on them).
     fn jacobian(&mut self, i: &InputValues) -> Result<Jacobian, String> {
         let s = mesh_state(i);
         let (_, j) = self
@@ -275,16 +365,22 @@ impl Engine for MeshEngine {
             .mesh_jacobian(&s)
             .map_err(|e| format!("mesh Jacobian at {}: {}", state_text(&s), mesh_error_text(&e)))?;
         let (gp, gg) = self.0.base_radii();
-        let mut values = Vec::with_capacity(20);
-        for row in &j.d {
+        let mut cols = vec!["phi_p", "phi_g", "w_p", "w_g"];
+        if j.pose.is_some() {
+            cols.extend(pose::INPUT_NAMES);
+        }
+        let mut values = Vec::with_capacity(5 * cols.len());
+        for (i, row) in j.d.iter().enumerate() {
             values.extend_from_slice(row);
+            if let Some(p) = &j.pose {
+                for block in [p.d_pose_p, p.d_pose_g, p.d_rate_p, p.d_rate_g] {
+                    values.extend_from_slice(&block[i]);
+                }
+            }
         }
         values.extend_from_slice(&[gp, gg, 0.0, 0.0]);
-        Ok(Jacobian {
-            rows: vec!["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"],
-            cols: vec!["phi_p", "phi_g", "w_p", "w_g"],
-            values,
-        })
+        values.resize(5 * cols.len(), 0.0);
+        Ok(Jacobian { rows: vec!["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE"], cols, values })
     }
 }
 
@@ -296,10 +392,12 @@ mod tests {
     fn the_table_is_inputs_outputs_calculated_parameters_options() {
         // 24 gear-pair parameters: none of the drive line's seven (the element does not use
         // them); 8 mesh options (friction included) and the table's design torque.
-        assert_eq!(VARIABLES.len(), 4 + 30 + 4 + 24 + 8 + 1);
+        assert_eq!(VARIABLES.len(), 4 + 20 + 30 + 4 + 24 + 8 + 1);
         assert_eq!(VARIABLES[0].name, "phi_p");
-        assert!(VARIABLES[..4].iter().all(|v| v.causality == Causality::Input));
-        assert!(matches!(VARIABLES[4].access, Access::RealOutput(_)));
+        assert!(VARIABLES[..24].iter().all(|v| v.causality == Causality::Input));
+        assert_eq!(VARIABLES[4].name, "u_p_x");
+        assert_eq!(VARIABLES[23].name, "om_g_y");
+        assert!(matches!(VARIABLES[24].access, Access::RealOutput(_)));
         let _ = NONE;
     }
 
