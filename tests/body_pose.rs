@@ -194,8 +194,8 @@ fn a_tilt_is_the_misalignment_it_projects_to() {
     eprintln!("largest K_Hβ difference: {:.3} %", 100.0 * worst);
 }
 
-/// A pose component beyond 0.05·m_n (tilt: 0.05·m_n/b) or a non-finite one is an error naming
-/// it; every limit is usable (the bound itself evaluates); the table, which holds only the
+/// A pose component beyond 0.05·m_n (tilt: 0.05·m_n/b), a rate beyond 2e5 rad/s times that, or
+/// a non-finite one is an error naming it; every limit is usable (the bound itself evaluates); the table, which holds only the
 /// rigid-bearing mesh, refuses a pose instead of ignoring it.
 #[test]
 fn the_bounds_name_the_component_and_rigid_only_paths_refuse() {
@@ -216,9 +216,25 @@ fn the_bounds_name_the_component_and_rigid_only_paths_refuse() {
     let nan = MeshState { rate_g: BodyPose { u_z: f64::NAN, ..BodyPose::default() }, ..s0 };
     let e = m.evaluate(&nan).unwrap_err().to_string();
     assert!(e.contains("v_g_z"), "{e}");
-    // Rates are operating points at any finite value.
-    let fast = MeshState { rate_p: BodyPose { u_x: 50.0, ..BodyPose::default() }, ..s0 };
-    assert!(m.evaluate(&fast).unwrap().m_d_p.is_finite());
+    // Rates up to 2e5 rad/s times the pose bound: 30 m/s and 2 000 rad/s for Table 1; the
+    // bounds themselves evaluate, beyond them an error.
+    let (v_max, om_max) = (2e5 * 0.05 * mn, 2e5 * 0.05 * mn / b);
+    let fast = BodyPose { u_x: v_max, th_y: -om_max, ..BodyPose::default() };
+    let o = m.evaluate(&MeshState { rate_p: fast, rate_g: fast, ..s0 }).unwrap();
+    assert!(o.m_d_p.is_finite() && o.m_d_g.is_finite());
+    let e = m
+        .evaluate(&MeshState {
+            rate_g: BodyPose { u_y: 1.01 * v_max, ..BodyPose::default() },
+            ..s0
+        })
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("v_g_y"), "{e}");
+    let e = m
+        .evaluate(&MeshState { rate_p: BodyPose { th_x: 1e300, ..BodyPose::default() }, ..s0 })
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("om_p_x"), "{e}");
 
     let small = BodyPose { u_x: 1e-6, ..BodyPose::default() };
     // The Jacobian at a pose is provided (`the_pose_jacobian_matches_central_differences`).
