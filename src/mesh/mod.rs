@@ -53,6 +53,7 @@ pub mod model;
 pub mod outputs;
 pub mod pose;
 pub mod statics;
+pub mod supports;
 pub mod table;
 pub mod validity;
 
@@ -80,6 +81,7 @@ pub use statics::{
     pressure_waterfall, static_curve, static_curve_with, tip_contact_threshold,
     tip_contact_threshold_curve,
 };
+pub use supports::{Support, SupportedEquilibrium, Supports, supported_equilibrium};
 pub use table::{MeshTable, TableMesh, TableTruncation};
 pub use validity::ValidityRange;
 

@@ -16,7 +16,7 @@
 //! loaded contact reaches a tip rounding or tip edge: the static onset of tip contact that the
 //! paper run compares with the steady dynamic TE.
 
-use super::{MeshError, MeshOutputs, MeshState, MeshTorques};
+use super::{BodyPose, MeshError, MeshOutputs, MeshState, MeshTorques};
 
 /// A static equilibrium point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,12 +49,24 @@ pub struct EquilibriumSettings {
     /// damping of Eq. 14 is zero. It matters only with friction ([`super::friction`]): the
     /// sliding speeds, the friction torques inside M_F,p and the loss.
     pub w_p: f64,
+    /// The pinion body's pose ([`super::pose`]; default zero: rigid bearings).
+    pub pose_p: BodyPose,
+    /// The gear body's pose.
+    pub pose_g: BodyPose,
 }
 
 impl Default for EquilibriumSettings {
-    /// |M_F,p − M| ≤ 1e-11·|M|, TE to 1e-15 m, at most 200 evaluations.
+    /// |M_F,p − M| ≤ 1e-11·|M|, TE to 1e-15 m, at most 200 evaluations, at rest on rigid
+    /// bearings.
     fn default() -> Self {
-        Self { rel_tol: 1e-11, te_tol: 1e-15, max_evaluations: 200, w_p: 0.0 }
+        Self {
+            rel_tol: 1e-11,
+            te_tol: 1e-15,
+            max_evaluations: 200,
+            w_p: 0.0,
+            pose_p: BodyPose::default(),
+            pose_g: BodyPose::default(),
+        }
     }
 }
 
@@ -89,6 +101,8 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
             phi_g: crate::numeric::phi_g_for_te(phi_p, te, gp, gg),
             w_p: settings.w_p,
             w_g: -settings.w_p * gp / gg,
+            pose_p: settings.pose_p,
+            pose_g: settings.pose_g,
             ..Default::default()
         };
         let o = mesh.mesh(&state)?;
