@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{d320be3d-f95a-8ee2-b21f-5b27bdfae2e0}"
+#define HelicalGearMesh_GUID "{aabf5c03-ce97-81f4-a142-010669565fe7}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

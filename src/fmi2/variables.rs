@@ -629,9 +629,20 @@ const fn mesh_output_access(i: usize) -> Access {
 }
 
 const ANGLES: &[&str] = &["phi_p", "phi_g"];
-const ALL_INPUTS: &[&str] = &["phi_p", "phi_g", "w_p", "w_g"];
+/// The angles and the gear bodies' poses (`crate::mesh::pose::INPUT_NAMES`, first ten): what
+/// the elastic outputs depend on.
+const ANGLES_AND_POSES: &[&str] = &[
+    "phi_p", "phi_g", "u_p_x", "u_p_y", "u_p_z", "th_p_x", "th_p_y", "u_g_x", "u_g_y", "u_g_z",
+    "th_g_x", "th_g_y",
+];
+/// Every input of the mesh element: what the damping (and so the 3D force) depends on.
+const ALL_INPUTS: &[&str] = &[
+    "phi_p", "phi_g", "w_p", "w_g", "u_p_x", "u_p_y", "u_p_z", "th_p_x", "th_p_y", "u_g_x",
+    "u_g_y", "u_g_z", "th_g_x", "th_g_y", "v_p_x", "v_p_y", "v_p_z", "om_p_x", "om_p_y", "v_g_x",
+    "v_g_y", "v_g_z", "om_g_x", "om_g_y",
+];
 const ELASTIC_DEPS: Depends = Depends {
-    inputs: ANGLES,
+    inputs: ANGLES_AND_POSES,
     linear_fixed: false,
     groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS,
 };
@@ -716,7 +727,7 @@ pub const MESH_OUTPUTS: [Variable; 30] = [
         Some("MPa"),
         Some("Pressure"),
         Depends {
-            inputs: ANGLES,
+            inputs: ANGLES_AND_POSES,
             linear_fixed: false,
             groups: group::GEOMETRY | group::ELASTIC | group::OPTIONS | group::PRESSURE,
         }

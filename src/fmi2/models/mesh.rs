@@ -401,6 +401,16 @@ mod tests {
         let _ = NONE;
     }
 
+    /// The dependency lists of the outputs name the pose inputs as the library's table does:
+    /// the elastic outputs the ten poses, the damping ones all twenty inputs.
+    #[test]
+    fn the_dependency_lists_follow_the_pose_input_names() {
+        let deps = |name: &str| VARIABLES.iter().find(|v| v.name == name).unwrap().depends.unwrap();
+        assert_eq!(&deps("M_F_p").inputs[2..], &pose::INPUT_NAMES[..10]);
+        assert_eq!(&deps("M_D_p").inputs[4..], &pose::INPUT_NAMES[..]);
+        assert_eq!(deps("TE").inputs, &["phi_p", "phi_g"]);
+    }
+
     /// The cached outputs in a serialised state: the mesh outputs in table order (Real f64,
     /// Integer i32, flag bytes), read back bit for bit; a short, non-finite or bad flag is
     /// refused.
