@@ -1043,6 +1043,13 @@ pub struct StaticPointRecord {
     pub q_p_w: f64,
     /// Friction heat into the gear's flanks Q_g, W.
     pub q_g_w: f64,
+    /// With supports (`static --supports`): the pinion body's pose at the equilibrium
+    /// (u_x, u_y, u_z in m, θ_x, θ_y in rad; [`crate::mesh::pose`]); absent without.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose_p: Option<[f64; 5]>,
+    /// With supports: the gear body's pose at the equilibrium.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose_g: Option<[f64; 5]>,
 }
 
 /// The mesh friction summary of a static run at a running speed (`helical-gear static

@@ -190,6 +190,8 @@ fn run_records_round_trip_with_their_keys() {
         m_r_g_nm: -0.7,
         q_p_w: 120.0,
         q_g_w: 130.0,
+        pose_p: None,
+        pose_g: Some([1e-6, -2e-6, 0.5e-6, 1e-5, -2e-5]),
     };
     let st = StaticRunRecord {
         curve: static_record(),

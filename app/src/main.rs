@@ -96,6 +96,12 @@ enum Command {
         /// "gear": {…}}`, docs/loads.md): adds the bearing loads over the mesh cycle.
         #[arg(long, value_name = "FILE")]
         bearings: Option<std::path::PathBuf>,
+        /// Elastic supports of the gear bodies (JSON: `{"pinion": {"mass_kg", "j_transverse_kgm2",
+        /// "stiffness": {"radial_n_per_m", "axial_n_per_m", "tilt_nm_per_rad"}}, "gear": {…}}`,
+        /// docs/gear-bodies.md): each point is the equilibrium with both bodies displaced on
+        /// their supports, and reports their poses.
+        #[arg(long, value_name = "FILE")]
+        supports: Option<std::path::PathBuf>,
         #[command(flatten)]
         model: mods::ModelArgs,
         #[command(flatten)]
@@ -168,6 +174,7 @@ fn main() -> ExitCode {
             slices,
             plot,
             bearings,
+            supports,
             model,
             friction,
             omega_p,
@@ -180,6 +187,7 @@ fn main() -> ExitCode {
             *slices,
             plot.as_deref(),
             bearings.as_deref(),
+            supports.as_deref(),
             model,
             friction,
             *omega_p,

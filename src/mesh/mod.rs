@@ -81,7 +81,9 @@ pub use statics::{
     pressure_waterfall, static_curve, static_curve_with, tip_contact_threshold,
     tip_contact_threshold_curve,
 };
-pub use supports::{Support, SupportedEquilibrium, Supports, supported_equilibrium};
+pub use supports::{
+    Support, SupportedEquilibrium, Supports, supported_equilibrium, supported_static_curve,
+};
 pub use table::{MeshTable, TableMesh, TableTruncation};
 pub use validity::ValidityRange;
 

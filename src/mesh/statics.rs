@@ -31,6 +31,10 @@ pub struct Equilibrium {
     pub outputs: MeshOutputs,
     /// Number of mesh evaluations used.
     pub evaluations: usize,
+    /// The pinion body's pose at the equilibrium ([`super::pose`]; zero on rigid bearings).
+    pub pose_p: BodyPose,
+    /// The gear body's pose at the equilibrium.
+    pub pose_g: BodyPose,
 }
 
 /// Settings of [`equilibrium`].
@@ -123,6 +127,8 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
             te: a,
             outputs: fa_o.1,
             evaluations: count.get(),
+            pose_p: settings.pose_p,
+            pose_g: settings.pose_g,
         });
     }
     let (mut b, mut fb_o);
@@ -265,6 +271,8 @@ pub fn equilibrium<M: MeshTorques + ?Sized>(
         te,
         outputs: best.1,
         evaluations: count.get(),
+        pose_p: settings.pose_p,
+        pose_g: settings.pose_g,
     })
 }
 

@@ -35,7 +35,7 @@
 
 use serde_json::Value;
 
-use super::statics::{Equilibrium, EquilibriumSettings, equilibrium};
+use super::statics::{Equilibrium, EquilibriumSettings, StaticCurve, equilibrium};
 use super::{BodyPose, MeshError, MeshTorques};
 use crate::error::ParamError;
 
@@ -375,4 +375,32 @@ pub fn supported_equilibrium<M: MeshTorques + ?Sized>(
          iterations at phi_p = {phi_p} rad, torque = {torque} N.m (supports too soft against \
          the mesh's tilting moments)"
     )))
+}
+
+/// The static curve ([`super::statics::static_curve_with`]) with both bodies on `supports`:
+/// at `points_per_pitch` pinion angles per pitch over `pitches` pitches from `phi_start`, each
+/// point [`supported_equilibrium`] started from the previous point's TE and poses; each
+/// [`Equilibrium`] carries its poses.
+#[allow(clippy::too_many_arguments)]
+pub fn supported_static_curve<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    torque: f64,
+    phi_start: f64,
+    pinion_pitch: f64,
+    points_per_pitch: usize,
+    pitches: usize,
+    supports: &Supports,
+    settings: &EquilibriumSettings,
+) -> Result<StaticCurve, MeshError> {
+    let n = points_per_pitch.max(1) * pitches.max(1);
+    let mut points = Vec::with_capacity(n);
+    let (mut guess, mut s) = (1e-5, *settings);
+    for k in 0..n {
+        let phi_p = phi_start + pinion_pitch * k as f64 / points_per_pitch.max(1) as f64;
+        let e = supported_equilibrium(mesh, phi_p, torque, guess, supports, &s)?;
+        guess = e.equilibrium.te;
+        (s.pose_p, s.pose_g) = (e.pose_p, e.pose_g);
+        points.push(e.equilibrium);
+    }
+    Ok(StaticCurve { torque, points })
 }

@@ -85,20 +85,29 @@ pub struct FaceLoads {
 }
 
 /// Line loads at every point of `curve` (re-evaluated on `model` with detail) and K_Hβ beside
-/// ISO 6336-1. The ISO stiffness comes from the same static run without modifications.
+/// ISO 6336-1. The ISO stiffness comes from the same static run without modifications (and,
+/// when the curve's bodies sit on supports, `supported`, on rigid bearings: c_γ is the mesh's
+/// own). Each point is evaluated at its equilibrium's poses.
 pub fn face_loads(
     model: &mut Mesh,
     curve: &StaticCurve,
     pitch: f64,
     points_per_pitch: usize,
     pitches: usize,
+    supported: bool,
 ) -> Result<FaceLoads, String> {
     let mut points = Vec::with_capacity(curve.points.len());
     let mut k_max = f64::NEG_INFINITY;
     let mut sum = vec![0.0; model.slices_per_line()];
     for e in &curve.points {
-        let s =
-            MeshState { phi_p: e.phi_p, phi_g: e.phi_g, w_p: 0.0, w_g: 0.0, ..Default::default() };
+        // At the equilibrium's poses (zero on rigid bearings).
+        let s = MeshState {
+            phi_p: e.phi_p,
+            phi_g: e.phi_g,
+            pose_p: e.pose_p,
+            pose_g: e.pose_g,
+            ..Default::default()
+        };
         model.evaluate(&s).map_err(|e| e.to_string())?;
         let fl = face_load(model);
         for (a, w) in sum.iter_mut().zip(&fl.line_load) {
@@ -113,7 +122,8 @@ pub fn face_loads(
     let f_beta_y =
         (mods.mesh_misalignment_m + mods.pinion.helix_slope_m + mods.gear.helix_slope_m).abs();
     let rb = model.geometry().pinion.rb;
-    let stiffness = if mods.is_default() {
+    // ISO's c_γ is the mesh's own: a curve on supports holds their compliance too.
+    let stiffness = if mods.is_default() && !supported {
         curve.mean_stiffness(rb)
     } else {
         let aligned = GearPair { modifications: Modifications::default(), ..pair.clone() };

@@ -4,7 +4,10 @@
 
 use helical_gear_app::paper;
 use helical_gear_mesh::mesh::bearings::BearingArrangement;
-use helical_gear_mesh::mesh::{EquilibriumSettings, Mesh, pressure_waterfall, static_curve_with};
+use helical_gear_mesh::mesh::{
+    EquilibriumSettings, Mesh, Supports, pressure_waterfall, static_curve_with,
+    supported_static_curve,
+};
 use helical_gear_mesh::results::{
     BearingLoadRecord, IsoRootStressSummary, StaticCurveRecord, StaticFrictionSummary,
     StaticPointRecord, StaticRunRecord,
@@ -27,6 +30,7 @@ pub fn static_cmd(
     slices: usize,
     plot: Option<&std::path::Path>,
     bearings: Option<&std::path::Path>,
+    supports: Option<&std::path::Path>,
     model_args: &mods::ModelArgs,
     friction: &FrictionArg,
     omega_p: f64,
@@ -46,6 +50,21 @@ pub fn static_cmd(
             Some(
                 BearingArrangement::from_json(&text)
                     .map_err(|e| format!("--bearings {}: {e}", path.display()))?,
+            )
+        }
+        None => None,
+    };
+    if supports.is_some() && plot.is_some() {
+        return Err("--plot with --supports: the pressure waterfall of --plot is computed on \
+                    rigid bearings only; run --plot without --supports"
+            .to_string());
+    }
+    let supports = match supports {
+        Some(path) => {
+            let text = super::read_json_file("--supports", path)?;
+            Some(
+                Supports::from_json(&text)
+                    .map_err(|e| format!("--supports {}: {e}", path.display()))?,
             )
         }
         None => None,
@@ -75,10 +94,24 @@ pub fn static_cmd(
         w_p: if friction.is_on() { omega_p } else { 0.0 },
         ..EquilibriumSettings::default()
     };
-    let curve =
-        static_curve_with(&mut model, torque, 0.0, pitch, points_per_pitch, pitches, &settings)
-            .map_err(|e| e.to_string())?;
-    let fl = mods::face_loads(&mut model, &curve, pitch, points_per_pitch, pitches)?;
+    let curve = match &supports {
+        None => {
+            static_curve_with(&mut model, torque, 0.0, pitch, points_per_pitch, pitches, &settings)
+        }
+        Some(s) => supported_static_curve(
+            &mut model,
+            torque,
+            0.0,
+            pitch,
+            points_per_pitch,
+            pitches,
+            s,
+            &settings,
+        ),
+    }
+    .map_err(|e| e.to_string())?;
+    let fl =
+        mods::face_loads(&mut model, &curve, pitch, points_per_pitch, pitches, supports.is_some())?;
     let rb = geo.pinion.rb;
     let stiffness = curve.mean_stiffness(rb);
     if let Some(dir) = plot {
@@ -117,6 +150,8 @@ pub fn static_cmd(
             m_r_g_nm: e.outputs.m_r_g,
             q_p_w: e.outputs.q_p,
             q_g_w: e.outputs.q_g,
+            pose_p: supports.is_some().then(|| e.pose_p.values()),
+            pose_g: supports.is_some().then(|| e.pose_g.values()),
         })
         .collect();
     // The shared static record (per-point arrays and summary), then the face load and the
@@ -154,7 +189,11 @@ pub fn static_cmd(
             curve.min() * 1e6,
             curve.mean() * 1e6
         );
-        println!("  mean mesh stiffness {:.2} N/µm along the line of action", stiffness * 1e-6);
+        let what = if supports.is_some() { "mesh on its supports" } else { "mesh" };
+        println!(
+            "  mean stiffness of the {what} {:.2} N/µm along the line of action",
+            stiffness * 1e-6
+        );
         println!("  tip-rounding contact: {}", curve.tip_rounding_contact());
         match (&record.iso.iso6336, &record.iso.iso6336_error) {
             (Some(r), _) => println!(
