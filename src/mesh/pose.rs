@@ -54,6 +54,9 @@
 //! counted as in mesh, carries a share of order |w|/b of the load (1 % for w = 0.05·m_n =
 //! 150 µm on Table 1's b = 15 mm). The gear's compliance is looked up at the pinion's ζ (the same
 //! shift, w/m_n in ζ). The tilt of the transverse sections (cos Θ − 1) is of second order.
+//! The torques M_F,g and M_D,g are taken about the z axis of the pinion's frame; about the
+//! gear's own axis, tilted by Θ relative to it, they differ by Θ_y·M_x − Θ_x·M_y (the relative
+//! tilt times the tilting moments on the gear), which is not added.
 //!
 //! # Forces
 //! The contact forces are found in the pinion's frame ([`super::forces`]), with the moments
