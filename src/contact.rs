@@ -342,38 +342,21 @@ impl<'a> ContactSolver<'a> {
         zetas: &[f64],
         out: &mut Vec<ContactPoint>,
     ) -> ReducedAngles {
-        out.clear();
-        let red = self.reduce(phi_p, phi_g);
-        if zetas.is_empty() || phi_p.abs() > self.max_angle() {
-            return red;
-        }
-        let zmin = zetas.iter().copied().fold(f64::INFINITY, f64::min);
-        let zmax = zetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let (lo, hi) = self.pair_range(red.phi_p, zmin, zmax, side);
-        for k in lo..=hi {
-            for &zeta in zetas {
-                if let Some(mut c) = self.contact_fast_on(side, red.phi_p, red.phi_g, k, zeta) {
-                    // |k| is a few pitches and |pitches| ≤ 2⁵³ here: no overflow.
-                    c.pair = k - red.pitches;
-                    out.push(c);
-                }
-            }
-        }
-        red
+        self.contacts_posed(side, phi_p, phi_g, zetas, None, out)
     }
 
-    /// Like [`ContactSolver::contacts_on`] with the gear body displaced relative to the pinion
-    /// by `pose` ([`crate::mesh::pose`], "The contact on the displaced geometry"): in each slice
-    /// the gear's axis is offset, its tooth turned by the helix for the axial displacement at
-    /// the operating pitch point, and each contact's overlap corrected for the axial
-    /// displacement at its own point.
+    /// Like [`ContactSolver::contacts_on`], with the gear body displaced relative to the pinion
+    /// by `pose` when given ([`crate::mesh::pose`], "The contact on the displaced geometry"):
+    /// in each slice the gear's axis is offset, its tooth turned by the helix for the axial
+    /// displacement at the operating pitch point, and each contact's overlap corrected for the
+    /// axial displacement at its own point.
     pub(crate) fn contacts_posed(
         &self,
         side: FlankSide,
         phi_p: f64,
         phi_g: f64,
         zetas: &[f64],
-        pose: &RelativePose,
+        pose: Option<&RelativePose>,
         out: &mut Vec<ContactPoint>,
     ) -> ReducedAngles {
         out.clear();
@@ -382,24 +365,31 @@ impl<'a> ContactSolver<'a> {
             return red;
         }
         let g = self.geo;
-        let mn = g.params.normal_module_m;
-        let b = g.params.face_width_m;
-        let tw = g.gear.twist_rate;
+        let (mn, b, tw) = (g.params.normal_module_m, g.params.face_width_m, g.gear.twist_rate);
         let r_wg = g.gear.rb / g.alpha_wt.cos();
-        let w_ref = pose.axial([-r_wg, 0.0]);
+        let w_ref = pose.map_or(0.0, |p| p.axial([-r_wg, 0.0]));
         let zmin = zetas.iter().copied().fold(f64::INFINITY, f64::min);
         let zmax = zetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let (lo, hi) = self.pair_range(red.phi_p, zmin, zmax, side);
-        // The pair window holds for the nominal geometry; the pose moves the contact by at most
+        // The pair window holds for the nominal geometry; a pose moves the contact by at most
         // 0.05·m_n plus the helix turn, well inside its half-pitch margin.
+        let (lo, hi) = self.pair_range(red.phi_p, zmin, zmax, side);
         for k in lo..=hi {
             for &zeta in zetas {
-                let o = pose.axis_offset(zeta * mn, b);
-                let center = [self.center_g[0] + o[0], self.center_g[1] + o[1]];
-                let phi_g_k = red.phi_g - tw * w_ref;
-                if let Some(mut c) = self.contact_walk(side, red.phi_p, phi_g_k, k, zeta, center) {
-                    let rho = [c.point_g[0] - center[0], c.point_g[1] - center[1]];
-                    c.overlap_m -= c.arm_g_m * tw * (pose.axial(rho) - w_ref);
+                let found = match pose {
+                    None => self.contact_fast_on(side, red.phi_p, red.phi_g, k, zeta),
+                    Some(pose) => {
+                        let o = pose.axis_offset(zeta * mn, b);
+                        let center = [self.center_g[0] + o[0], self.center_g[1] + o[1]];
+                        let phi_g_k = red.phi_g - tw * w_ref;
+                        self.contact_walk(side, red.phi_p, phi_g_k, k, zeta, center).map(|mut c| {
+                            let rho = [c.point_g[0] - center[0], c.point_g[1] - center[1]];
+                            c.overlap_m -= c.arm_g_m * tw * (pose.axial(rho) - w_ref);
+                            c
+                        })
+                    }
+                };
+                if let Some(mut c) = found {
+                    // |k| is a few pitches and |pitches| ≤ 2⁵³ here: no overflow.
                     c.pair = k - red.pitches;
                     out.push(c);
                 }

@@ -69,8 +69,10 @@ fn radial_compliance_adds_the_force_over_the_stiffness_to_the_static_te() {
         );
         // Each body moved by its force over its stiffness.
         let fg = e.equilibrium.outputs.force_g;
-        assert!((e.pose_g.u_x - fg[0] / k_g).abs() <= 1e-9 * fg[0].abs() / k_g);
-        assert!((e.pose_p.u_y * k_p / e.equilibrium.outputs.force_p[1] - 1.0).abs() < 1e-9);
+        assert!((e.equilibrium.pose_g.u_x - fg[0] / k_g).abs() <= 1e-9 * fg[0].abs() / k_g);
+        assert!(
+            (e.equilibrium.pose_p.u_y * k_p / e.equilibrium.outputs.force_p[1] - 1.0).abs() < 1e-9
+        );
         eprintln!(
             "φp = {phi_p}: ΔTE = {:.3} µm, F_t·Σ1/k = {:.3} µm, {} iterations",
             got * 1e6,
@@ -107,12 +109,12 @@ fn the_supports_balance_the_mesh_wrench() {
     for (sup, pose, w) in [
         (
             supports.pinion.unwrap(),
-            e.pose_p,
+            e.equilibrium.pose_p,
             [o.force_p[0], o.force_p[1], o.force_p[2], o.moment_p[0], o.moment_p[1]],
         ),
         (
             supports.gear.unwrap(),
-            e.pose_g,
+            e.equilibrium.pose_g,
             [o.force_g[0], o.force_g[1], o.force_g[2], o.moment_g[0], o.moment_g[1]],
         ),
     ] {
@@ -122,8 +124,12 @@ fn the_supports_balance_the_mesh_wrench() {
             assert!((r[i] + w[i]).abs() <= 1e-8 * scale, "component {i}: R {} + W {}", r[i], w[i]);
         }
     }
-    assert!(e.pose_g.th_x != 0.0 && e.pose_g.th_y != 0.0, "{:?}", e.pose_g);
-    eprintln!("gear pose {:?}, {} iterations", e.pose_g, e.iterations);
+    assert!(
+        e.equilibrium.pose_g.th_x != 0.0 && e.equilibrium.pose_g.th_y != 0.0,
+        "{:?}",
+        e.equilibrium.pose_g
+    );
+    eprintln!("gear pose {:?}, {} iterations", e.equilibrium.pose_g, e.iterations);
 }
 
 /// The JSON: the diagonal and the matrix forms; every bad value named.

@@ -478,13 +478,14 @@ impl From<LoadError> for MeshError {
 /// of action. Where the contact state changes (a slice starts or stops carrying load) the
 /// torques are not differentiable; the values are then the one-sided derivatives of the
 /// contact set found at the state.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct MeshJacobian {
     /// ∂torque_i/∂state_j, see the type's doc.
     pub d: [[f64; 4]; 4],
     /// The derivatives with respect to the gear bodies' poses and pose rates ([`pose`]), same
     /// rows; `None` where not provided (the table, which holds the rigid-bearing mesh; friction).
-    pub pose: Option<PoseJacobian>,
+    /// Boxed: the table's Jacobian, a hot path without it, stays small to return.
+    pub pose: Option<Box<PoseJacobian>>,
 }
 
 /// ∂torque_i/∂(pose component) of [`MeshJacobian`]: rows as [`MeshJacobian`]'s (M_F,p, M_F,g,

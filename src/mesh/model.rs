@@ -845,19 +845,8 @@ impl MeshModel {
             if !active {
                 continue;
             }
-            match &posed {
-                None => {
-                    cs.contacts_on(side, state.phi_p, state.phi_g, &self.zetas, &mut ws.contacts)
-                }
-                Some((pose, _)) => cs.contacts_posed(
-                    side,
-                    state.phi_p,
-                    state.phi_g,
-                    &self.zetas,
-                    pose,
-                    &mut ws.contacts,
-                ),
-            };
+            let pose = posed.as_ref().map(|(p, _)| p);
+            cs.contacts_posed(side, state.phi_p, state.phi_g, &self.zetas, pose, &mut ws.contacts);
             for c in &ws.contacts {
                 let mut c = *c;
                 if let Some(sep) = &self.separation {

@@ -339,13 +339,26 @@ pub fn static_curve_with<M: MeshTorques + ?Sized>(
     pitches: usize,
     settings: &EquilibriumSettings,
 ) -> Result<StaticCurve, MeshError> {
+    curve_points(torque, phi_start, pinion_pitch, points_per_pitch, pitches, |phi_p, prev| {
+        equilibrium(mesh, phi_p, torque, prev.map_or(1e-5, |e| e.te), settings)
+    })
+}
+
+/// A static curve of `points_per_pitch` pinion angles per pitch over `pitches` pitches from
+/// `phi_start`, each point `solve(φp, the previous point)` (`None` for the first).
+pub(crate) fn curve_points(
+    torque: f64,
+    phi_start: f64,
+    pinion_pitch: f64,
+    points_per_pitch: usize,
+    pitches: usize,
+    mut solve: impl FnMut(f64, Option<&Equilibrium>) -> Result<Equilibrium, MeshError>,
+) -> Result<StaticCurve, MeshError> {
     let n = points_per_pitch.max(1) * pitches.max(1);
-    let mut points = Vec::with_capacity(n);
-    let mut guess = 1e-5;
+    let mut points: Vec<Equilibrium> = Vec::with_capacity(n);
     for k in 0..n {
         let phi_p = phi_start + pinion_pitch * k as f64 / points_per_pitch.max(1) as f64;
-        let eq = equilibrium(mesh, phi_p, torque, guess, settings)?;
-        guess = eq.te;
+        let eq = solve(phi_p, points.last())?;
         points.push(eq);
     }
     Ok(StaticCurve { torque, points })

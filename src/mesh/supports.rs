@@ -35,7 +35,7 @@
 
 use serde_json::Value;
 
-use super::statics::{Equilibrium, EquilibriumSettings, StaticCurve, equilibrium};
+use super::statics::{Equilibrium, EquilibriumSettings, StaticCurve, curve_points, equilibrium};
 use super::{BodyPose, MeshError, MeshTorques};
 use crate::error::ParamError;
 
@@ -313,12 +313,9 @@ fn cholesky_solve(l: &[[f64; 5]; 5], b: &[f64; 5]) -> [f64; 5] {
 /// A static equilibrium with the bodies displaced on their supports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SupportedEquilibrium {
-    /// The mesh's equilibrium at the final poses (TE, φg, the outputs).
+    /// The mesh's equilibrium at the final poses (TE, φg, the outputs, both bodies' poses in
+    /// [`Equilibrium::pose_p`], [`Equilibrium::pose_g`]).
     pub equilibrium: Equilibrium,
-    /// The pinion body's pose, m and rad.
-    pub pose_p: BodyPose,
-    /// The gear body's pose.
-    pub pose_g: BodyPose,
     /// Fixed-point iterations used.
     pub iterations: usize,
 }
@@ -360,12 +357,7 @@ pub fn supported_equilibrium<M: MeshTorques + ?Sized>(
         };
         let settled = change(&np, &s.pose_p) && change(&ng, &s.pose_g);
         if settled {
-            return Ok(SupportedEquilibrium {
-                equilibrium: eq,
-                pose_p: s.pose_p,
-                pose_g: s.pose_g,
-                iterations: it,
-            });
+            return Ok(SupportedEquilibrium { equilibrium: eq, iterations: it });
         }
         s.pose_p = np;
         s.pose_g = ng;
@@ -392,15 +384,13 @@ pub fn supported_static_curve<M: MeshTorques + ?Sized>(
     supports: &Supports,
     settings: &EquilibriumSettings,
 ) -> Result<StaticCurve, MeshError> {
-    let n = points_per_pitch.max(1) * pitches.max(1);
-    let mut points = Vec::with_capacity(n);
-    let (mut guess, mut s) = (1e-5, *settings);
-    for k in 0..n {
-        let phi_p = phi_start + pinion_pitch * k as f64 / points_per_pitch.max(1) as f64;
-        let e = supported_equilibrium(mesh, phi_p, torque, guess, supports, &s)?;
-        guess = e.equilibrium.te;
-        (s.pose_p, s.pose_g) = (e.pose_p, e.pose_g);
-        points.push(e.equilibrium);
-    }
-    Ok(StaticCurve { torque, points })
+    curve_points(torque, phi_start, pinion_pitch, points_per_pitch, pitches, |phi_p, prev| {
+        // Started from the previous point's TE and poses.
+        let s = match prev {
+            None => *settings,
+            Some(e) => EquilibriumSettings { pose_p: e.pose_p, pose_g: e.pose_g, ..*settings },
+        };
+        let guess = prev.map_or(1e-5, |e| e.te);
+        Ok(supported_equilibrium(mesh, phi_p, torque, guess, supports, &s)?.equilibrium)
+    })
 }

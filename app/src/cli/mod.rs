@@ -28,7 +28,7 @@ pub struct Common {
     pub json: bool,
 }
 
-/// Largest JSON file read for `--params`, `--drive`, `--bearings`, `--friction` and the
+/// Largest JSON file read for `--params`, `--drive`, `--bearings`, `--supports`, `--friction` and the
 /// variants file,
 /// bytes: 16 MiB, far above any parameter file (a few kB) and far below a runaway read
 /// (`--params /dev/zero` read 4.2 GB before failing).
@@ -121,9 +121,17 @@ pub fn load_friction(a: &FrictionArg) -> Result<Friction, String> {
     match &a.friction {
         None => Ok(Friction::none()),
         Some(path) if path.as_os_str() == "none" => Ok(Friction::none()),
-        Some(path) => {
-            let text = read_json_file("--friction", path)?;
-            Friction::from_json(&text).map_err(|e| format!("--friction {}: {e}", path.display()))
-        }
+        Some(path) => read_json_as("--friction", path, Friction::from_json),
     }
+}
+
+/// The JSON file `path` of command-line option `option` read ([`read_json_file`]) and parsed
+/// by `parse`; a parse error is given as `<option> <path>: <error>`.
+pub fn read_json_as<T, E: std::fmt::Display>(
+    option: &str,
+    path: &std::path::Path,
+    parse: impl FnOnce(&str) -> Result<T, E>,
+) -> Result<T, String> {
+    let text = read_json_file(option, path)?;
+    parse(&text).map_err(|e| format!("{option} {}: {e}", path.display()))
 }

@@ -44,31 +44,17 @@ pub fn static_cmd(
     }
     let friction = load_friction(friction)?;
     // The bearing arrangement is read and checked before anything is computed.
-    let bearings = match bearings {
-        Some(path) => {
-            let text = super::read_json_file("--bearings", path)?;
-            Some(
-                BearingArrangement::from_json(&text)
-                    .map_err(|e| format!("--bearings {}: {e}", path.display()))?,
-            )
-        }
-        None => None,
-    };
+    let bearings = bearings
+        .map(|path| super::read_json_as("--bearings", path, BearingArrangement::from_json))
+        .transpose()?;
     if supports.is_some() && plot.is_some() {
         return Err("--plot with --supports: the pressure waterfall of --plot is computed on \
                     rigid bearings only; run --plot without --supports"
             .to_string());
     }
-    let supports = match supports {
-        Some(path) => {
-            let text = super::read_json_file("--supports", path)?;
-            Some(
-                Supports::from_json(&text)
-                    .map_err(|e| format!("--supports {}: {e}", path.display()))?,
-            )
-        }
-        None => None,
-    };
+    let supports = supports
+        .map(|path| super::read_json_as("--supports", path, Supports::from_json))
+        .transpose()?;
     let p = load_params(common)?;
     let drive = load_drive(drive)?;
     let torque = torque.unwrap_or(drive.torque_nm);

@@ -93,7 +93,7 @@ use crate::compliance::interpolated::{SliceInfluence, SliceWeights};
 use crate::contact::RelativePose;
 use crate::contact::{ContactPoint, ContactSolver, FlankSide, ReducedAngles};
 use crate::geometry::{PairGeometry, SegmentKind};
-use crate::mesh::{MeshError, MeshJacobian, MeshOutputs, MeshState, PoseJacobian};
+use crate::mesh::{MeshError, MeshJacobian, MeshOutputs, MeshState};
 
 /// The directions of a slice's geometric rates: the tooth angles Θp, Θg and a translation of
 /// the gear's centre in the slice along x and y (`super::super::pose`).
@@ -242,8 +242,7 @@ impl MeshModel {
         warm: &mut WarmStart,
     ) -> Result<(MeshOutputs, MeshJacobian), MeshError> {
         let out = self.evaluate(state, ws, warm)?;
-        let mut jac =
-            MeshJacobian { pose: Some(PoseJacobian::default()), ..MeshJacobian::default() };
+        let mut jac = MeshJacobian { pose: Some(Box::default()), ..MeshJacobian::default() };
         let n = ws.slices.len();
         let q: Vec<f64> = if n == 0 { Vec::new() } else { ws.solver.load()[..n].to_vec() };
         let active: Vec<usize> = (0..n).filter(|&i| q[i] > 0.0).collect();
