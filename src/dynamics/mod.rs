@@ -16,9 +16,12 @@
 //!   state and integrator, for co-simulation and Model Exchange.
 //! * [`relative`]: the relative coordinates (TE, shaft twists) in which a Model Exchange master
 //!   integrates a unit.
+//! * [`bodies`]: both gear bodies on elastic supports coupled to Eqs. 1–4 (28 states), their
+//!   static start, linearised coupled modes and trajectories with the support forces.
 //! * [`analytic_mesh`]: linear-spring mesh models with closed-form behaviour, for verification.
 
 pub mod analytic_mesh;
+pub mod bodies;
 pub mod integrators;
 pub mod kind;
 pub mod limits;

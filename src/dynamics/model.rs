@@ -583,7 +583,7 @@ impl<M: MeshTorques> GearDynamics<M> {
     }
 
     /// Writes the derivative of Eqs. 1–4 at state `y` with mesh outputs `o` into `dydt`.
-    fn derivative(&self, y: &[f64], o: &MeshOutputs, dydt: &mut [f64]) {
+    pub(crate) fn derivative(&self, y: &[f64], o: &MeshOutputs, dydt: &mut [f64]) {
         let d = &self.drive;
         let shaft1 = d.c1 * (y[PHI_1] - y[PHI_P]) + d.d1 * (y[W_1] - y[W_P]);
         let shaft2 = d.c2 * (y[PHI_G] - y[PHI_2]) + d.d2 * (y[W_G] - y[W_2]);
