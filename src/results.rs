@@ -465,9 +465,68 @@ pub struct TrajectoryRecord {
     pub steps: usize,
     /// Mesh evaluations.
     pub mesh_evaluations: usize,
+    /// With the gear bodies on supports ([`crate::dynamics::bodies`]): per output time the
+    /// poses and rates (`u_p_x` … `om_g_y`, m, rad, m/s, rad/s) and the support forces and
+    /// moments on the bodies (`R_p_x` … `R_g_my`, N, N·m); empty (and absent from the JSON)
+    /// on rigid bearings.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub bodies: BTreeMap<String, Vec<f64>>,
+}
+
+/// The statistics of one support force or moment over the last whole mesh periods of a run
+/// ([`crate::dynamics::bodies::ForceStats`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SupportForceRecord {
+    /// Mean, N (N·m for a moment).
+    pub reaction_mean_n: f64,
+    /// Peak to peak, N (N·m).
+    pub reaction_peak_to_peak_n: f64,
+    /// Amplitudes of mesh orders 1, 2, …, N (N·m); empty at standstill.
+    pub orders: Vec<f64>,
+}
+
+/// `simulate --supports`: the coupled modes and the support-force statistics.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SupportedRunRecord {
+    /// Frequencies of the linearised coupled modes, Hz, ascending.
+    pub modes_hz: Vec<f64>,
+    /// Their damping ratios −Re λ/|λ|.
+    pub modes_damping_ratio: Vec<f64>,
+    /// Mesh periods the statistics are taken over (the last whole ones of the run; 0 at
+    /// standstill: the whole run).
+    pub window_mesh_periods: usize,
+    /// Per support force and moment (`R_p_x` … `R_g_my`), its statistics.
+    pub support_forces: BTreeMap<String, SupportForceRecord>,
+}
+
+impl SupportedRunRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite_all("modes_hz", &self.modes_hz)?;
+        finite_all("modes_damping_ratio", &self.modes_damping_ratio)?;
+        for (k, r) in &self.support_forces {
+            finite(&format!("{k}.reaction_mean_n"), r.reaction_mean_n)?;
+            finite(&format!("{k}.reaction_peak_to_peak_n"), r.reaction_peak_to_peak_n)?;
+            finite_all(&format!("{k}.orders"), &r.orders)?;
+        }
+        Ok(())
+    }
 }
 
 impl TrajectoryRecord {
+    /// The record of a supported trajectory: [`Self::new`] of its drive line with the bodies'
+    /// columns.
+    pub fn supported(tr: &crate::dynamics::bodies::SupportedTrajectory) -> Self {
+        let mut r = Self::new(&tr.drive);
+        for (k, name) in crate::mesh::pose::INPUT_NAMES.iter().enumerate() {
+            r.bodies.insert(name.to_string(), tr.bodies.iter().map(|b| b[k]).collect());
+        }
+        for (k, name) in crate::dynamics::bodies::REACTION_NAMES.iter().enumerate() {
+            r.bodies.insert(name.to_string(), tr.reactions.iter().map(|x| x.values()[k]).collect());
+        }
+        r
+    }
+
     /// The record of `tr`.
     pub fn new(tr: &Trajectory) -> Self {
         let s = |i: usize| tr.states.iter().map(|y| y[i]).collect::<Vec<f64>>();
@@ -487,6 +546,7 @@ impl TrajectoryRecord {
             mesh,
             steps: tr.steps,
             mesh_evaluations: tr.mesh_evaluations,
+            bodies: BTreeMap::new(),
         }
     }
 
@@ -499,7 +559,8 @@ impl TrajectoryRecord {
     /// ([`STATE_NAMES`]), then every Real mesh output in the order of [`MESH_OUTPUT_FIELDS`]
     /// (`m_f_p_nm`, `m_f_g_nm`, `m_d_p_nm`, `m_d_g_nm`, `te_m`, `f_n_n`, `contact_length_m`,
     /// `p_max_pa`, the force and moments `force_p_x_n` … `moment_g_y_nm`,
-    /// `root_stress_p_pa`, `root_stress_g_pa`).
+    /// `root_stress_p_pa`, `root_stress_g_pa`), then with the bodies on supports the poses and
+    /// rates (`u_p_x` … `om_g_y`) and the support forces (`R_p_x` … `R_g_my`).
     pub fn columns(&self) -> Vec<(&'static str, &[f64])> {
         let states: [&[f64]; N_STATES] = [
             &self.phi_1_rad,
@@ -514,6 +575,13 @@ impl TrajectoryRecord {
         let mut c: Vec<(&'static str, &[f64])> = vec![("time_s", &self.time_s)];
         c.extend(STATE_NAMES.iter().copied().zip(states));
         c.extend(real_fields().map(|f| (f.column, self.mesh_column(f.column))));
+        let body_names =
+            crate::mesh::pose::INPUT_NAMES.iter().chain(&crate::dynamics::bodies::REACTION_NAMES);
+        for name in body_names {
+            if let Some(v) = self.bodies.get(*name) {
+                c.push((name, v.as_slice()));
+            }
+        }
         c
     }
 
@@ -1353,6 +1421,9 @@ pub struct TrajectoryRunRecord {
     pub te_static_start_m: f64,
     /// Names of the trajectory's columns, in the order of the CSV output.
     pub columns: Vec<String>,
+    /// With `--supports`: the coupled modes and the support-force statistics.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub supports: Option<SupportedRunRecord>,
 }
 
 impl TrajectoryRunRecord {
@@ -1363,6 +1434,9 @@ impl TrajectoryRunRecord {
         finite("t_end_s", self.t_end_s)?;
         finite_opt("dt_s", self.dt_s)?;
         finite_opt("mesh_period_s", self.mesh_period_s)?;
+        if let Some(s) = &self.supports {
+            s.check_finite()?;
+        }
         finite("te_static_start_m", self.te_static_start_m)
     }
 }

@@ -6,7 +6,8 @@ use helical_gear_mesh::dynamics::{Clearance, ConstantStiffnessMesh, SweepResult,
 use helical_gear_mesh::mesh::MeshOutputs;
 use helical_gear_mesh::mesh::statics::static_curve;
 use helical_gear_mesh::results::{
-    GeometryRecord, StaticCurveRecord, SweepRecord, TrajectoryRecord,
+    GeometryRecord, StaticCurveRecord, SupportForceRecord, SupportedRunRecord, SweepRecord,
+    TrajectoryRecord,
 };
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde::Serialize;
@@ -270,10 +271,42 @@ fn run_records_round_trip_with_their_keys() {
         mesh_period_s: None,
         te_static_start_m: 5e-6,
         columns: vec!["time_s".into()],
+        supports: None,
     };
     round_trip(&tr);
     tr.check_finite().unwrap();
-    assert!(serde_json::to_string(&tr).unwrap().contains("\"mesh_period_s\":null"));
+    let text = serde_json::to_string(&tr).unwrap();
+    assert!(text.contains("\"mesh_period_s\":null"));
+    // Rigid bearings: no bodies' columns, no supports block.
+    assert!(!text.contains("\"bodies\"") && !text.contains("\"supports\""), "{text}");
+
+    // On supports: the bodies' columns and the support-force statistics round-trip, and a
+    // non-finite statistic is named.
+    let mut on = tr.clone();
+    let n = on.trajectory.time_s.len();
+    on.trajectory.bodies.insert("u_p_x".into(), vec![1e-6; n]);
+    on.trajectory.bodies.insert("R_p_x".into(), vec![-800.0; n]);
+    on.supports = Some(SupportedRunRecord {
+        modes_hz: vec![6.3, 1230.9],
+        modes_damping_ratio: vec![0.001, 0.03],
+        window_mesh_periods: 20,
+        support_forces: [(
+            "R_p_x".to_string(),
+            SupportForceRecord {
+                reaction_mean_n: -800.0,
+                reaction_peak_to_peak_n: 350.0,
+                orders: vec![11.8, 123.7],
+            },
+        )]
+        .into(),
+    });
+    round_trip(&on);
+    on.check_finite().unwrap();
+    let cols: Vec<&str> = on.trajectory.columns().iter().map(|c| c.0).collect();
+    assert_eq!(&cols[cols.len() - 2..], &["u_p_x", "R_p_x"]);
+    let mut bad = on.clone();
+    bad.supports.as_mut().unwrap().support_forces.get_mut("R_p_x").unwrap().orders[1] = f64::NAN;
+    assert!(bad.check_finite().unwrap_err().contains("R_p_x.orders"));
 
     let sw = SweepRunRecord {
         sweep: sweep_record(),

@@ -14,6 +14,9 @@
 use std::io::Write;
 
 use clap::{Args, ValueEnum};
+use helical_gear_mesh::dynamics::bodies::{
+    REACTION_NAMES, SupportedDynamics, simulate_supported, support_force_stats, supported_rk4_step,
+};
 use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
 use helical_gear_mesh::dynamics::steady::steady_max_periods;
 use helical_gear_mesh::dynamics::{
@@ -21,11 +24,13 @@ use helical_gear_mesh::dynamics::{
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate,
     sweep,
 };
+use helical_gear_mesh::mesh::Supports;
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Friction, Mesh, MeshError, MeshOptions, MeshTorques,
 };
 use helical_gear_mesh::results::{
-    SweepRecord, SweepRunRecord, TrajectoryRecord, TrajectoryRunRecord,
+    SupportForceRecord, SupportedRunRecord, SweepRecord, SweepRunRecord, TrajectoryRecord,
+    TrajectoryRunRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair};
 
@@ -109,6 +114,15 @@ pub struct SimulateArgs {
     /// twists and TE and their rates: rad, m, rad/s, m/s).
     #[arg(long, default_value_t = 1e-12)]
     atol: f64,
+    /// Elastic supports of the gear bodies (JSON of docs/gear-bodies.md): both bodies move on
+    /// them, coupled to Eqs. 1–4 (full fidelity, RK4 with a whole number of steps per mesh
+    /// period from the coupled modes); adds the poses, the support forces and their
+    /// mesh-order amplitudes.
+    #[arg(long, value_name = "FILE")]
+    supports: Option<std::path::PathBuf>,
+    /// Mesh orders of the support-force amplitudes (with --supports).
+    #[arg(long, default_value_t = 3)]
+    orders: usize,
 }
 
 /// Arguments of `helical-gear sweep`.
@@ -228,6 +242,9 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             ));
         }
     }
+    if let Some(path) = &a.supports {
+        return simulate_supported_cmd(a, path);
+    }
     // The record's size is known before the mesh is built (limits::MAX_TRAJECTORY_SAMPLES).
     if let Some(dt) = a.dt {
         check_samples((a.t_end / dt).floor() + 1.0, "lower --t-end or raise --dt")
@@ -297,6 +314,7 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             mesh_period_s: t_m.is_finite().then_some(t_m),
             te_static_start_m: start.te,
             columns: names,
+            supports: None,
         };
         out.check_finite()?;
         let text = serde_json::to_string(&out).map_err(|e| format!("JSON: {e}"))?;
@@ -361,6 +379,157 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             .map_err(io_err)?;
         }
         writeln!(w, "  (every {stride}th row; --csv or --json for all)").map_err(io_err)?;
+    }
+    w.flush().map_err(io_err)
+}
+
+/// Most mesh orders of `simulate --supports --orders`.
+const MAX_ORDERS: usize = 64;
+
+/// `helical-gear simulate --supports FILE`: the gear bodies on their supports
+/// ([`helical_gear_mesh::dynamics::bodies`]).
+fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<(), String> {
+    if a.fidelity != CliFidelity::Full {
+        return Err("--supports needs --fidelity full: the table holds the mesh on rigid \
+                    bearings and refuses a pose"
+            .into());
+    }
+    if a.method != CliMethod::Rk4 {
+        return Err("--supports integrates with RK4 only (--method rk4)".into());
+    }
+    if a.dt.is_some() {
+        return Err("--dt with --supports: the step is chosen from the coupled modes as a whole \
+                    number of steps per mesh period; leave --dt out"
+            .into());
+    }
+    if a.orders > MAX_ORDERS {
+        return Err(format!("--orders = {}: allowed 0 … {MAX_ORDERS}", a.orders));
+    }
+    let supports = super::read_json_as("--supports", path, Supports::from_json)?;
+    let (_, drive, mesh, friction) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity, &a.friction)?;
+    if friction.is_on() {
+        return Err("--supports with --friction: not supported yet (the friction forces' pose \
+                    sensitivities are not derived); leave one out"
+            .into());
+    }
+    let mut model = SupportedDynamics::new(mesh, drive, supports).map_err(|e| e.to_string())?;
+    let start = model
+        .static_start(a.phi_p0, a.omega_p, &EquilibriumSettings::default())
+        .map_err(|e| format!("static start: {e}"))?;
+    let modes = model.linear_modes(&start).map_err(|e| format!("coupled modes: {e}"))?;
+    let dt = supported_rk4_step(&drive, &modes, a.omega_p);
+    let t_m = drive.mesh_period(a.omega_p);
+    let spp = if t_m.is_finite() { (t_m / dt).round() as usize } else { 0 };
+    let n_steps = (a.t_end / dt).ceil().max(1.0);
+    check_samples(n_steps + 1.0, "lower --t-end").map_err(|e| e.to_string())?;
+    let n_steps = n_steps as usize;
+    let t0 = std::time::Instant::now();
+    let tr =
+        simulate_supported(&mut model, &start.y, dt, n_steps, &modes).map_err(|e| e.to_string())?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let t_end = n_steps as f64 * dt;
+    let stats = support_force_stats(&tr, spp, a.orders);
+    let window = n_steps.checked_div(spp).unwrap_or(0);
+
+    let record = TrajectoryRecord::supported(&tr);
+    record.check_finite()?;
+    let columns = record.columns();
+    let summary = SupportedRunRecord {
+        modes_hz: modes.frequencies_hz(),
+        modes_damping_ratio: modes.eigenvalues.iter().map(|l| -l.re / l.norm()).collect(),
+        window_mesh_periods: window,
+        support_forces: stats
+            .iter()
+            .flat_map(|s| REACTION_NAMES.iter().zip(s.iter()))
+            .map(|(name, s)| {
+                (
+                    name.to_string(),
+                    SupportForceRecord {
+                        reaction_mean_n: s.mean,
+                        reaction_peak_to_peak_n: s.peak_to_peak,
+                        orders: s.orders.clone(),
+                    },
+                )
+            })
+            .collect(),
+    };
+    let stdout = std::io::stdout();
+    let mut w = std::io::BufWriter::new(stdout.lock());
+    if a.common.json {
+        let out = TrajectoryRunRecord {
+            trajectory: record.clone(),
+            omega_p_rad_s: a.omega_p,
+            t_end_s: t_end,
+            method: "rk4".into(),
+            dt_s: Some(dt),
+            fidelity: a.fidelity.name().into(),
+            mesh_period_s: t_m.is_finite().then_some(t_m),
+            te_static_start_m: start.te,
+            columns: columns.iter().map(|c| c.0.to_string()).collect(),
+            supports: Some(summary),
+        };
+        out.check_finite()?;
+        let text = serde_json::to_string(&out).map_err(|e| format!("JSON: {e}"))?;
+        writeln!(w, "{text}").map_err(io_err)?;
+    } else if a.csv {
+        let header: Vec<&str> = columns.iter().map(|c| c.0).collect();
+        writeln!(w, "{}", header.join(",")).map_err(io_err)?;
+        for i in 0..tr.drive.time.len() {
+            let row: Vec<String> = columns.iter().map(|c| format!("{:e}", c.1[i])).collect();
+            writeln!(w, "{}", row.join(",")).map_err(io_err)?;
+        }
+    } else {
+        let te = record.mesh_column("te_m");
+        let lo = te.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = te.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        writeln!(
+            w,
+            "Eqs. 1–4 with both gear bodies on their supports from the static equilibrium at \
+             ω_p = {} rad/s (rk4, full fidelity): {} steps of {dt:.4e} s to {t_end:.6e} s, {} \
+             mesh evaluations, {seconds:.2} s",
+            a.omega_p, n_steps, tr.drive.mesh_evaluations
+        )
+        .map_err(io_err)?;
+        writeln!(
+            w,
+            "  static TE at the start {:.4} µm; TE over the run {:.4} … {:.4} µm",
+            start.te * 1e6,
+            lo * 1e6,
+            hi * 1e6
+        )
+        .map_err(io_err)?;
+        let f: Vec<String> = summary
+            .modes_hz
+            .iter()
+            .zip(&summary.modes_damping_ratio)
+            .map(|(f, z)| format!("{f:.1} Hz (ζ {z:.3})"))
+            .collect();
+        writeln!(w, "  linearised coupled modes: {}", f.join(", ")).map_err(io_err)?;
+        let over = if window == 0 {
+            "the whole run".to_string()
+        } else {
+            format!("the last {window} mesh periods")
+        };
+        writeln!(w, "  support forces on the bodies (N, N·m) over {over}:").map_err(io_err)?;
+        writeln!(w, "  {:>8} {:>12} {:>12}  mesh orders 1…", "", "mean", "peak-peak")
+            .map_err(io_err)?;
+        for name in REACTION_NAMES {
+            if let Some(s) = summary.support_forces.get(name) {
+                let o: Vec<String> = s.orders.iter().map(|x| format!("{x:.3}")).collect();
+                writeln!(
+                    w,
+                    "  {name:>8} {:12.3} {:12.3}  {}",
+                    s.reaction_mean_n,
+                    s.reaction_peak_to_peak_n,
+                    o.join(" ")
+                )
+                .map_err(io_err)?;
+            }
+        }
+        if stats.is_none() {
+            writeln!(w, "  (the run is shorter than one mesh period: no statistics)")
+                .map_err(io_err)?;
+        }
     }
     w.flush().map_err(io_err)
 }
