@@ -119,8 +119,8 @@ pub struct SupportedStart {
 /// The coupled modes of the linearised model (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoupledModes {
-    /// Eigenvalues λ of the first-order state matrix with Im λ > 0 (one per oscillating mode),
-    /// in ascending Im λ, rad/s.
+    /// Eigenvalues λ of the first-order state matrix with Im λ > 0 (one per oscillating mode;
+    /// the drive line's free rotation is left out), in ascending Im λ, rad/s.
     pub eigenvalues: Vec<Complex<f64>>,
     /// The largest |λ| of all eigenvalues (overdamped ones included), rad/s.
     pub fastest: f64,
@@ -390,7 +390,10 @@ impl<M: MeshTorques> SupportedDynamics<M> {
             return Err(invalid("linearised modes", f64::NAN, "finite eigenvalues"));
         }
         let fastest = eig.iter().map(|l| l.norm()).fold(0.0, f64::max);
-        let mut eigenvalues: Vec<Complex<f64>> = eig.into_iter().filter(|l| l.im > 0.0).collect();
+        // The drive line's free rotation (constant torques at both ends) is a double zero
+        // eigenvalue; round-off gives it a tiny imaginary part, which is not a mode.
+        let mut eigenvalues: Vec<Complex<f64>> =
+            eig.into_iter().filter(|l| l.im > 1e-9 * fastest).collect();
         eigenvalues.sort_by(|x, y| x.im.total_cmp(&y.im));
         Ok(CoupledModes { eigenvalues, fastest, mesh_stiffness: mesh_k })
     }
