@@ -701,6 +701,10 @@ class Trajectory(_Result):
     #: The gear pair the trajectory was computed for (its face width places the gear centres
     #: of `bearing_loads`).
     pair: GearPair | None = field(default=None, repr=False, compare=False)
+    #: With ``simulate(..., supports=...)``: the coupled modes and the support-force
+    #: statistics (``modes_hz``, ``modes_damping_ratio``, ``window_mesh_periods``,
+    #: ``support_forces``); None on rigid bearings.
+    supports: dict | None = field(default=None, repr=False, compare=False)
 
     def __getattr__(self, k):
         try:
@@ -735,6 +739,8 @@ def simulate(
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
     friction: Mapping[str, Any] | str | None = None,
+    supports: Mapping[str, Any] | str | None = None,
+    orders: int = 3,
 ) -> Trajectory:
     """One trajectory of Eqs. 1–4 from the static equilibrium at nominal pinion speed `w_p`
     (rad/s, |w_p| ≤ 1e5; standstill and low speed are normal operation, a negative speed runs
@@ -747,8 +753,40 @@ def simulate(
     gear bodies from the pair, the drive line (torque, inertias, shafts) from `drive`
     (default Table 1's). `friction`: the mesh friction option (see `MeshModel`; a `MeshModel`
     passed as `pair` carries its own); the trajectory's ``P_loss``, ``eta_mesh``, ``M_R_p``,
-    ``M_R_g``, ``Q_p``, ``Q_g`` carry it."""
+    ``M_R_g``, ``Q_p``, ``Q_g`` carry it.
+
+    `supports`: both gear bodies on elastic supports (a dict or JSON text of
+    docs/gear-bodies.md), as the CLI's ``simulate --supports``: full fidelity, RK4 with a whole
+    number of steps per mesh period chosen from the coupled modes (`dt`, ``method="dopri5"``,
+    a table and friction raise `ParameterError`), the run ending at the first step at or after
+    `t_end`. The trajectory then also holds the poses and rates ``u_p_x`` … ``om_g_y`` (m,
+    rad, m/s, rad/s) and the support forces on the bodies ``R_p_x`` … ``R_g_my`` (N, N·m), and
+    ``supports`` holds ``modes_hz``, ``modes_damping_ratio``, ``window_mesh_periods`` and per
+    support force ``reaction_mean_n``, ``reaction_peak_to_peak_n`` and ``orders`` (mesh-order
+    amplitudes 1 … `orders`) over the last whole mesh periods."""
     drive = _drive(drive)
+    if supports is not None:
+        if dt is not None or method != "rk4" or fidelity != "full":
+            raise _native.ParameterError(
+                "supports: the step is chosen from the coupled modes (leave dt out), RK4 only "
+                "(method='rk4') and full fidelity only (the table holds rigid bearings)"
+            )
+        if friction not in (None, "none"):
+            raise _native.ParameterError(
+                "supports with friction: not supported yet (the friction forces' pose "
+                "sensitivities are not derived)"
+            )
+        text = supports if isinstance(supports, str) else json.dumps(supports)
+        m = _model(pair, fidelity, slices, compliance, drive, friction)
+        d = m._m.simulate_supported(
+            m.pair.to_json(), drive.to_json(), text, float(w_p), float(t_end), float(phi_p0),
+            int(orders),
+        )
+        steps = d.pop("steps")
+        evals = d.pop("mesh_evaluations")
+        summary = json.loads(d.pop("supports"))
+        return Trajectory(arrays=dict(d), steps=steps, mesh_evaluations=evals, pair=m.pair,
+                          supports=summary)
     m = _model(pair, fidelity, slices, compliance, drive, friction)
     d = m._m.simulate(
         m.pair.to_json(),

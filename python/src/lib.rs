@@ -835,6 +835,119 @@ impl MeshModel {
         Ok(d)
     }
 
+    /// One trajectory with both gear bodies on the supports of `supports_json` (the library's
+    /// `dynamics::bodies`, as the CLI's `simulate --supports`): the columns of `simulate`, the
+    /// poses and rates (`u_p_x` … `om_g_y`) and the support forces (`R_p_x` … `R_g_my`), and
+    /// under `"supports"` the JSON of `results::SupportedRunRecord` (modes, statistics over
+    /// the last whole mesh periods with `orders` mesh orders).
+    #[allow(clippy::too_many_arguments)]
+    fn simulate_supported<'py>(
+        &self,
+        py: Python<'py>,
+        pair_json: &str,
+        drive_json: &str,
+        supports_json: &str,
+        w_p: f64,
+        t_end: f64,
+        phi_p0: f64,
+        orders: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        use helical_gear_mesh::dynamics::bodies::{
+            REACTION_NAMES, SupportedDynamics, simulate_supported, support_force_stats,
+            supported_rk4_step,
+        };
+        use helical_gear_mesh::mesh::pose::INPUT_NAMES;
+        use helical_gear_mesh::results::{SupportForceRecord, SupportedRunRecord};
+        let (tr, summary) = run(py, || {
+            if !(w_p.is_finite() && w_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
+            {
+                return Err(Failure::Param(format!(
+                    "w_p = {w_p}: allowed finite, |w_p| <= 1e5 rad/s (the largest nominal speed; \
+                     negative: running backwards)"
+                )));
+            }
+            if !(t_end.is_finite() && t_end > 0.0) {
+                return Err(Failure::Param(format!("t_end = {t_end}: allowed finite and > 0 (s)")));
+            }
+            if !phi_p0.is_finite() {
+                return Err(Failure::Param(format!("phi_p0 = {phi_p0}: allowed finite (rad)")));
+            }
+            if orders > 64 {
+                return Err(Failure::Param(format!("orders = {orders}: allowed 0 … 64")));
+            }
+            let supports = helical_gear_mesh::mesh::Supports::from_json(supports_json)?;
+            let pair = parse_pair(pair_json)?;
+            let drive = Drivetrain::from_pair(&pair, &parse_drive(drive_json)?)?;
+            let mut mesh = self.model.clone();
+            mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
+            let mut model = SupportedDynamics::new(mesh, drive, supports)?;
+            let start = model
+                .static_start(phi_p0, w_p, &EquilibriumSettings::default())
+                .map_err(|e| Failure::Solver(format!("static start: {e}")))?;
+            let modes = model.linear_modes(&start)?;
+            let dt = supported_rk4_step(&drive, &modes, w_p);
+            let t_m = drive.mesh_period(w_p);
+            let spp = if t_m.is_finite() { (t_m / dt).round() as usize } else { 0 };
+            let n = (t_end / dt).ceil().max(1.0);
+            if n + 1.0 > MAX_TRAJECTORY_SAMPLES as f64 {
+                return Err(Failure::Param(format!(
+                    "t_end = {t_end}: {n:.3e} steps of {dt:.3e} s, more than the {:.0e} samples \
+                     a trajectory may hold; lower t_end",
+                    MAX_TRAJECTORY_SAMPLES as f64
+                )));
+            }
+            let tr = simulate_supported(&mut model, &start.y, dt, n as usize, &modes)?;
+            for (k, o) in tr.drive.outputs.iter().enumerate() {
+                let at = format!("sample {k} (t = {:.6e} s)", tr.drive.time[k]);
+                finite(&at, &STATE_NAMES, &tr.drive.states[k][..STATE_NAMES.len()])?;
+                finite(&at, &INPUT_NAMES, &tr.bodies[k])?;
+                finite(&at, &REACTION_NAMES, &tr.reactions[k].values())?;
+                finite_outputs(&at, o)?;
+            }
+            let stats = support_force_stats(&tr, spp, orders);
+            let summary = SupportedRunRecord {
+                modes_hz: modes.frequencies_hz(),
+                modes_damping_ratio: modes.eigenvalues.iter().map(|l| -l.re / l.norm()).collect(),
+                window_mesh_periods: (tr.drive.steps).checked_div(spp).unwrap_or(0),
+                support_forces: stats
+                    .iter()
+                    .flat_map(|s| REACTION_NAMES.iter().zip(s.iter()))
+                    .map(|(name, s)| {
+                        let r = SupportForceRecord {
+                            reaction_mean_n: s.mean,
+                            reaction_peak_to_peak_n: s.peak_to_peak,
+                            orders: s.orders.clone(),
+                        };
+                        (name.to_string(), r)
+                    })
+                    .collect(),
+            };
+            summary.check_finite().map_err(Failure::Solver)?;
+            Ok((tr, to_json_text(&summary)?))
+        })?;
+        let d = PyDict::new(py);
+        d.set_item("time", array(py, tr.drive.time.clone()))?;
+        for (i, name) in STATE_NAMES.iter().enumerate() {
+            d.set_item(*name, array(py, tr.drive.states.iter().map(|y| y[i]).collect()))?;
+        }
+        for f in real_fields() {
+            d.set_item(
+                f.name,
+                array(py, tr.drive.outputs.iter().filter_map(|o| f.real(o)).collect()),
+            )?;
+        }
+        for (i, name) in INPUT_NAMES.iter().enumerate() {
+            d.set_item(*name, array(py, tr.bodies.iter().map(|b| b[i]).collect()))?;
+        }
+        for (i, name) in REACTION_NAMES.iter().enumerate() {
+            d.set_item(*name, array(py, tr.reactions.iter().map(|r| r.values()[i]).collect()))?;
+        }
+        d.set_item("steps", tr.drive.steps)?;
+        d.set_item("mesh_evaluations", tr.drive.mesh_evaluations)?;
+        d.set_item("supports", summary)?;
+        Ok(d)
+    }
+
     /// Steady-state TE_max/STE_max at every speed of `speeds` (rad/s, > 0, ascending) with the
     /// mesh damping of `pair_json`, the drivetrain of `pair_json` and the drive line
     /// `drive_json`, and the located resonances (the library's

@@ -54,3 +54,44 @@ def test_the_table_refuses_a_pose():
     m = hg.MeshModel(fidelity="table", slices=30)
     with pytest.raises(hg.GearMeshError, match="full fidelity"):
         m.evaluate(*STATE, u_g_x=1e-6)
+
+
+SUPPORTS = {
+    "pinion": {"mass_kg": 2, "j_transverse_kgm2": 1e-3,
+               "stiffness": {"radial_n_per_m": 6e8, "axial_n_per_m": 3e8,
+                             "tilt_nm_per_rad": 8e5},
+               "damping": {"radial_ns_per_m": 2000, "axial_ns_per_m": 1000,
+                           "tilt_nms_per_rad": 2}},
+    "gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2,
+             "stiffness": {"radial_n_per_m": 9e8, "axial_n_per_m": 3e8,
+                           "tilt_nm_per_rad": 2e6},
+             "damping": {"radial_ns_per_m": 4000, "axial_ns_per_m": 2000,
+                         "tilt_nms_per_rad": 5}},
+}
+
+
+def test_simulate_on_supports_reports_poses_and_support_forces():
+    """`simulate(..., supports=...)` is the CLI's `simulate --supports`: the poses and support
+    forces per output time, and the statistics over the last whole mesh periods. The mean
+    support force on each body balances its mean mesh force within 2 % (whole mesh periods:
+    small mean accelerations), and the statistics are those of the arrays."""
+    tr = hg.simulate(None, 300.0, 2.2e-3, slices=60, supports=SUPPORTS)
+    s = tr.supports
+    assert s["window_mesh_periods"] == 3
+    assert len(s["modes_hz"]) >= 12 and all(f > 0 for f in s["modes_hz"])
+    n = tr.time.size
+    for k in hg.POSE_NAMES + ("R_p_x", "R_g_my"):
+        assert tr.arrays[k].shape == (n,), k
+    w = 3 * 128
+    r = s["support_forces"]["R_p_x"]
+    assert abs(tr.R_p_x[-w:].mean() - r["reaction_mean_n"]) < 1e-9 * abs(r["reaction_mean_n"])
+    assert len(r["orders"]) == 3
+    f = tr.F_p_x[-w:].mean()
+    assert abs(r["reaction_mean_n"] + f) < 0.02 * abs(f)
+    # Refused with the reason: an explicit step, a table, friction.
+    for bad in ({"dt": 1e-5}, {"fidelity": "table"}, {"friction": {"model": "constant", "mu": 0.05}}):
+        with pytest.raises(hg.ParameterError, match="supports"):
+            hg.simulate(None, 300.0, 2.2e-3, supports=SUPPORTS, **bad)
+    # A bad support names its key.
+    with pytest.raises(hg.ParameterError, match="supports.gear.mass_kg"):
+        hg.simulate(None, 300.0, 2.2e-3, supports={"gear": {**SUPPORTS["gear"], "mass_kg": -1}})
