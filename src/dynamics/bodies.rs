@@ -122,6 +122,10 @@ pub struct CoupledModes {
     /// Eigenvalues λ of the first-order state matrix with Im λ > 0 (one per oscillating mode;
     /// the drive line's free rotation is left out), in ascending Im λ, rad/s.
     pub eigenvalues: Vec<Complex<f64>>,
+    /// The mode shapes: per eigenvalue its eigenvector of the first-order system in the layout
+    /// of the 28 states (module docs; zero for a rigid body), scaled so that its largest
+    /// component is 1. The free motion Re(v·e^(λt)) of the linearisation starts at Re(v).
+    pub shapes: Vec<[Complex<f64>; N_BODY_STATES]>,
     /// The largest |λ| of all eigenvalues (overdamped ones included), rad/s.
     pub fastest: f64,
     /// Mesh stiffness along the line of action at the start, N/m.
@@ -395,8 +399,55 @@ impl<M: MeshTorques> SupportedDynamics<M> {
         let mut eigenvalues: Vec<Complex<f64>> =
             eig.into_iter().filter(|l| l.im > 1e-9 * fastest).collect();
         eigenvalues.sort_by(|x, y| x.im.total_cmp(&y.im));
-        Ok(CoupledModes { eigenvalues, fastest, mesh_stiffness: mesh_k })
+        // State index of each first-order coordinate: (q, q̇) with q = (φ₁, φp, φg, φ₂, poses).
+        let index = |r: usize| {
+            let (q, rate) = if r < n { (r, false) } else { (r - n, true) };
+            let i = if q < 4 { q } else { dofs[q - 4].0 };
+            match (q < 4, rate) {
+                (_, false) => i,
+                (true, true) => i + 4,
+                (false, true) => i + 10,
+            }
+        };
+        let shapes = eigenvalues
+            .iter()
+            .map(|l| {
+                let v = eigenvector(&a, *l);
+                let mut full = [Complex::new(0.0, 0.0); N_BODY_STATES];
+                for (r, x) in v.iter().enumerate() {
+                    full[index(r)] = *x;
+                }
+                full
+            })
+            .collect();
+        Ok(CoupledModes { eigenvalues, shapes, fastest, mesh_stiffness: mesh_k })
     }
+}
+
+/// The eigenvector of the real matrix `a` for its eigenvalue `l`, by inverse iteration with a
+/// shift 10⁻¹⁰·|λ| off λ (three solves), scaled to unit largest component.
+fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> Vec<Complex<f64>> {
+    let m = a.nrows();
+    let shift = l + Complex::new(1e-10 * l.norm(), 1e-10 * l.norm());
+    let shifted = DMatrix::<Complex<f64>>::from_fn(m, m, |r, c| {
+        Complex::new(a[(r, c)], 0.0) - if r == c { shift } else { Complex::new(0.0, 0.0) }
+    });
+    let lu = shifted.lu();
+    let mut x = nalgebra::DVector::<Complex<f64>>::from_fn(m, |r, _| {
+        Complex::new(1.0 + 0.1 * r as f64, 0.05 * r as f64)
+    });
+    for _ in 0..3 {
+        let Some(y) = lu.solve(&x) else { break };
+        let big = y.iter().map(|c| c.norm()).fold(0.0, f64::max);
+        if !(big.is_finite() && big > 0.0) {
+            break;
+        }
+        // Scaled so that the largest component is real and 1.
+        let k = y.iter().position(|c| c.norm() == big).unwrap_or(0);
+        let pivot = y[k];
+        x = y.map(|c| c / pivot);
+    }
+    x.iter().copied().collect()
 }
 
 impl<M: MeshTorques> OdeSystem for SupportedDynamics<M> {
