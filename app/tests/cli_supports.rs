@@ -68,7 +68,7 @@ fn static_with_supports_reports_the_poses_and_the_displaced_te() {
 /// the support-force statistics; the mean support force balances the mean mesh force on each
 /// body (their mean accelerations are small over whole mesh periods) within 2 %, the pinion is
 /// held towards the gear (R_p_x > 0), the gear away from it. The text output names the
-/// modes; a table fidelity, `--dt` and DOPRI5 are refused with the reason.
+/// modes; `--dt` and DOPRI5 are refused with the reason.
 #[test]
 fn simulate_with_supports_reports_poses_and_support_forces() {
     let dir = std::env::temp_dir().join(format!("hg-cli-supports-sim-{}", std::process::id()));
@@ -127,11 +127,9 @@ fn simulate_with_supports_reports_poses_and_support_forces() {
     assert!(ok, "{stderr}");
     assert!(stdout.contains("linearised coupled modes") && stdout.contains("R_g_my"), "{stdout}");
 
-    for (extra, why) in [
-        (&["--fidelity", "table"][..], "--fidelity full"),
-        (&["--dt", "1e-5"][..], "leave --dt out"),
-        (&["--method", "dopri5"][..], "RK4 only"),
-    ] {
+    for (extra, why) in
+        [(&["--dt", "1e-5"][..], "leave --dt out"), (&["--method", "dopri5"][..], "RK4 only")]
+    {
         let mut a = text.clone();
         a.extend_from_slice(extra);
         let (ok, _, stderr) = run(&a);

@@ -756,20 +756,20 @@ def simulate(
     ``M_R_g``, ``Q_p``, ``Q_g`` carry it.
 
     `supports`: both gear bodies on elastic supports (a dict or JSON text of
-    docs/gear-bodies.md), as the CLI's ``simulate --supports``: full fidelity, RK4 with a whole
-    number of steps per mesh period chosen from the coupled modes (`dt`, ``method="dopri5"``,
-    a table and friction raise `ParameterError`), the run ending at the first step at or after
-    `t_end`. The trajectory then also holds the poses and rates ``u_p_x`` … ``om_g_y`` (m,
+    docs/gear-bodies.md), as the CLI's ``simulate --supports``: RK4 with a whole number of
+    steps per mesh period chosen from the coupled modes (`dt`, ``method="dopri5"`` and friction
+    raise `ParameterError`; at ``fidelity="table"`` the table adds its pose sensitivities), the
+    run ending at the first step at or after `t_end`. The trajectory then also holds the poses and rates ``u_p_x`` … ``om_g_y`` (m,
     rad, m/s, rad/s) and the support forces on the bodies ``R_p_x`` … ``R_g_my`` (N, N·m), and
     ``supports`` holds ``modes_hz``, ``modes_damping_ratio``, ``window_mesh_periods`` and per
     support force ``reaction_mean_n``, ``reaction_peak_to_peak_n`` and ``orders`` (mesh-order
     amplitudes 1 … `orders`) over the last whole mesh periods."""
     drive = _drive(drive)
     if supports is not None:
-        if dt is not None or method != "rk4" or fidelity != "full":
+        if dt is not None or method != "rk4":
             raise _native.ParameterError(
                 "supports: the step is chosen from the coupled modes (leave dt out), RK4 only "
-                "(method='rk4') and full fidelity only (the table holds rigid bearings)"
+                "(method='rk4')"
             )
         if friction not in (None, "none"):
             raise _native.ParameterError(

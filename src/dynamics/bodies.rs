@@ -149,8 +149,9 @@ pub struct SupportedDynamics<M> {
 }
 
 impl<M: MeshTorques> SupportedDynamics<M> {
-    /// The model with mesh `mesh`, drivetrain `drive` and the bodies' `supports`. A mesh with
-    /// friction is refused (module docs).
+    /// The model with mesh `mesh`, drivetrain `drive` and the bodies' `supports`; the mesh is
+    /// prepared for poses ([`MeshTorques::prepare_poses`]: a table builds its pose
+    /// sensitivities). A mesh with friction is refused (module docs).
     pub fn new(mesh: M, drive: Drivetrain, supports: Supports) -> Result<Self, DynamicsError> {
         if mesh.has_friction() {
             return Err(invalid(
@@ -159,6 +160,8 @@ impl<M: MeshTorques> SupportedDynamics<M> {
                 "none with supports (the friction forces' pose sensitivities are not derived)",
             ));
         }
+        let mut mesh = mesh;
+        mesh.prepare_poses().map_err(|source| DynamicsError::Mesh { t: None, source })?;
         Ok(Self { gears: GearDynamics::new(mesh, drive)?, supports, evaluations: 0 })
     }
 
@@ -505,7 +508,8 @@ pub fn supported_rk4_step(drive: &Drivetrain, modes: &CoupledModes, omega_p: f64
 
 /// Integrates the supported model from `y0` with `n_steps` RK4 steps of `dt` (s), recording
 /// every step. A step outside RK4's stability region for `modes` is refused
-/// ([`check_rk4_step`]), and so is a record above [`MAX_TRAJECTORY_SAMPLES`].
+/// ([`check_rk4_step`]), and so is a record above
+/// [`MAX_TRAJECTORY_SAMPLES`](super::limits::MAX_TRAJECTORY_SAMPLES).
 pub fn simulate_supported<M: MeshTorques>(
     model: &mut SupportedDynamics<M>,
     y0: &[f64; N_BODY_STATES],

@@ -84,7 +84,9 @@ pub use statics::{
 pub use supports::{
     Support, SupportedEquilibrium, Supports, supported_equilibrium, supported_static_curve,
 };
-pub use table::{MeshTable, TableMesh, TableTruncation};
+pub use table::{
+    MeshTable, POSE_STEP_MN, PoseTable, TABLE_POSE_BOUND_MN, TableMesh, TableTruncation,
+};
 pub use validity::ValidityRange;
 
 /// The kinematic state of the two gears.
@@ -576,6 +578,14 @@ pub trait MeshTorques {
         Err(MeshError::Unsupported("analytic mesh Jacobian"))
     }
 
+    /// Makes the model ready to evaluate states with the gear bodies displaced, where that
+    /// needs work once: the table builds its pose sensitivities ([`table::PoseTable`]). The
+    /// default (the full model, which takes any pose; the analytic meshes, which refuse one)
+    /// does nothing.
+    fn prepare_poses(&mut self) -> Result<(), MeshError> {
+        Ok(())
+    }
+
     /// Forgets whatever earlier calls left behind that can change the next result (e.g. the
     /// warm start of an iterative load solver), so that the next call gives bit for bit what a
     /// fresh clone would give. Stateless implementations keep the default, which does nothing.
@@ -843,6 +853,13 @@ impl MeshTorques for Mesh {
     }
 
     #[inline]
+    fn prepare_poses(&mut self) -> Result<(), MeshError> {
+        match self {
+            Mesh::Full(f) => f.prepare_poses(),
+            Mesh::Table(t) => t.prepare_poses(),
+        }
+    }
+
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
         match self {
             Mesh::Full(f) => f.torques(state),

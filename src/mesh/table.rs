@@ -118,11 +118,15 @@ use std::sync::Arc;
 use super::forces::MeshWrench;
 use super::friction::{FrictionConst, add_friction_jacobian, set_efficiency};
 use super::model::{FRICTION_NODE, FullMesh, MeshModel, PairSum, WarmStart, damping_rows};
+use super::pose::{RelativePose, approach_rate, to_housing};
 use super::{MeshError, MeshJacobian, MeshOutputs, MeshState, MeshTorques};
 use crate::contact::FlankSide;
 use crate::modifications::Separation;
 
 mod build;
+mod pose;
+
+pub use pose::{POSE_STEP_MN, PoseTable, TABLE_POSE_BOUND_MN};
 
 /// Most nodes of one table, `table_phase_points` × `table_te_points` (each axis 8 … 4096):
 /// the build evaluates the full model about 2.5 times per node (driving axis, back-flank axis
@@ -797,11 +801,24 @@ impl MeshTable {
     }
 
     /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations).
+    #[inline]
     fn evaluate_periodic(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
+        self.periodic_with_wrench(model, state).map(|(o, _)| o)
+    }
+
+    /// [`Self::evaluate_periodic`] with the wrench it wrote into the outputs (whole
+    /// vectors, the moments' z components included).
+    #[inline]
+    fn periodic_with_wrench(
+        &self,
+        model: &MeshModel,
+        state: &MeshState,
+    ) -> Option<(MeshOutputs, MeshWrench)> {
         let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
         let Some(Cell { axis, xp, wp, ip0, dist, xt, it0, wt, nt }) = self.cell(state.phi_p, te)?
         else {
-            return Some(MeshOutputs { te, separated: true, ..MeshOutputs::default() });
+            let out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
+            return Some((out, MeshWrench::default()));
         };
         let np = self.np as i64;
         let mut v = [0.0; NV];
@@ -891,9 +908,9 @@ impl MeshTable {
                 wrench.add(&friction_wrench(model, k, &fv, &mut out));
             }
             wrench.write(&mut out);
+            set_efficiency(&mut out, state);
+            Some((out, wrench))
         }
-        set_efficiency(&mut out, state);
-        Some(out)
     }
 
     /// Table evaluation at `state` with the exact partial derivatives of the interpolant
@@ -993,12 +1010,73 @@ impl MeshTable {
 pub struct TableMesh {
     table: Arc<MeshTable>,
     full: FullMesh,
+    /// The pose sensitivities ([`PoseTable`]), once prepared ([`MeshTorques::prepare_poses`]).
+    pose: Option<Arc<PoseTable>>,
 }
 
 impl TableMesh {
     /// The table `table` of the model of `full` (built from it, or from its periodic part).
     pub fn new(table: Arc<MeshTable>, full: FullMesh) -> Self {
-        Self { table, full }
+        Self { table, full, pose: None }
+    }
+
+    /// The pose sensitivities, when prepared.
+    pub fn pose_table(&self) -> Option<&Arc<PoseTable>> {
+        self.pose.as_ref()
+    }
+
+    /// The outputs at a state with the bodies displaced (module docs of [`pose`]): the table
+    /// at the shifted TE plus the first-order part, the wrench about the displaced centres in
+    /// the housing frame; the full model outside the table's TE range. Refused without
+    /// prepared sensitivities or beyond their bound.
+    fn evaluate_posed(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+        let Some(pt) = self.pose.clone() else {
+            return Err(MeshError::Unsupported(
+                "a gear body off its bearing axis (pose or pose rate) at table fidelity \
+                 without pose sensitivities: prepare the model for poses (the supported \
+                 dynamics do), or evaluate at full fidelity",
+            ));
+        };
+        let model = self.full.model();
+        let geo = model.geometry();
+        let a = geo.center_distance;
+        let rel = RelativePose::new(&state.pose_p, &state.pose_g, a);
+        pt.check(&rel)?;
+        let rate = RelativePose::new(&state.rate_p, &state.rate_g, a);
+        let t = &self.table;
+        let te = crate::numeric::dot2(state.phi_p, t.rb_p, state.phi_g, t.rb_g);
+        let (dd, db) = (pose::te_shift(geo, &rel, 1.0), pose::te_shift(geo, &rel, -1.0));
+        let (te_eq, axis) = if te + dd > 0.0 {
+            (te + dd, Some(0))
+        } else if te + db < -t.backlash_te {
+            (te + db, Some(1))
+        } else {
+            (te + dd, None)
+        };
+        let shifted = MeshState {
+            phi_g: state.phi_g + (te_eq - te) / t.rb_g,
+            w_g: state.w_g + approach_rate(geo, &rate) / geo.gear.rb,
+            ..MeshState { phi_p: state.phi_p, w_p: state.w_p, ..Default::default() }
+        };
+        let Some((mut out, mut wrench)) = t.periodic_with_wrench(model, &shifted) else {
+            return self.full.evaluate(state);
+        };
+        out.te = te;
+        if let Some(a) = axis {
+            let (phi_red, _) = t.pitch_p.reduce(state.phi_p);
+            let d = pt.correction(t.phase_lo, phi_red, te_eq, a, &rel);
+            out.m_f_p += d[0];
+            out.m_f_g += d[1];
+            let dw = MeshWrench::from_pinion(
+                model.force_frame(),
+                [d[2], d[3], d[4]],
+                [d[5], d[6], -d[0]],
+            );
+            wrench.add(&dw);
+        }
+        to_housing(&mut wrench, &rel, &state.pose_p);
+        wrench.write(&mut out);
+        Ok(out)
     }
 
     /// The table.
@@ -1020,7 +1098,9 @@ impl TableMesh {
     /// model's validity range first), the full model's outside it.
     pub fn evaluate(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         self.full.model().check_state(state)?;
-        refuse_pose(state)?;
+        if !state.bodies_at_rest() {
+            return self.evaluate_posed(state);
+        }
         if let Some(o) = self.table.evaluate(self.full.model(), state) {
             return Ok(o);
         }
@@ -1052,7 +1132,9 @@ impl MeshTorques for TableMesh {
     #[inline]
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
         let te = self.full.model().check_state_te(state)?;
-        refuse_pose(state)?;
+        if !state.bodies_at_rest() {
+            return Ok((self.evaluate_posed(state)?, true));
+        }
         if let Some(r) = self.table.evaluate_torques(self.full.model(), state, te) {
             return Ok(r);
         }
@@ -1069,6 +1151,14 @@ impl MeshTorques for TableMesh {
 
     fn has_friction(&self) -> bool {
         self.full.has_friction()
+    }
+
+    /// Builds the pose sensitivities ([`PoseTable`]) once; clones made afterwards share them.
+    fn prepare_poses(&mut self) -> Result<(), MeshError> {
+        if self.pose.is_none() {
+            self.pose = Some(Arc::new(PoseTable::build(&self.table, self.full.model())?));
+        }
+        Ok(())
     }
 
     /// Exact partial derivatives of the table's interpolant
@@ -1089,8 +1179,9 @@ impl MeshTorques for TableMesh {
     }
 }
 
-/// The table holds the rigid-bearing mesh: a state with a gear body off its axis (a pose or a
-/// pose rate, [`super::pose`]) is refused, not evaluated as if the bodies were at rest.
+/// The table's Jacobian holds the rigid-bearing mesh: a state with a gear body off its axis (a
+/// pose or a pose rate, [`super::pose`]) is refused, not evaluated as if the bodies were at
+/// rest.
 #[inline]
 fn refuse_pose(state: &MeshState) -> Result<(), MeshError> {
     if state.bodies_at_rest() {

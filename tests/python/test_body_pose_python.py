@@ -88,8 +88,8 @@ def test_simulate_on_supports_reports_poses_and_support_forces():
     assert len(r["orders"]) == 3
     f = tr.F_p_x[-w:].mean()
     assert abs(r["reaction_mean_n"] + f) < 0.02 * abs(f)
-    # Refused with the reason: an explicit step, a table, friction.
-    for bad in ({"dt": 1e-5}, {"fidelity": "table"}, {"friction": {"model": "constant", "mu": 0.05}}):
+    # Refused with the reason: an explicit step, DOPRI5, friction.
+    for bad in ({"dt": 1e-5}, {"method": "dopri5"}, {"friction": {"model": "constant", "mu": 0.05}}):
         with pytest.raises(hg.ParameterError, match="supports"):
             hg.simulate(None, 300.0, 2.2e-3, supports=SUPPORTS, **bad)
     # A bad support names its key.

@@ -115,9 +115,9 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 1e-12)]
     atol: f64,
     /// Elastic supports of the gear bodies (JSON of docs/gear-bodies.md): both bodies move on
-    /// them, coupled to Eqs. 1–4 (full fidelity, RK4 with a whole number of steps per mesh
-    /// period from the coupled modes); adds the poses, the support forces and their
-    /// mesh-order amplitudes.
+    /// them, coupled to Eqs. 1–4 (RK4 with a whole number of steps per mesh period from the
+    /// coupled modes; at table fidelity the table adds its pose sensitivities); adds the
+    /// poses, the support forces and their mesh-order amplitudes.
     #[arg(long, value_name = "FILE")]
     supports: Option<std::path::PathBuf>,
     /// Mesh orders of the support-force amplitudes (with --supports).
@@ -389,11 +389,6 @@ const MAX_ORDERS: usize = 64;
 /// `helical-gear simulate --supports FILE`: the gear bodies on their supports
 /// ([`helical_gear_mesh::dynamics::bodies`]).
 fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<(), String> {
-    if a.fidelity != CliFidelity::Full {
-        return Err("--supports needs --fidelity full: the table holds the mesh on rigid \
-                    bearings and refuses a pose"
-            .into());
-    }
     if a.method != CliMethod::Rk4 {
         return Err("--supports integrates with RK4 only (--method rk4)".into());
     }
@@ -485,9 +480,12 @@ fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<()
         writeln!(
             w,
             "Eqs. 1–4 with both gear bodies on their supports from the static equilibrium at \
-             ω_p = {} rad/s (rk4, full fidelity): {} steps of {dt:.4e} s to {t_end:.6e} s, {} \
+             ω_p = {} rad/s (rk4, {} fidelity): {} steps of {dt:.4e} s to {t_end:.6e} s, {} \
              mesh evaluations, {seconds:.2} s",
-            a.omega_p, n_steps, tr.drive.mesh_evaluations
+            a.omega_p,
+            a.fidelity.name(),
+            n_steps,
+            tr.drive.mesh_evaluations
         )
         .map_err(io_err)?;
         writeln!(
