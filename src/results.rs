@@ -1454,12 +1454,72 @@ pub struct SweepRunRecord {
     pub fidelity: String,
     /// RK4 steps per mesh period.
     pub steps_per_period: usize,
+    /// With `--supports`: the same speeds with both gear bodies on their supports.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub supports: Option<SupportedSweepRecord>,
 }
 
 impl SweepRunRecord {
     /// `Err` naming the first non-finite number.
     pub fn check_finite(&self) -> Result<(), String> {
         self.sweep.check_finite()?;
+        if let Some(s) = &self.supports {
+            s.check_finite()?;
+        }
         finite("d_mesh_n_s_per_m", self.d_mesh_n_s_per_m)
+    }
+}
+
+/// Per-speed statistics of one support force over the steady window of a supported sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SupportForceSweepRecord {
+    /// Mean per speed, N (N·m for a moment).
+    pub reaction_mean_n: Vec<f64>,
+    /// Peak to peak per speed, N (N·m).
+    pub reaction_peak_to_peak_n: Vec<f64>,
+    /// Amplitude of the first mesh order per speed, N (N·m).
+    pub order_1_n: Vec<f64>,
+}
+
+/// `sweep --supports`: the sweep with both gear bodies on their supports
+/// ([`crate::dynamics::supported_sweep`]), at the speeds of the rigid sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SupportedSweepRecord {
+    /// Largest static TE of the mesh on its supports, µm.
+    pub ste_max_um: f64,
+    /// Steady TE_max/STE_max per speed (STE_max of the supported mesh).
+    pub te_max_over_ste_max: Vec<f64>,
+    /// Steady TE_min/STE_max per speed.
+    pub te_min_over_ste_max: Vec<f64>,
+    /// Whether each run passed the period check.
+    pub steady: Vec<bool>,
+    /// Mesh periods run before each window.
+    pub periods: Vec<usize>,
+    /// Peaks of `te_max_over_ste_max` (rad/s, grid speeds; prominence as the rigid sweep's).
+    pub resonances_rad_s: Vec<f64>,
+    /// Frequencies of the coupled modes linearised at rest, Hz.
+    pub modes_hz: Vec<f64>,
+    /// The speeds at which the first mesh order meets each mode, 2π·f/z_p, rad/s.
+    pub mode_speeds_rad_s: Vec<f64>,
+    /// Per support force (`R_p_x` … `R_g_my`), its statistics per speed.
+    pub support_forces: BTreeMap<String, SupportForceSweepRecord>,
+}
+
+impl SupportedSweepRecord {
+    /// `Err` naming the first non-finite number.
+    pub fn check_finite(&self) -> Result<(), String> {
+        finite("supports.ste_max_um", self.ste_max_um)?;
+        finite_all("supports.te_max_over_ste_max", &self.te_max_over_ste_max)?;
+        finite_all("supports.te_min_over_ste_max", &self.te_min_over_ste_max)?;
+        finite_all("supports.modes_hz", &self.modes_hz)?;
+        for (k, r) in &self.support_forces {
+            finite_all(&format!("supports.{k}.reaction_mean_n"), &r.reaction_mean_n)?;
+            finite_all(
+                &format!("supports.{k}.reaction_peak_to_peak_n"),
+                &r.reaction_peak_to_peak_n,
+            )?;
+            finite_all(&format!("supports.{k}.order_1_n"), &r.order_1_n)?;
+        }
+        Ok(())
     }
 }

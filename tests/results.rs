@@ -313,6 +313,7 @@ fn run_records_round_trip_with_their_keys() {
         d_mesh_n_s_per_m: 1000.0,
         fidelity: "table".into(),
         steps_per_period: 64,
+        supports: None,
     };
     round_trip(&sw);
     sw.check_finite().unwrap();

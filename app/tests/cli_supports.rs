@@ -122,10 +122,19 @@ fn simulate_with_supports_reports_poses_and_support_forces() {
     assert!((r_p + f_p).abs() < 0.02 * f_p.abs(), "R {r_p} F {f_p}");
 
     let mut text = base.to_vec();
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
     text.extend(["--supports", f]);
-    let (ok, stdout, stderr) = run(&text);
+    let mut with_out = text.clone();
+    with_out.extend(["--out", o]);
+    let (ok, stdout, stderr) = run(&with_out);
     assert!(ok, "{stderr}");
     assert!(stdout.contains("linearised coupled modes") && stdout.contains("R_g_my"), "{stdout}");
+    // The spectrum: a header and one row per mesh order, and its figure.
+    let csv = std::fs::read_to_string(out.join("support_spectrum.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 3, "{csv}");
+    assert!(csv.starts_with("order,frequency_hz,R_p_x,R_p_y,R_p_z,R_g_x,R_g_y,R_g_z"), "{csv}");
+    assert!(std::fs::metadata(out.join("support_spectrum.png")).unwrap().len() > 1000);
 
     for (extra, why) in
         [(&["--dt", "1e-5"][..], "leave --dt out"), (&["--method", "dopri5"][..], "RK4 only")]
@@ -137,3 +146,52 @@ fn simulate_with_supports_reports_poses_and_support_forces() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `sweep --supports`: the same speeds with both bodies on their supports (table fidelity with
+/// its pose sensitivities). The JSON's `supports` block holds per speed TE_max/STE_max, the
+/// steady flags and the support-force statistics, the coupled modes and the speeds where the
+/// first mesh order meets them; `--out` writes the curve beside the rigid one. Around the mode
+/// at 1.89 kHz (mesh order 1 at 395.8 rad/s) the response on the supports peaks; on rigid
+/// bearings the speeds lie between the resonances. `--out` without `--supports` is refused.
+#[test]
+fn sweep_with_supports_reports_the_supported_curve() {
+    let dir = std::env::temp_dir().join(format!("hg-cli-supports-sweep-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("supports.json");
+    std::fs::write(&file, EXAMPLE).unwrap();
+    let out = dir.join("out");
+    let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
+    let args =
+        ["sweep", "--from", "380", "--to", "400", "--points", "5", "--json", "--supports", f];
+    let mut a = args.to_vec();
+    a.extend(["--out", o]);
+    let (ok, stdout, stderr) = run(&a);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let s = &v["supports"];
+    let ratio: Vec<f64> =
+        s["te_max_over_ste_max"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert_eq!(ratio.len(), 5);
+    assert!(s["steady"].as_array().unwrap().iter().all(|x| x.as_bool() == Some(true)));
+    let modes: Vec<f64> =
+        s["mode_speeds_rad_s"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    assert!(modes.iter().any(|w| (w - 395.8).abs() < 1.0), "{modes:?}");
+    assert_eq!(s["support_forces"]["R_p_y"]["reaction_mean_n"].as_array().unwrap().len(), 5);
+    // The peak lies inside the range (near 392.5 rad/s), not at its ends.
+    let top = ratio.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    assert!(top > ratio[0] && top > ratio[4], "{ratio:?}");
+    let csv = std::fs::read_to_string(out.join("sweep_supports.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 6, "{csv}");
+    assert!(std::fs::metadata(out.join("sweep_supports.png")).unwrap().len() > 1000);
+    let (ok, _, stderr) =
+        run(&["sweep", "--from", "380", "--to", "400", "--points", "5", "--out", o]);
+    assert!(!ok && stderr.contains("--supports"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+const EXAMPLE: &str = r#"{"pinion": {"mass_kg": 2, "j_transverse_kgm2": 1e-3,
+    "stiffness": {"radial_n_per_m": 6e8, "axial_n_per_m": 3e8, "tilt_nm_per_rad": 8e5},
+    "damping": {"radial_ns_per_m": 2000, "axial_ns_per_m": 1000, "tilt_nms_per_rad": 2}},
+  "gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2,
+    "stiffness": {"radial_n_per_m": 9e8, "axial_n_per_m": 3e8, "tilt_nm_per_rad": 2e6},
+    "damping": {"radial_ns_per_m": 4000, "axial_ns_per_m": 2000, "tilt_nms_per_rad": 5}}}"#;

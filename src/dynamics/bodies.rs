@@ -491,6 +491,18 @@ pub struct SupportedTrajectory {
     pub reactions: Vec<SupportReactions>,
 }
 
+impl SupportedTrajectory {
+    /// The last recorded state (28 components; zero for an empty record).
+    pub fn end_state(&self) -> [f64; N_BODY_STATES] {
+        let mut y = [0.0; N_BODY_STATES];
+        if let (Some(s), Some(b)) = (self.drive.states.last(), self.bodies.last()) {
+            y[..N_STATES].copy_from_slice(s);
+            y[N_STATES..].copy_from_slice(b);
+        }
+        y
+    }
+}
+
 /// The default RK4 step of [`simulate_supported`] for the modes `modes` at nominal pinion
 /// speed `omega_p` (rad/s): T_m/N with N ≥ [`DEFAULT_STEPS_PER_MESH_PERIOD`] the smallest
 /// whole number that also gives [`STEPS_PER_FAST_PERIOD`] steps per period of the fastest

@@ -18,6 +18,8 @@
 //!   integrates a unit.
 //! * [`bodies`]: both gear bodies on elastic supports coupled to Eqs. 1–4 (28 states), their
 //!   static start, linearised coupled modes and trajectories with the support forces.
+//! * [`supported_sweep`]: speed sweeps with the bodies on their supports (steady TE and support
+//!   forces per speed).
 //! * [`analytic_mesh`]: linear-spring mesh models with closed-form behaviour, for verification.
 
 pub mod analytic_mesh;
@@ -29,6 +31,7 @@ pub mod model;
 pub mod relative;
 pub mod simulate;
 pub mod steady;
+pub mod supported_sweep;
 pub mod sweep;
 pub mod unit;
 

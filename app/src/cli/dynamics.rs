@@ -14,11 +14,16 @@
 use std::io::Write;
 
 use clap::{Args, ValueEnum};
+use helical_gear_mesh::dynamics::bodies::ForceStats;
 use helical_gear_mesh::dynamics::bodies::{
     REACTION_NAMES, SupportedDynamics, simulate_supported, support_force_stats, supported_rk4_step,
 };
+use helical_gear_mesh::dynamics::find_peaks;
 use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
 use helical_gear_mesh::dynamics::steady::steady_max_periods;
+use helical_gear_mesh::dynamics::supported_sweep::{
+    SupportedSweep, SupportedSweepOptions, sweep_supported,
+};
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_REFINE_RUNS,
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate,
@@ -29,8 +34,8 @@ use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Friction, Mesh, MeshError, MeshOptions, MeshTorques,
 };
 use helical_gear_mesh::results::{
-    SupportForceRecord, SupportedRunRecord, SweepRecord, SweepRunRecord, TrajectoryRecord,
-    TrajectoryRunRecord,
+    SupportForceRecord, SupportForceSweepRecord, SupportedRunRecord, SupportedSweepRecord,
+    SweepRecord, SweepRunRecord, TrajectoryRecord, TrajectoryRunRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair};
 
@@ -123,6 +128,10 @@ pub struct SimulateArgs {
     /// Mesh orders of the support-force amplitudes (with --supports).
     #[arg(long, default_value_t = 3)]
     orders: usize,
+    /// With --supports: write the support-force spectrum (`support_spectrum.csv`,
+    /// `support_spectrum.png`: the mesh-order amplitudes of the six support forces) into DIR.
+    #[arg(long, value_name = "DIR", requires = "supports")]
+    out: Option<std::path::PathBuf>,
 }
 
 /// Arguments of `helical-gear sweep`.
@@ -164,6 +173,15 @@ pub struct SweepArgs {
     /// Worker threads (default: one per core).
     #[arg(long)]
     threads: Option<usize>,
+    /// Elastic supports of the gear bodies (JSON of docs/gear-bodies.md): the same speeds are
+    /// also run with both bodies on them (`supports` in the JSON: TE_max/STE_max, the support
+    /// forces, the coupled modes and the speeds where the mesh meets them).
+    #[arg(long, value_name = "FILE")]
+    supports: Option<std::path::PathBuf>,
+    /// With --supports: write `sweep_supports.csv` and `sweep_supports.png` (TE_max/STE_max on
+    /// rigid bearings and on the supports) into DIR.
+    #[arg(long, value_name = "DIR", requires = "supports")]
+    out: Option<std::path::PathBuf>,
 }
 
 /// The mesh model the dynamics run with: the full Andersson–Vedmar [`Mesh`] of `pair`
@@ -426,6 +444,9 @@ fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<()
     let stats = support_force_stats(&tr, spp, a.orders);
     let window = n_steps.checked_div(spp).unwrap_or(0);
 
+    if let (Some(dir), Some(s)) = (&a.out, &stats) {
+        write_support_spectrum(dir, 1.0 / t_m, s)?;
+    }
     let record = TrajectoryRecord::supported(&tr);
     record.check_finite()?;
     let columns = record.columns();
@@ -568,7 +589,18 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     };
     helical_gear_mesh::dynamics::check_sweep_request(&speeds, &request)
         .map_err(|e| e.to_string())?;
-    let (pair, drive, mesh, _) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity, &a.friction)?;
+    let supports = a
+        .supports
+        .as_ref()
+        .map(|path| super::read_json_as("--supports", path, Supports::from_json))
+        .transpose()?;
+    let (pair, drive, mesh, friction) =
+        setup(&a.common, &a.drive, a.d_mesh, a.fidelity, &a.friction)?;
+    if supports.is_some() && friction.is_on() {
+        return Err("--supports with --friction: not supported yet (the friction forces' pose \
+                    sensitivities are not derived); leave one out"
+            .into());
+    }
     // Tooth deviations: steady over their period (at least three periods integrated).
     let period = pair.modifications.period_meshes(pair.z_p, pair.z_g) as usize;
     let opts = SweepOptions {
@@ -587,12 +619,29 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     };
     let r = sweep(&mesh, &drive, &speeds, &opts).map_err(|e| e.to_string())?;
     let ste_max = r.ste.max();
+    let supported = match &supports {
+        None => None,
+        Some(s) => {
+            eprintln!("the same speeds with the gear bodies on their supports…");
+            let o = SupportedSweepOptions {
+                max_periods: a.max_periods,
+                threads: a.threads,
+                ..SupportedSweepOptions::default()
+            };
+            let sw = sweep_supported(&mesh, &drive, s, &speeds, &o).map_err(|e| e.to_string())?;
+            Some(supported_sweep_record(&sw, drive.z_p, a.min_prominence))
+        }
+    };
     let record = SweepRunRecord {
         sweep: SweepRecord::new(&r, &speeds),
         d_mesh_n_s_per_m: pair.d_mesh_n_s_per_m,
         fidelity: a.fidelity.name().into(),
         steps_per_period: a.steps_per_period,
+        supports: supported,
     };
+    if let (Some(dir), Some(s)) = (&a.out, &record.supports) {
+        write_sweep_supports(dir, &speeds, &record.sweep.te_max_over_ste_max, s)?;
+    }
     record.check_finite()?;
     let warnings = &record.sweep.warnings;
     let out = serde_json::to_string(&record).map_err(|e| format!("JSON: {e}"))?;
@@ -655,6 +704,151 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
         for s in warnings {
             writeln!(w, "  warning: {s}").map_err(io_err)?;
         }
+        if let Some(s) = &record.supports {
+            writeln!(
+                w,
+                "  with the gear bodies on their supports (STE_max = {:.3} µm):",
+                s.ste_max_um
+            )
+            .map_err(io_err)?;
+            writeln!(w, "  {:>12} {:>10} {:>10}  flags", "omega_p", "TEmax/STE", "TEmin/STE")
+                .map_err(io_err)?;
+            for (i, wp) in speeds.iter().enumerate() {
+                let flag = if s.steady[i] { "" } else { "NOT steady" };
+                writeln!(
+                    w,
+                    "  {wp:12.3} {:10.4} {:10.4}  {flag}",
+                    s.te_max_over_ste_max[i], s.te_min_over_ste_max[i]
+                )
+                .map_err(io_err)?;
+            }
+            let f: Vec<String> = s.mode_speeds_rad_s.iter().map(|x| format!("{x:.1}")).collect();
+            writeln!(w, "  mesh order 1 meets the coupled modes at {} rad/s", f.join(", "))
+                .map_err(io_err)?;
+            let p: Vec<String> = s.resonances_rad_s.iter().map(|x| format!("{x:.1}")).collect();
+            writeln!(w, "  peaks of TE_max/STE_max on the supports at {} rad/s", p.join(", "))
+                .map_err(io_err)?;
+        }
     }
     w.flush().map_err(io_err)
+}
+
+/// The record of a supported sweep (`sweep --supports`); `z_p` the pinion's teeth, `prominence`
+/// the smallest prominence of a peak.
+fn supported_sweep_record(sw: &SupportedSweep, z_p: u32, prominence: f64) -> SupportedSweepRecord {
+    let ratio: Vec<f64> = sw.points.iter().map(|p| p.te_max / sw.ste_max).collect();
+    let speeds: Vec<f64> = sw.points.iter().map(|p| p.speed).collect();
+    let modes_hz = sw.modes.frequencies_hz();
+    let support_forces = REACTION_NAMES
+        .iter()
+        .enumerate()
+        .map(|(c, name)| {
+            let get = |f: &dyn Fn(&ForceStats) -> f64| {
+                sw.points.iter().map(|p| p.forces.get(c).map_or(f64::NAN, f)).collect()
+            };
+            let rec = SupportForceSweepRecord {
+                reaction_mean_n: get(&|s| s.mean),
+                reaction_peak_to_peak_n: get(&|s| s.peak_to_peak),
+                order_1_n: get(&|s| s.orders.first().copied().unwrap_or(0.0)),
+            };
+            (name.to_string(), rec)
+        })
+        .collect();
+    SupportedSweepRecord {
+        ste_max_um: sw.ste_max * 1e6,
+        te_min_over_ste_max: sw.points.iter().map(|p| p.te_min / sw.ste_max).collect(),
+        steady: sw.points.iter().map(|p| p.steady).collect(),
+        periods: sw.points.iter().map(|p| p.periods).collect(),
+        resonances_rad_s: find_peaks(&ratio, prominence).iter().map(|(i, _)| speeds[*i]).collect(),
+        mode_speeds_rad_s: modes_hz
+            .iter()
+            .map(|f| 2.0 * std::f64::consts::PI * f / z_p as f64)
+            .collect(),
+        modes_hz,
+        te_max_over_ste_max: ratio,
+        support_forces,
+    }
+}
+
+/// Writes `support_spectrum.csv` and `support_spectrum.png` into `dir`: the mesh-order
+/// amplitudes of the six support forces `stats` (order of [`REACTION_NAMES`]) at the mesh
+/// frequency `f_mesh` (Hz).
+fn write_support_spectrum(
+    dir: &std::path::Path,
+    f_mesh: f64,
+    stats: &[ForceStats; 10],
+) -> Result<(), String> {
+    use helical_gear_app::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
+    let plot_err = |e: helical_gear_app::plot::PlotError| e.to_string();
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let forces = [0, 1, 2, 5, 6, 7];
+    let orders = stats[0].orders.len();
+    let mut header = vec!["order", "frequency_hz"];
+    header.extend(forces.iter().map(|&c| REACTION_NAMES[c]));
+    let rows = (0..orders).map(|k| {
+        let mut r = vec![(k + 1) as f64, (k + 1) as f64 * f_mesh];
+        r.extend(forces.iter().map(|&c| stats[c].orders[k]));
+        r
+    });
+    write_csv(&dir.join("support_spectrum.csv"), &header, rows).map_err(plot_err)?;
+    let series = forces
+        .iter()
+        .map(|&c| Series {
+            name: format!("{} (N)", REACTION_NAMES[c]),
+            points: (0..orders).map(|k| ((k + 1) as f64 * f_mesh, stats[c].orders[k])).collect(),
+            style: SeriesStyle::LinePoints,
+        })
+        .collect();
+    let chart = LineChart {
+        title: "Support forces on the gear bodies: mesh-order amplitudes".into(),
+        x_label: "frequency (Hz)".into(),
+        y_label: "amplitude (N)".into(),
+        series,
+        y_log: true,
+        ..LineChart::default()
+    };
+    line_chart(&dir.join("support_spectrum.png"), &chart, (900, 600)).map_err(plot_err)
+}
+
+/// Writes `sweep_supports.csv` and `sweep_supports.png` into `dir`: TE_max/STE_max over the
+/// speeds on rigid bearings (`rigid`) and on the supports.
+fn write_sweep_supports(
+    dir: &std::path::Path,
+    speeds: &[f64],
+    rigid: &[f64],
+    s: &SupportedSweepRecord,
+) -> Result<(), String> {
+    use helical_gear_app::plot::{LineChart, Series, SeriesStyle, line_chart, write_csv};
+    let plot_err = |e: helical_gear_app::plot::PlotError| e.to_string();
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let header = ["omega_p_rad_s", "te_max_over_ste_max_rigid", "te_max_over_ste_max_supports"];
+    let rows = (0..speeds.len()).map(|i| vec![speeds[i], rigid[i], s.te_max_over_ste_max[i]]);
+    write_csv(&dir.join("sweep_supports.csv"), &header, rows).map_err(plot_err)?;
+    let curve = |name: &str, y: &[f64]| Series {
+        name: name.into(),
+        points: speeds.iter().copied().zip(y.iter().copied()).collect(),
+        style: SeriesStyle::LinePoints,
+    };
+    let (lo, hi) = (speeds[0], speeds[speeds.len() - 1]);
+    let y_hi = rigid.iter().chain(&s.te_max_over_ste_max).copied().fold(1.0, f64::max);
+    let mut series = vec![
+        curve("rigid bearings", rigid),
+        curve("bodies on their supports", &s.te_max_over_ste_max),
+    ];
+    // Where the first mesh order meets a coupled mode.
+    for (k, w) in s.mode_speeds_rad_s.iter().filter(|w| (lo..=hi).contains(*w)).enumerate() {
+        series.push(Series {
+            name: if k == 0 { "coupled modes (mesh order 1)".into() } else { String::new() },
+            points: vec![(*w, 0.9), (*w, y_hi)],
+            style: SeriesStyle::Line,
+        });
+    }
+    let chart = LineChart {
+        title: "Steady TE_max/STE_max: rigid bearings and elastic supports".into(),
+        x_label: "pinion speed (rad/s)".into(),
+        y_label: "TE_max / STE_max".into(),
+        series,
+        ..LineChart::default()
+    };
+    line_chart(&dir.join("sweep_supports.png"), &chart, (900, 600)).map_err(plot_err)
 }
