@@ -1506,6 +1506,49 @@ pub struct SupportedSweepRecord {
 }
 
 impl SupportedSweepRecord {
+    /// The record of the supported sweep `sw` for a pinion of `z_p` teeth; peaks of at least
+    /// `prominence` ([`crate::dynamics::find_peaks`]).
+    pub fn new(
+        sw: &crate::dynamics::supported_sweep::SupportedSweep,
+        z_p: u32,
+        prominence: f64,
+    ) -> Self {
+        use crate::dynamics::bodies::{ForceStats, REACTION_NAMES};
+        let ratio: Vec<f64> = sw.points.iter().map(|p| p.te_max / sw.ste_max).collect();
+        let speeds: Vec<f64> = sw.points.iter().map(|p| p.speed).collect();
+        let modes_hz = sw.modes.frequencies_hz();
+        let support_forces = REACTION_NAMES
+            .iter()
+            .enumerate()
+            .map(|(c, name)| {
+                let get = |f: &dyn Fn(&ForceStats) -> f64| {
+                    sw.points.iter().map(|p| p.forces.get(c).map_or(f64::NAN, f)).collect()
+                };
+                let rec = SupportForceSweepRecord {
+                    reaction_mean_n: get(&|s| s.mean),
+                    reaction_peak_to_peak_n: get(&|s| s.peak_to_peak),
+                    order_1_n: get(&|s| s.orders.first().copied().unwrap_or(0.0)),
+                };
+                (name.to_string(), rec)
+            })
+            .collect();
+        let peaks = crate::dynamics::find_peaks(&ratio, prominence);
+        Self {
+            ste_max_um: sw.ste_max * 1e6,
+            te_min_over_ste_max: sw.points.iter().map(|p| p.te_min / sw.ste_max).collect(),
+            steady: sw.points.iter().map(|p| p.steady).collect(),
+            periods: sw.points.iter().map(|p| p.periods).collect(),
+            resonances_rad_s: peaks.iter().map(|(i, _)| speeds[*i]).collect(),
+            mode_speeds_rad_s: modes_hz
+                .iter()
+                .map(|f| 2.0 * std::f64::consts::PI * f / z_p as f64)
+                .collect(),
+            modes_hz,
+            te_max_over_ste_max: ratio,
+            support_forces,
+        }
+    }
+
     /// `Err` naming the first non-finite number.
     pub fn check_finite(&self) -> Result<(), String> {
         finite("supports.ste_max_um", self.ste_max_um)?;

@@ -835,6 +835,10 @@ class SweepResult(_Result):
     mesh_stiffness: float | None
     warnings: tuple
     wall_seconds: float
+    #: With ``sweep(..., supports=...)``: the same speeds with both gear bodies on their
+    #: supports (``te_max_over_ste_max``, ``steady``, ``resonances_rad_s``, ``modes_hz``,
+    #: ``mode_speeds_rad_s``, ``support_forces``); None on rigid bearings.
+    supports: dict | None = field(default=None, repr=False, compare=False)
     _columns = (
         "speeds",
         "te_max_over_ste_max",
@@ -884,6 +888,7 @@ def sweep(
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
     friction: Mapping[str, Any] | str | None = None,
+    supports: Mapping[str, Any] | str | None = None,
 ) -> SweepResult:
     """Steady-state runs at every speed (rad/s; default a uniform grid of `points` from
     `w_from` to `w_to`) and the resonances, as the CLI's ``sweep`` (the library's
@@ -897,8 +902,19 @@ def sweep(
     root stress per speed (``mesh_force_max_over_static``, ``root_stress_max_over_static``)
     and, with `friction` (the mesh friction option, see `MeshModel`; a `MeshModel` passed as
     `pair` carries its own), the mean mesh efficiency per speed
-    (``mesh_efficiency_mean``)."""
+    (``mesh_efficiency_mean``).
+
+    `supports` (a dict or JSON text of docs/gear-bodies.md): the same speeds are also run with
+    both gear bodies on elastic supports, as the CLI's ``sweep --supports``
+    (``SweepResult.supports``: ``te_max_over_ste_max``, ``steady``, ``resonances_rad_s``,
+    ``modes_hz``, ``mode_speeds_rad_s`` and per support force ``reaction_mean_n``,
+    ``reaction_peak_to_peak_n``, ``order_1_n`` per speed; not with friction)."""
     drive = _drive(drive)
+    if supports is not None and friction not in (None, "none"):
+        raise _native.ParameterError(
+            "supports with friction: not supported yet (the friction forces' pose "
+            "sensitivities are not derived)"
+        )
     if speeds is None:
         speeds = np.linspace(w_from, w_to, int(points)) if points > 1 else np.array([w_from])
     sp = [float(s) for s in np.asarray(speeds, dtype=float).ravel()]
@@ -922,7 +938,17 @@ def sweep(
             threads,
         )
     )
+    supported = None
+    if supports is not None:
+        text = supports if isinstance(supports, str) else json.dumps(supports)
+        supported = json.loads(
+            m._m.sweep_supported_json(
+                m.pair.to_json(), drive.to_json(), text, sp, _count("max_periods", max_periods),
+                float(min_prominence), threads,
+            )
+        )
     return SweepResult(
+        supports=supported,
         speeds=np.array(d["speeds_rad_s"]),
         te_max_over_ste_max=np.array(d["te_max_over_ste_max"]),
         te_min_over_ste_max=np.array(d["te_min_over_ste_max"]),

@@ -995,6 +995,51 @@ impl MeshModel {
         })
     }
 
+    /// The steady response at every speed of `speeds` (rad/s) with both gear bodies on the
+    /// supports of `supports_json` (the library's `dynamics::supported_sweep`, as the CLI's
+    /// `sweep --supports`): JSON of `results::SupportedSweepRecord`.
+    #[pyo3(signature = (pair_json, drive_json, supports_json, speeds, max_periods = 2000, min_prominence = 0.005, threads = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep_supported_json(
+        &self,
+        py: Python<'_>,
+        pair_json: &str,
+        drive_json: &str,
+        supports_json: &str,
+        speeds: Vec<f64>,
+        max_periods: usize,
+        min_prominence: f64,
+        threads: Option<usize>,
+    ) -> PyResult<String> {
+        use helical_gear_mesh::dynamics::supported_sweep::{
+            SupportedSweepOptions, sweep_supported,
+        };
+        use helical_gear_mesh::results::SupportedSweepRecord;
+        run(py, || {
+            let supports = helical_gear_mesh::mesh::Supports::from_json(supports_json)?;
+            let pair = parse_pair(pair_json)?;
+            let drive = Drivetrain::from_pair(&pair, &parse_drive(drive_json)?)?;
+            if self.model.options().friction.is_on() {
+                return Err(Failure::Param(
+                    "supports with friction: not supported yet (the friction forces' pose \
+                     sensitivities are not derived)"
+                        .into(),
+                ));
+            }
+            let mut mesh = self.model.clone();
+            mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
+            let opts = SupportedSweepOptions {
+                max_periods: max_periods.max(1),
+                threads,
+                ..SupportedSweepOptions::default()
+            };
+            let sw = sweep_supported(&mesh, &drive, &supports, &speeds, &opts)?;
+            let record = SupportedSweepRecord::new(&sw, drive.z_p, min_prominence);
+            record.check_finite().map_err(Failure::Solver)?;
+            to_json_text(&record)
+        })
+    }
+
     /// Seconds spent building the table (0 for the full fidelity).
     fn table_build_seconds(&self, py: Python<'_>) -> PyResult<f64> {
         run(py, || Ok(self.model.table().map_or(0.0, |t| t.build_seconds())))

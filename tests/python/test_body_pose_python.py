@@ -95,3 +95,18 @@ def test_simulate_on_supports_reports_poses_and_support_forces():
     # A bad support names its key.
     with pytest.raises(hg.ParameterError, match="supports.gear.mass_kg"):
         hg.simulate(None, 300.0, 2.2e-3, supports={"gear": {**SUPPORTS["gear"], "mass_kg": -1}})
+
+
+def test_sweep_on_supports_reports_the_supported_curve():
+    """`sweep(..., supports=...)` is the CLI's `sweep --supports`: per speed TE_max/STE_max on
+    the supports, steady, the coupled modes and where mesh order 1 meets them. Around the mode
+    at 1.89 kHz (395.8 rad/s) the response peaks inside the range."""
+    r = hg.sweep(None, np.linspace(380.0, 400.0, 5), supports=SUPPORTS, refine_runs=0)
+    s = r.supports
+    ratio = np.array(s["te_max_over_ste_max"])
+    assert ratio.shape == (5,) and all(s["steady"])
+    assert any(abs(w - 395.8) < 1.0 for w in s["mode_speeds_rad_s"])
+    assert ratio.max() > ratio[0] and ratio.max() > ratio[-1]
+    assert len(s["support_forces"]["R_g_y"]["order_1_n"]) == 5
+    with pytest.raises(hg.ParameterError, match="friction"):
+        hg.sweep(None, [300.0], supports=SUPPORTS, friction={"model": "constant", "mu": 0.05})

@@ -18,12 +18,9 @@ use helical_gear_mesh::dynamics::bodies::ForceStats;
 use helical_gear_mesh::dynamics::bodies::{
     REACTION_NAMES, SupportedDynamics, simulate_supported, support_force_stats, supported_rk4_step,
 };
-use helical_gear_mesh::dynamics::find_peaks;
 use helical_gear_mesh::dynamics::simulate::{check_samples, default_rk4_step};
 use helical_gear_mesh::dynamics::steady::steady_max_periods;
-use helical_gear_mesh::dynamics::supported_sweep::{
-    SupportedSweep, SupportedSweepOptions, sweep_supported,
-};
+use helical_gear_mesh::dynamics::supported_sweep::{SupportedSweepOptions, sweep_supported};
 use helical_gear_mesh::dynamics::{
     DEFAULT_STEPS_PER_MESH_PERIOD, Dopri5Options, Drivetrain, GearDynamics, MAX_REFINE_RUNS,
     MAX_TRAJECTORY_SAMPLES, SteadyMethod, SteadyRunOptions, Stepping, SweepOptions, simulate,
@@ -34,8 +31,8 @@ use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Friction, Mesh, MeshError, MeshOptions, MeshTorques,
 };
 use helical_gear_mesh::results::{
-    SupportForceRecord, SupportForceSweepRecord, SupportedRunRecord, SupportedSweepRecord,
-    SweepRecord, SweepRunRecord, TrajectoryRecord, TrajectoryRunRecord,
+    SupportForceRecord, SupportedRunRecord, SupportedSweepRecord, SweepRecord, SweepRunRecord,
+    TrajectoryRecord, TrajectoryRunRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair};
 
@@ -629,7 +626,7 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
                 ..SupportedSweepOptions::default()
             };
             let sw = sweep_supported(&mesh, &drive, s, &speeds, &o).map_err(|e| e.to_string())?;
-            Some(supported_sweep_record(&sw, drive.z_p, a.min_prominence))
+            Some(SupportedSweepRecord::new(&sw, drive.z_p, a.min_prominence))
         }
     };
     let record = SweepRunRecord {
@@ -731,43 +728,6 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
         }
     }
     w.flush().map_err(io_err)
-}
-
-/// The record of a supported sweep (`sweep --supports`); `z_p` the pinion's teeth, `prominence`
-/// the smallest prominence of a peak.
-fn supported_sweep_record(sw: &SupportedSweep, z_p: u32, prominence: f64) -> SupportedSweepRecord {
-    let ratio: Vec<f64> = sw.points.iter().map(|p| p.te_max / sw.ste_max).collect();
-    let speeds: Vec<f64> = sw.points.iter().map(|p| p.speed).collect();
-    let modes_hz = sw.modes.frequencies_hz();
-    let support_forces = REACTION_NAMES
-        .iter()
-        .enumerate()
-        .map(|(c, name)| {
-            let get = |f: &dyn Fn(&ForceStats) -> f64| {
-                sw.points.iter().map(|p| p.forces.get(c).map_or(f64::NAN, f)).collect()
-            };
-            let rec = SupportForceSweepRecord {
-                reaction_mean_n: get(&|s| s.mean),
-                reaction_peak_to_peak_n: get(&|s| s.peak_to_peak),
-                order_1_n: get(&|s| s.orders.first().copied().unwrap_or(0.0)),
-            };
-            (name.to_string(), rec)
-        })
-        .collect();
-    SupportedSweepRecord {
-        ste_max_um: sw.ste_max * 1e6,
-        te_min_over_ste_max: sw.points.iter().map(|p| p.te_min / sw.ste_max).collect(),
-        steady: sw.points.iter().map(|p| p.steady).collect(),
-        periods: sw.points.iter().map(|p| p.periods).collect(),
-        resonances_rad_s: find_peaks(&ratio, prominence).iter().map(|(i, _)| speeds[*i]).collect(),
-        mode_speeds_rad_s: modes_hz
-            .iter()
-            .map(|f| 2.0 * std::f64::consts::PI * f / z_p as f64)
-            .collect(),
-        modes_hz,
-        te_max_over_ste_max: ratio,
-        support_forces,
-    }
 }
 
 /// Writes `support_spectrum.csv` and `support_spectrum.png` into `dir`: the mesh-order
