@@ -497,9 +497,73 @@ pub struct SupportedRunRecord {
     pub window_mesh_periods: usize,
     /// Per support force and moment (`R_p_x` … `R_g_my`), its statistics.
     pub support_forces: BTreeMap<String, SupportForceRecord>,
+    /// Per bearing of a shaft-form support, the statistics of its force on the shaft (x, y, z);
+    /// empty (absent) without one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bearings: Vec<BearingForceRecord>,
+}
+
+/// The dynamic force of one bearing of a shaft-form support over the window.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BearingForceRecord {
+    /// `pinion` or `gear`.
+    pub shaft: String,
+    /// Index in the JSON's list of bearings.
+    pub bearing: usize,
+    /// Position along the axis, m.
+    pub z_m: f64,
+    /// Mean of the force on the shaft (x, y, z), N.
+    pub reaction_mean_n: Vec<f64>,
+    /// Peak to peak (x, y, z), N.
+    pub reaction_peak_to_peak_n: Vec<f64>,
+    /// Mesh-order amplitudes 1, 2, … of each component (x, y, z), N.
+    pub orders: Vec<Vec<f64>>,
 }
 
 impl SupportedRunRecord {
+    /// The record of the supported run `tr` with the coupled `modes`, on `supports`, with
+    /// `samples_per_period` samples per mesh period (0 at standstill) and `orders` mesh orders.
+    pub fn new(
+        tr: &crate::dynamics::bodies::SupportedTrajectory,
+        modes: &crate::dynamics::bodies::CoupledModes,
+        supports: &crate::mesh::Supports,
+        samples_per_period: usize,
+        orders: usize,
+    ) -> Self {
+        use crate::dynamics::bodies::{REACTION_NAMES, bearing_force_stats, support_force_stats};
+        let stats = support_force_stats(tr, samples_per_period, orders);
+        let support_forces = stats
+            .iter()
+            .flat_map(|s| REACTION_NAMES.iter().zip(s.iter()))
+            .map(|(name, s)| {
+                let r = SupportForceRecord {
+                    reaction_mean_n: s.mean,
+                    reaction_peak_to_peak_n: s.peak_to_peak,
+                    orders: s.orders.clone(),
+                };
+                (name.to_string(), r)
+            })
+            .collect();
+        let bearings = bearing_force_stats(tr, supports, samples_per_period, orders)
+            .into_iter()
+            .map(|b| BearingForceRecord {
+                shaft: b.shaft.to_string(),
+                bearing: b.bearing,
+                z_m: b.z_m,
+                reaction_mean_n: b.components.iter().map(|c| c.mean).collect(),
+                reaction_peak_to_peak_n: b.components.iter().map(|c| c.peak_to_peak).collect(),
+                orders: b.components.iter().map(|c| c.orders.clone()).collect(),
+            })
+            .collect();
+        Self {
+            modes_hz: modes.frequencies_hz(),
+            modes_damping_ratio: modes.eigenvalues.iter().map(|l| -l.re / l.norm()).collect(),
+            window_mesh_periods: tr.drive.steps.checked_div(samples_per_period).unwrap_or(0),
+            support_forces,
+            bearings,
+        }
+    }
+
     /// `Err` naming the first non-finite number.
     pub fn check_finite(&self) -> Result<(), String> {
         finite_all("modes_hz", &self.modes_hz)?;
@@ -508,6 +572,14 @@ impl SupportedRunRecord {
             finite(&format!("{k}.reaction_mean_n"), r.reaction_mean_n)?;
             finite(&format!("{k}.reaction_peak_to_peak_n"), r.reaction_peak_to_peak_n)?;
             finite_all(&format!("{k}.orders"), &r.orders)?;
+        }
+        for b in &self.bearings {
+            let at = format!("bearings.{}[{}]", b.shaft, b.bearing);
+            finite_all(&format!("{at}.reaction_mean_n"), &b.reaction_mean_n)?;
+            finite_all(&format!("{at}.reaction_peak_to_peak_n"), &b.reaction_peak_to_peak_n)?;
+            for o in &b.orders {
+                finite_all(&format!("{at}.orders"), o)?;
+            }
         }
         Ok(())
     }

@@ -369,3 +369,57 @@ fn the_table_with_poses_runs_the_supported_dynamics() {
     );
     assert!(dte < 2e-3 * ptp(&te) && dr < 2e-3 && df < 1e-3);
 }
+
+/// The shaft form (`mesh::shaft`): the gear on a shaft in two bearings, the pinion on the
+/// example support. Two bearings hold a shaft statically determinately, so the mean dynamic
+/// bearing forces over a steady window are the rigid-shaft statics of `mesh::bearings`
+/// (`static --bearings`) for the mean mesh wrench on the gear, within 1 % of the bearing force's
+/// magnitude; the radial forces of the two bearings and the mesh force balance.
+#[test]
+fn shaft_bearing_forces_are_the_statics_on_average() {
+    use helical_gear_mesh::dynamics::bodies::bearing_force_stats;
+    use helical_gear_mesh::mesh::bearings::ShaftBearings;
+    let json = r#"{"pinion": {"mass_kg": 2, "j_transverse_kgm2": 1e-3,
+        "stiffness": {"radial_n_per_m": 6e8, "axial_n_per_m": 3e8, "tilt_nm_per_rad": 8e5},
+        "damping": {"radial_ns_per_m": 2000, "axial_ns_per_m": 1000, "tilt_nms_per_rad": 2}},
+      "gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2, "shaft": {"bending_stiffness_nm2": 3e4,
+        "bearings": [{"z_m": -0.02, "radial_n_per_m": 1e9, "axial_n_per_m": 3e8},
+                     {"z_m": 0.035, "radial_n_per_m": 1e9}]},
+        "damping": {"radial_ns_per_m": 4000, "axial_ns_per_m": 2000, "tilt_nms_per_rad": 5}}}"#;
+    let b = GearPair::paper_table1().face_width_m;
+    let supports = Supports::from_json_for(json, b).unwrap();
+    let omega = 300.0;
+    let mut m = SupportedDynamics::new(mesh(60), drive(), supports).unwrap();
+    let start = m.static_start(0.0, omega, &EquilibriumSettings::default()).unwrap();
+    let modes = m.linear_modes(&start).unwrap();
+    let dt = supported_rk4_step(m.drive(), &modes, omega);
+    let spp = (m.drive().mesh_period(omega) / dt).round() as usize;
+    let tr = simulate_supported(&mut m, &start.y, dt, spp * 30, &modes).unwrap();
+    let bs = bearing_force_stats(&tr, &supports, spp, 2);
+    assert_eq!(bs.len(), 2);
+    // The mean mesh wrench on the gear over the same window.
+    let w = spp * (tr.drive.outputs.len() - 1) / spp;
+    let win = &tr.drive.outputs[tr.drive.outputs.len() - w..];
+    let mean = |f: &dyn Fn(&helical_gear_mesh::mesh::MeshOutputs) -> f64| {
+        win.iter().map(f).sum::<f64>() / win.len() as f64
+    };
+    let force = [mean(&|o| o.force_g[0]), mean(&|o| o.force_g[1]), mean(&|o| o.force_g[2])];
+    let moment = [mean(&|o| o.moment_g[0]), mean(&|o| o.moment_g[1])];
+    let statics = ShaftBearings { locating_z_m: -0.02, floating_z_m: 0.035 }.reactions(
+        0.5 * b,
+        force,
+        moment,
+    );
+    for (k, (s, st)) in bs.iter().zip(&statics).enumerate() {
+        let mag = st.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for (c, (dyn_c, st_c)) in s.components.iter().zip(st).enumerate() {
+            let d = (dyn_c.mean - st_c).abs() / mag;
+            eprintln!(
+                "bearing {k} ({:.3} m) component {c}: dynamic mean {:.3} N, statics {st_c:.3} N \
+                 ({d:.2e} of {mag:.1} N), peak to peak {:.2} N",
+                s.z_m, dyn_c.mean, dyn_c.peak_to_peak
+            );
+            assert!(d < 0.01, "bearing {k} component {c}");
+        }
+    }
+}

@@ -6,8 +6,8 @@ use helical_gear_mesh::dynamics::{Clearance, ConstantStiffnessMesh, SweepResult,
 use helical_gear_mesh::mesh::MeshOutputs;
 use helical_gear_mesh::mesh::statics::static_curve;
 use helical_gear_mesh::results::{
-    GeometryRecord, StaticCurveRecord, SupportForceRecord, SupportedRunRecord, SweepRecord,
-    TrajectoryRecord,
+    BearingForceRecord, GeometryRecord, StaticCurveRecord, SupportForceRecord, SupportedRunRecord,
+    SweepRecord, TrajectoryRecord,
 };
 use helical_gear_mesh::{GearPair, PairGeometry};
 use serde::Serialize;
@@ -299,6 +299,14 @@ fn run_records_round_trip_with_their_keys() {
             },
         )]
         .into(),
+        bearings: vec![BearingForceRecord {
+            shaft: "gear".into(),
+            bearing: 0,
+            z_m: -0.02,
+            reaction_mean_n: vec![-906.6, -1091.3, 385.8],
+            reaction_peak_to_peak_n: vec![258.3, 593.0, 42.7],
+            orders: vec![vec![10.0, 20.0]; 3],
+        }],
     });
     round_trip(&on);
     on.check_finite().unwrap();

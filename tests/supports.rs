@@ -154,8 +154,81 @@ fn the_json_is_read_and_bad_values_are_named() {
     let e = err(r#"{"pinion": {"mass_kg": 1, "j_transverse_kgm2": 1e-3, "stiffness_matrix":
         [[1e8,0,0,0,2e8],[0,1e8,0,0,0],[0,0,1e8,0,0],[0,0,0,1e6,0],[2e8,0,0,0,1e6]]}}"#);
     assert!(e.contains("positive definite"), "{e}");
-    let e = err(r#"{"gear": {"shaft": {"bending_stiffness_nm2": 1e4, "bearings": []}}}"#);
-    assert!(e.contains("supports.gear.shaft") && e.contains("not read yet"), "{e}");
+    // The shaft form needs the pair's face width (the gear centre at b/2).
+    let shaft = r#"{"gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2, "shaft":
+        {"bending_stiffness_nm2": 1e4, "bearings": [{"z_m": -0.02, "radial_n_per_m": 1e9,
+        "axial_n_per_m": 1e8}, {"z_m": 0.035, "radial_n_per_m": 1e9}]}}}"#;
+    let e = err(shaft);
+    assert!(e.contains("supports.gear.shaft") && e.contains("from_json_for"), "{e}");
+    assert!(Supports::from_json_for(shaft, 0.015).unwrap().gear.unwrap().shaft.is_some());
+    let bad = shaft.replace("\"radial_n_per_m\": 1e9}", "\"radial_n_per_m\": -1}");
+    let e = Supports::from_json_for(&bad, 0.015).unwrap_err().to_string();
+    assert!(e.contains("supports.gear.shaft.bearings[1].radial_n_per_m"), "{e}");
+    let one = r#"{"gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2, "shaft":
+        {"bending_stiffness_nm2": 1e4, "bearings": [{"z_m": 0.0, "radial_n_per_m": 1e9,
+        "axial_n_per_m": 1e8}]}}}"#;
+    let e = Supports::from_json_for(one, 0.015).unwrap_err().to_string();
+    assert!(e.contains("supports.gear.shaft.bearings") && e.contains("2 … 4"), "{e}");
     let e = err(r#"{"gear": {"mass_kg": 0, "j_transverse_kgm2": 1e-3, "stiffness": {}}}"#);
     assert!(e.contains("supports.gear.mass_kg"), "{e}");
+}
+
+/// The shaft form (`mesh::shaft`) against beam theory. A shaft 10⁶ times stiffer than its
+/// bearings gives the rigid-shaft stiffness k_uu = Σk_i, k_uθ = Σk_i·d_i, k_θθ = Σk_i·d_i²
+/// (d_i = z_i − z_c); bearings 10⁶ times stiffer than the shaft, with the gear midway between
+/// two at span L, give the simply supported beam, k_uu = 48·EI/L³ (deflection F·L³/(48·EI)) and
+/// k_θθ = 12·EI/L (slope M·L/(12·EI)), uncoupled; both to 1e-5. In the y–z plane the coupling
+/// changes sign (w′ = −θ_x). At any pose, the bearings' forces on the shaft balance the
+/// support's force and moment on the body to 1e-9.
+#[test]
+fn the_shaft_form_is_beam_theory() {
+    use helical_gear_mesh::mesh::shaft::ShaftSupport;
+    let zc = 0.0075;
+    // Stiff shaft, overhung gear: bearings at −20 mm and +35 mm from the end face.
+    let b = [(-0.02, 3e8, 1e8), (0.035, 5e8, 0.0)];
+    let s = ShaftSupport::new("s", 1e11, &b, zc).unwrap();
+    let k = s.stiffness();
+    let d: Vec<f64> = b.iter().map(|x| x.0 - zc).collect();
+    let kuu: f64 = b.iter().map(|x| x.1).sum();
+    let kut: f64 = b.iter().zip(&d).map(|(x, d)| x.1 * d).sum();
+    let ktt: f64 = b.iter().zip(&d).map(|(x, d)| x.1 * d * d).sum();
+    let rel = |a: f64, e: f64| ((a - e) / e).abs();
+    assert!(rel(k[0][0], kuu) < 1e-5 && rel(k[1][1], kuu) < 1e-5, "{k:?}");
+    assert!(rel(k[0][4], kut) < 1e-5 && rel(k[1][3], -kut) < 1e-5, "{k:?} {kut}");
+    assert!(rel(k[4][4], ktt) < 1e-5 && rel(k[3][3], ktt) < 1e-5, "{k:?} {ktt}");
+    assert_eq!(k[2][2], 1e8);
+    // Stiff bearings, gear midway: the simply supported beam.
+    let (ei, l) = (2e4, 0.1);
+    let s = ShaftSupport::new("s", ei, &[(zc - l / 2.0, 1e15, 1e8), (zc + l / 2.0, 1e15, 0.0)], zc)
+        .unwrap();
+    let k = s.stiffness();
+    assert!(rel(k[0][0], 48.0 * ei / l.powi(3)) < 1e-5, "{}", k[0][0]);
+    assert!(rel(k[4][4], 12.0 * ei / l) < 1e-5, "{}", k[4][4]);
+    assert!(k[0][4].abs() < 1e-5 * (k[0][0] * k[4][4]).sqrt());
+    // Balance of the bearing forces against the support's force and moment on the body.
+    let s =
+        ShaftSupport::new("s", 3e4, &[(-0.02, 3e8, 1e8), (0.035, 5e8, 0.0), (0.06, 2e8, 0.0)], zc)
+            .unwrap();
+    let k = s.stiffness();
+    let p = BodyPose { u_x: 3e-6, u_y: -2e-6, u_z: 1e-6, th_x: 4e-5, th_y: -7e-5 };
+    let v = p.values();
+    let r: Vec<f64> = (0..5).map(|i| -(0..5).map(|j| k[i][j] * v[j]).sum::<f64>()).collect();
+    let (mut f, mut m) = ([0.0; 3], [0.0; 2]);
+    for (bf, bearing) in s.bearing_forces(&p).zip(s.bearings()) {
+        let d = bearing.z_m - zc;
+        for c in 0..3 {
+            f[c] += bf[c];
+        }
+        m[0] += -d * bf[1];
+        m[1] += d * bf[0];
+    }
+    let scale = r[..3].iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    for c in 0..3 {
+        assert!((f[c] - r[c]).abs() < 1e-9 * scale, "force {c}: {} against {}", f[c], r[c]);
+    }
+    let mscale = r[3].abs().max(r[4].abs());
+    assert!(
+        (m[0] - r[3]).abs() < 1e-9 * mscale && (m[1] - r[4]).abs() < 1e-9 * mscale,
+        "{m:?} {r:?}"
+    );
 }

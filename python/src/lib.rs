@@ -853,11 +853,10 @@ impl MeshModel {
         orders: usize,
     ) -> PyResult<Bound<'py, PyDict>> {
         use helical_gear_mesh::dynamics::bodies::{
-            REACTION_NAMES, SupportedDynamics, simulate_supported, support_force_stats,
-            supported_rk4_step,
+            REACTION_NAMES, SupportedDynamics, simulate_supported, supported_rk4_step,
         };
         use helical_gear_mesh::mesh::pose::INPUT_NAMES;
-        use helical_gear_mesh::results::{SupportForceRecord, SupportedRunRecord};
+        use helical_gear_mesh::results::SupportedRunRecord;
         let (tr, summary) = run(py, || {
             if !(w_p.is_finite() && w_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
             {
@@ -875,8 +874,9 @@ impl MeshModel {
             if orders > 64 {
                 return Err(Failure::Param(format!("orders = {orders}: allowed 0 … 64")));
             }
-            let supports = helical_gear_mesh::mesh::Supports::from_json(supports_json)?;
             let pair = parse_pair(pair_json)?;
+            let supports =
+                helical_gear_mesh::mesh::Supports::from_json_for(supports_json, pair.face_width_m)?;
             let drive = Drivetrain::from_pair(&pair, &parse_drive(drive_json)?)?;
             let mut mesh = self.model.clone();
             mesh.set_d_mesh(pair.d_mesh_n_s_per_m)?;
@@ -904,24 +904,7 @@ impl MeshModel {
                 finite(&at, &REACTION_NAMES, &tr.reactions[k].values())?;
                 finite_outputs(&at, o)?;
             }
-            let stats = support_force_stats(&tr, spp, orders);
-            let summary = SupportedRunRecord {
-                modes_hz: modes.frequencies_hz(),
-                modes_damping_ratio: modes.eigenvalues.iter().map(|l| -l.re / l.norm()).collect(),
-                window_mesh_periods: (tr.drive.steps).checked_div(spp).unwrap_or(0),
-                support_forces: stats
-                    .iter()
-                    .flat_map(|s| REACTION_NAMES.iter().zip(s.iter()))
-                    .map(|(name, s)| {
-                        let r = SupportForceRecord {
-                            reaction_mean_n: s.mean,
-                            reaction_peak_to_peak_n: s.peak_to_peak,
-                            orders: s.orders.clone(),
-                        };
-                        (name.to_string(), r)
-                    })
-                    .collect(),
-            };
+            let summary = SupportedRunRecord::new(&tr, &modes, model.supports(), spp, orders);
             summary.check_finite().map_err(Failure::Solver)?;
             Ok((tr, to_json_text(&summary)?))
         })?;
@@ -1016,8 +999,9 @@ impl MeshModel {
         };
         use helical_gear_mesh::results::SupportedSweepRecord;
         run(py, || {
-            let supports = helical_gear_mesh::mesh::Supports::from_json(supports_json)?;
             let pair = parse_pair(pair_json)?;
+            let supports =
+                helical_gear_mesh::mesh::Supports::from_json_for(supports_json, pair.face_width_m)?;
             let drive = Drivetrain::from_pair(&pair, &parse_drive(drive_json)?)?;
             if self.model.options().friction.is_on() {
                 return Err(Failure::Param(

@@ -565,6 +565,87 @@ pub fn simulate_supported<M: MeshTorques>(
     Ok(tr)
 }
 
+/// The dynamic forces of one bearing of a shaft-form support ([`crate::mesh::shaft`]) over a
+/// window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BearingStats {
+    /// `"pinion"` or `"gear"`.
+    pub shaft: &'static str,
+    /// The bearing's index in the JSON's list.
+    pub bearing: usize,
+    /// Its position along the axis, m.
+    pub z_m: f64,
+    /// Per component (x, y, z) of the force the bearing exerts on the shaft, N.
+    pub components: [ForceStats; 3],
+}
+
+/// The statistics of the forces of every bearing of the shaft-form supports of `supports`
+/// over the window of [`support_force_stats`] (same arguments); empty without a shaft form.
+pub fn bearing_force_stats(
+    tr: &SupportedTrajectory,
+    supports: &Supports,
+    samples_per_period: usize,
+    orders: usize,
+) -> Vec<BearingStats> {
+    let mut out = Vec::new();
+    for (name, sup, off) in [("pinion", &supports.pinion, 0), ("gear", &supports.gear, 5)] {
+        let Some(shaft) = sup.and_then(|s| s.shaft) else { continue };
+        let forces: Vec<Vec<[f64; 3]>> = tr
+            .bodies
+            .iter()
+            .map(|b| {
+                let p = BodyPose::from_values(std::array::from_fn(|k| b[off + k]));
+                shaft.bearing_forces(&p).collect()
+            })
+            .collect();
+        for (i, bearing) in shaft.bearings().enumerate() {
+            let components = std::array::from_fn(|c| {
+                let x: Vec<f64> = forces.iter().map(|f| f[i][c]).collect();
+                series_stats(&x, samples_per_period, orders)
+            });
+            out.push(BearingStats { shaft: name, bearing: i, z_m: bearing.z_m, components });
+        }
+    }
+    out
+}
+
+/// Statistics of one recorded series `x` (one value per output time) over the window of
+/// [`support_force_stats`]; default when the record is shorter than one period.
+fn series_stats(x: &[f64], samples_per_period: usize, orders: usize) -> ForceStats {
+    let total = x.len();
+    let len = if samples_per_period == 0 {
+        total
+    } else {
+        samples_per_period * (total.saturating_sub(1) / samples_per_period)
+    };
+    if len == 0 {
+        return ForceStats::default();
+    }
+    window_stats(&x[total - len..], samples_per_period, orders)
+}
+
+/// Mean, peak to peak and mesh-order amplitudes of the window `x` (whole periods of
+/// `samples_per_period` samples; 0: no orders).
+fn window_stats(x: &[f64], samples_per_period: usize, orders: usize) -> ForceStats {
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    let (lo, hi) =
+        x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+    let orders = if samples_per_period == 0 {
+        Vec::new()
+    } else {
+        (1..=orders)
+            .map(|k| {
+                let w = 2.0 * std::f64::consts::PI * k as f64 / samples_per_period as f64;
+                let s = x.iter().enumerate().fold(Complex::new(0.0, 0.0), |acc, (j, &v)| {
+                    acc + Complex::from_polar(v, -w * j as f64)
+                });
+                2.0 * s.norm() / x.len() as f64
+            })
+            .collect()
+    };
+    ForceStats { mean, peak_to_peak: hi - lo, orders }
+}
+
 /// Statistics of one support force or moment over a window.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ForceStats {
@@ -599,22 +680,6 @@ pub fn support_force_stats(
     let window = &tr.reactions[total - len..];
     Some(std::array::from_fn(|c| {
         let x: Vec<f64> = window.iter().map(|r| r.values()[c]).collect();
-        let mean = x.iter().sum::<f64>() / x.len() as f64;
-        let (lo, hi) =
-            x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-        let orders = if samples_per_period == 0 {
-            Vec::new()
-        } else {
-            (1..=orders)
-                .map(|k| {
-                    let w = 2.0 * std::f64::consts::PI * k as f64 / samples_per_period as f64;
-                    let s = x.iter().enumerate().fold(Complex::new(0.0, 0.0), |acc, (j, &v)| {
-                        acc + Complex::from_polar(v, -w * j as f64)
-                    });
-                    2.0 * s.norm() / x.len() as f64
-                })
-                .collect()
-        };
-        ForceStats { mean, peak_to_peak: hi - lo, orders }
+        window_stats(&x, samples_per_period, orders)
     }))
 }

@@ -13,7 +13,7 @@
 //!
 //! The response is reported as TE_max/STE_max with STE_max the largest static TE of the mesh
 //! on its supports over a pitch (16 points, [`crate::mesh::supported_static_curve`]), as the
-//! rigid sweep ([`super::sweep`]) reports its own over the rigid STE_max. The linearised
+//! rigid sweep ([`super::sweep()`]) reports its own over the rigid STE_max. The linearised
 //! coupled modes ([`SupportedDynamics::linear_modes`]) predict where the mesh excites them:
 //! a mode of frequency f resonates with mesh order k at ω_p = 2π·f/(k·z_p).
 //!

@@ -52,6 +52,7 @@ pub mod friction;
 pub mod model;
 pub mod outputs;
 pub mod pose;
+pub mod shaft;
 pub mod statics;
 pub mod supports;
 pub mod table;

@@ -21,6 +21,10 @@
 //! transverse plane: K = diag(k_r, k_r, k_a, k_t, k_t)) or `"stiffness_matrix"`: 5 × 5 rows in
 //! the order of p; `"damping"` likewise (`"radial_ns_per_m"`, `"axial_ns_per_m"`,
 //! `"tilt_nms_per_rad"` or `"damping_matrix"`; missing: none). A missing body is rigid.
+//! Instead of the stiffness, `"shaft": {"bending_stiffness_nm2", "bearings": [{"z_m",
+//! "radial_n_per_m", "axial_n_per_m"?}, …]}` describes the gear's shaft on 2 … 4 elastic
+//! bearings, from which the stiffness at the gear centre is derived ([`super::shaft`]; read
+//! with the pair's face width, [`Supports::from_json_for`], since the gear centre is at b/2).
 //!
 //! # Static equilibrium with the bodies displaced
 //! At pinion angle φp and pinion torque M the unknowns are TE and both poses. The mesh's force
@@ -35,6 +39,7 @@
 
 use serde_json::Value;
 
+use super::shaft::ShaftSupport;
 use super::statics::{Equilibrium, EquilibriumSettings, StaticCurve, curve_points, equilibrium};
 use super::{BodyPose, MeshError, MeshTorques};
 use crate::error::ParamError;
@@ -50,6 +55,9 @@ pub struct Support {
     pub stiffness: [[f64; 5]; 5],
     /// Damping C (N·s/m, N·s/rad, N·m·s/m, N·m·s/rad by block).
     pub damping: [[f64; 5]; 5],
+    /// The shaft on its bearings the stiffness was derived from (the JSON's `shaft` form,
+    /// [`super::shaft`]); `None` when the stiffness was given at the gear centre.
+    pub shaft: Option<ShaftSupport>,
 }
 
 /// The supports of both bodies; `None`: held rigidly.
@@ -80,7 +88,15 @@ impl Support {
 
 impl Supports {
     /// Reads the JSON of the module docs; errors name the key (`supports.gear.stiffness`, …).
+    /// The shaft form needs the gear pair's face width ([`Self::from_json_for`]) and is an
+    /// error here.
     pub fn from_json(text: &str) -> Result<Self, ParamError> {
+        Self::from_json_for(text, f64::NAN)
+    }
+
+    /// [`Self::from_json`] for a gear pair of face width `face_width_m` (m), which places the
+    /// gear centres of the shaft form at b/2.
+    pub fn from_json_for(text: &str, face_width_m: f64) -> Result<Self, ParamError> {
         let v: Value = serde_json::from_str(text)
             .map_err(|e| ParamError::new("supports", f64::NAN, format!("valid JSON: {e}")))?;
         let Value::Object(map) = &v else {
@@ -100,32 +116,28 @@ impl Supports {
             }
         }
         let body = |name: &str| -> Result<Option<Support>, ParamError> {
-            map.get(name).map(|b| parse_body(&format!("supports.{name}"), b)).transpose()
+            map.get(name)
+                .map(|b| parse_body(&format!("supports.{name}"), b, 0.5 * face_width_m))
+                .transpose()
         };
         Ok(Self { pinion: body("pinion")?, gear: body("gear")? })
     }
 }
 
-fn parse_body(key: &str, v: &Value) -> Result<Support, ParamError> {
+fn parse_body(key: &str, v: &Value, center_z: f64) -> Result<Support, ParamError> {
     let Value::Object(m) = v else {
         return Err(ParamError::new(key, f64::NAN, "a JSON object"));
     };
-    const KEYS: [&str; 6] = [
+    const KEYS: [&str; 7] = [
         "mass_kg",
         "j_transverse_kgm2",
         "stiffness",
         "stiffness_matrix",
+        "shaft",
         "damping",
         "damping_matrix",
     ];
     for k in m.keys() {
-        if k == "shaft" {
-            return Err(ParamError::new(
-                &format!("{key}.shaft"),
-                f64::NAN,
-                "the shaft arrangement is not read yet: give `stiffness` or `stiffness_matrix` at the gear centre",
-            ));
-        }
         if !KEYS.contains(&k.as_str()) {
             return Err(ParamError::new(
                 &format!("{key}.{k}"),
@@ -148,20 +160,33 @@ fn parse_body(key: &str, v: &Value) -> Result<Support, ParamError> {
     };
     let mass_kg = positive("mass_kg")?;
     let j_transverse_kgm2 = positive("j_transverse_kgm2")?;
-    let stiffness = matrix(
+    let given = matrix(
         key,
         m,
         ("stiffness", "stiffness_matrix"),
         ["radial_n_per_m", "axial_n_per_m", "tilt_nm_per_rad"],
         true,
-    )?
-    .ok_or_else(|| {
-        ParamError::new(
-            &format!("{key}.stiffness"),
-            f64::NAN,
-            "`stiffness` or `stiffness_matrix` (required)",
-        )
-    })?;
+    )?;
+    let shaft =
+        m.get("shaft").map(|s| parse_shaft(&format!("{key}.shaft"), s, center_z)).transpose()?;
+    let stiffness = match (given, &shaft) {
+        (Some(_), Some(_)) => {
+            return Err(ParamError::new(
+                &format!("{key}.shaft"),
+                f64::NAN,
+                "either `shaft` or `stiffness`/`stiffness_matrix`, not both",
+            ));
+        }
+        (Some(k), None) => k,
+        (None, Some(s)) => s.stiffness(),
+        (None, None) => {
+            return Err(ParamError::new(
+                &format!("{key}.stiffness"),
+                f64::NAN,
+                "`stiffness`, `stiffness_matrix` or `shaft` (required)",
+            ));
+        }
+    };
     if cholesky(&stiffness).is_none() {
         return Err(ParamError::new(
             &format!("{key}.stiffness"),
@@ -177,7 +202,76 @@ fn parse_body(key: &str, v: &Value) -> Result<Support, ParamError> {
         false,
     )?
     .unwrap_or([[0.0; 5]; 5]);
-    Ok(Support { mass_kg, j_transverse_kgm2, stiffness, damping })
+    Ok(Support { mass_kg, j_transverse_kgm2, stiffness, damping, shaft })
+}
+
+/// The shaft form `{"bending_stiffness_nm2", "bearings": [{"z_m", "radial_n_per_m",
+/// "axial_n_per_m"?}, …]}` ([`super::shaft`]) for a gear centred at `center_z` (m; NaN: not
+/// known, an error).
+fn parse_shaft(key: &str, v: &Value, center_z: f64) -> Result<ShaftSupport, ParamError> {
+    let Value::Object(m) = v else {
+        return Err(ParamError::new(key, f64::NAN, "a JSON object"));
+    };
+    if !center_z.is_finite() {
+        return Err(ParamError::new(
+            key,
+            f64::NAN,
+            "read with the gear pair (the shaft form places the gear centre at b/2): \
+             Supports::from_json_for",
+        ));
+    }
+    for k in m.keys() {
+        if k != "bending_stiffness_nm2" && k != "bearings" {
+            return Err(ParamError::new(
+                &format!("{key}.{k}"),
+                f64::NAN,
+                "one of bending_stiffness_nm2, bearings",
+            ));
+        }
+    }
+    let ei = m.get("bending_stiffness_nm2").and_then(Value::as_f64).ok_or_else(|| {
+        ParamError::new(&format!("{key}.bending_stiffness_nm2"), f64::NAN, "a number (required)")
+    })?;
+    let list = m.get("bearings").and_then(Value::as_array).ok_or_else(|| {
+        ParamError::new(&format!("{key}.bearings"), f64::NAN, "a list of bearings (required)")
+    })?;
+    if list.len() > super::shaft::MAX_SHAFT_BEARINGS {
+        return Err(ParamError::new(
+            &format!("{key}.bearings"),
+            list.len() as f64,
+            format!("2 … {} bearings", super::shaft::MAX_SHAFT_BEARINGS),
+        ));
+    }
+    let mut bearings = Vec::with_capacity(list.len());
+    for (i, b) in list.iter().enumerate() {
+        let bk = format!("{key}.bearings[{i}]");
+        let Value::Object(o) = b else {
+            return Err(ParamError::new(&bk, f64::NAN, "a JSON object"));
+        };
+        for k in o.keys() {
+            if !["z_m", "radial_n_per_m", "axial_n_per_m"].contains(&k.as_str()) {
+                return Err(ParamError::new(
+                    &format!("{bk}.{k}"),
+                    f64::NAN,
+                    "one of z_m, radial_n_per_m, axial_n_per_m",
+                ));
+            }
+        }
+        let num = |k: &str, default: Option<f64>| -> Result<f64, ParamError> {
+            match (o.get(k), default) {
+                (None, Some(d)) => Ok(d),
+                (v, _) => v.and_then(Value::as_f64).ok_or_else(|| {
+                    ParamError::new(&format!("{bk}.{k}"), f64::NAN, "a number (required)")
+                }),
+            }
+        };
+        bearings.push((
+            num("z_m", None)?,
+            num("radial_n_per_m", None)?,
+            num("axial_n_per_m", Some(0.0))?,
+        ));
+    }
+    ShaftSupport::new(key, ei, &bearings, center_z)
 }
 
 /// The matrix of `diag_key` (three diagonal values) or `full_key` (5 × 5), checked finite,

@@ -31,8 +31,8 @@ use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Friction, Mesh, MeshError, MeshOptions, MeshTorques,
 };
 use helical_gear_mesh::results::{
-    SupportForceRecord, SupportedRunRecord, SupportedSweepRecord, SweepRecord, SweepRunRecord,
-    TrajectoryRecord, TrajectoryRunRecord,
+    SupportedRunRecord, SupportedSweepRecord, SweepRecord, SweepRunRecord, TrajectoryRecord,
+    TrajectoryRunRecord,
 };
 use helical_gear_mesh::{DriveLine, GearPair};
 
@@ -415,7 +415,9 @@ fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<()
     if a.orders > MAX_ORDERS {
         return Err(format!("--orders = {}: allowed 0 … {MAX_ORDERS}", a.orders));
     }
-    let supports = super::read_json_as("--supports", path, Supports::from_json)?;
+    // Read and checked before the mesh is built; the shaft form needs the pair's face width.
+    let b = load_params(&a.common)?.face_width_m;
+    let supports = super::read_json_as("--supports", path, |t| Supports::from_json_for(t, b))?;
     let (_, drive, mesh, friction) = setup(&a.common, &a.drive, a.d_mesh, a.fidelity, &a.friction)?;
     if friction.is_on() {
         return Err("--supports with --friction: not supported yet (the friction forces' pose \
@@ -447,25 +449,7 @@ fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<()
     let record = TrajectoryRecord::supported(&tr);
     record.check_finite()?;
     let columns = record.columns();
-    let summary = SupportedRunRecord {
-        modes_hz: modes.frequencies_hz(),
-        modes_damping_ratio: modes.eigenvalues.iter().map(|l| -l.re / l.norm()).collect(),
-        window_mesh_periods: window,
-        support_forces: stats
-            .iter()
-            .flat_map(|s| REACTION_NAMES.iter().zip(s.iter()))
-            .map(|(name, s)| {
-                (
-                    name.to_string(),
-                    SupportForceRecord {
-                        reaction_mean_n: s.mean,
-                        reaction_peak_to_peak_n: s.peak_to_peak,
-                        orders: s.orders.clone(),
-                    },
-                )
-            })
-            .collect(),
-    };
+    let summary = SupportedRunRecord::new(&tr, &modes, model.supports(), spp, a.orders);
     let stdout = std::io::stdout();
     let mut w = std::io::BufWriter::new(stdout.lock());
     if a.common.json {
@@ -542,6 +526,23 @@ fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<()
                 .map_err(io_err)?;
             }
         }
+        for b in &summary.bearings {
+            writeln!(
+                w,
+                "  bearing {} of the {} shaft at z = {:.4} m: force on the shaft mean ({:.2}, \
+                 {:.2}, {:.2}) N, peak to peak ({:.2}, {:.2}, {:.2}) N",
+                b.bearing,
+                b.shaft,
+                b.z_m,
+                b.reaction_mean_n[0],
+                b.reaction_mean_n[1],
+                b.reaction_mean_n[2],
+                b.reaction_peak_to_peak_n[0],
+                b.reaction_peak_to_peak_n[1],
+                b.reaction_peak_to_peak_n[2]
+            )
+            .map_err(io_err)?;
+        }
         if stats.is_none() {
             writeln!(w, "  (the run is shorter than one mesh period: no statistics)")
                 .map_err(io_err)?;
@@ -586,10 +587,11 @@ pub fn sweep_cmd(a: &SweepArgs) -> Result<(), String> {
     };
     helical_gear_mesh::dynamics::check_sweep_request(&speeds, &request)
         .map_err(|e| e.to_string())?;
+    let b = load_params(&a.common)?.face_width_m;
     let supports = a
         .supports
         .as_ref()
-        .map(|path| super::read_json_as("--supports", path, Supports::from_json))
+        .map(|path| super::read_json_as("--supports", path, |t| Supports::from_json_for(t, b)))
         .transpose()?;
     let (pair, drive, mesh, friction) =
         setup(&a.common, &a.drive, a.d_mesh, a.fidelity, &a.friction)?;

@@ -52,10 +52,12 @@ pub fn static_cmd(
                     rigid bearings only; run --plot without --supports"
             .to_string());
     }
-    let supports = supports
-        .map(|path| super::read_json_as("--supports", path, Supports::from_json))
-        .transpose()?;
     let p = load_params(common)?;
+    let supports = supports
+        .map(|path| {
+            super::read_json_as("--supports", path, |t| Supports::from_json_for(t, p.face_width_m))
+        })
+        .transpose()?;
     let drive = load_drive(drive)?;
     let torque = torque.unwrap_or(drive.torque_nm);
     if !(torque.is_finite() && torque > 0.0) {
