@@ -6,8 +6,8 @@
 
 use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{
-    BodyPose, EquilibriumSettings, Fidelity, Mesh, MeshError, MeshOptions, MeshState, MeshTorques,
-    Supports, TABLE_POSE_BOUND_MN, supported_static_curve,
+    BodyPose, EquilibriumSettings, Fidelity, Mesh, MeshOptions, MeshState, MeshTorques, Supports,
+    TABLE_POSE_BOUND_MN, supported_static_curve,
 };
 
 fn supports(scale: f64) -> Supports {
@@ -87,15 +87,20 @@ fn the_table_with_poses_follows_the_full_model() {
     let mut table =
         Mesh::new(&pair, MeshOptions { fidelity: Fidelity::Table, ..MeshOptions::default() })
             .unwrap();
-    // Without prepared sensitivities a pose is refused.
+    // The first posed state builds the sensitivities; preparing afterwards changes nothing,
+    // and a copy of the model shares them.
     let posed = MeshState {
         phi_p: 0.01,
         phi_g: -0.0060851,
         pose_g: BodyPose { u_x: 1e-6, ..Default::default() },
         ..Default::default()
     };
-    assert!(matches!(table.mesh(&posed), Err(MeshError::Unsupported(_))));
+    let first = table.mesh(&posed).unwrap();
     table.prepare_poses().unwrap();
+    assert_eq!(table.mesh(&posed).unwrap(), first);
+    let t0 = std::time::Instant::now();
+    assert_eq!(table.clone().mesh(&posed).unwrap(), first);
+    assert!(t0.elapsed().as_secs_f64() < 0.5, "a copy shares the sensitivities");
     for (name, scale) in [("stiff", 10.0), ("example", 1.0), ("soft", 1.0 / 3.0)] {
         let (e, ignored, u) = errors(&mut full, &mut table, &supports(scale));
         eprintln!(

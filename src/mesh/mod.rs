@@ -580,7 +580,8 @@ pub trait MeshTorques {
     }
 
     /// Makes the model ready to evaluate states with the gear bodies displaced, where that
-    /// needs work once: the table builds its pose sensitivities ([`table::PoseTable`]). The
+    /// needs work once: the table builds its pose sensitivities ([`table::PoseTable`]), which
+    /// it would otherwise build at its first posed state. The
     /// default (the full model, which takes any pose; the analytic meshes, which refuse one)
     /// does nothing.
     fn prepare_poses(&mut self) -> Result<(), MeshError> {

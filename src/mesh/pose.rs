@@ -80,9 +80,9 @@
 //! # Jacobian
 //! The full model's Jacobian ([`super::MeshJacobian::pose`]) holds the exact derivatives of the
 //! torques with respect to every pose and rate component, at rest and at any pose within the
-//! bounds (module docs of `model/jacobian.rs`, "Body poses"). The table evaluates a pose once
-//! prepared for it (its pose sensitivities, `table/pose.rs`), but its Jacobian refuses one;
-//! with friction the pose columns are not provided (`None`).
+//! bounds (module docs of `model/jacobian.rs`, "Body poses"). The table evaluates a pose with
+//! its pose sensitivities (`table/pose.rs`, built at the first posed state), but its Jacobian
+//! refuses one; with friction the pose columns are not provided (`None`).
 //!
 //! # Bounds
 //! Small displacements: every translation component within ±[`MAX_TRANSLATION_MN`]·m_n and

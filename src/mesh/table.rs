@@ -380,6 +380,9 @@ pub struct MeshTable {
     pairs: Option<PairTable>,
     /// The TE axes that were cut short at the model's range (see [`TableTruncation`]).
     truncations: Vec<TableTruncation>,
+    /// The pose sensitivities ([`PoseTable`]), built at the first need and shared by every
+    /// mesh that shares this table ([`MeshTable::pose_table`]).
+    pose: std::sync::OnceLock<Result<Arc<PoseTable>, MeshError>>,
 }
 
 /// A TE axis of the table that ends short of its designed extent because the full model is
@@ -547,6 +550,17 @@ fn axis_weights_of(i: usize, n: usize, [h00, h10, h01, h11]: [f64; 4]) -> (usize
 }
 
 impl MeshTable {
+    /// The pose sensitivities of this table ([`PoseTable`]), built from the full model `model`
+    /// (the one the table was built from) at the first call and kept: every mesh that shares
+    /// this table shares them. Errors: the table or the model has no pose sensitivities (tooth
+    /// deviations, friction), or the build failed; the same error at every call.
+    pub fn pose_table(&self, model: &Arc<MeshModel>) -> Result<&Arc<PoseTable>, MeshError> {
+        self.pose
+            .get_or_init(|| PoseTable::build(self, model).map(Arc::new))
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
     /// True when the table carries tooth-by-tooth deviations (per-pair values).
     pub fn has_tooth_deviations(&self) -> bool {
         self.pairs.is_some()
@@ -1010,33 +1024,21 @@ impl MeshTable {
 pub struct TableMesh {
     table: Arc<MeshTable>,
     full: FullMesh,
-    /// The pose sensitivities ([`PoseTable`]), once prepared ([`MeshTorques::prepare_poses`]).
-    pose: Option<Arc<PoseTable>>,
 }
 
 impl TableMesh {
     /// The table `table` of the model of `full` (built from it, or from its periodic part).
     pub fn new(table: Arc<MeshTable>, full: FullMesh) -> Self {
-        Self { table, full, pose: None }
-    }
-
-    /// The pose sensitivities, when prepared.
-    pub fn pose_table(&self) -> Option<&Arc<PoseTable>> {
-        self.pose.as_ref()
+        Self { table, full }
     }
 
     /// The outputs at a state with the bodies displaced (module docs of [`pose`]): the table
     /// at the shifted TE plus the first-order part, the wrench about the displaced centres in
-    /// the housing frame; the full model outside the table's TE range. Refused without
-    /// prepared sensitivities or beyond their bound.
+    /// the housing frame; the full model outside the table's TE range. The first posed state
+    /// builds the table's pose sensitivities ([`MeshTable::pose_table`]); refused beyond their
+    /// bound, or where the table has none (tooth deviations, friction).
     fn evaluate_posed(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
-        let Some(pt) = self.pose.clone() else {
-            return Err(MeshError::Unsupported(
-                "a gear body off its bearing axis (pose or pose rate) at table fidelity \
-                 without pose sensitivities: prepare the model for poses (the supported \
-                 dynamics do), or evaluate at full fidelity",
-            ));
-        };
+        let pt = self.table.pose_table(self.full.model())?.clone();
         let model = self.full.model();
         let geo = model.geometry();
         let a = geo.center_distance;
@@ -1153,12 +1155,10 @@ impl MeshTorques for TableMesh {
         self.full.has_friction()
     }
 
-    /// Builds the pose sensitivities ([`PoseTable`]) once; clones made afterwards share them.
+    /// Builds the table's pose sensitivities ([`MeshTable::pose_table`]) now rather than at the
+    /// first posed state; every mesh sharing the table shares them.
     fn prepare_poses(&mut self) -> Result<(), MeshError> {
-        if self.pose.is_none() {
-            self.pose = Some(Arc::new(PoseTable::build(&self.table, self.full.model())?));
-        }
-        Ok(())
+        self.table.pose_table(self.full.model()).map(|_| ())
     }
 
     /// Exact partial derivatives of the table's interpolant

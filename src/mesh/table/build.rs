@@ -139,6 +139,7 @@ impl MeshTable {
             checked_points: 0,
             pairs: None,
             truncations,
+            pose: std::sync::OnceLock::new(),
         };
 
         // Error check at cell centres (a deterministic subset of cells on the drive axis). A

@@ -46,8 +46,9 @@
 //!    F_n, p_max, the root stresses and the discrete outputs are those at the shifted TE.
 //!
 //! # Cost and bound
-//! The sensitivities are built once, when a model is prepared for poses
-//! ([`crate::mesh::MeshTorques::prepare_poses`]): 10 full evaluations per node of the coarse
+//! The sensitivities are built once per table, at its first posed state or when a model is
+//! prepared for poses ([`crate::mesh::MeshTorques::prepare_poses`]), and shared by every mesh
+//! that shares the table ([`super::MeshTable::pose_table`]): 10 full evaluations per node of the coarse
 //! grid (about as many as the table itself). An evaluation adds one bilinear interpolation of
 //! 35 values. Relative poses beyond [`TABLE_POSE_BOUND_MN`]·m_n (translations) or that over b
 //! (tilts) are refused with an error naming the bound: the first-order part is measured
