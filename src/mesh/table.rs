@@ -1188,8 +1188,8 @@ fn refuse_pose(state: &MeshState) -> Result<(), MeshError> {
         Ok(())
     } else {
         Err(MeshError::Unsupported(
-            "a gear body off its bearing axis (pose or pose rate) at table fidelity: evaluate \
-             at full fidelity",
+            "the table's Jacobian with a gear body off its bearing axis (pose or pose rate): \
+             use full fidelity for derivatives at a pose",
         ))
     }
 }

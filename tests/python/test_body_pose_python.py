@@ -50,10 +50,17 @@ def test_bad_pose_input_names_the_keyword_or_the_component():
         m.evaluate(*STATE, om_p_x=float("nan"))
 
 
-def test_the_table_refuses_a_pose():
-    m = hg.MeshModel(fidelity="table", slices=30)
-    with pytest.raises(hg.GearMeshError, match="full fidelity"):
-        m.evaluate(*STATE, u_g_x=1e-6)
+def test_the_table_takes_a_pose():
+    """At table fidelity a pose is evaluated with the table's pose sensitivities (built at the
+    first posed call), close to the full model (1e-3 of 100 N·m); beyond the table's pose bound
+    (0.02·m_n) it is refused, naming the relative component."""
+    full = hg.MeshModel(slices=30)
+    table = hg.MeshModel(fidelity="table", slices=30)
+    pose = {"u_g_x": 4e-6, "th_g_y": -1.5e-5}
+    a, b = full.evaluate(*STATE, **pose), table.evaluate(*STATE, **pose)
+    assert abs(a["M_F_p"] - b["M_F_p"]) < 1e-3 * 100.0, (a["M_F_p"], b["M_F_p"])
+    with pytest.raises(hg.GearMeshError, match="U_y"):
+        table.evaluate(*STATE, u_g_y=61e-6)
 
 
 SUPPORTS = {
