@@ -56,3 +56,21 @@ fn the_coupled_modes_predict_the_sweep_resonances() {
         assert!(d.abs() <= 0.03, "peak {w} rad/s, nearest {best} rad/s");
     }
 }
+
+/// Work is bounded before it starts: supports so stiff that their modes need 10⁵ steps per mesh
+/// period are refused at once, naming the step count, instead of running for hours.
+#[test]
+fn stiff_supports_are_refused_before_the_work() {
+    let pair = GearPair::paper_table1();
+    let drive = Drivetrain::from_pair(&pair, &DriveLine::paper_table1()).unwrap();
+    let mesh = Mesh::new(&pair, MeshOptions { slices: 40, ..MeshOptions::default() }).unwrap();
+    let stiff = r#"{"mass_kg": 0.01, "j_transverse_kgm2": 1e-6,
+        "stiffness": {"radial_n_per_m": 1e15, "axial_n_per_m": 1e15, "tilt_nm_per_rad": 1e9}}"#;
+    let supports = Supports::from_json(&format!(r#"{{"gear": {stiff}}}"#)).unwrap();
+    let t0 = std::time::Instant::now();
+    let e = sweep_supported(&mesh, &drive, &supports, &[300.0], &SupportedSweepOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("RK4 steps") && e.contains("max_periods"), "{e}");
+    assert!(t0.elapsed().as_secs_f64() < 30.0);
+}

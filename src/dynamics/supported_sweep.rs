@@ -17,6 +17,10 @@
 //! coupled modes ([`SupportedDynamics::linear_modes`]) predict where the mesh excites them:
 //! a mode of frequency f resonates with mesh order k at ω_p = 2π·f/(k·z_p).
 //!
+//! The work of a run is bounded before it starts: at most
+//! [`super::limits::MAX_STEADY_STEPS`] RK4 steps ((`max_periods` + `window`) × N), else
+//! [`DynamicsError::TooLarge`] names the count and what to change.
+//!
 //! The speeds run in parallel on a rayon pool, each worker with its own clone of the mesh; a
 //! table is prepared for poses once before the clones share it.
 
@@ -100,7 +104,21 @@ pub fn run_supported_to_steady<M: MeshTorques>(
     let modes = model.linear_modes(&start)?;
     let drive = *model.drive();
     let dt = supported_rk4_step(&drive, &modes, omega_p);
-    let spp = (drive.mesh_period(omega_p) / dt).round() as usize;
+    let spp_f = (drive.mesh_period(omega_p) / dt).round();
+    // Work is bounded before the run (stiff supports or a low speed make the steps many).
+    let steps = spp_f * (opts.max_periods + opts.window) as f64;
+    if !(steps <= super::limits::MAX_STEADY_STEPS) {
+        return Err(DynamicsError::TooLarge(format!(
+            "a supported run at {omega_p} rad/s would take up to {steps:.3e} RK4 steps \
+             ({spp_f:.0} per mesh period for the fastest coupled mode, |λ| = {:.3e} rad/s, \
+             times {} periods); at most {:.0e}: lower max_periods, raise the speed, or soften \
+             the stiffest support or make its body heavier",
+            modes.fastest,
+            opts.max_periods + opts.window,
+            super::limits::MAX_STEADY_STEPS
+        )));
+    }
+    let spp = spp_f as usize;
     let mut y = start.y;
     let mut last: Vec<f64> = Vec::new();
     let mut steady = false;
