@@ -107,7 +107,7 @@ pub fn run_supported_to_steady<M: MeshTorques>(
     let spp_f = (drive.mesh_period(omega_p) / dt).round();
     // Work is bounded before the run (stiff supports or a low speed make the steps many).
     let steps = spp_f * (opts.max_periods + opts.window) as f64;
-    if !(steps <= super::limits::MAX_STEADY_STEPS) {
+    if steps.is_nan() || steps > super::limits::MAX_STEADY_STEPS {
         return Err(DynamicsError::TooLarge(format!(
             "a supported run at {omega_p} rad/s would take up to {steps:.3e} RK4 steps \
              ({spp_f:.0} per mesh period for the fastest coupled mode, |λ| = {:.3e} rad/s, \
