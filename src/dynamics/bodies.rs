@@ -400,7 +400,7 @@ impl<M: MeshTorques> SupportedDynamics<M> {
         // The drive line's free rotation (constant torques at both ends) is a double zero
         // eigenvalue; round-off gives it a tiny imaginary part, which is not a mode.
         let mut eigenvalues: Vec<Complex<f64>> =
-            eig.into_iter().filter(|l| l.im > 1e-9 * fastest).collect();
+            eig.into_iter().filter(|l| l.im > 1e-6 * fastest).collect();
         eigenvalues.sort_by(|x, y| x.im.total_cmp(&y.im));
         // State index of each first-order coordinate: (q, q̇) with q = (φ₁, φp, φg, φ₂, poses).
         let index = |r: usize| {
