@@ -74,16 +74,7 @@ fn simulate_with_supports_reports_poses_and_support_forces() {
     let dir = std::env::temp_dir().join(format!("hg-cli-supports-sim-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("supports.json");
-    std::fs::write(
-        &file,
-        r#"{"pinion": {"mass_kg": 2, "j_transverse_kgm2": 1e-3,
-            "stiffness": {"radial_n_per_m": 6e8, "axial_n_per_m": 3e8, "tilt_nm_per_rad": 8e5},
-            "damping": {"radial_ns_per_m": 2000, "axial_ns_per_m": 1000, "tilt_nms_per_rad": 2}},
-          "gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2,
-            "stiffness": {"radial_n_per_m": 9e8, "axial_n_per_m": 3e8, "tilt_nm_per_rad": 2e6},
-            "damping": {"radial_ns_per_m": 4000, "axial_ns_per_m": 2000, "tilt_nms_per_rad": 5}}}"#,
-    )
-    .unwrap();
+    std::fs::write(&file, EXAMPLE).unwrap();
     let f = file.to_str().unwrap();
     let base = ["simulate", "--omega-p", "300", "--t-end", "2.2e-3"];
     let mut args = base.to_vec();
@@ -189,9 +180,5 @@ fn sweep_with_supports_reports_the_supported_curve() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-const EXAMPLE: &str = r#"{"pinion": {"mass_kg": 2, "j_transverse_kgm2": 1e-3,
-    "stiffness": {"radial_n_per_m": 6e8, "axial_n_per_m": 3e8, "tilt_nm_per_rad": 8e5},
-    "damping": {"radial_ns_per_m": 2000, "axial_ns_per_m": 1000, "tilt_nms_per_rad": 2}},
-  "gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2,
-    "stiffness": {"radial_n_per_m": 9e8, "axial_n_per_m": 3e8, "tilt_nm_per_rad": 2e6},
-    "damping": {"radial_ns_per_m": 4000, "axial_ns_per_m": 2000, "tilt_nms_per_rad": 5}}}"#;
+/// The guide's example supports (the file its figures were made with).
+const EXAMPLE: &str = include_str!("../../docs/gear-bodies/supports.json");

@@ -159,6 +159,20 @@ const FORCE_NAMES: [&str; 10] =
 
 /// The one check on every number handed to Python: a non-finite value is a solver error naming
 /// where (`at`) and which value, never a result.
+/// Checks the nominal pinion speed `w_p` (rad/s) and the end time `t_end` (s) of a trajectory.
+fn check_run(w_p: f64, t_end: f64) -> Res<()> {
+    if !(w_p.is_finite() && w_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S) {
+        return Err(Failure::Param(format!(
+            "w_p = {w_p}: allowed finite, |w_p| <= 1e5 rad/s (the largest nominal speed; \
+             negative: running backwards)"
+        )));
+    }
+    if !(t_end.is_finite() && t_end > 0.0) {
+        return Err(Failure::Param(format!("t_end = {t_end}: allowed finite and > 0 (s)")));
+    }
+    Ok(())
+}
+
 fn finite(at: &str, names: &[&str], values: &[f64]) -> Res<()> {
     match names.iter().zip(values).find(|(_, v)| !v.is_finite()) {
         None => Ok(()),
@@ -751,16 +765,7 @@ impl MeshModel {
         atol: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (tr_time, states, outs, steps, evals) = run(py, || {
-            if !(w_p.is_finite() && w_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
-            {
-                return Err(Failure::Param(format!(
-                    "w_p = {w_p}: allowed finite, |w_p| <= 1e5 rad/s (the largest nominal speed; \
-                     negative: running backwards)"
-                )));
-            }
-            if !(t_end.is_finite() && t_end > 0.0) {
-                return Err(Failure::Param(format!("t_end = {t_end}: allowed finite and > 0 (s)")));
-            }
+            check_run(w_p, t_end)?;
             if let Some(dt) = dt
                 && !(dt.is_finite() && dt > 0.0 && dt <= t_end)
             {
@@ -858,16 +863,7 @@ impl MeshModel {
         use helical_gear_mesh::mesh::pose::INPUT_NAMES;
         use helical_gear_mesh::results::SupportedRunRecord;
         let (tr, summary) = run(py, || {
-            if !(w_p.is_finite() && w_p.abs() <= helical_gear_mesh::mesh::validity::MAX_SPEED_RAD_S)
-            {
-                return Err(Failure::Param(format!(
-                    "w_p = {w_p}: allowed finite, |w_p| <= 1e5 rad/s (the largest nominal speed; \
-                     negative: running backwards)"
-                )));
-            }
-            if !(t_end.is_finite() && t_end > 0.0) {
-                return Err(Failure::Param(format!("t_end = {t_end}: allowed finite and > 0 (s)")));
-            }
+            check_run(w_p, t_end)?;
             if !phi_p0.is_finite() {
                 return Err(Failure::Param(format!("phi_p0 = {phi_p0}: allowed finite (rad)")));
             }

@@ -65,7 +65,7 @@ use super::model::{Drivetrain, DynamicsError, GearDynamics, N_STATES, invalid};
 use super::simulate::{DEFAULT_STEPS_PER_MESH_PERIOD, Trajectory, check_samples};
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::supports::{Support, Supports, supported_equilibrium};
-use crate::mesh::{BodyPose, MeshOutputs, MeshState, MeshTorques};
+use crate::mesh::{BodyPose, MeshError, MeshOutputs, MeshState, MeshTorques};
 
 /// Number of states of the supported model: 8 of Eqs. 1–4 and 20 of the two bodies.
 pub const N_BODY_STATES: usize = 28;
@@ -146,6 +146,11 @@ pub struct SupportedDynamics<M> {
     gears: GearDynamics<M>,
     supports: Supports,
     evaluations: usize,
+    /// The last evaluation (bits of the 28 states, outputs), reused for a bit-identical state:
+    /// recording a step's end state and the next step's first stage evaluate the same state.
+    /// The mesh is a function of the state, so this changes no result (as in
+    /// [`GearDynamics`]); dropped whenever the mesh is used from outside.
+    cache: Option<([u64; N_BODY_STATES], MeshOutputs)>,
 }
 
 impl<M: MeshTorques> SupportedDynamics<M> {
@@ -162,7 +167,7 @@ impl<M: MeshTorques> SupportedDynamics<M> {
         }
         let mut mesh = mesh;
         mesh.prepare_poses().map_err(|source| DynamicsError::Mesh { t: None, source })?;
-        Ok(Self { gears: GearDynamics::new(mesh, drive)?, supports, evaluations: 0 })
+        Ok(Self { gears: GearDynamics::new(mesh, drive)?, supports, evaluations: 0, cache: None })
     }
 
     /// The drivetrain.
@@ -175,12 +180,13 @@ impl<M: MeshTorques> SupportedDynamics<M> {
         &self.supports
     }
 
-    /// The mesh model.
+    /// The mesh model (forgets the remembered evaluation).
     pub fn mesh_mut(&mut self) -> &mut M {
+        self.cache = None;
         self.gears.mesh_mut()
     }
 
-    /// Number of mesh evaluations so far.
+    /// Number of mesh evaluations so far (remembered ones not counted).
     pub fn mesh_evaluations(&self) -> usize {
         self.evaluations
     }
@@ -212,16 +218,27 @@ impl<M: MeshTorques> SupportedDynamics<M> {
         }
     }
 
-    /// The mesh outputs at state `y` (28 components).
+    /// The mesh outputs at state `y` (28 components); the last evaluation is reused for a
+    /// bit-identical state.
     pub fn outputs(&mut self, y: &[f64]) -> Result<MeshOutputs, DynamicsError> {
         if y.len() != N_BODY_STATES {
             return Err(invalid("state length", y.len() as f64, "28"));
         }
+        self.mesh_at(y).map_err(|source| DynamicsError::Mesh { t: None, source })
+    }
+
+    /// The mesh at state `y` (28 components), remembered (see the field `cache`).
+    fn mesh_at(&mut self, y: &[f64]) -> Result<MeshOutputs, MeshError> {
+        let key: [u64; N_BODY_STATES] = std::array::from_fn(|i| y[i].to_bits());
+        if let Some((k, o)) = &self.cache
+            && *k == key
+        {
+            return Ok(*o);
+        }
         self.evaluations += 1;
-        self.gears
-            .mesh_mut()
-            .mesh(&Self::mesh_state(y))
-            .map_err(|source| DynamicsError::Mesh { t: None, source })
+        let o = self.gears.mesh_mut().mesh(&Self::mesh_state(y))?;
+        self.cache = Some((key, o));
+        Ok(o)
     }
 
     /// The static start at pinion angle `phi_p0` (rad) and nominal pinion speed `omega_p`
@@ -232,6 +249,7 @@ impl<M: MeshTorques> SupportedDynamics<M> {
         omega_p: f64,
         settings: &EquilibriumSettings,
     ) -> Result<SupportedStart, DynamicsError> {
+        self.cache = None;
         // The rigid start checks the arguments and gives the TE guess.
         let rigid = self.gears.static_start(phi_p0, omega_p, settings)?;
         let d = *self.gears.drive();
@@ -466,9 +484,7 @@ impl<M: MeshTorques> OdeSystem for SupportedDynamics<M> {
                 found: if y.len() != N_BODY_STATES { y.len() } else { dydt.len() },
             });
         }
-        self.evaluations += 1;
-        let o =
-            self.gears.mesh_mut().mesh(&Self::mesh_state(y)).map_err(|e| OdeError::rhs(t, e))?;
+        let o = self.mesh_at(y).map_err(|e| OdeError::rhs(t, e))?;
         self.derivative(y, &o, dydt);
         Ok(())
     }
@@ -613,15 +629,23 @@ pub fn bearing_force_stats(
 /// [`support_force_stats`]; default when the record is shorter than one period.
 fn series_stats(x: &[f64], samples_per_period: usize, orders: usize) -> ForceStats {
     let total = x.len();
-    let len = if samples_per_period == 0 {
-        total
-    } else {
-        samples_per_period * (total.saturating_sub(1) / samples_per_period)
-    };
+    let len = window_len(total, samples_per_period);
     if len == 0 {
         return ForceStats::default();
     }
     window_stats(&x[total - len..], samples_per_period, orders)
+}
+
+/// The samples of the statistics' window among `total` recorded ones: the last whole mesh
+/// periods of `samples_per_period` samples (n steps record n + 1 samples; the repeated end
+/// point of the first period is left out), all of them at standstill (`samples_per_period`
+/// = 0); 0 when the record holds less than one period.
+fn window_len(total: usize, samples_per_period: usize) -> usize {
+    if samples_per_period == 0 {
+        total
+    } else {
+        samples_per_period * (total.saturating_sub(1) / samples_per_period)
+    }
 }
 
 /// Mean, peak to peak and mesh-order amplitudes of the window `x` (whole periods of
@@ -667,13 +691,7 @@ pub fn support_force_stats(
     orders: usize,
 ) -> Option<[ForceStats; 10]> {
     let total = tr.reactions.len();
-    let len = if samples_per_period == 0 {
-        total
-    } else {
-        // n steps record n + 1 samples; the window is the last whole periods without the
-        // repeated end point of the first one.
-        samples_per_period * (total.saturating_sub(1) / samples_per_period)
-    };
+    let len = window_len(total, samples_per_period);
     if len == 0 {
         return None;
     }

@@ -1055,10 +1055,14 @@ impl TableMesh {
         } else {
             (te + dd, None)
         };
+        // The rigid-bearing state at the shifted TE, the body motion's approach in the gear speed
+        // (as the full model damps it).
         let shifted = MeshState {
+            phi_p: state.phi_p,
             phi_g: state.phi_g + (te_eq - te) / t.rb_g,
+            w_p: state.w_p,
             w_g: state.w_g + approach_rate(geo, &rate) / geo.gear.rb,
-            ..MeshState { phi_p: state.phi_p, w_p: state.w_p, ..Default::default() }
+            ..Default::default()
         };
         let Some((mut out, mut wrench)) = t.periodic_with_wrench(model, &shifted) else {
             return self.full.evaluate(state);

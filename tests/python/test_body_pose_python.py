@@ -1,6 +1,9 @@
 """The gear bodies off their bearing axes in the Python package: the pose keywords of
 `MeshModel.evaluate` (`POSE_NAMES`, the FMU's input names), broadcast like the angles."""
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -63,18 +66,10 @@ def test_the_table_takes_a_pose():
         table.evaluate(*STATE, u_g_y=61e-6)
 
 
-SUPPORTS = {
-    "pinion": {"mass_kg": 2, "j_transverse_kgm2": 1e-3,
-               "stiffness": {"radial_n_per_m": 6e8, "axial_n_per_m": 3e8,
-                             "tilt_nm_per_rad": 8e5},
-               "damping": {"radial_ns_per_m": 2000, "axial_ns_per_m": 1000,
-                           "tilt_nms_per_rad": 2}},
-    "gear": {"mass_kg": 5, "j_transverse_kgm2": 1e-2,
-             "stiffness": {"radial_n_per_m": 9e8, "axial_n_per_m": 3e8,
-                           "tilt_nm_per_rad": 2e6},
-             "damping": {"radial_ns_per_m": 4000, "axial_ns_per_m": 2000,
-                         "tilt_nms_per_rad": 5}},
-}
+# The guide's example supports (the file its figures were made with).
+SUPPORTS = json.loads(
+    (Path(__file__).resolve().parents[2] / "docs" / "gear-bodies" / "supports.json").read_text()
+)
 
 
 def test_simulate_on_supports_reports_poses_and_support_forces():

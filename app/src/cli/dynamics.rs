@@ -223,6 +223,20 @@ fn setup(
     Ok((pair, drive, mesh, friction))
 }
 
+/// Writes the static TE of the start `te_start` and the range of the run's TE `te` (m), in µm.
+fn write_te_range(w: &mut impl Write, te_start: f64, te: &[f64]) -> Result<(), String> {
+    let lo = te.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = te.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    writeln!(
+        w,
+        "  static TE at the start {:.4} µm; TE over the run {:.4} … {:.4} µm",
+        te_start * 1e6,
+        lo * 1e6,
+        hi * 1e6
+    )
+    .map_err(io_err)
+}
+
 fn io_err(e: std::io::Error) -> String {
     format!("cannot write to stdout: {e}")
 }
@@ -343,11 +357,6 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
         }
     } else {
         let te: &[f64] = record.mesh_column("te_m");
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for &x in te {
-            lo = lo.min(x);
-            hi = hi.max(x);
-        }
         writeln!(
             w,
             "Eqs. 1–4 from the static equilibrium at ω_p = {} rad/s ({method}, {} fidelity): \
@@ -360,14 +369,7 @@ pub fn simulate_cmd(a: &SimulateArgs) -> Result<(), String> {
             tr.mesh_evaluations
         )
         .map_err(io_err)?;
-        writeln!(
-            w,
-            "  static TE at the start {:.4} µm; TE over the run {:.4} … {:.4} µm",
-            start.te * 1e6,
-            lo * 1e6,
-            hi * 1e6
-        )
-        .map_err(io_err)?;
+        write_te_range(&mut w, start.te, te)?;
         let loss: &[f64] = record.mesh_column("p_loss_w");
         if loss.iter().any(|&x| x > 0.0) {
             let mean = loss.iter().sum::<f64>() / loss.len() as f64;
@@ -477,8 +479,6 @@ fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<()
         }
     } else {
         let te = record.mesh_column("te_m");
-        let lo = te.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = te.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         writeln!(
             w,
             "Eqs. 1–4 with both gear bodies on their supports from the static equilibrium at \
@@ -490,14 +490,7 @@ fn simulate_supported_cmd(a: &SimulateArgs, path: &std::path::Path) -> Result<()
             tr.drive.mesh_evaluations
         )
         .map_err(io_err)?;
-        writeln!(
-            w,
-            "  static TE at the start {:.4} µm; TE over the run {:.4} … {:.4} µm",
-            start.te * 1e6,
-            lo * 1e6,
-            hi * 1e6
-        )
-        .map_err(io_err)?;
+        write_te_range(&mut w, start.te, te)?;
         let f: Vec<String> = summary
             .modes_hz
             .iter()

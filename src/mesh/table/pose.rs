@@ -63,6 +63,7 @@ use super::{MeshTable, TeAxis};
 use crate::contact::RelativePose;
 use crate::geometry::PairGeometry;
 use crate::mesh::model::{FullMesh, MeshModel};
+use crate::mesh::pose::approach_rate;
 use crate::mesh::{BodyPose, MeshError, MeshState};
 
 /// Number of outputs with a pose sensitivity: M_F,p, M_F,g, F_p (x, y, z), M_p (x, y).
@@ -105,10 +106,11 @@ type SampledRow = (usize, [Vec<[f64; NS]>; 2]);
 /// ΔTE of the relative pose `r` on the driving flanks (`dir` > 0) or the back flanks (module
 /// docs), m.
 pub(crate) fn te_shift(geo: &PairGeometry, r: &RelativePose, dir: f64) -> f64 {
-    let (s, c) = geo.alpha_wt.sin_cos();
-    let r_wg = geo.gear.rb / c;
-    let axial = -geo.gear.rb * geo.gear.twist_rate * (r.u[2] + r.th[1] * r_wg);
-    if dir > 0.0 { -(r.u[0] * s + r.u[1] * c) + axial } else { r.u[0] * s - r.u[1] * c + axial }
+    // The driving flanks' shift is the approach the damping of Eq. 14 sees (for a pose instead
+    // of a rate); the back flanks' normal is mirrored about the line of centres, which turns
+    // the sign of the U_x part.
+    let drive = approach_rate(geo, r);
+    if dir > 0.0 { drive } else { drive + 2.0 * r.u[0] * geo.alpha_wt.sin() }
 }
 
 /// The five components of `r` in the order of [`BodyPose::values`].
