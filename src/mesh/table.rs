@@ -817,22 +817,26 @@ impl MeshTable {
     /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations).
     #[inline]
     fn evaluate_periodic(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
-        self.periodic_with_wrench(model, state).map(|(o, _)| o)
+        self.periodic_with_wrench(model, state, None)
     }
 
-    /// [`Self::evaluate_periodic`] with the wrench it wrote into the outputs (whole
-    /// vectors, the moments' z components included).
+    /// [`Self::evaluate_periodic`]; with `wrench_out`, the wrench it wrote into the outputs
+    /// goes there too (whole vectors, the moments' z components included; zero when no flank
+    /// touches).
     #[inline]
     fn periodic_with_wrench(
         &self,
         model: &MeshModel,
         state: &MeshState,
-    ) -> Option<(MeshOutputs, MeshWrench)> {
+        wrench_out: Option<&mut MeshWrench>,
+    ) -> Option<MeshOutputs> {
         let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
         let Some(Cell { axis, xp, wp, ip0, dist, xt, it0, wt, nt }) = self.cell(state.phi_p, te)?
         else {
-            let out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
-            return Some((out, MeshWrench::default()));
+            if let Some(w) = wrench_out {
+                *w = MeshWrench::default();
+            }
+            return Some(MeshOutputs { te, separated: true, ..MeshOutputs::default() });
         };
         let np = self.np as i64;
         let mut v = [0.0; NV];
@@ -923,7 +927,10 @@ impl MeshTable {
             }
             wrench.write(&mut out);
             set_efficiency(&mut out, state);
-            Some((out, wrench))
+            if let Some(w) = wrench_out {
+                *w = wrench;
+            }
+            Some(out)
         }
     }
 
@@ -1037,6 +1044,8 @@ impl TableMesh {
     /// the housing frame; the full model outside the table's TE range. The first posed state
     /// builds the table's pose sensitivities ([`MeshTable::pose_table`]); refused beyond their
     /// bound, or where the table has none (tooth deviations, friction).
+    #[cold]
+    #[inline(never)]
     fn evaluate_posed(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
         let pt = self.table.pose_table(self.full.model())?.clone();
         let model = self.full.model();
@@ -1064,7 +1073,8 @@ impl TableMesh {
             w_g: state.w_g + approach_rate(geo, &rate) / geo.gear.rb,
             ..Default::default()
         };
-        let Some((mut out, mut wrench)) = t.periodic_with_wrench(model, &shifted) else {
+        let mut wrench = MeshWrench::default();
+        let Some(mut out) = t.periodic_with_wrench(model, &shifted, Some(&mut wrench)) else {
             return self.full.evaluate(state);
         };
         out.te = te;
