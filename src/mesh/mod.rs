@@ -854,7 +854,6 @@ impl MeshTorques for Mesh {
         }
     }
 
-    #[inline]
     fn prepare_poses(&mut self) -> Result<(), MeshError> {
         match self {
             Mesh::Full(f) => f.prepare_poses(),
@@ -862,6 +861,7 @@ impl MeshTorques for Mesh {
         }
     }
 
+    #[inline]
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
         match self {
             Mesh::Full(f) => f.torques(state),
