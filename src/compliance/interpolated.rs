@@ -448,8 +448,9 @@ impl SliceInfluence {
         self.block_kernel(obs, load, t, lo, hi, partial, out, at);
     }
 
-    /// [`SliceInfluence::block_kernel`] compiled for AVX2 (same operations, same rounding: no
-    /// fused multiply-adds).
+    /// [`SliceInfluence::block_kernel`] compiled for AVX2, with each entry's 4 × 4 contraction
+    /// on 256-bit vectors ([`entry_avx`]): the same operations in the same order, so the same
+    /// rounding (no fused multiply-adds) and the same matrix, bit for bit.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(clippy::too_many_arguments)]
@@ -462,14 +463,45 @@ impl SliceInfluence {
         hi: usize,
         partial: &mut [f64],
         out: &mut Mat<f64>,
-        at: (usize, usize),
+        (r0, c0): (usize, usize),
     ) {
-        self.block_kernel(obs, load, t, lo, hi, partial, out, at);
+        let nc = self.cols;
+        for (j, l) in load.iter().enumerate() {
+            self.partial_sums(l, t, lo, hi, partial);
+            let col = &mut out.col_as_slice_mut(c0 + j)[r0..r0 + obs.len()];
+            for (x, o) in col.iter_mut().zip(obs) {
+                let q = &partial[o.base..o.base + 3 * nc + 4];
+                // SAFETY: the CPU has AVX2 (this function's contract); `q` holds the four
+                // rows of four values entry_avx reads.
+                *x += unsafe { entry_avx(q, nc, &o.w16) };
+            }
+        }
+    }
+
+    /// The first contraction for load slice `l` of tooth block `t`: `partial[g]` = Σ_r
+    /// w_r(p_load)·B[t][k_load][row + r][g] for the grid indices `lo..hi`.
+    #[inline(always)]
+    fn partial_sums(&self, l: &SliceWeights, t: usize, lo: usize, hi: usize, partial: &mut [f64]) {
+        let (n, nr, nk) = (self.points, self.rows.nodes.len(), self.zetas.len());
+        let rows = &self.b[((t * nk + l.k) * nr + l.row) * n..][..4 * n];
+        let (b0, rest) = rows.split_at(n);
+        let (b1, rest) = rest.split_at(n);
+        let (b2, b3) = rest.split_at(n);
+        let [w0, w1, w2, w3] = l.row_w;
+        for ((((p, &a), &b), &c), &d) in partial[lo..hi]
+            .iter_mut()
+            .zip(&b0[lo..hi])
+            .zip(&b1[lo..hi])
+            .zip(&b2[lo..hi])
+            .zip(&b3[lo..hi])
+        {
+            *p = w0 * a + w1 * b + w2 * c + w3 * d;
+        }
     }
 
     /// The two contractions of [`SliceInfluence::add_block`] for tooth block `t`, with the
-    /// partial sums restricted to grid indices `lo..hi`.
-    #[inline(always)]
+    /// partial sums restricted to grid indices `lo..hi` (portable; the reference of
+    /// [`SliceInfluence::block_avx2`]).
     #[allow(clippy::too_many_arguments)]
     fn block_kernel(
         &self,
@@ -482,37 +514,83 @@ impl SliceInfluence {
         out: &mut Mat<f64>,
         (r0, c0): (usize, usize),
     ) {
-        let (n, nr, nk, nc) = (self.points, self.rows.nodes.len(), self.zetas.len(), self.cols);
+        let nc = self.cols;
         for (j, l) in load.iter().enumerate() {
-            let rows = &self.b[((t * nk + l.k) * nr + l.row) * n..][..4 * n];
-            let (b0, rest) = rows.split_at(n);
-            let (b1, rest) = rest.split_at(n);
-            let (b2, b3) = rest.split_at(n);
-            let [w0, w1, w2, w3] = l.row_w;
-            for ((((p, &a), &b), &c), &d) in partial[lo..hi]
-                .iter_mut()
-                .zip(&b0[lo..hi])
-                .zip(&b1[lo..hi])
-                .zip(&b2[lo..hi])
-                .zip(&b3[lo..hi])
-            {
-                *p = w0 * a + w1 * b + w2 * c + w3 * d;
-            }
+            self.partial_sums(l, t, lo, hi, partial);
             let col = &mut out.col_as_slice_mut(c0 + j)[r0..r0 + obs.len()];
             for (x, o) in col.iter_mut().zip(obs) {
-                let q = &partial[o.base..o.base + 3 * nc + 4];
-                let mut s = [0.0; 4];
-                for a in 0..4 {
-                    let v = &q[a * nc..a * nc + 4];
-                    let w = &o.w16[a * 4..a * 4 + 4];
-                    for e in 0..4 {
-                        s[e] += w[e] * v[e];
-                    }
-                }
-                *x += (s[0] + s[1]) + (s[2] + s[3]);
+                *x += entry(&partial[o.base..o.base + 3 * nc + 4], nc, &o.w16);
             }
         }
     }
+
+    /// The same block as [`SliceInfluence::add_block`], always by the portable kernel (tests
+    /// compare the two kernels bit for bit).
+    #[doc(hidden)]
+    pub fn add_block_portable(
+        &self,
+        obs: &[SliceWeights],
+        load: &[SliceWeights],
+        tooth_offset: i32,
+        partial: &mut Vec<f64>,
+        out: &mut Mat<f64>,
+        at: (usize, usize),
+    ) {
+        let Some(t) = self.teeth.iter().position(|&k| k == tooth_offset) else {
+            return;
+        };
+        if obs.is_empty() || load.is_empty() {
+            return;
+        }
+        let nc = self.cols;
+        let lo = obs.iter().map(|o| o.row).min().unwrap_or(0) * nc;
+        let hi = (obs.iter().map(|o| o.row).max().unwrap_or(0) + 4) * nc;
+        partial.clear();
+        partial.resize(self.points, 0.0);
+        self.block_kernel(obs, load, t, lo, hi, partial, out, at);
+    }
+}
+
+/// One matrix entry from the partial sums: Σ_a Σ_e w16[4a + e]·q[a·nc + e], summed per e over
+/// a = 0…3 from zero, then (s₀ + s₁) + (s₂ + s₃).
+#[inline(always)]
+fn entry(q: &[f64], nc: usize, w16: &[f64; 16]) -> f64 {
+    let mut s = [0.0; 4];
+    for a in 0..4 {
+        let v = &q[a * nc..a * nc + 4];
+        let w = &w16[a * 4..a * 4 + 4];
+        for e in 0..4 {
+            s[e] += w[e] * v[e];
+        }
+    }
+    (s[0] + s[1]) + (s[2] + s[3])
+}
+
+/// [`entry`] on 256-bit vectors: lane e accumulates s_e over a = 0…3 from zero with separate
+/// multiplies and adds, and the horizontal add forms (s₀ + s₁) + (s₂ + s₃): the same value bit
+/// for bit.
+///
+/// # Safety
+/// The CPU must support AVX; `q` must hold at least `3·nc + 4` values.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn entry_avx(q: &[f64], nc: usize, w16: &[f64; 16]) -> f64 {
+    use std::arch::x86_64::{
+        _mm_add_sd, _mm_cvtsd_f64, _mm256_add_pd, _mm256_castpd256_pd128, _mm256_extractf128_pd,
+        _mm256_hadd_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_setzero_pd,
+    };
+    debug_assert!(q.len() >= 3 * nc + 4);
+    let (qp, wp) = (q.as_ptr(), w16.as_ptr());
+    let mut s = _mm256_setzero_pd();
+    for a in 0..4 {
+        // SAFETY: a·nc + 3 < 3·nc + 4 <= q.len(), and 4a + 3 < 16.
+        let (v, w) = unsafe { (_mm256_loadu_pd(qp.add(a * nc)), _mm256_loadu_pd(wp.add(a * 4))) };
+        s = _mm256_add_pd(s, _mm256_mul_pd(w, v));
+    }
+    // [s0 + s1, s0 + s1, s2 + s3, s2 + s3]
+    let h = _mm256_hadd_pd(s, s);
+    _mm_cvtsd_f64(_mm_add_sd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1)))
 }
 
 /// Scratch memory of [`InterpolatedInfluence::add_matrix`] (grows to the largest sizes used,
