@@ -38,7 +38,8 @@
 //!   the full model is `table_max_rel_err`).
 //! * **A design** ([`DesignCase`]): what one design of a study costs, as
 //!   `helical_gear.study.run` computes it at its defaults: the FE compliance of the pair
-//!   computed afresh, the static TE, the default table and the speed sweep (one thread).
+//!   computed afresh (both gears in parallel), the static TE, the default table (its phase
+//!   rows on every core) and the speed sweep (one thread).
 //!   With the cold and warm full evaluation, the table builds and the torques-only table
 //!   evaluation, these are the figures a user waits for (`full_eval_us`,
 //!   `full_eval_warm_us`, `table_build_s`, `table_deviation_build_s`, `fe_compliance_s`,

@@ -199,7 +199,8 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
              deviations, [hunting case](#tooth-deviations-on-the-table-a-dynamic-run-over-a-hunting-period)) | {} |\n| \
              `fe_compliance_s` (FE compliance of a new pair, default mesh, no cache) | {} \
              |\n| `design_s` (one design of `helical_gear.study.run` with `static` and \
-             `sweep` at their defaults: FE, static TE, table, sweep on one thread) | {} |\n| \
+             `sweep` at their defaults: FE with both gears in parallel, static TE, table rows on \
+             every core, sweep on one thread) | {} |\n| \
              `table_eval_torques_ns` (a table evaluation of the torques and TE only) | {} |\n",
             time_us(cold),
             opt("full_eval_cold_from_zero_us").map_or(String::new(), |v| format!(
@@ -331,8 +332,10 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
     p.push_str(&format!(
         "**What makes the full solve fast.** The slices sit at fixed ζ_k, so \
          `compliance::interpolated::SliceInfluence` keeps the FE grid already interpolated in ζ \
-         for every slice position: 16 multiply-adds per matrix entry, compiled for AVX2 where \
-         the CPU has it, with the same rounding as the general interpolation ({} per \
+         for every slice position: 16 multiplies and adds per matrix entry, on 256-bit \
+         vectors where the CPU has AVX2 (the same operations in the same order as the portable \
+         code, so the same matrix bit for bit), with the same rounding as the general \
+         interpolation ({} per \
          evaluation with the slice kernel, {} without it, at 200 slices). Simplified Newton \
          steps reuse the LU factors held within a solve, and a warm start's loaded slices stay \
          in the first working set (the factorisations per solve are in the table above). A \
@@ -584,9 +587,11 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
          --designs 6` measures a Latin hypercube over helix angle 8–20°, face width 10–20 mm \
          and tip relief 0.005–0.03·m_n, serially and on a Dask `LocalCluster`, with the cost of \
          each design's FE run, table build, static TE and sweep. The FE run and the table build \
-         dominate a design. Set `RAYON_NUM_THREADS=1` for the workers: the library builds a \
-         table on every core a process may use, so without it two workers on two cores run \
-         four threads. See [the Python guide](python.md).",
+         dominate a design. `RAYON_NUM_THREADS=1` keeps each design's FE run on one thread; \
+         the table build splits its phase rows over every core the process's CPU affinity \
+         allows (the script pins its serial run to one core), so two unpinned workers on two \
+         cores run up to four threads while they build tables. See [the Python \
+         guide](python.md).",
     );
     Ok(p)
 }

@@ -46,8 +46,8 @@
 //! mesh position. With interpolated compliance the model therefore keeps, per gear, the FE
 //! grid already interpolated to every ζ_k ([`SliceInfluence`], built once at construction,
 //! 3.8 MB per gear for Table 1 at 200 slices), which leaves per matrix entry one 4 × 4
-//! contraction (compiled for AVX2 where the CPU has it, with the same rounding as the portable
-//! code). This assembles the matrix 2–3 times faster than the general interpolation
+//! contraction (on 256-bit vectors where the CPU has AVX2, the same operations in the same
+//! order as the portable code, so the same matrix bit for bit). This assembles the matrix 2–3 times faster than the general interpolation
 //! ([`FullMesh::use_slice_kernel`] switches between them; the benchmark reports both).
 //!
 //! # Force and moments
