@@ -425,6 +425,36 @@ impl SliceInfluence {
         out: &mut Mat<f64>,
         at: (usize, usize),
     ) {
+        self.add_block_with(obs, load, tooth_offset, partial, out, at, true);
+    }
+
+    /// The same block as [`SliceInfluence::add_block`], always by the portable kernel (tests
+    /// compare the two kernels bit for bit).
+    #[doc(hidden)]
+    pub fn add_block_portable(
+        &self,
+        obs: &[SliceWeights],
+        load: &[SliceWeights],
+        tooth_offset: i32,
+        partial: &mut Vec<f64>,
+        out: &mut Mat<f64>,
+        at: (usize, usize),
+    ) {
+        self.add_block_with(obs, load, tooth_offset, partial, out, at, false);
+    }
+
+    /// [`SliceInfluence::add_block`], on the AVX2 kernel when `vectorised` and the CPU has it.
+    #[allow(clippy::too_many_arguments)]
+    fn add_block_with(
+        &self,
+        obs: &[SliceWeights],
+        load: &[SliceWeights],
+        tooth_offset: i32,
+        partial: &mut Vec<f64>,
+        out: &mut Mat<f64>,
+        at: (usize, usize),
+        vectorised: bool,
+    ) {
         let Some(t) = self.teeth.iter().position(|&k| k == tooth_offset) else {
             return;
         };
@@ -439,13 +469,15 @@ impl SliceInfluence {
         partial.resize(self.points, 0.0);
         #[cfg(target_arch = "x86_64")]
         {
-            if std::arch::is_x86_feature_detected!("avx2") {
+            if vectorised && std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: the CPU supports AVX2 (checked just above).
                 unsafe { self.block_avx2(obs, load, t, lo, hi, partial, out, at) };
                 return;
             }
         }
-        self.block_kernel(obs, load, t, lo, hi, partial, out, at);
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = vectorised;
+        self.block_kernel(obs, load, t, lo, hi, partial, out, at, entry);
     }
 
     /// [`SliceInfluence::block_kernel`] compiled for AVX2, with each entry's 4 × 4 contraction
@@ -463,19 +495,12 @@ impl SliceInfluence {
         hi: usize,
         partial: &mut [f64],
         out: &mut Mat<f64>,
-        (r0, c0): (usize, usize),
+        at: (usize, usize),
     ) {
-        let nc = self.cols;
-        for (j, l) in load.iter().enumerate() {
-            self.partial_sums(l, t, lo, hi, partial);
-            let col = &mut out.col_as_slice_mut(c0 + j)[r0..r0 + obs.len()];
-            for (x, o) in col.iter_mut().zip(obs) {
-                let q = &partial[o.base..o.base + 3 * nc + 4];
-                // SAFETY: the CPU has AVX2 (this function's contract); `q` holds the four
-                // rows of four values entry_avx reads.
-                *x += unsafe { entry_avx(q, nc, &o.w16) };
-            }
-        }
+        // SAFETY: the CPU has AVX2 (this function's contract); block_kernel hands entry_avx
+        // slices of at least 3·nc + 4 values.
+        let entry = |q: &[f64], nc, w: &[f64; 16]| unsafe { entry_avx(q, nc, w) };
+        self.block_kernel(obs, load, t, lo, hi, partial, out, at, entry);
     }
 
     /// The first contraction for load slice `l` of tooth block `t`: `partial[g]` = Σ_r
@@ -500,8 +525,10 @@ impl SliceInfluence {
     }
 
     /// The two contractions of [`SliceInfluence::add_block`] for tooth block `t`, with the
-    /// partial sums restricted to grid indices `lo..hi` (portable; the reference of
-    /// [`SliceInfluence::block_avx2`]).
+    /// partial sums restricted to grid indices `lo..hi` and each entry formed by `entry`
+    /// ([`entry`], or [`entry_avx`] inside [`SliceInfluence::block_avx2`]) from the partial sums
+    /// of its 4 × 4 window (`3·nc + 4` values).
+    #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn block_kernel(
         &self,
@@ -513,6 +540,7 @@ impl SliceInfluence {
         partial: &mut [f64],
         out: &mut Mat<f64>,
         (r0, c0): (usize, usize),
+        entry: impl Fn(&[f64], usize, &[f64; 16]) -> f64,
     ) {
         let nc = self.cols;
         for (j, l) in load.iter().enumerate() {
@@ -522,32 +550,6 @@ impl SliceInfluence {
                 *x += entry(&partial[o.base..o.base + 3 * nc + 4], nc, &o.w16);
             }
         }
-    }
-
-    /// The same block as [`SliceInfluence::add_block`], always by the portable kernel (tests
-    /// compare the two kernels bit for bit).
-    #[doc(hidden)]
-    pub fn add_block_portable(
-        &self,
-        obs: &[SliceWeights],
-        load: &[SliceWeights],
-        tooth_offset: i32,
-        partial: &mut Vec<f64>,
-        out: &mut Mat<f64>,
-        at: (usize, usize),
-    ) {
-        let Some(t) = self.teeth.iter().position(|&k| k == tooth_offset) else {
-            return;
-        };
-        if obs.is_empty() || load.is_empty() {
-            return;
-        }
-        let nc = self.cols;
-        let lo = obs.iter().map(|o| o.row).min().unwrap_or(0) * nc;
-        let hi = (obs.iter().map(|o| o.row).max().unwrap_or(0) + 4) * nc;
-        partial.clear();
-        partial.resize(self.points, 0.0);
-        self.block_kernel(obs, load, t, lo, hi, partial, out, at);
     }
 }
 
