@@ -18,9 +18,9 @@ use helical_gear_mesh::fmi2::models::MODELS;
 const USAGE: &str = "usage: fmu-build [--require-win64 | --write-generated]\n\
     \n  (no argument)       cargo build --release the cdylib, write target/fmu/<model>.fmu for\
     \n                      every model (HelicalGearMesh, HelicalGearPair, HelicalGearStage,\
-    \n                      HelicalGearDrive), with binaries/win64 when x86_64-pc-windows-gnu\
-    \n                      and its MinGW-w64 linker are installed (else a line saying why\
-    \n                      win64 is skipped)\
+    \n                      HelicalGearDrive, HelicalGearbox), with binaries/win64 when\
+    \n                      x86_64-pc-windows-gnu and its MinGW-w64 linker are installed (else\
+    \n                      a line saying why win64 is skipped)\
     \n  --require-win64     the same, but a missing win64 build is an error (also when the\
     \n                      environment variable FMU_BUILD_REQUIRE_WIN64 is 1)\
     \n  --write-generated   rewrite modelDescription/<model>/modelDescription.xml, include/*.h\

@@ -436,7 +436,8 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
             can_not_use_memory_management_functions: c.can_not_use_memory_management_functions,
             can_get_and_set_fmu_state: c.can_get_and_set_fmu_state,
             can_serialize_fmu_state: c.can_serialize_fmu_state,
-            provides_directional_derivative: c.provides_directional_derivative,
+            provides_directional_derivative: c.provides_directional_derivative
+                && model.provides_directional_derivative,
         },
         co_simulation: CoSimulation {
             model_identifier: model.identifier,
@@ -450,7 +451,8 @@ pub fn model_description_xml(model: &ModelInfo) -> String {
             can_not_use_memory_management_functions: c.can_not_use_memory_management_functions,
             can_get_and_set_fmu_state: c.can_get_and_set_fmu_state,
             can_serialize_fmu_state: c.can_serialize_fmu_state,
-            provides_directional_derivative: c.provides_directional_derivative,
+            provides_directional_derivative: c.provides_directional_derivative
+                && model.provides_directional_derivative,
         },
         unit_definitions: UnitDefinitions { units },
         log_categories: LogCategories {

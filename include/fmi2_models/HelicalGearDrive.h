@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{0dc71edb-b028-8d81-b622-31db89763998}"
+#define HelicalGearDrive_GUID "{7b42ba22-99c2-82e8-a5f7-1b57b3a511c3}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */

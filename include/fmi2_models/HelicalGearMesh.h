@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{aabf5c03-ce97-81f4-a142-010669565fe7}"
+#define HelicalGearMesh_GUID "{d38c50f1-f0ac-8652-abe8-b89321eb94b2}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

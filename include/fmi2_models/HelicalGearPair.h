@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{a3e3ce5b-0871-865e-8a70-cd2a542dfdba}"
+#define HelicalGearPair_GUID "{d4f35c81-6b62-80a9-ad72-bf34022ef995}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{e451dbe9-ee6c-8637-8313-e218549d501d}"
+#define HelicalGearStage_GUID "{5b00c0ff-f5ac-84ae-ac96-e72c9ed9f85c}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */

@@ -175,6 +175,12 @@ impl<M: MeshTorques> SupportedDynamics<M> {
         self.gears.drive()
     }
 
+    /// Sets the driving torque M (N·m, finite; the caller checks) of Eqs. 1 and 4; the load
+    /// on J₂ follows (M·z_g/z_p).
+    pub(crate) fn set_torque(&mut self, torque: f64) {
+        self.gears.set_torque(torque);
+    }
+
     /// The supports.
     pub fn supports(&self) -> &Supports {
         &self.supports

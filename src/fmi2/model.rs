@@ -26,7 +26,7 @@ use super::variables::{
 
 /// Model Exchange: the most continuous states a model may have; the instance's state buffers
 /// are this long, so that a step allocates nothing.
-pub const MAX_STATES: usize = 8;
+pub const MAX_STATES: usize = 28;
 
 /// The default experiment of a model (`<DefaultExperiment>`), s.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -167,6 +167,9 @@ pub struct ModelInfo {
     /// value of every output variable of the table, in table order); false when they are not
     /// serialised because they follow from the engine's state.
     pub cached_outputs: bool,
+    /// True when `fmi2GetDirectionalDerivative` is provided (the engine's exact
+    /// [`Engine::jacobian`]): the `providesDirectionalDerivative` attribute of both interfaces.
+    pub provides_directional_derivative: bool,
     /// Builds the engine.
     pub build: BuildFn,
     /// Checks the values of the tunable parameters in the given settings against their ranges
@@ -221,6 +224,7 @@ impl ModelInfo {
         let mut s =
             format!("{} {MODEL_VERSION} fmi2 cs me\n{CS_CAPABILITIES:?}\n", self.identifier);
         s.push_str(&format!("{:?} events {}\n", self.experiment, self.event_indicators));
+        s.push_str(&format!("directional {}\n", self.provides_directional_derivative));
         for u in UNITS {
             s.push_str(&format!("{u:?}\n"));
         }

@@ -58,6 +58,8 @@ pub struct Settings {
     pub options: MeshOptions,
     /// Start and integration options of the stateful models.
     pub unit: UnitOptions,
+    /// The gear bodies' supports of `HelicalGearbox` (unused by the other models).
+    pub supports: SupportOptions,
 }
 
 impl Default for Settings {
@@ -69,6 +71,75 @@ impl Default for Settings {
             drive: DriveLine::paper_table1(),
             options: MeshOptions::default(),
             unit: UnitOptions::default(),
+            supports: SupportOptions::default(),
+        }
+    }
+}
+
+/// One gear body's support as the Real parameters `supports.pinion.*` / `supports.gear.*` of
+/// `HelicalGearbox` give it: isotropic in the transverse plane, K = diag(k_r, k_r, k_a, k_t,
+/// k_t) and C = diag(c_r, c_r, c_a, c_t, c_t) in the order (u_x, u_y, u_z, θ_x, θ_y) of the
+/// pose ([`crate::mesh::pose`], [`crate::mesh::supports`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodySupportOptions {
+    /// The body's mass, kg.
+    pub mass_kg: f64,
+    /// The body's moment of inertia about a transverse axis through its centre, kg·m².
+    pub j_transverse_kgm2: f64,
+    /// Radial stiffness k_r (u_x, u_y), N/m.
+    pub radial_n_per_m: f64,
+    /// Axial stiffness k_a (u_z), N/m.
+    pub axial_n_per_m: f64,
+    /// Tilting stiffness k_t (θ_x, θ_y), N·m/rad.
+    pub tilt_nm_per_rad: f64,
+    /// Radial damping c_r, N·s/m.
+    pub radial_ns_per_m: f64,
+    /// Axial damping c_a, N·s/m.
+    pub axial_ns_per_m: f64,
+    /// Tilting damping c_t, N·m·s/rad.
+    pub tilt_nms_per_rad: f64,
+}
+
+/// The supports of `HelicalGearbox`: the Real parameters of both bodies, or the `supports`
+/// JSON text ([`crate::mesh::supports`]), which overrides them when not empty.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SupportOptions {
+    /// The pinion body's support.
+    pub pinion: BodySupportOptions,
+    /// The gear body's support.
+    pub gear: BodySupportOptions,
+    /// The supports JSON; empty: the Real parameters.
+    pub json: String,
+}
+
+impl Default for SupportOptions {
+    /// The example soft support of the gear-bodies guide (`docs/gear-bodies/supports.json`):
+    /// pinion 2 kg, 10⁻³ kg·m², k_r = 6·10⁸ N/m, k_a = 3·10⁸ N/m, k_t = 8·10⁵ N·m/rad,
+    /// c = 2000 N·s/m, 1000 N·s/m, 2 N·m·s/rad; gear 5 kg, 10⁻² kg·m², 9·10⁸, 3·10⁸,
+    /// 2·10⁶, 4000, 2000, 5.
+    fn default() -> Self {
+        Self {
+            pinion: BodySupportOptions {
+                mass_kg: 2.0,
+                j_transverse_kgm2: 1e-3,
+                radial_n_per_m: 6e8,
+                axial_n_per_m: 3e8,
+                tilt_nm_per_rad: 8e5,
+                radial_ns_per_m: 2000.0,
+                axial_ns_per_m: 1000.0,
+                tilt_nms_per_rad: 2.0,
+            },
+            gear: BodySupportOptions {
+                mass_kg: 5.0,
+                j_transverse_kgm2: 1e-2,
+                radial_n_per_m: 9e8,
+                axial_n_per_m: 3e8,
+                tilt_nm_per_rad: 2e6,
+                radial_ns_per_m: 4000.0,
+                axial_ns_per_m: 2000.0,
+                tilt_nms_per_rad: 5.0,
+            },
+            json: String::new(),
         }
     }
 }
@@ -182,7 +253,7 @@ impl UnitOptions {
 pub const MAX_INPUTS: usize = 24;
 /// The most Real outputs (outputs and Model Exchange locals) a model may have: the length of
 /// [`OutputValues::reals`].
-pub const MAX_REAL_OUTPUTS: usize = 64;
+pub const MAX_REAL_OUTPUTS: usize = 128;
 /// The most Integer outputs a model may have: the length of [`OutputValues::ints`].
 pub const MAX_INT_OUTPUTS: usize = 4;
 /// The most Boolean outputs a model may have: the length of [`OutputValues::bools`].
@@ -1639,6 +1710,8 @@ pub const UNITS: &[UnitDef] = &[
         display: &[("MPa", 1e-6), ("GPa", 1e-9)],
     },
     UnitDef { name: "N.s/m", base: &[("kg", 1), ("s", -1)], display: &[] },
+    UnitDef { name: "N/m", base: &[("kg", 1), ("s", -2)], display: &[] },
+    UnitDef { name: "kg", base: &[("kg", 1)], display: &[] },
     UnitDef { name: "kg.m2", base: &[("kg", 1), ("m", 2)], display: &[] },
     UnitDef { name: "kg/m3", base: &[("kg", 1), ("m", -3)], display: &[] },
     UnitDef { name: "N.m/rad", base: &[("kg", 1), ("m", 2), ("s", -2), ("rad", -1)], display: &[] },

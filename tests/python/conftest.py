@@ -26,7 +26,9 @@ FMU = ROOT / "target" / "fmu" / "HelicalGearMesh.fmu"
 RELEASE = ROOT / "target" / "release"
 
 FMUS = ROOT / "target" / "fmu"
-MODELS = ["HelicalGearMesh", "HelicalGearPair", "HelicalGearStage", "HelicalGearDrive"]
+MODELS = [
+    "HelicalGearMesh", "HelicalGearPair", "HelicalGearStage", "HelicalGearDrive", "HelicalGearbox",
+]
 EXE = RELEASE / "helical-gear"
 
 __all__ = ["EXE", "FMICallException", "FMUS", "Instance", "MODELS", "ROOT", "RELEASE", "fmu_file"]

@@ -215,6 +215,7 @@ pub static INFO: ModelInfo = ModelInfo {
     experiment: Experiment { start: 0.0, stop: 0.1, step: 1e-5 },
     stateful: false,
     event_indicators: 0,
+    provides_directional_derivative: true,
     build,
     check_tunable,
     cached_outputs: true,

@@ -9,6 +9,7 @@
 //! core's `mesh::outputs::MESH_OUTPUT_FIELDS`) take the first slots and are written by one
 //! loop over that table, `write_mesh_outputs`.
 
+pub mod gearbox;
 pub mod mesh;
 pub mod unit;
 
@@ -44,7 +45,8 @@ pub(crate) fn write_mesh_outputs(m: &MeshOutputs, o: &mut OutputValues) {
 }
 
 /// Every model of the family, in the order of the documentation.
-pub static MODELS: &[&ModelInfo] = &[&mesh::INFO, &unit::PAIR, &unit::STAGE, &unit::DRIVE];
+pub static MODELS: &[&ModelInfo] =
+    &[&mesh::INFO, &unit::PAIR, &unit::STAGE, &unit::DRIVE, &gearbox::GEARBOX];
 
 /// The model whose GUID is `guid`, if any.
 pub fn by_guid(guid: &str) -> Option<&'static ModelInfo> {

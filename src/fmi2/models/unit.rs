@@ -749,6 +749,7 @@ pub static PAIR: ModelInfo = ModelInfo {
     experiment: Experiment { start: 0.0, stop: 0.05, step: 1e-4 },
     stateful: true,
     event_indicators: 0,
+    provides_directional_derivative: true,
     build: |s| build_unit(UnitKind::Pair, s),
     check_tunable: super::mesh::check_tunable,
     cached_outputs: false,
@@ -773,6 +774,7 @@ pub static STAGE: ModelInfo = ModelInfo {
     experiment: Experiment { start: 0.0, stop: 0.05, step: 1e-4 },
     stateful: true,
     event_indicators: 0,
+    provides_directional_derivative: true,
     build: |s| build_unit(UnitKind::Stage, s),
     check_tunable: super::mesh::check_tunable,
     cached_outputs: false,
@@ -796,6 +798,7 @@ pub static DRIVE: ModelInfo = ModelInfo {
     experiment: Experiment { start: 0.0, stop: 0.05, step: 1e-4 },
     stateful: true,
     event_indicators: 0,
+    provides_directional_derivative: true,
     build: |s| build_unit(UnitKind::Drive, s),
     check_tunable: super::mesh::check_tunable,
     cached_outputs: false,
@@ -1104,7 +1107,7 @@ mod tests {
 
     #[test]
     fn value_references_and_names_are_unique_per_model() {
-        for m in [&PAIR, &STAGE, &DRIVE] {
+        for m in super::super::MODELS {
             for (i, a) in m.variables.iter().enumerate() {
                 for b in &m.variables[i + 1..] {
                     assert_ne!(a.vr, b.vr, "{}: {} and {}", m.identifier, a.name, b.name);
