@@ -1,10 +1,13 @@
 """Size of what is shipped: each packed FMU (linux64 and, when cross-built, win64 inside) at
-most 6 MB zipped, and the linux64 library inside at most 8 MB.
+most 6.5 MB zipped, and the linux64 library inside at most 8 MB.
 
 The library carries only the model (no command line, figures or font: those are the
 applications' crate, app/) and no debug info (release profile: ``debug = false``,
 ``strip = "symbols"``). With line tables and the applications linked in, the library was
-31.7 MB and each FMU 16.8 MB. 1 MB = 10^6 bytes.
+31.7 MB and each FMU 16.8 MB. The FMU budget was 6 MB up to the fifth model, HelicalGearbox,
+whose table and engine took each FMU from just under 6 MB to 6.06 MB (both libraries inside
+grew; the Mesh FMU measured then: linux64 2.37 MB, win64 2.97 MB, the compliance resource
+0.72 MB, zipped). 1 MB = 10^6 bytes.
 """
 
 import zipfile
@@ -15,7 +18,7 @@ import pytest
 from conftest import MODELS, fmu_file
 
 MB = 1e6
-FMU_LIMIT_MB = 6.0
+FMU_LIMIT_MB = 6.5
 LIBRARY_LIMIT_MB = 8.0
 
 
