@@ -3,7 +3,7 @@
 #ifndef HELICALGEARBOX_H
 #define HELICALGEARBOX_H
 
-#define HelicalGearbox_GUID "{c7e433da-244f-85c3-841b-f64405ad2bb2}"
+#define HelicalGearbox_GUID "{944cd498-805e-840e-8842-b725522c6517}"
 
 typedef enum {
     HelicalGearbox_vr_M = 60, /* input Real N.m */
@@ -102,6 +102,15 @@ typedef enum {
     HelicalGearbox_vr_friction = 208, /* parameter String  */
     HelicalGearbox_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearbox_vr_rk4_steps_per_mesh_period = 302, /* parameter Integer  */
+    HelicalGearbox_vr_start_from_equilibrium = 305, /* parameter Boolean  */
+    HelicalGearbox_vr_phi_p_0 = 311, /* parameter Real rad */
+    HelicalGearbox_vr_phi_g_0 = 312, /* parameter Real rad */
+    HelicalGearbox_vr_w_p_0 = 315, /* parameter Real rad/s */
+    HelicalGearbox_vr_w_g_0 = 316, /* parameter Real rad/s */
+    HelicalGearbox_vr_phi_1_0 = 310, /* parameter Real rad */
+    HelicalGearbox_vr_phi_2_0 = 313, /* parameter Real rad */
+    HelicalGearbox_vr_w_1_0 = 314, /* parameter Real rad/s */
+    HelicalGearbox_vr_w_2_0 = 317, /* parameter Real rad/s */
     HelicalGearbox_vr_supports_pinion_mass_kg = 700, /* parameter Real kg */
     HelicalGearbox_vr_supports_pinion_j_transverse_kgm2 = 701, /* parameter Real kg.m2 */
     HelicalGearbox_vr_supports_pinion_radial_n_per_m = 702, /* parameter Real N/m */

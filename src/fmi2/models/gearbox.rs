@@ -25,12 +25,16 @@
 //! # Start and stepping
 //! The instance starts in the static equilibrium with the bodies displaced
 //! ([`SupportedDynamics::static_start`]) at the nominal pinion speed `w_p_start` under the
-//! drive line's torque `drive.torque_nm`, the value the input `M` is set to. The coupled modes
-//! linearised there ([`SupportedDynamics::linear_modes`]) give the fastest rate |λ|max of the
+//! drive line's torque `drive.torque_nm`, the value the input `M` is set to; with
+//! `start_from_equilibrium` = false it starts from the explicit rotational state `phi_1_0` …
+//! `w_2_0` with both bodies on their bearing axes at rest, under the input `M`. The coupled
+//! modes linearised at the static equilibrium ([`SupportedDynamics::linear_modes`]) give the fastest rate |λ|max of the
 //! step rule: a communication step h is integrated by RK4 in n equal sub-steps,
 //! n = ⌈h/h_max⌉ with h_max = min(T_m/N, 2π/(32·|λ|max)) ([`stable_rk4_step`]; T_m the mesh
-//! period at the current pinion speed, N = `rk4_steps_per_mesh_period`). `M` is held over a
-//! step, or follows the first-order hold of `fmi2SetRealInputDerivatives`. A step beyond the
+//! period at the current pinion speed, N = `rk4_steps_per_mesh_period`). DOPRI5 is not
+//! offered, as in the command line and Python with supports: the body modes make the problem
+//! stiff, and the step rule of the coupled modes is what keeps RK4 stable and resolved. `M` is
+//! held over a step, or follows the first-order hold of `fmi2SetRealInputDerivatives`. A step beyond the
 //! work bounds of the units ([`MAX_UNIT_SUBSTEPS`], [`MAX_UNIT_SLICE_EVALUATIONS`]) or that
 //! meets an error of the mesh (a pose or TE outside the model's range) returns
 //! `fmi2Discard` with the state of the step's start.
@@ -64,8 +68,8 @@ use crate::fmi2::models::write_mesh_outputs;
 use crate::fmi2::variables::{
     ANGLE, Access, BodySupportOptions, CALCULATED, Causality, DEG, DRIVE_INERTIAS, DRIVE_SHAFTS,
     DRIVE_TORQUE, Depends, Derived, GEAR_PARAMS, InputValues, M, MESH_OPTIONS, MESH_OUTPUTS, NM,
-    NONE, OutputValues, RAD, Settings, TORQUE, UNIT_OPTIONS, Variability, Variable, concat, group,
-    real_output_slots, total_len, with_depends,
+    NONE, OutputValues, RAD, START_OUTER, START_PAIR, Settings, TORQUE, UNIT_OPTIONS, Variability,
+    Variable, concat, group, real_output_slots, total_len, with_depends,
 };
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::supports::{Support, Supports};
@@ -986,9 +990,9 @@ fn set_supports_json(s: &mut Settings, text: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// `w_p_start` and `rk4_steps_per_mesh_period` of the stateful models' options (the Gearbox
-/// always starts in static equilibrium and integrates with RK4).
-const GEARBOX_OPTIONS: [Variable; 2] = [UNIT_OPTIONS[0], UNIT_OPTIONS[2]];
+/// `w_p_start`, `rk4_steps_per_mesh_period` and `start_from_equilibrium` of the stateful
+/// models' options (the Gearbox integrates with RK4 only, module docs).
+const GEARBOX_OPTIONS: [Variable; 3] = [UNIT_OPTIONS[0], UNIT_OPTIONS[2], UNIT_OPTIONS[5]];
 
 const PARTS: &[&[Variable]] = &[
     &IO,
@@ -1001,6 +1005,8 @@ const PARTS: &[&[Variable]] = &[
     &DRIVE_SHAFTS,
     &MESH_OPTIONS,
     &GEARBOX_OPTIONS,
+    &START_PAIR,
+    &START_OUTER,
     &SUPPORT_PARAMS,
     // The state derivatives in state order: the rotations', then the poses'.
     &ROTATION_STATES,
@@ -1229,11 +1235,25 @@ impl Engine for GearboxEngine {
             .linear_modes(&start)
             .map_err(|e| format!("coupled modes at the start: {e}"))?;
         let d = *self.dynamics.drive();
-        self.y = start.y;
         self.t = t0;
-        (self.torque, self.torque_rate, self.torque_time) = (d.torque, 0.0, t0);
-        inputs.values[TORQUE_SLOT] = d.torque;
-        inputs.rates[TORQUE_SLOT] = 0.0;
+        if s.unit.start_from_equilibrium {
+            self.y = start.y;
+            (self.torque, self.torque_rate, self.torque_time) = (d.torque, 0.0, t0);
+            inputs.values[TORQUE_SLOT] = d.torque;
+            inputs.rates[TORQUE_SLOT] = 0.0;
+        } else {
+            // The explicit rotational state, the bodies on their bearing axes at rest.
+            let mut y = [0.0; N];
+            y[..8].copy_from_slice(&s.unit.start);
+            let gp = self.dynamics.mesh_mut().geometry().pinion.rb;
+            crate::mesh::validity::check_formed_angle("phi_p_0", y[1], gp)
+                .map_err(|e| format!("explicit start state: {e}"))?;
+            self.dynamics.mesh_mut().forget_history();
+            self.dynamics.outputs(&y).map_err(|e| format!("explicit start state: {e}"))?;
+            self.y = y;
+            let (m, r) = (inputs.values[TORQUE_SLOT], inputs.rates[TORQUE_SLOT]);
+            (self.torque, self.torque_rate, self.torque_time) = (m, r, t0);
+        }
         self.fastest = modes.fastest;
         self.start_point = Some(Box::new(start));
         let mut nominals = [1.0; N];
