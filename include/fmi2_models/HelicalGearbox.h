@@ -3,7 +3,7 @@
 #ifndef HELICALGEARBOX_H
 #define HELICALGEARBOX_H
 
-#define HelicalGearbox_GUID "{944cd498-805e-840e-8842-b725522c6517}"
+#define HelicalGearbox_GUID "{2fb9400a-6996-807c-b0ea-20408303cdc1}"
 
 typedef enum {
     HelicalGearbox_vr_M = 60, /* input Real N.m */
