@@ -3,7 +3,7 @@
 #ifndef HELICALGEARBOX_H
 #define HELICALGEARBOX_H
 
-#define HelicalGearbox_GUID "{2fb9400a-6996-807c-b0ea-20408303cdc1}"
+#define HelicalGearbox_GUID "{12789513-3ed7-8b0d-8d6d-96c91ca0798f}"
 
 typedef enum {
     HelicalGearbox_vr_M = 60, /* input Real N.m */

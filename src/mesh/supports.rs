@@ -35,7 +35,19 @@
 //! 1e-10 of their size (and 1e-16 m). The torque fixes the mesh force's size, so W depends on
 //! the poses only through the load distribution and the moment arms, weakly: the iteration
 //! contracts by the ratio of that dependence to the support's stiffness (a few iterations for
-//! supports stiffer than the tooth pair; an error naming the iteration count otherwise).
+//! supports stiffer than the tooth pair).
+//!
+//! A soft support does not contract: the mesh's tilting moment changes with the tilt by about
+//! k_m·(r_w·tan β_b)² (7·10⁴ N·m/rad for Table 1), so a tilting stiffness well below that makes
+//! each iterate overshoot the last. When the poses do not settle in
+//! [`MAX_FIXED_POINT_ITERATIONS`], when their change grows three iterations in a row, or when
+//! an iterate leaves the model's range, the solve starts
+//! again from the given poses with Newton's method on F(p) = K⁻¹·W(p) − p = 0 (the unknowns:
+//! the poses of the supported bodies). Its Jacobian is formed by forward differences of the
+//! same map (steps of 10⁻⁶ of the poses' size, at least 10⁻¹² m or 10⁻¹⁰ rad), each Newton
+//! step halved until |F| falls, at most [`MAX_NEWTON_ITERATIONS`] steps, until
+//! |F| ≤ 10⁻⁹·|p| + 10⁻¹⁵ m (tilts counted times 10 mm; the map's own noise, from the TE solve's
+//! 10⁻¹⁵ m, is of that order, below which no step is accepted). Supports that settle by the plain iteration are solved exactly as before.
 
 use serde_json::Value;
 
@@ -410,19 +422,25 @@ pub struct SupportedEquilibrium {
     /// The mesh's equilibrium at the final poses (TE, φg, the outputs, both bodies' poses in
     /// [`Equilibrium::pose_p`], [`Equilibrium::pose_g`]).
     pub equilibrium: Equilibrium,
-    /// Fixed-point iterations used.
+    /// Fixed-point iterations used, plus the Newton steps when it turned to Newton's method
+    /// (module docs).
     pub iterations: usize,
 }
 
-/// The largest number of fixed-point iterations of [`supported_equilibrium`].
-pub const MAX_SUPPORT_ITERATIONS: usize = 100;
+/// The largest number of fixed-point iterations of [`supported_equilibrium`] before it turns
+/// to Newton's method (module docs).
+pub const MAX_FIXED_POINT_ITERATIONS: usize = 100;
+
+/// The largest number of Newton steps of [`supported_equilibrium`] (module docs).
+pub const MAX_NEWTON_ITERATIONS: usize = 30;
 
 /// The static equilibrium at pinion angle `phi_p` (rad) and pinion torque `torque` (N·m) with
 /// both bodies on `supports` (module docs), starting the TE search at `te_guess` (m);
 /// `settings` as for [`equilibrium`] (their poses are the start of the iteration). Errors: the
 /// mesh's (a pose beyond its bound names the input: the support is too soft for the model's
 /// small displacements), or [`MeshError::Equilibrium`] when the poses do not settle in
-/// [`MAX_SUPPORT_ITERATIONS`].
+/// [`MAX_FIXED_POINT_ITERATIONS`] fixed-point iterations and [`MAX_NEWTON_ITERATIONS`] Newton
+/// steps (module docs).
 pub fn supported_equilibrium<M: MeshTorques + ?Sized>(
     mesh: &mut M,
     phi_p: f64,
@@ -433,34 +451,179 @@ pub fn supported_equilibrium<M: MeshTorques + ?Sized>(
 ) -> Result<SupportedEquilibrium, MeshError> {
     let mut s = *settings;
     let mut guess = te_guess;
-    for it in 1..=MAX_SUPPORT_ITERATIONS {
-        let eq = equilibrium(mesh, phi_p, torque, guess, &s)?;
+    let mut failure = None;
+    // Iterations in a row whose change of the poses grew: three mean no contraction.
+    let (mut last_change, mut growing) = (f64::INFINITY, 0);
+    let mut used = 0;
+    for it in 1..=MAX_FIXED_POINT_ITERATIONS {
+        used = it;
+        let (eq, np, ng) = match support_map(mesh, phi_p, torque, guess, supports, &s) {
+            Ok(r) => r,
+            Err(e) => {
+                failure = Some(e);
+                break;
+            }
+        };
         guess = eq.te;
-        let o = &eq.outputs;
-        let w_p = [o.force_p[0], o.force_p[1], o.force_p[2], o.moment_p[0], o.moment_p[1]];
-        let w_g = [o.force_g[0], o.force_g[1], o.force_g[2], o.moment_g[0], o.moment_g[1]];
-        let next = |sup: &Option<Support>, w: &[f64; 5]| {
-            sup.map_or(BodyPose::default(), |k| k.static_pose(w))
-        };
-        let (np, ng) = (next(&supports.pinion, &w_p), next(&supports.gear, &w_g));
-        let change = |a: &BodyPose, b: &BodyPose| {
-            a.values()
-                .iter()
-                .zip(b.values())
-                .all(|(x, y)| (x - y).abs() <= 1e-10 * x.abs().max(y.abs()) + 1e-16)
-        };
-        let settled = change(&np, &s.pose_p) && change(&ng, &s.pose_g);
-        if settled {
+        if settled(&np, &s.pose_p) && settled(&ng, &s.pose_g) {
             return Ok(SupportedEquilibrium { equilibrium: eq, iterations: it });
+        }
+        let change = pose_change(&np, &s.pose_p) + pose_change(&ng, &s.pose_g);
+        growing = if change > last_change { growing + 1 } else { 0 };
+        last_change = change;
+        if growing == 3 {
+            break;
         }
         s.pose_p = np;
         s.pose_g = ng;
     }
-    Err(MeshError::Equilibrium(format!(
-        "the gear bodies' poses on their supports did not settle in {MAX_SUPPORT_ITERATIONS} \
-         iterations at phi_p = {phi_p} rad, torque = {torque} N.m (supports too soft against \
-         the mesh's tilting moments)"
-    )))
+    supported_newton(mesh, phi_p, torque, te_guess, supports, settings, failure, used)
+}
+
+/// The size of the change from pose `b` to pose `a`, m (tilts times 10 mm).
+fn pose_change(a: &BodyPose, b: &BodyPose) -> f64 {
+    let (a, b) = (a.values(), b.values());
+    (0..5).map(|i| (a[i] - b[i]).abs() * if i >= 3 { 1e-2 } else { 1.0 }).sum()
+}
+
+/// True when pose `a` and pose `b` agree to the settling test of the module docs.
+fn settled(a: &BodyPose, b: &BodyPose) -> bool {
+    a.values()
+        .iter()
+        .zip(b.values())
+        .all(|(x, y)| (x - y).abs() <= 1e-10 * x.abs().max(y.abs()) + 1e-16)
+}
+
+/// One application of the fixed-point map: the equilibrium at the poses of `s` and the poses
+/// K⁻¹·W at which the supports balance its wrench (zero for a rigid body).
+fn support_map<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    phi_p: f64,
+    torque: f64,
+    guess: f64,
+    supports: &Supports,
+    s: &EquilibriumSettings,
+) -> Result<(Equilibrium, BodyPose, BodyPose), MeshError> {
+    let eq = equilibrium(mesh, phi_p, torque, guess, s)?;
+    let o = &eq.outputs;
+    let w_p = [o.force_p[0], o.force_p[1], o.force_p[2], o.moment_p[0], o.moment_p[1]];
+    let w_g = [o.force_g[0], o.force_g[1], o.force_g[2], o.moment_g[0], o.moment_g[1]];
+    let next =
+        |sup: &Option<Support>, w: &[f64; 5]| sup.map_or(BodyPose::default(), |k| k.static_pose(w));
+    Ok((eq, next(&supports.pinion, &w_p), next(&supports.gear, &w_g)))
+}
+
+/// Newton's method on F(p) = K⁻¹·W(p) − p over the supported bodies' poses (module docs),
+/// from the poses of `settings`, after `used` fixed-point iterations. When it fails too, the
+/// error is the last mesh error met (a pose beyond its bound names the input), else `failure`
+/// (the plain iteration's), else one naming both iteration counts.
+#[allow(clippy::too_many_arguments)]
+fn supported_newton<M: MeshTorques + ?Sized>(
+    mesh: &mut M,
+    phi_p: f64,
+    torque: f64,
+    te_guess: f64,
+    supports: &Supports,
+    settings: &EquilibriumSettings,
+    mut failure: Option<MeshError>,
+    used: usize,
+) -> Result<SupportedEquilibrium, MeshError> {
+    // The unknowns: (body, component) of each supported body.
+    let bodies: Vec<usize> = [supports.pinion.is_some(), supports.gear.is_some()]
+        .iter()
+        .enumerate()
+        .filter_map(|(b, &on)| on.then_some(b))
+        .collect();
+    let n = 5 * bodies.len();
+    let get = |s: &EquilibriumSettings| -> Vec<f64> {
+        let mut x = Vec::with_capacity(n);
+        for &b in &bodies {
+            x.extend(if b == 0 { s.pose_p.values() } else { s.pose_g.values() });
+        }
+        x
+    };
+    let put = |x: &[f64], base: &EquilibriumSettings| -> EquilibriumSettings {
+        let mut s = *base;
+        for (k, &b) in bodies.iter().enumerate() {
+            let p = BodyPose::from_values(std::array::from_fn(|i| x[5 * k + i]));
+            if b == 0 {
+                s.pose_p = p;
+            } else {
+                s.pose_g = p;
+            }
+        }
+        s
+    };
+    let mut guess = te_guess;
+    // F at x: the residual and the equilibrium.
+    let mut eval = |x: &[f64], guess: f64| -> Result<(Vec<f64>, Equilibrium), MeshError> {
+        let s = put(x, settings);
+        let (eq, np, ng) = support_map(mesh, phi_p, torque, guess, supports, &s)?;
+        let g = get(&EquilibriumSettings { pose_p: np, pose_g: ng, ..s });
+        Ok((g.iter().zip(x).map(|(a, b)| a - b).collect(), eq))
+    };
+    // Translations and tilts on one scale: a tilt times 10 mm, the order of a face width.
+    let norm = |f: &[f64]| -> f64 {
+        let scaled = f.iter().enumerate().map(|(i, v)| if i % 5 >= 3 { v * 1e-2 } else { *v });
+        scaled.map(|v| v * v).sum::<f64>().sqrt()
+    };
+    let mut x = get(settings);
+    let (mut f, mut eq) = eval(&x, guess)?;
+    guess = eq.te;
+    for it in 1..=MAX_NEWTON_ITERATIONS {
+        // Settled: |F| at the map's noise floor (the TE solve's 1e-15 m moves the poses by
+        // about as much), relative to the poses.
+        if norm(&f) <= 1e-9 * norm(&x) + 1e-15 {
+            return Ok(SupportedEquilibrium { equilibrium: eq, iterations: used + it - 1 });
+        }
+        // The Jacobian of F by forward differences.
+        let size_t = (0..n).filter(|i| i % 5 < 3).map(|i| x[i].abs()).fold(0.0, f64::max);
+        let size_r = (0..n).filter(|i| i % 5 >= 3).map(|i| x[i].abs()).fold(0.0, f64::max);
+        let mut jac = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for j in 0..n {
+            let h =
+                if j % 5 >= 3 { (1e-6 * size_r).max(1e-10) } else { (1e-6 * size_t).max(1e-12) };
+            let mut xp = x.clone();
+            xp[j] += h;
+            let (fp, _) = eval(&xp, guess)?;
+            for i in 0..n {
+                jac[(i, j)] = (fp[i] - f[i]) / h;
+            }
+        }
+        let rhs = nalgebra::DVector::from_iterator(n, f.iter().map(|v| -v));
+        let Some(dx) = jac.lu().solve(&rhs) else {
+            break;
+        };
+        // Halve the step until |F| falls.
+        let f0 = norm(&f);
+        let mut t = 1.0;
+        let mut accepted = false;
+        for _ in 0..20 {
+            let xt: Vec<f64> = x.iter().zip(dx.iter()).map(|(a, d)| a + t * d).collect();
+            match eval(&xt, guess) {
+                Ok((ft, et)) if norm(&ft) < f0 => {
+                    (x, f, eq) = (xt, ft, et);
+                    guess = eq.te;
+                    accepted = true;
+                    break;
+                }
+                Ok(_) => {}
+                Err(e) => failure = Some(e),
+            }
+            t *= 0.5;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    Err(failure.unwrap_or_else(|| {
+        MeshError::Equilibrium(format!(
+            "the gear bodies' poses on their supports did not settle in \
+         {MAX_FIXED_POINT_ITERATIONS} fixed-point iterations and {MAX_NEWTON_ITERATIONS} Newton \
+         steps at phi_p = {phi_p} rad, torque = {torque} N.m (supports too soft against the \
+         mesh's force and moments)"
+        ))
+    }))
 }
 
 /// The static curve ([`super::statics::static_curve_with`]) with both bodies on `supports`:

@@ -789,15 +789,12 @@ const REACTIONS: [Variable; 10] = [
 pub const SUPPORT_MASS_KG: Bounds<f64> = Bounds::new(1e-3, 1e5, "kg");
 /// Transverse moment of inertia of a supported body, kg·m².
 pub const SUPPORT_J_KGM2: Bounds<f64> = Bounds::new(1e-8, 1e4, "kg.m2");
-/// Radial or axial support stiffness, N/m. The least is about the softest for which the
-/// static start settles on Table 1 under the least drive torque, 1 N·m: the fixed point of
-/// the supported equilibrium ([`crate::mesh::supports`]) contracts only while the support is
-/// stiff against the change of the mesh's force and moments with the pose (the gear's radial
-/// support at 10⁶ N/m does not settle in 100 iterations).
-pub const SUPPORT_STIFFNESS_N_PER_M: Bounds<f64> = Bounds::new(1e7, 1e15, "N/m");
-/// Tilting support stiffness, N·m/rad; the least as for [`SUPPORT_STIFFNESS_N_PER_M`] (10³
-/// N·m/rad does not settle).
-pub const SUPPORT_TILT_NM_PER_RAD: Bounds<f64> = Bounds::new(1e4, 1e13, "N.m/rad");
+/// Radial or axial support stiffness, N/m. The least keeps a body within the poses the table
+/// takes (0.02·m_n) under the least drive torque, 1 N·m, for Table 1 (23 µm).
+pub const SUPPORT_STIFFNESS_N_PER_M: Bounds<f64> = Bounds::new(1e6, 1e15, "N/m");
+/// Tilting support stiffness, N·m/rad; the least as for [`SUPPORT_STIFFNESS_N_PER_M`]
+/// (1.6·10⁻³ rad).
+pub const SUPPORT_TILT_NM_PER_RAD: Bounds<f64> = Bounds::new(1e2, 1e13, "N.m/rad");
 /// Radial or axial support damping, N·s/m. The largest over the least mass, 10¹¹ s⁻¹, still
 /// leaves a 1 µs communication step within the sub-step bound of the units.
 pub const SUPPORT_DAMPING_NS_PER_M: Bounds<f64> = Bounds::new(0.0, 1e8, "N.s/m");
