@@ -1,5 +1,5 @@
-//! The `min`/`max` of every numeric parameter in the checked-in `modelDescription.xml` of each
-//! of the four models are exactly what the library accepts, through the FMI API: a fresh
+//! The `min`/`max` of every numeric parameter in the checked-in `modelDescription.xml` of
+//! every model are exactly what the library accepts, through the FMI API: a fresh
 //! instance, `fmi2SetReal`/`fmi2SetInteger` of the value, `fmi2EnterInitializationMode`,
 //! `fmi2ExitInitializationMode`. The bound itself is accepted; one step past it (the next
 //! `f64`, or ±1 for integers) is refused with a message that names the parameter and the value.

@@ -298,15 +298,19 @@ fn default_cell(v: Option<&serde_json::Value>) -> String {
     }
 }
 
+/// The short name of a model in the tables: `Mesh`, `Pair`, `Stage`, `Drive`, `Gearbox`.
+fn short_name(m: &ModelInfo) -> &'static str {
+    match m.identifier.strip_prefix("HelicalGear") {
+        Some(s) if s.starts_with(char::is_uppercase) => s,
+        _ => m.identifier.trim_start_matches("Helical"),
+    }
+}
+
 fn models_cell(models: &[&ModelInfo]) -> String {
     if models.len() == MODELS.len() {
-        "all four".to_string()
+        "every model".to_string()
     } else {
-        models
-            .iter()
-            .map(|m| m.identifier.trim_start_matches("HelicalGear"))
-            .collect::<Vec<_>>()
-            .join(", ")
+        models.iter().map(|m| short_name(m)).collect::<Vec<_>>().join(", ")
     }
 }
 
@@ -394,7 +398,7 @@ pub fn parameters_page() -> Result<String, String> {
         let mut starts: Vec<(String, Vec<&str>)> = Vec::new();
         for m in &models {
             let s = m.by_name(name).and_then(|w| m.start(w)).unwrap_or_default();
-            let id = m.identifier.trim_start_matches("HelicalGear");
+            let id = short_name(m);
             match starts.iter_mut().find(|(x, _)| *x == s) {
                 Some((_, ids)) => ids.push(id),
                 None => starts.push((s, vec![id])),
