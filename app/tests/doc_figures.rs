@@ -25,7 +25,7 @@ const ALLOWED: &[(&str, &str)] = &[
     ("100 N·m", "Table 1 input: the driving torque"),
     ("1 N·m", "the smallest design torque of the table, a definition in the code"),
     ("1e9 N·m", "the largest design torque of the table, the range of an option"),
-    ("6 MB", "the limit tests/python/test_sizes.py asserts on every zipped FMU"),
+    ("6.5 MB", "the limit tests/python/test_sizes.py asserts on every zipped FMU"),
     ("8 MB", "the limit tests/python/test_sizes.py asserts on the linux64 library"),
 ];
 
