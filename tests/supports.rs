@@ -12,6 +12,30 @@ fn mesh() -> Mesh {
         .unwrap()
 }
 
+/// Each support's reaction at the equilibrium's pose balances the mesh's force and moments on
+/// its body, R + W = 0, to 1e-8 of the wrench.
+fn assert_balanced(supports: &Supports, e: &helical_gear_mesh::mesh::Equilibrium) {
+    let o = &e.outputs;
+    for (sup, pose, w) in [
+        (
+            supports.pinion.unwrap(),
+            e.pose_p,
+            [o.force_p[0], o.force_p[1], o.force_p[2], o.moment_p[0], o.moment_p[1]],
+        ),
+        (
+            supports.gear.unwrap(),
+            e.pose_g,
+            [o.force_g[0], o.force_g[1], o.force_g[2], o.moment_g[0], o.moment_g[1]],
+        ),
+    ] {
+        let r = sup.reaction(&pose, &BodyPose::default());
+        let scale = w.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for i in 0..5 {
+            assert!((r[i] + w[i]).abs() <= 1e-8 * scale, "component {i}: R {} + W {}", r[i], w[i]);
+        }
+    }
+}
+
 fn support(radial: f64, axial: f64, tilt: f64) -> String {
     format!(
         r#"{{"mass_kg": 2.0, "j_transverse_kgm2": 1e-3, "stiffness": {{"radial_n_per_m": {radial:e},
@@ -105,25 +129,7 @@ fn the_supports_balance_the_mesh_wrench() {
         &EquilibriumSettings::default(),
     )
     .unwrap();
-    let o = &e.equilibrium.outputs;
-    for (sup, pose, w) in [
-        (
-            supports.pinion.unwrap(),
-            e.equilibrium.pose_p,
-            [o.force_p[0], o.force_p[1], o.force_p[2], o.moment_p[0], o.moment_p[1]],
-        ),
-        (
-            supports.gear.unwrap(),
-            e.equilibrium.pose_g,
-            [o.force_g[0], o.force_g[1], o.force_g[2], o.moment_g[0], o.moment_g[1]],
-        ),
-    ] {
-        let r = sup.reaction(&pose, &BodyPose::default());
-        let scale = w.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        for i in 0..5 {
-            assert!((r[i] + w[i]).abs() <= 1e-8 * scale, "component {i}: R {} + W {}", r[i], w[i]);
-        }
-    }
+    assert_balanced(&supports, &e.equilibrium);
     assert!(
         e.equilibrium.pose_g.th_x != 0.0 && e.equilibrium.pose_g.th_y != 0.0,
         "{:?}",
@@ -255,23 +261,5 @@ fn soft_supports_settle_by_newton_and_balance_the_mesh() {
         e.equilibrium.pose_g.u_x
     );
 
-    let o = &e.equilibrium.outputs;
-    for (sup, pose, w) in [
-        (
-            supports.pinion.unwrap(),
-            e.equilibrium.pose_p,
-            [o.force_p[0], o.force_p[1], o.force_p[2], o.moment_p[0], o.moment_p[1]],
-        ),
-        (
-            supports.gear.unwrap(),
-            e.equilibrium.pose_g,
-            [o.force_g[0], o.force_g[1], o.force_g[2], o.moment_g[0], o.moment_g[1]],
-        ),
-    ] {
-        let r = sup.reaction(&pose, &BodyPose::default());
-        let scale = w.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        for i in 0..5 {
-            assert!((r[i] + w[i]).abs() <= 1e-8 * scale, "component {i}: R {} + W {}", r[i], w[i]);
-        }
-    }
+    assert_balanced(&supports, &e.equilibrium);
 }

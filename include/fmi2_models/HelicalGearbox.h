@@ -3,20 +3,20 @@
 #ifndef HELICALGEARBOX_H
 #define HELICALGEARBOX_H
 
-#define HelicalGearbox_GUID "{12789513-3ed7-8b0d-8d6d-96c91ca0798f}"
+#define HelicalGearbox_GUID "{7c712148-27ca-84b1-93d8-5b39ace026ed}"
 
 typedef enum {
     HelicalGearbox_vr_M = 60, /* input Real N.m */
-    HelicalGearbox_vr_phi_p = 40, /* output Real rad */
-    HelicalGearbox_vr_w_p = 41, /* output Real rad/s */
-    HelicalGearbox_vr_phi_g = 43, /* output Real rad */
-    HelicalGearbox_vr_w_g = 44, /* output Real rad/s */
     HelicalGearbox_vr_phi_1 = 48, /* output Real rad */
     HelicalGearbox_vr_phi_2 = 50, /* output Real rad */
     HelicalGearbox_vr_w_1 = 49, /* output Real rad/s */
     HelicalGearbox_vr_w_2 = 51, /* output Real rad/s */
     HelicalGearbox_vr_a_p = 42, /* output Real rad/s2 */
     HelicalGearbox_vr_a_g = 45, /* output Real rad/s2 */
+    HelicalGearbox_vr_phi_p = 40, /* output Real rad */
+    HelicalGearbox_vr_w_p = 41, /* output Real rad/s */
+    HelicalGearbox_vr_phi_g = 43, /* output Real rad */
+    HelicalGearbox_vr_w_g = 44, /* output Real rad/s */
     HelicalGearbox_vr_M_F_p = 10, /* output Real N.m */
     HelicalGearbox_vr_M_F_g = 11, /* output Real N.m */
     HelicalGearbox_vr_M_D_p = 12, /* output Real N.m */

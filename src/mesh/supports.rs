@@ -91,6 +91,17 @@ impl Support {
         })
     }
 
+    /// The diagonal 5 × 5 matrix of a support isotropic in the transverse plane:
+    /// diag(radial, radial, axial, tilt, tilt) in the order of [`BodyPose::values`] (a stiffness
+    /// in N/m and N·m/rad, or a damping in N·s/m and N·m·s/rad).
+    pub fn isotropic(radial: f64, axial: f64, tilt: f64) -> [[f64; 5]; 5] {
+        let mut k = [[0.0; 5]; 5];
+        for (i, x) in [radial, radial, axial, tilt, tilt].into_iter().enumerate() {
+            k[i][i] = x;
+        }
+        k
+    }
+
     /// The pose at which the support balances the load `w` (N, N·m): K⁻¹·w.
     pub fn static_pose(&self, w: &[f64; 5]) -> BodyPose {
         let l = cholesky(&self.stiffness).expect("checked positive definite");
@@ -330,11 +341,7 @@ fn matrix(
                     .ok_or_else(|| ParamError::new(&name, f64::NAN, "a number (required)"))?;
                 *x = limit(&name, y)?;
             }
-            let mut k = [[0.0; 5]; 5];
-            for (i, x) in [v[0], v[0], v[1], v[2], v[2]].into_iter().enumerate() {
-                k[i][i] = x;
-            }
-            Ok(Some(k))
+            Ok(Some(Support::isotropic(v[0], v[1], v[2])))
         }
         (Some(_), None) => {
             Err(ParamError::new(&format!("{key}.{diag_key}"), f64::NAN, "a JSON object"))

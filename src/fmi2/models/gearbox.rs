@@ -54,6 +54,7 @@
 
 use std::sync::OnceLock;
 
+use super::unit::{DRIVE_IO, DRIVE_KNOWN, DRIVE_STATES, HUB_STATES, HUBS, ME_DRIVE, slot};
 use crate::dynamics::Drivetrain;
 use crate::dynamics::bodies::{N_BODY_STATES, POSE_P, SupportedDynamics, SupportedStart};
 use crate::dynamics::integrators::{OdeError, OdeSystem, Rk4};
@@ -62,127 +63,103 @@ use crate::dynamics::limits::{
 };
 use crate::dynamics::relative::RelativeCoordinates;
 use crate::dynamics::unit::UnitKind;
-use crate::fmi2::model::{Engine, Experiment, Jacobian, ModelInfo, StepFailure};
+use crate::fmi2::model::{Engine, Experiment, Jacobian, MAX_STATES, ModelInfo, StepFailure};
 use crate::fmi2::models::mesh::build_mesh;
 use crate::fmi2::models::write_mesh_outputs;
 use crate::fmi2::variables::{
-    ANGLE, Access, BodySupportOptions, CALCULATED, Causality, DEG, DRIVE_INERTIAS, DRIVE_SHAFTS,
+    ANGLE, Access, BodySupportOptions, CALCULATED, Causality, DRIVE_INERTIAS, DRIVE_SHAFTS,
     DRIVE_TORQUE, Depends, Derived, GEAR_PARAMS, InputValues, M, MESH_OPTIONS, MESH_OUTPUTS, NM,
     NONE, OutputValues, RAD, START_OUTER, START_PAIR, Settings, TORQUE, UNIT_OPTIONS, Variability,
-    Variable, concat, group, real_output_slots, total_len, with_depends,
+    Variable, concat, group, total_len, with_depends,
 };
 use crate::mesh::statics::EquilibriumSettings;
 use crate::mesh::supports::{Support, Supports};
-use crate::mesh::{Mesh, MeshTorques};
+use crate::mesh::{Mesh, MeshTorques, pose};
 use crate::params::Bounds;
 
 /// Number of states.
 const N: usize = N_BODY_STATES;
 
+/// `a` followed by `b` (`C` = their lengths' sum).
+const fn join<const C: usize>(a: &[&'static str], b: &[&'static str]) -> [&'static str; C] {
+    assert!(a.len() + b.len() == C);
+    let mut out = [""; C];
+    let mut i = 0;
+    while i < C {
+        out[i] = if i < a.len() { a[i] } else { b[i - a.len()] };
+        i += 1;
+    }
+    out
+}
+
 /// The Model Exchange states in order: the Drive's relative coordinates, then the poses and
-/// the pose rates of both bodies (the order of [`crate::mesh::pose::INPUT_NAMES`]).
-const STATES: [&str; N] = [
-    "phi_p",
-    "theta_1",
-    "TE",
-    "theta_2",
-    "w_p",
-    "w_theta_1",
-    "v_TE",
-    "w_theta_2",
-    "u_p_x",
-    "u_p_y",
-    "u_p_z",
-    "th_p_x",
-    "th_p_y",
-    "u_g_x",
-    "u_g_y",
-    "u_g_z",
-    "th_g_x",
-    "th_g_y",
-    "v_p_x",
-    "v_p_y",
-    "v_p_z",
-    "om_p_x",
-    "om_p_y",
-    "v_g_x",
-    "v_g_y",
-    "v_g_z",
-    "om_g_x",
-    "om_g_y",
-];
+/// the pose rates of both bodies (the order of [`pose::INPUT_NAMES`]).
+const STATES: [&str; N] = join(&DRIVE_STATES, &pose::INPUT_NAMES);
 /// The knowns of Model Exchange: the states and the input `M`.
-const KNOWN: [&str; N + 1] = [
-    "phi_p",
-    "theta_1",
-    "TE",
-    "theta_2",
-    "w_p",
-    "w_theta_1",
-    "v_TE",
-    "w_theta_2",
-    "u_p_x",
-    "u_p_y",
-    "u_p_z",
-    "th_p_x",
-    "th_p_y",
-    "u_g_x",
-    "u_g_y",
-    "u_g_z",
-    "th_g_x",
-    "th_g_y",
-    "v_p_x",
-    "v_p_y",
-    "v_p_z",
-    "om_p_x",
-    "om_p_y",
-    "v_g_x",
-    "v_g_y",
-    "v_g_z",
-    "om_g_x",
-    "om_g_y",
-    "M",
-];
+const KNOWN: [&str; N + 1] = join(&STATES, &["M"]);
 /// What the mesh outputs depend on: the hub states and both bodies' poses and rates.
-const MESH_KNOWN: [&str; 24] = [
-    "phi_p", "TE", "w_p", "v_TE", "u_p_x", "u_p_y", "u_p_z", "th_p_x", "th_p_y", "u_g_x", "u_g_y",
-    "u_g_z", "th_g_x", "th_g_y", "v_p_x", "v_p_y", "v_p_z", "om_p_x", "om_p_y", "v_g_x", "v_g_y",
-    "v_g_z", "om_g_x", "om_g_y",
-];
+const MESH_KNOWN: [&str; 24] = join(&HUB_STATES, &pose::INPUT_NAMES);
 const GEARBOX_MESH_OUTPUTS: [Variable; 30] = with_depends(
     MESH_OUTPUTS,
     Depends { inputs: &MESH_KNOWN, linear_fixed: false, groups: group::ALL },
 );
 
-/// Input slot of the driving torque `M`.
-const TORQUE_SLOT: usize = 0;
+/// Real output slots: the Drive's ([`super::unit::out`]: the mesh outputs, the kinematics,
+/// the Model Exchange state `X + i` and its derivative `DX + i`, both [`MAX_STATES`] long, so
+/// the poses follow the Drive's eight states there), then the ten support reactions
+/// `R_p_x` … `R_g_my` ([`crate::dynamics::bodies::REACTION_NAMES`]) at `R`.
+use super::unit::out::{self, DX, X};
+const R: usize = DX + MAX_STATES;
 
-/// Real output slots: the mesh outputs' first ([`write_mesh_outputs`]), then the kinematics,
-/// the support reactions, the Model Exchange state ([`X`]) and its derivative ([`DX`]).
-mod out {
-    use super::{MESH_OUTPUTS, N, real_output_slots};
-    const K: usize = real_output_slots(&MESH_OUTPUTS);
-    pub const PHI_1: usize = K;
-    pub const PHI_P: usize = K + 1;
-    pub const PHI_G: usize = K + 2;
-    pub const PHI_2: usize = K + 3;
-    pub const W_1: usize = K + 4;
-    pub const W_P: usize = K + 5;
-    pub const W_G: usize = K + 6;
-    pub const W_2: usize = K + 7;
-    pub const A_P: usize = K + 8;
-    pub const A_G: usize = K + 9;
-    /// The ten support reactions `R_p_x` … `R_g_my` ([`crate::dynamics::bodies::REACTION_NAMES`]).
-    pub const R: usize = K + 10;
-    /// Model Exchange: state `i` in relative coordinates is slot `X + i`.
-    pub const X: usize = R + 10;
-    /// Model Exchange: the time derivative of state `i` is slot `DX + i`.
-    pub const DX: usize = X + N;
+/// True when the lists `a` and `b` hold the same names in the same order.
+const fn same(a: &[&str], b: &[&str]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        let (x, y) = (a[i].as_bytes(), b[i].as_bytes());
+        if x.len() != y.len() {
+            return false;
+        }
+        let mut k = 0;
+        while k < x.len() {
+            if x[k] != y[k] {
+                return false;
+            }
+            k += 1;
+        }
+        i += 1;
+    }
+    true
 }
-use out::{DX, X};
+
+/// The Drive's variables as the Gearbox has them: what depends on the Drive's whole state
+/// (and `M`) depends on all 28 states (and `M`); every other dependency list stays.
+const fn widened<const L: usize>(vars: [Variable; L]) -> [Variable; L] {
+    let mut v = vars;
+    let mut i = 0;
+    while i < L {
+        if let Some(d) = v[i].depends {
+            let inputs: &'static [&'static str] = if same(d.inputs, &DRIVE_STATES) {
+                &STATES
+            } else if same(d.inputs, &DRIVE_KNOWN) {
+                &KNOWN
+            } else {
+                d.inputs
+            };
+            v[i].depends = Some(Depends { inputs, ..d });
+        }
+        i += 1;
+    }
+    v
+}
+
+const DRIVE_IO_WIDE: [Variable; 7] = widened(DRIVE_IO);
+const HUBS_WIDE: [Variable; 4] = widened(HUBS);
+const ME_DRIVE_WIDE: [Variable; 13] = widened(ME_DRIVE);
 
 const RAD_S: Option<&str> = Some("rad/s");
-const RPM: Option<&str> = Some("rpm");
 const W: Option<&str> = Some("AngularVelocity");
 const RAD_S2: Option<&str> = Some("rad/s2");
 const ACC: Option<&str> = Some("AngularAcceleration");
@@ -226,291 +203,6 @@ const fn var(
 }
 
 use Causality::{Local, Output};
-
-/// The input `M`, the kinematics of the four inertias and the accelerations of the hubs (value
-/// references and names of `HelicalGearDrive`).
-const IO: [Variable; 11] = [
-    Variable {
-        name: "M",
-        vr: 60,
-        causality: Causality::Input,
-        variability: Variability::Continuous,
-        description: "Driving torque M on J1, N.m (the load on J2 is M*z_g/z_p, Eq. 4)",
-        unit: NM,
-        quantity: TORQUE,
-        access: Access::Input { slot: TORQUE_SLOT, derivative: true },
-        ..NONE
-    },
-    var(
-        "phi_p",
-        40,
-        Output,
-        RAD,
-        DEG,
-        ANGLE,
-        "Pinion hub angle, rad (state)",
-        &["phi_p"],
-        None,
-        out::PHI_P,
-    ),
-    var("w_p", 41, Output, RAD_S, RPM, W, "Pinion speed, rad/s (state)", &["w_p"], None, out::W_P),
-    var(
-        "phi_g",
-        43,
-        Output,
-        RAD,
-        DEG,
-        ANGLE,
-        "Gear hub angle, rad (state; negative in normal running)",
-        &["phi_p", "TE"],
-        None,
-        out::PHI_G,
-    ),
-    var(
-        "w_g",
-        44,
-        Output,
-        RAD_S,
-        RPM,
-        W,
-        "Gear speed, rad/s (state; negative in normal running)",
-        &["w_p", "v_TE"],
-        None,
-        out::W_G,
-    ),
-    var(
-        "phi_1",
-        48,
-        Output,
-        RAD,
-        DEG,
-        ANGLE,
-        "Angle of J1, rad (state)",
-        &["phi_p", "theta_1"],
-        None,
-        out::PHI_1,
-    ),
-    var(
-        "phi_2",
-        50,
-        Output,
-        RAD,
-        DEG,
-        ANGLE,
-        "Angle of J2, rad (state)",
-        &["phi_p", "TE", "theta_2"],
-        None,
-        out::PHI_2,
-    ),
-    var(
-        "w_1",
-        49,
-        Output,
-        RAD_S,
-        RPM,
-        W,
-        "Speed of J1, rad/s (state)",
-        &["w_p", "w_theta_1"],
-        None,
-        out::W_1,
-    ),
-    var(
-        "w_2",
-        51,
-        Output,
-        RAD_S,
-        RPM,
-        W,
-        "Speed of J2, rad/s (state)",
-        &["w_p", "v_TE", "w_theta_2"],
-        None,
-        out::W_2,
-    ),
-    var(
-        "a_p",
-        42,
-        Output,
-        RAD_S2,
-        None,
-        ACC,
-        "Pinion angular acceleration phi_p'', rad/s2",
-        &STATES,
-        None,
-        out::A_P,
-    ),
-    var(
-        "a_g",
-        45,
-        Output,
-        RAD_S2,
-        None,
-        ACC,
-        "Gear angular acceleration phi_g'', rad/s2",
-        &STATES,
-        None,
-        out::A_G,
-    ),
-];
-
-/// The Drive's relative coordinates as Model Exchange states and their derivatives.
-const ROTATION_STATES: [Variable; 13] = [
-    var(
-        "theta_1",
-        71,
-        Local,
-        RAD,
-        None,
-        ANGLE,
-        "Twist of the pinion shaft phi_1 - phi_p, rad (Model Exchange state)",
-        &[],
-        None,
-        X + 1,
-    ),
-    var(
-        "theta_2",
-        72,
-        Local,
-        RAD,
-        None,
-        ANGLE,
-        "Twist of the gear shaft phi_g - phi_2, rad (Model Exchange state)",
-        &[],
-        None,
-        X + 3,
-    ),
-    var(
-        "w_theta_1",
-        73,
-        Local,
-        RAD_S,
-        None,
-        W,
-        "Rate of the pinion shaft's twist w_1 - w_p, rad/s (Model Exchange state)",
-        &[],
-        None,
-        X + 5,
-    ),
-    var(
-        "v_TE",
-        70,
-        Local,
-        M_S,
-        None,
-        VEL,
-        "Rate of the transmission error g_p*w_p + g_g*w_g, m/s (Model Exchange state)",
-        &[],
-        None,
-        X + 6,
-    ),
-    var(
-        "w_theta_2",
-        74,
-        Local,
-        RAD_S,
-        None,
-        W,
-        "Rate of the gear shaft's twist w_g - w_2, rad/s (Model Exchange state)",
-        &[],
-        None,
-        X + 7,
-    ),
-    var(
-        "der(phi_p)",
-        80,
-        Local,
-        RAD_S,
-        None,
-        W,
-        "Time derivative of phi_p, rad/s",
-        &["w_p"],
-        Some("phi_p"),
-        DX,
-    ),
-    var(
-        "der(theta_1)",
-        84,
-        Local,
-        RAD_S,
-        None,
-        W,
-        "Time derivative of theta_1, rad/s",
-        &["w_theta_1"],
-        Some("theta_1"),
-        DX + 1,
-    ),
-    var(
-        "der(TE)",
-        81,
-        Local,
-        M_S,
-        None,
-        VEL,
-        "Time derivative of TE, m/s",
-        &["v_TE"],
-        Some("TE"),
-        DX + 2,
-    ),
-    var(
-        "der(theta_2)",
-        85,
-        Local,
-        RAD_S,
-        None,
-        W,
-        "Time derivative of theta_2, rad/s",
-        &["w_theta_2"],
-        Some("theta_2"),
-        DX + 3,
-    ),
-    var(
-        "der(w_p)",
-        82,
-        Local,
-        RAD_S2,
-        None,
-        ACC,
-        "Time derivative of w_p, rad/s2",
-        &STATES,
-        Some("w_p"),
-        DX + 4,
-    ),
-    var(
-        "der(w_theta_1)",
-        86,
-        Local,
-        RAD_S2,
-        None,
-        ACC,
-        "Time derivative of w_theta_1, rad/s2",
-        &KNOWN,
-        Some("w_theta_1"),
-        DX + 5,
-    ),
-    var(
-        "der(v_TE)",
-        83,
-        Local,
-        M_S2,
-        None,
-        ACCEL,
-        "Time derivative of v_TE, m/s2",
-        &STATES,
-        Some("v_TE"),
-        DX + 6,
-    ),
-    var(
-        "der(w_theta_2)",
-        87,
-        Local,
-        RAD_S2,
-        None,
-        ACC,
-        "Time derivative of w_theta_2, rad/s2",
-        &KNOWN,
-        Some("w_theta_2"),
-        DX + 7,
-    ),
-];
 
 /// The pose states in the order of the state vector (pinion pose, gear pose, pinion rate, gear
 /// rate): poses are outputs, rates Model Exchange locals, value references 600 + s for state
@@ -673,7 +365,7 @@ const REACTIONS: [Variable; 10] = [
         "Force x the pinion's support exerts on the pinion body, N (R = -K*p - C*p')",
         &STATES,
         None,
-        out::R,
+        R,
     ),
     var(
         "R_p_y",
@@ -685,7 +377,7 @@ const REACTIONS: [Variable; 10] = [
         "Force y the pinion's support exerts on the pinion body, N",
         &STATES,
         None,
-        out::R + 1,
+        R + 1,
     ),
     var(
         "R_p_z",
@@ -697,7 +389,7 @@ const REACTIONS: [Variable; 10] = [
         "Axial force z the pinion's support exerts on the pinion body, N",
         &STATES,
         None,
-        out::R + 2,
+        R + 2,
     ),
     var(
         "R_p_mx",
@@ -709,7 +401,7 @@ const REACTIONS: [Variable; 10] = [
         "Moment about x the pinion's support exerts on the pinion body, N.m",
         &STATES,
         None,
-        out::R + 3,
+        R + 3,
     ),
     var(
         "R_p_my",
@@ -721,7 +413,7 @@ const REACTIONS: [Variable; 10] = [
         "Moment about y the pinion's support exerts on the pinion body, N.m",
         &STATES,
         None,
-        out::R + 4,
+        R + 4,
     ),
     var(
         "R_g_x",
@@ -733,7 +425,7 @@ const REACTIONS: [Variable; 10] = [
         "Force x the gear's support exerts on the gear body, N",
         &STATES,
         None,
-        out::R + 5,
+        R + 5,
     ),
     var(
         "R_g_y",
@@ -745,7 +437,7 @@ const REACTIONS: [Variable; 10] = [
         "Force y the gear's support exerts on the gear body, N",
         &STATES,
         None,
-        out::R + 6,
+        R + 6,
     ),
     var(
         "R_g_z",
@@ -757,7 +449,7 @@ const REACTIONS: [Variable; 10] = [
         "Axial force z the gear's support exerts on the gear body, N",
         &STATES,
         None,
-        out::R + 7,
+        R + 7,
     ),
     var(
         "R_g_mx",
@@ -769,7 +461,7 @@ const REACTIONS: [Variable; 10] = [
         "Moment about x the gear's support exerts on the gear body, N.m",
         &STATES,
         None,
-        out::R + 8,
+        R + 8,
     ),
     var(
         "R_g_my",
@@ -781,7 +473,7 @@ const REACTIONS: [Variable; 10] = [
         "Moment about y the gear's support exerts on the gear body, N.m",
         &STATES,
         None,
-        out::R + 9,
+        R + 9,
     ),
 ];
 
@@ -998,7 +690,8 @@ fn set_supports_json(s: &mut Settings, text: &str) -> Result<(), String> {
 const GEARBOX_OPTIONS: [Variable; 3] = [UNIT_OPTIONS[0], UNIT_OPTIONS[2], UNIT_OPTIONS[5]];
 
 const PARTS: &[&[Variable]] = &[
-    &IO,
+    &DRIVE_IO_WIDE,
+    &HUBS_WIDE,
     &GEARBOX_MESH_OUTPUTS,
     &REACTIONS,
     &CALCULATED,
@@ -1012,7 +705,7 @@ const PARTS: &[&[Variable]] = &[
     &START_OUTER,
     &SUPPORT_PARAMS,
     // The state derivatives in state order: the rotations', then the poses'.
-    &ROTATION_STATES,
+    &ME_DRIVE_WIDE,
     &POSES,
 ];
 
@@ -1029,7 +722,7 @@ fn gearbox_settings() -> Settings {
 /// The start input: the default driving torque.
 fn gearbox_inputs() -> InputValues {
     let mut i = InputValues::default();
-    i.values[TORQUE_SLOT] = Settings::default().drive.torque_nm;
+    i.values[slot::TORQUE] = Settings::default().drive.torque_nm;
     i
 }
 
@@ -1080,18 +773,11 @@ fn body_support(body: &str, b: &BodySupportOptions) -> Result<Support, String> {
     check("radial_ns_per_m", &SUPPORT_DAMPING_NS_PER_M, b.radial_ns_per_m)?;
     check("axial_ns_per_m", &SUPPORT_DAMPING_NS_PER_M, b.axial_ns_per_m)?;
     check("tilt_nms_per_rad", &SUPPORT_TILT_DAMPING_NMS_PER_RAD, b.tilt_nms_per_rad)?;
-    let diag = |r: f64, a: f64, t: f64| {
-        let mut k = [[0.0; 5]; 5];
-        for (i, x) in [r, r, a, t, t].into_iter().enumerate() {
-            k[i][i] = x;
-        }
-        k
-    };
     Ok(Support {
         mass_kg: b.mass_kg,
         j_transverse_kgm2: b.j_transverse_kgm2,
-        stiffness: diag(b.radial_n_per_m, b.axial_n_per_m, b.tilt_nm_per_rad),
-        damping: diag(b.radial_ns_per_m, b.axial_ns_per_m, b.tilt_nms_per_rad),
+        stiffness: Support::isotropic(b.radial_n_per_m, b.axial_n_per_m, b.tilt_nm_per_rad),
+        damping: Support::isotropic(b.radial_ns_per_m, b.axial_ns_per_m, b.tilt_nms_per_rad),
         shaft: None,
     })
 }
@@ -1192,7 +878,7 @@ impl GearboxEngine {
     /// Takes the input `M` (and its rate) when it differs from the held one or was set since
     /// the last step: held from the current time.
     fn sync(&mut self, i: &InputValues) {
-        let (m, r) = (i.values[TORQUE_SLOT], i.rates[TORQUE_SLOT]);
+        let (m, r) = (i.values[slot::TORQUE], i.rates[slot::TORQUE]);
         if i.fresh || m != self.torque || r != self.torque_rate {
             (self.torque, self.torque_rate, self.torque_time) = (m, r, self.t);
         }
@@ -1242,8 +928,8 @@ impl Engine for GearboxEngine {
         if s.unit.start_from_equilibrium {
             self.y = start.y;
             (self.torque, self.torque_rate, self.torque_time) = (d.torque, 0.0, t0);
-            inputs.values[TORQUE_SLOT] = d.torque;
-            inputs.rates[TORQUE_SLOT] = 0.0;
+            inputs.values[slot::TORQUE] = d.torque;
+            inputs.rates[slot::TORQUE] = 0.0;
         } else {
             // The explicit rotational state, the bodies on their bearing axes at rest.
             let mut y = [0.0; N];
@@ -1254,7 +940,7 @@ impl Engine for GearboxEngine {
             self.dynamics.mesh_mut().forget_history();
             self.dynamics.outputs(&y).map_err(|e| format!("explicit start state: {e}"))?;
             self.y = y;
-            let (m, r) = (inputs.values[TORQUE_SLOT], inputs.rates[TORQUE_SLOT]);
+            let (m, r) = (inputs.values[slot::TORQUE], inputs.rates[slot::TORQUE]);
             (self.torque, self.torque_rate, self.torque_time) = (m, r, t0);
         }
         self.fastest = modes.fastest;
@@ -1300,7 +986,7 @@ impl Engine for GearboxEngine {
         (r[out::PHI_1], r[out::PHI_P], r[out::PHI_G], r[out::PHI_2]) = (y[0], y[1], y[2], y[3]);
         (r[out::W_1], r[out::W_P], r[out::W_G], r[out::W_2]) = (y[4], y[5], y[6], y[7]);
         (r[out::A_P], r[out::A_G]) = (dydt[5], dydt[6]);
-        r[out::R..out::R + 10].copy_from_slice(&sys.reactions(y).values());
+        r[R..R + 10].copy_from_slice(&sys.reactions(y).values());
         self.rel.to_relative(&y[..8], &mut r[X..X + 8]);
         r[X + 8..X + N].copy_from_slice(&y[8..]);
         self.rel.to_relative(&dydt[..8], &mut r[DX..DX + 8]);

@@ -62,18 +62,18 @@ const STATE_ONLY: Depends =
 /// The Model Exchange states every stateful model has (relative coordinates of the hubs,
 /// [`crate::dynamics::relative`]); the dependency lists below name states and inputs (the
 /// knowns of Model Exchange).
-const HUB_STATES: [&str; 4] = ["phi_p", "TE", "w_p", "v_TE"];
+pub(super) const HUB_STATES: [&str; 4] = ["phi_p", "TE", "w_p", "v_TE"];
 const PAIR_KNOWN: [&str; 6] = ["phi_p", "TE", "w_p", "v_TE", "tau_p", "tau_g"];
 const STAGE_KNOWN: [&str; 8] = ["phi_p", "TE", "w_p", "v_TE", "phi_1", "w_1", "phi_2", "w_2"];
-const DRIVE_STATES: [&str; 8] =
+pub(super) const DRIVE_STATES: [&str; 8] =
     ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2"];
-const DRIVE_KNOWN: [&str; 9] =
+pub(super) const DRIVE_KNOWN: [&str; 9] =
     ["phi_p", "theta_1", "TE", "theta_2", "w_p", "w_theta_1", "v_TE", "w_theta_2", "M"];
 const UNIT_MESH_OUTPUTS: [Variable; 30] = with_depends(MESH_OUTPUTS, STATE_ONLY);
 
 /// Input slots of the stateful models: one per field of [`UnitInputs`] (each model's table
 /// names only its own; the others stay 0, as the unit's unused inputs are).
-mod slot {
+pub(super) mod slot {
     /// [`super::UnitInputs::tau_p`].
     pub const TAU_P: usize = 0;
     /// [`super::UnitInputs::tau_g`].
@@ -94,7 +94,7 @@ mod slot {
 /// ([`write_mesh_outputs`]), then one per field of [`crate::dynamics::unit::UnitOutputs`]
 /// that a table names, then the Model Exchange state in relative coordinates ([`X`]) and its
 /// time derivative ([`DX`]).
-mod out {
+pub(super) mod out {
     use super::{MAX_STATES, MESH_OUTPUTS, real_output_slots};
     /// The Real slots the mesh outputs take.
     const K: usize = real_output_slots(&MESH_OUTPUTS);
@@ -162,7 +162,7 @@ const RAD_S2: Option<&str> = Some("rad/s2");
 const ACC: Option<&str> = Some("AngularAcceleration");
 
 /// φp, φ̇p, φ̇g, φg (functions of the state).
-const HUBS: [Variable; 4] = [
+pub(super) const HUBS: [Variable; 4] = [
     kin!("phi_p", 40, RAD, DEG, ANGLE, "Pinion hub angle, rad (state)", &["phi_p"], out::PHI_P),
     kin!("w_p", 41, RAD_S, RPM, W, "Pinion speed, rad/s (state)", &["w_p"], out::W_P),
     kin!(
@@ -298,7 +298,7 @@ const STAGE_IO: [Variable; 8] = [
     ),
 ];
 
-const DRIVE_IO: [Variable; 7] = [
+pub(super) const DRIVE_IO: [Variable; 7] = [
     input!(
         "M",
         60,
@@ -457,7 +457,7 @@ const ME_STAGE: [Variable; 5] = me_pair(&STAGE_KNOWN);
 
 /// Model Exchange states and derivatives of the Drive: x = (φp, θ1, TE, θ2, φ̇p, θ̇1, v_TE,
 /// θ̇2).
-const ME_DRIVE: [Variable; 13] = [
+pub(super) const ME_DRIVE: [Variable; 13] = [
     me_local!(
         "theta_1",
         71,
