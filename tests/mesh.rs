@@ -253,6 +253,48 @@ fn torques_only_matches(friction: helical_gear_mesh::mesh::Friction) {
     assert!(partial > 20, "the table's torque-only path ran at {partial} points");
 }
 
+/// The back-flank axis is sampled at its first need, and the same whenever that is: a table
+/// whose first back-flank state comes from an evaluation gives, bit for bit, the outputs of a
+/// table whose back flanks were sampled up front (through `te_range`), at back-flank states
+/// and at driving-flank ones before and after; and the back-flank outputs agree with the full
+/// model (the table's error).
+#[test]
+fn back_flanks_are_sampled_on_demand_and_the_same_whenever() {
+    let o = MeshOptions {
+        fidelity: Fidelity::Table,
+        table_phase_points: 16,
+        table_te_points: 12,
+        ..MeshOptions::default()
+    };
+    let mut lazy = model(o);
+    let mut eager = model(o);
+    let mut full = model(MeshOptions::default());
+    let t = lazy.table().expect("table");
+    assert!(!t.has_back_axis(), "the build sampled the back flanks");
+    assert!(t.back_build_seconds().is_none());
+    let (lo, _) = eager.table().expect("table").te_range();
+    assert!(eager.table().expect("table").has_back_axis());
+    // Driving flanks first: the back flanks stay unsampled.
+    let drive = state(&lazy, 0.11, 20e-6);
+    let a = lazy.evaluate(&drive).unwrap();
+    assert_eq!(a, eager.evaluate(&drive).unwrap());
+    // A back-flank state in the lower part of the back axis.
+    let jt = lazy.geometry().backlash_te;
+    let back_te = -jt + 0.4 * (lo + jt);
+    let back = state(&lazy, 0.23, back_te);
+    let b = lazy.evaluate(&back).unwrap();
+    assert!(lazy.table().expect("table").has_back_axis());
+    let e = eager.evaluate(&back).unwrap();
+    assert_eq!(b, e);
+    assert!(b.back_contact && b.m_f_p < 0.0, "{b:?}");
+    let f = full.evaluate(&back).unwrap();
+    let err = (b.m_f_p - f.m_f_p).abs() / f.m_f_p.abs();
+    assert!(err < 5e-3, "back-flank M_F,p {} against the full model {}: {err:e}", b.m_f_p, f.m_f_p);
+    assert_eq!(lazy.evaluate(&drive).unwrap(), a);
+    assert_eq!(lazy.table().unwrap().te_range(), eager.table().unwrap().te_range());
+    assert_eq!(lazy.table().unwrap().truncations(), eager.table().unwrap().truncations());
+}
+
 /// Table fidelity: relative torque error against `full` at random points ≤ 0.5 % where the
 /// torque exceeds 1 % of nominal, fallback outside the range, exact zero inside the backlash.
 #[test]

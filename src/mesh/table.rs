@@ -12,7 +12,8 @@
 //!   units set it to max(|M|, 1 N·m) of their torque M), the table's nominal torque (heavy
 //!   overload: about 4–5× the torque);
 //! * TE, back flanks: `table_te_points / 2` (at least 8) nodes on [−j_t − TE_hi/2, −j_t]
-//!   (j_t the backlash along the line of action).
+//!   (j_t the backlash along the line of action), sampled at the first state that needs them
+//!   (see "Back flanks on demand" below).
 //!
 //! The TE nodes are graded quadratically towards the onset (distance δ_k ∝ k²), uniform in
 //! u = √δ: the first cells, where the load is a small fraction of nominal and the Hertzian
@@ -33,6 +34,20 @@
 //! (`tests/mesh.rs`, coarse FE): the driving axis ends at 2.1× the nominal static TE (designed
 //! 4×) and agrees with the full model within 2 % below; at 100 N·m the whole designed range
 //! is well posed and nothing is cut (default FE: 253 µm, no cut; 200 N·m: 345 of 500 µm).
+//!
+//! # Back flanks on demand
+//! A drive line that keeps its flanks in contact never reaches the back flanks; only a loss of
+//! contact deeper than the backlash (rattle, a torque reversal) does. The build therefore
+//! samples the driving axis alone, and the back-flank axis is sampled, whole and in the same
+//! way (phase rows over the cores, each thread from a cold start, cut at the model's range),
+//! the first time a state with TE < −j_t is evaluated or a caller asks for the covered range
+//! ([`MeshTable::te_range`], [`MeshTable::truncations`], [`MeshTable::sizes`]). That takes
+//! about half the time of the driving axis, once per table (every mesh sharing the table
+//! shares it); the values do not depend on when it happens, so results do not depend on the
+//! call history. The build does a third less work: the default table samples 64 × 48 nodes
+//! instead of 64 × 72. A back-flank axis whose sampling fails (not four well-posed nodes) is
+//! recorded as a cut to nothing: back-flank states then fall back to the full model, which
+//! reports its own error where it has one.
 //!
 //! Between −j_t and 0 no flank can touch (the real flanks lie inside the full involutes, whose
 //! overlap is TE, resp. −TE − j_t), so the outputs there are exactly zero and need no nodes.
@@ -129,9 +144,9 @@ mod pose;
 pub use pose::{POSE_STEP_MN, PoseTable, TABLE_POSE_BOUND_MN};
 
 /// Most nodes of one table, `table_phase_points` × `table_te_points` (each axis 8 … 4096):
-/// the build evaluates the full model about 2.5 times per node (driving axis, back-flank axis
-/// of half the points, the error check at cell centres). The default 64 × 48 = 3072 nodes build
-/// in 3.4 s (200 slices, release build); 65 536 nodes (e.g. 256 × 256) take about a minute.
+/// the build evaluates the full model about once per node (the driving axis and its checks),
+/// the back-flank axis of half the points another half time per node at its first need.
+/// 65 536 nodes (e.g. 256 × 256) take about a minute in all.
 /// A 4096 × 4096 table (1.7·10⁷ nodes) would take hours and GB.
 pub const MAX_TABLE_NODES: usize = 65_536;
 
@@ -366,7 +381,13 @@ pub struct MeshTable {
     phase_h: f64,
     np: usize,
     drive: TeAxis,
-    back: TeAxis,
+    /// The back-flank axis as designed (onset −j_t, extent, nodes); it is sampled at the
+    /// first state that needs it ([`MeshTable::back_axis`]).
+    back_design: BackDesign,
+    /// The sampled back-flank axis, once a state on the back flanks (or a caller) needed it.
+    back: std::sync::OnceLock<BackFlanks>,
+    /// The full model the table samples (kept for the back-flank axis).
+    model: Arc<MeshModel>,
     backlash_te: f64,
     /// Pinion pitch (double-double, for the exact phase reduction) and base radii.
     pitch_p: crate::numeric::Pitch,
@@ -378,11 +399,30 @@ pub struct MeshTable {
     checked_points: usize,
     /// Per-tooth-pair driving-flank values, with the tooth deviations they are shifted by.
     pairs: Option<PairTable>,
-    /// The TE axes that were cut short at the model's range (see [`TableTruncation`]).
+    /// The driving axis cut short at the model's range (see [`TableTruncation`]; the back
+    /// flanks' cut is in [`BackFlanks`]).
     truncations: Vec<TableTruncation>,
     /// The pose sensitivities ([`PoseTable`]), built at the first need and shared by every
     /// mesh that shares this table ([`MeshTable::pose_table`]).
     pose: std::sync::OnceLock<Result<Arc<PoseTable>, MeshError>>,
+}
+
+/// The back-flank TE axis as designed: `n` nodes over `range` (m) below the onset `onset` = −j_t.
+#[derive(Debug, Clone, Copy)]
+struct BackDesign {
+    onset: f64,
+    range: f64,
+    n: usize,
+}
+
+/// The sampled back-flank axis: `None` when not even four nodes are well posed (no back-flank
+/// state is then on the table; every one falls back to the full model), with the cut, if
+/// any, and the time its sampling took.
+#[derive(Debug, Clone)]
+struct BackFlanks {
+    axis: Option<TeAxis>,
+    truncation: Option<TableTruncation>,
+    build_s: f64,
 }
 
 /// A TE axis of the table that ends short of its designed extent because the full model is
@@ -582,20 +622,56 @@ impl MeshTable {
         self.checked_points
     }
 
-    /// TE range covered: (lowest back-flank TE, highest driving-flank TE), m.
+    /// TE range covered: (lowest back-flank TE, highest driving-flank TE), m. Samples the
+    /// back-flank axis if no state has needed it yet (module docs, "Back flanks on demand");
+    /// without a back-flank axis the lower end is the onset −j_t.
     pub fn te_range(&self) -> (f64, f64) {
-        (self.back.end(), self.drive.end())
+        (self.back_axis().map_or(-self.backlash_te, TeAxis::end), self.drive.end())
     }
 
     /// The TE axes cut short at the model's range (empty when the table covers its designed
-    /// range: 4× the nominal static TE on the driving flanks).
-    pub fn truncations(&self) -> &[TableTruncation] {
-        &self.truncations
+    /// range: 4× the nominal static TE on the driving flanks). Samples the back-flank axis if
+    /// no state has needed it yet.
+    pub fn truncations(&self) -> Vec<TableTruncation> {
+        let back = self.back_flanks().truncation.clone();
+        self.truncations.iter().cloned().chain(back).collect()
     }
 
-    /// Grid sizes: (phase points, driving TE points, back TE points).
+    /// Grid sizes: (phase points, driving TE points, back TE points; 0 without a back-flank
+    /// axis). Samples the back-flank axis if no state has needed it yet.
     pub fn sizes(&self) -> (usize, usize, usize) {
-        (self.np, self.drive.n, self.back.n)
+        (self.np, self.drive.n, self.back_axis().map_or(0, |a| a.n))
+    }
+
+    /// Wall time of sampling the back-flank axis, s, or `None` while no state has needed it.
+    pub fn back_build_seconds(&self) -> Option<f64> {
+        self.back.get().map(|b| b.build_s)
+    }
+
+    /// Whether the back-flank axis has been sampled.
+    pub fn has_back_axis(&self) -> bool {
+        self.back.get().is_some()
+    }
+
+    /// The back-flank axis, sampled from the full model at the first call (module docs,
+    /// "Back flanks on demand"); `None` when it has no well-posed nodes.
+    #[inline]
+    fn back_axis(&self) -> Option<&TeAxis> {
+        self.back_flanks().axis.as_ref()
+    }
+
+    #[inline]
+    fn back_flanks(&self) -> &BackFlanks {
+        match self.back.get() {
+            Some(b) => b,
+            None => self.sample_back(),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn sample_back(&self) -> &BackFlanks {
+        self.back.get_or_init(|| self.build_back())
     }
 
     /// The nominal torque the TE range was chosen for, N·m.
@@ -623,10 +699,11 @@ impl MeshTable {
             }
             &self.drive
         } else if te < -self.backlash_te {
-            if te < self.back.end() {
+            let back = self.back_axis()?;
+            if te < back.end() {
                 return None;
             }
-            &self.back
+            back
         } else {
             return Some(None);
         };
@@ -974,7 +1051,7 @@ impl MeshTable {
         let axis = if te > 0.0 {
             &self.drive
         } else if te < -self.backlash_te {
-            &self.back
+            self.back_axis()?
         } else {
             return Some((out, jac));
         };

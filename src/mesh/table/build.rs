@@ -7,7 +7,9 @@ use std::sync::Arc;
 use super::super::model::{FullMesh, MeshModel, PairSum};
 use super::super::statics::{EquilibriumSettings, equilibrium};
 use super::super::{MeshError, MeshState};
-use super::{FRICTION_NODE, MeshTable, NV, PairTable, TableTruncation, TeAxis};
+use super::{
+    BackDesign, BackFlanks, FRICTION_NODE, MeshTable, NV, PairTable, TableTruncation, TeAxis,
+};
 use crate::error::ParamError;
 use crate::modifications::Separation;
 
@@ -77,58 +79,23 @@ impl MeshTable {
         let back_lo = -jt - 0.5 * te_hi;
         let nb = (nd / 2).max(8);
         let drive = TeAxis::new(0.0, 1.0, te_hi, nd, np);
-        let back = TeAxis::new(-jt, -1.0, -jt - back_lo, nb, np);
+        // The back-flank axis is sampled at the first state that needs it (`sample_back`).
+        let back_design = BackDesign { onset: -jt, range: -jt - back_lo, n: nb };
 
         // Sample the full model, phase rows split over the available cores.
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
-        let rows: Vec<usize> = (0..np).collect();
-        let chunk = np.div_ceil(threads);
-        let results: Vec<Result<Vec<RowSamples>, MeshError>> = std::thread::scope(|s| {
-            let handles: Vec<_> = rows
-                .chunks(chunk)
-                .map(|rs| {
-                    let mut m = new_full();
-                    let (d, b) = (&drive, &back);
-                    s.spawn(move || {
-                        let mut out = Vec::with_capacity(rs.len());
-                        for &ip in rs {
-                            let phi_p = phase_lo + phase_h * ip as f64;
-                            let dr = sample_row(&mut m, phi_p, d)?;
-                            let br = sample_row(&mut m, phi_p, b)?;
-                            out.push((ip, dr, br));
-                        }
-                        Ok(out)
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| {
-                    h.join().unwrap_or_else(|_| {
-                        Err(MeshError::Compliance("table build thread panicked".into()))
-                    })
-                })
-                .collect()
-        });
-        let mut drive_rows = Vec::with_capacity(np);
-        let mut back_rows = Vec::with_capacity(np);
-        for r in results {
-            for (ip, dr, br) in r? {
-                drive_rows.push((ip, dr));
-                back_rows.push((ip, br));
-            }
-        }
-        let mut truncations = Vec::new();
         let phases = (phase_lo, phase_h);
+        let drive_rows = sample_rows(&new_full, phases, np, &drive)?;
+        let mut truncations = Vec::new();
         let (drive, pair_samples) =
             assemble(model, &drive, drive_rows, phases, te_nom, "driving", &mut truncations)?;
-        let (back, _) = assemble(model, &back, back_rows, phases, 0.0, "back", &mut truncations)?;
         let mut table = Self {
             phase_lo,
             phase_h,
             np,
             drive,
-            back,
+            back_design,
+            back: std::sync::OnceLock::new(),
+            model: model.model().clone(),
             backlash_te: jt,
             pitch_p: crate::numeric::Pitch::of_teeth(geo.pinion.z),
             rb_p: geo.pinion.rb,
@@ -184,6 +151,36 @@ impl MeshTable {
         Ok(table)
     }
 
+    /// Samples the back-flank axis (module docs, "Back flanks on demand"): the full model on
+    /// the designed axis, phase rows split over the available cores, each thread with its own
+    /// workspace and a cold start, cut at the model's range as the driving axis is. A sampling
+    /// error leaves the table without a back-flank axis, recorded as a cut to nothing (every
+    /// back-flank state then falls back to the full model, which reports its own error).
+    pub(super) fn build_back(&self) -> BackFlanks {
+        let t0 = std::time::Instant::now();
+        let design = self.back_design;
+        let proto = TeAxis::new(design.onset, -1.0, design.range, design.n, self.np);
+        let phases = (self.phase_lo, self.phase_h);
+        let new_full = || FullMesh::new(self.model.clone());
+        let mut cut = Vec::new();
+        let sampled = sample_rows(&new_full, phases, self.np, &proto).and_then(|rows| {
+            assemble(&mut new_full(), &proto, rows, phases, 0.0, "back", &mut cut)
+        });
+        let (axis, truncation) = match sampled {
+            Ok((axis, _)) => (Some(axis), cut.pop()),
+            Err(e) => (
+                None,
+                Some(TableTruncation {
+                    flanks: "back",
+                    designed_m: design.range,
+                    covered_m: 0.0,
+                    cause: e.to_string(),
+                }),
+            ),
+        };
+        BackFlanks { axis, truncation, build_s: t0.elapsed().as_secs_f64() }
+    }
+
     /// The build's error check: the full model against the table at the centres of a
     /// deterministic subset of 64 driving-axis cells. Returns the largest relative error of
     /// M_F,p where |M_F,p| > 1 % of `torque` and the number of such cells, or the TE and the
@@ -222,8 +219,48 @@ impl MeshTable {
 /// A per-pair sample of the driving axis: (phase row, TE node, the pair's outputs).
 type PairSample = (usize, usize, PairSum);
 
-/// Samples of one phase row: (row, driving axis, back axis).
-type RowSamples = (usize, AxisRow, AxisRow);
+/// The full model sampled along `axis` at every phase row `phase_lo + ip·phase_h`, ip < `np`,
+/// the rows split over the available cores, each thread with its own model from `new_full`.
+/// Returns (row, samples) per row in row order.
+fn sample_rows(
+    new_full: &(impl Fn() -> FullMesh + Sync),
+    (phase_lo, phase_h): (f64, f64),
+    np: usize,
+    axis: &TeAxis,
+) -> Result<Vec<(usize, AxisRow)>, MeshError> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
+    let rows: Vec<usize> = (0..np).collect();
+    let chunk = np.div_ceil(threads);
+    let results: Vec<Result<Vec<(usize, AxisRow)>, MeshError>> = std::thread::scope(|s| {
+        let handles: Vec<_> = rows
+            .chunks(chunk)
+            .map(|rs| {
+                let mut m = new_full();
+                s.spawn(move || {
+                    let mut out = Vec::with_capacity(rs.len());
+                    for &ip in rs {
+                        let phi_p = phase_lo + phase_h * ip as f64;
+                        out.push((ip, sample_row(&mut m, phi_p, axis)?));
+                    }
+                    Ok(out)
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join().unwrap_or_else(|_| {
+                    Err(MeshError::Compliance("table build thread panicked".into()))
+                })
+            })
+            .collect()
+    });
+    let mut out = Vec::with_capacity(np);
+    for r in results {
+        out.extend(r?);
+    }
+    Ok(out)
+}
 
 /// State with pinion angle `phi_p` and transmission error `te`, at rest.
 fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {

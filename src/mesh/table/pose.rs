@@ -150,7 +150,22 @@ impl PoseTable {
             n: (ax.n / div).max(min),
             values: Vec::new(),
         };
-        let mut axes = [grid(&table.drive, 8, 3), grid(&table.back, 6, 3)];
+        // The back flanks' grid spans the sampled back-flank axis (the designed one when no
+        // back-flank node is well posed).
+        let back = match table.back_axis() {
+            Some(ax) => grid(ax, 6, 3),
+            None => {
+                let d = table.back_design;
+                PoseAxis {
+                    onset: d.onset,
+                    dir: -1.0,
+                    range: d.range,
+                    n: (d.n / 3).max(6),
+                    values: Vec::new(),
+                }
+            }
+        };
+        let mut axes = [grid(&table.drive, 8, 3), back];
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
         let rows: Vec<usize> = (0..np).collect();
         let chunk = np.div_ceil(threads);
