@@ -195,7 +195,7 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
              the state before, as along a trajectory) | {} |\n| `full_eval_max_rel_err` (its \
              M_F,p \
              error against the reference) | {} |\n| `table_build_s` (the default 64 × 48 \
-             table) | {} |\n| `table_deviation_build_s` (the per-pair table with pitch \
+             table of the driving flanks) | {} |\n{}| `table_deviation_build_s` (the per-pair table with pitch \
              deviations, [hunting case](#tooth-deviations-on-the-table-a-dynamic-run-over-a-hunting-period)) | {} |\n| \
              `fe_compliance_s` (FE compliance of a new pair, default mesh, no cache) | {} \
              |\n| `design_s` (one design of `helical_gear.study.run` with `static` and \
@@ -211,6 +211,10 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
             time_us(warm),
             sci(e),
             secs("table_build_s"),
+            opt("table_back_build_s").map_or(String::new(), |v| format!(
+                "| `table_back_build_s` (its back-flank axis, sampled at the first state with \
+                 TE < −j_t) | {v:.2} s |\n"
+            )),
             secs("table_deviation_build_s"),
             secs("fe_compliance_s"),
             secs("design_s"),
