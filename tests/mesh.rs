@@ -270,20 +270,21 @@ fn back_flanks_are_sampled_on_demand_and_the_same_whenever() {
     let mut eager = model(o);
     let mut full = model(MeshOptions::default());
     let t = lazy.table().expect("table");
-    assert!(!t.has_back_axis(), "the build sampled the back flanks");
+    assert!(!t.back_flanks_sampled(), "the build sampled the back flanks");
     assert!(t.back_build_seconds().is_none());
     let (lo, _) = eager.table().expect("table").te_range();
-    assert!(eager.table().expect("table").has_back_axis());
+    assert!(eager.table().expect("table").back_flanks_sampled());
     // Driving flanks first: the back flanks stay unsampled.
     let drive = state(&lazy, 0.11, 20e-6);
     let a = lazy.evaluate(&drive).unwrap();
     assert_eq!(a, eager.evaluate(&drive).unwrap());
-    // A back-flank state in the lower part of the back axis.
+    assert!(!lazy.table().expect("table").back_flanks_sampled());
+    // A back-flank state 40 % of the way along the back axis.
     let jt = lazy.geometry().backlash_te;
     let back_te = -jt + 0.4 * (lo + jt);
     let back = state(&lazy, 0.23, back_te);
     let b = lazy.evaluate(&back).unwrap();
-    assert!(lazy.table().expect("table").has_back_axis());
+    assert!(lazy.table().expect("table").back_flanks_sampled());
     let e = eager.evaluate(&back).unwrap();
     assert_eq!(b, e);
     assert!(b.back_contact && b.m_f_p < 0.0, "{b:?}");

@@ -648,8 +648,9 @@ impl MeshTable {
         self.back.get().map(|b| b.build_s)
     }
 
-    /// Whether the back-flank axis has been sampled.
-    pub fn has_back_axis(&self) -> bool {
+    /// Whether the back-flank axis has been sampled (successfully or not; see
+    /// [`MeshTable::truncations`]).
+    pub fn back_flanks_sampled(&self) -> bool {
         self.back.get().is_some()
     }
 

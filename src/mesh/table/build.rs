@@ -219,19 +219,34 @@ impl MeshTable {
 /// A per-pair sample of the driving axis: (phase row, TE node, the pair's outputs).
 type PairSample = (usize, usize, PairSum);
 
-/// The full model sampled along `axis` at every phase row `phase_lo + ip·phase_h`, ip < `np`,
-/// the rows split over the available cores, each thread with its own model from `new_full`.
-/// Returns (row, samples) per row in row order.
+/// The full model sampled along `axis` at every phase row `phase_lo + ip·phase_h`, ip < `np`
+/// ([`over_phase_rows`]). Returns (row, samples) per row in row order.
 fn sample_rows(
     new_full: &(impl Fn() -> FullMesh + Sync),
     (phase_lo, phase_h): (f64, f64),
     np: usize,
     axis: &TeAxis,
 ) -> Result<Vec<(usize, AxisRow)>, MeshError> {
+    over_phase_rows(np, "table build", new_full, |m, ip| {
+        sample_row(m, phase_lo + phase_h * ip as f64, axis)
+    })
+}
+
+/// `sample(model, ip)` for every phase row ip < `np`, the rows split into one contiguous chunk
+/// per available core, each chunk on its own thread with its own model from `new_full`, rows
+/// in order within a chunk. Returns (row, result) in row order, or the first error; a thread
+/// that panicked is reported as an error naming `what`.
+pub(super) fn over_phase_rows<T: Send>(
+    np: usize,
+    what: &str,
+    new_full: &(impl Fn() -> FullMesh + Sync),
+    sample: impl Fn(&mut FullMesh, usize) -> Result<T, MeshError> + Sync,
+) -> Result<Vec<(usize, T)>, MeshError> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
     let rows: Vec<usize> = (0..np).collect();
     let chunk = np.div_ceil(threads);
-    let results: Vec<Result<Vec<(usize, AxisRow)>, MeshError>> = std::thread::scope(|s| {
+    let sample = &sample;
+    let results: Vec<Result<Vec<(usize, T)>, MeshError>> = std::thread::scope(|s| {
         let handles: Vec<_> = rows
             .chunks(chunk)
             .map(|rs| {
@@ -239,8 +254,7 @@ fn sample_rows(
                 s.spawn(move || {
                     let mut out = Vec::with_capacity(rs.len());
                     for &ip in rs {
-                        let phi_p = phase_lo + phase_h * ip as f64;
-                        out.push((ip, sample_row(&mut m, phi_p, axis)?));
+                        out.push((ip, sample(&mut m, ip)?));
                     }
                     Ok(out)
                 })
@@ -250,7 +264,7 @@ fn sample_rows(
             .into_iter()
             .map(|h| {
                 h.join().unwrap_or_else(|_| {
-                    Err(MeshError::Compliance("table build thread panicked".into()))
+                    Err(MeshError::Compliance(format!("{what} thread panicked")))
                 })
             })
             .collect()

@@ -59,6 +59,7 @@
 
 use std::sync::Arc;
 
+use super::build::over_phase_rows;
 use super::{MeshTable, TeAxis};
 use crate::contact::RelativePose;
 use crate::geometry::PairGeometry;
@@ -100,9 +101,6 @@ struct PoseAxis {
     values: Vec<[f64; NS]>,
 }
 
-/// One phase row of the build: its index and the driving and back axes' node values.
-type SampledRow = (usize, [Vec<[f64; NS]>; 2]);
-
 /// ΔTE of the relative pose `r` on the driving flanks (`dir` > 0) or the back flanks (module
 /// docs), m.
 pub(crate) fn te_shift(geo: &PairGeometry, r: &RelativePose, dir: f64) -> f64 {
@@ -143,70 +141,31 @@ impl PoseTable {
         let phase_h = pitch / np as f64;
         let h = [POSE_STEP_MN * mn; 5];
         let h = [h[0], h[1], h[2], h[3] / b, h[4] / b];
-        let grid = |ax: &TeAxis, min: usize, div: usize| PoseAxis {
-            onset: ax.onset,
-            dir: ax.dir,
-            range: ax.range,
-            n: (ax.n / div).max(min),
-            values: Vec::new(),
+        // (onset, direction, extent, nodes) of a table axis, thinned to the pose grid.
+        let grid = |(onset, dir, range, n): (f64, f64, f64, usize), min: usize, div: usize| {
+            PoseAxis { onset, dir, range, n: (n / div).max(min), values: Vec::new() }
         };
+        let span = |ax: &TeAxis| (ax.onset, ax.dir, ax.range, ax.n);
         // The back flanks' grid spans the sampled back-flank axis (the designed one when no
         // back-flank node is well posed).
-        let back = match table.back_axis() {
-            Some(ax) => grid(ax, 6, 3),
-            None => {
-                let d = table.back_design;
-                PoseAxis {
-                    onset: d.onset,
-                    dir: -1.0,
-                    range: d.range,
-                    n: (d.n / 3).max(6),
-                    values: Vec::new(),
-                }
-            }
-        };
-        let mut axes = [grid(&table.drive, 8, 3), back];
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
-        let rows: Vec<usize> = (0..np).collect();
-        let chunk = np.div_ceil(threads);
+        let d = table.back_design;
+        let back = table.back_axis().map_or((d.onset, -1.0, d.range, d.n), span);
+        let mut axes = [grid(span(&table.drive), 8, 3), grid(back, 6, 3)];
         let phase_lo = table.phase_lo;
         let axes_ref = &axes;
-        let results: Vec<Result<Vec<SampledRow>, MeshError>> = std::thread::scope(|s| {
-            let handles: Vec<_> = rows
-                .chunks(chunk)
-                .map(|rs| {
-                    let mut full = FullMesh::new(model.clone());
-                    s.spawn(move || {
-                        let mut out = Vec::with_capacity(rs.len());
-                        for &ip in rs {
-                            let phi_p = phase_lo + phase_h * ip as f64;
-                            let row =
-                                [0, 1].map(|a| sample_row(&mut full, phi_p, &axes_ref[a], &h));
-                            let [d, bk] = row;
-                            out.push((ip, [d?, bk?]));
-                        }
-                        Ok(out)
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|hd| {
-                    hd.join().unwrap_or_else(|_| {
-                        Err(MeshError::Compliance("pose table build thread panicked".into()))
-                    })
-                })
-                .collect()
-        });
+        let new_full = || FullMesh::new(model.clone());
+        let rows = over_phase_rows(np, "pose table build", &new_full, |full, ip| {
+            let phi_p = phase_lo + phase_h * ip as f64;
+            let [d, bk] = [0, 1].map(|a| sample_row(full, phi_p, &axes_ref[a], &h));
+            Ok([d?, bk?])
+        })?;
         for a in &mut axes {
             a.values = vec![[0.0; NS]; np * a.n];
         }
-        for r in results {
-            for (ip, rows) in r? {
-                for (a, row) in axes.iter_mut().zip(rows) {
-                    let n = a.n;
-                    a.values[ip * n..(ip + 1) * n].copy_from_slice(&row);
-                }
+        for (ip, rows) in rows {
+            for (a, row) in axes.iter_mut().zip(rows) {
+                let n = a.n;
+                a.values[ip * n..(ip + 1) * n].copy_from_slice(&row);
             }
         }
         Ok(Self {
