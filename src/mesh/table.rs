@@ -48,6 +48,8 @@
 //! instead of 64 × 72. A back-flank axis whose sampling fails (not four well-posed nodes) is
 //! recorded as a cut to nothing: back-flank states then fall back to the full model, which
 //! reports its own error where it has one.
+//! The pose sensitivities ([`PoseTable`]) follow the same rule: their build samples the driving
+//! flanks, and their back-flank part waits for the first posed state on the back flanks.
 //!
 //! Between −j_t and 0 no flank can touch (the real flanks lie inside the full involutes, whose
 //! overlap is TE, resp. −TE − j_t), so the outputs there are exactly zero and need no nodes.
@@ -592,8 +594,10 @@ fn axis_weights_of(i: usize, n: usize, [h00, h10, h01, h11]: [f64; 4]) -> (usize
 impl MeshTable {
     /// The pose sensitivities of this table ([`PoseTable`]), built from the full model `model`
     /// (the one the table was built from) at the first call and kept: every mesh that shares
-    /// this table shares them. Errors: the table or the model has no pose sensitivities (tooth
-    /// deviations, friction), or the build failed; the same error at every call.
+    /// this table shares them. The call samples the driving flanks' sensitivities; the back
+    /// flanks' follow at the first posed back-flank state ([`PoseTable`]).
+    /// Errors: the table or the model has no pose sensitivities (tooth deviations, friction),
+    /// or the build failed; the same error at every call.
     pub fn pose_table(&self, model: &Arc<MeshModel>) -> Result<&Arc<PoseTable>, MeshError> {
         self.pose
             .get_or_init(|| PoseTable::build(self, model).map(Arc::new))
@@ -1158,7 +1162,7 @@ impl TableMesh {
         out.te = te;
         if let Some(a) = axis {
             let (phi_red, _) = t.pitch_p.reduce(state.phi_p);
-            let d = pt.correction(t.phase_lo, phi_red, te_eq, a, &rel);
+            let d = pt.correction(t, phi_red, te_eq, a, &rel)?;
             out.m_f_p += d[0];
             out.m_f_g += d[1];
             let dw = MeshWrench::from_pinion(

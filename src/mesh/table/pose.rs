@@ -50,8 +50,13 @@
 //! # Cost and bound
 //! The sensitivities are built once per table, at its first posed state or when a model is
 //! prepared for poses ([`crate::mesh::MeshTorques::prepare_poses`]), and shared by every mesh
-//! that shares the table ([`super::MeshTable::pose_table`]): 10 full evaluations per node of the coarse
-//! grid (about as many as the table itself). An evaluation adds one bilinear interpolation of
+//! that shares the table ([`super::MeshTable::pose_table`]): 10 full evaluations per node of
+//! the coarse grid (about as many as the table itself). As with the table's own back flanks
+//! ([`super`], "Back flanks on demand"), the build samples the driving flanks alone; the back
+//! flanks' sensitivities are sampled, whole and in the same way, at the first posed state on
+//! the back flanks (after the table's back-flank axis, whose span they take), once per table,
+//! with values that do not depend on when that happens. A drive line whose flanks stay in
+//! contact pays neither. An evaluation adds one bilinear interpolation of
 //! 35 values. Relative poses beyond [`TABLE_POSE_BOUND_MN`]·m_n (translations) or that over b
 //! (tilts) are refused with an error naming the bound: the first-order part is measured
 //! within it (`tests/table_pose.rs`). The per-pair table of tooth deviations and friction are
@@ -59,8 +64,8 @@
 
 use std::sync::Arc;
 
+use super::MeshTable;
 use super::build::over_phase_rows;
-use super::{MeshTable, TeAxis};
 use crate::contact::RelativePose;
 use crate::geometry::PairGeometry;
 use crate::mesh::model::{FullMesh, MeshModel};
@@ -84,8 +89,17 @@ pub const TABLE_POSE_BOUND_MN: f64 = 0.02;
 #[derive(Debug, Clone)]
 pub struct PoseTable {
     np: usize,
+    phase_lo: f64,
     phase_h: f64,
-    axes: [PoseAxis; 2],
+    /// Central-difference steps of the five components of R (m, rad).
+    h: [f64; 5],
+    /// The driving flanks' sensitivities, sampled by the build.
+    drive: PoseAxis,
+    /// The back flanks' sensitivities, sampled at the first posed back-flank state (module
+    /// docs, "Cost and bound"); the same error at every call where that failed.
+    back: std::sync::OnceLock<Result<PoseAxis, MeshError>>,
+    /// The full model the sensitivities sample (the table's).
+    model: Arc<MeshModel>,
     bound_u: f64,
     bound_th: f64,
     build_s: f64,
@@ -99,6 +113,12 @@ struct PoseAxis {
     n: usize,
     /// `values[ip * n + it][o * 5 + k]`: ∂O_o/∂R_k over δ.
     values: Vec<[f64; NS]>,
+}
+
+impl PoseAxis {
+    fn empty() -> Self {
+        Self { onset: 0.0, dir: 1.0, range: 0.0, n: 0, values: Vec::new() }
+    }
 }
 
 /// ΔTE of the relative pose `r` on the driving flanks (`dir` > 0) or the back flanks (module
@@ -117,8 +137,9 @@ fn components(r: &RelativePose) -> [f64; 5] {
 }
 
 impl PoseTable {
-    /// Builds the sensitivities of `table` from the full model `model` (module docs), the
-    /// coarse grid's phase rows split over the available cores.
+    /// Builds the sensitivities of `table` on the driving flanks from the full model `model`
+    /// (module docs), the coarse grid's phase rows split over the available cores; the back
+    /// flanks' follow at their first need ([`PoseTable::correction`]).
     pub(crate) fn build(table: &MeshTable, model: &Arc<MeshModel>) -> Result<Self, MeshError> {
         let t0 = std::time::Instant::now();
         if table.pairs.is_some() {
@@ -138,44 +159,59 @@ impl PoseTable {
         let b = geo.params.face_width_m;
         let np = (table.np / 3).max(8);
         let pitch = table.phase_h * table.np as f64;
-        let phase_h = pitch / np as f64;
         let h = [POSE_STEP_MN * mn; 5];
-        let h = [h[0], h[1], h[2], h[3] / b, h[4] / b];
-        // (onset, direction, extent, nodes) of a table axis, thinned to the pose grid.
-        let grid = |(onset, dir, range, n): (f64, f64, f64, usize), min: usize, div: usize| {
-            PoseAxis { onset, dir, range, n: (n / div).max(min), values: Vec::new() }
-        };
-        let span = |ax: &TeAxis| (ax.onset, ax.dir, ax.range, ax.n);
-        // The back flanks' grid spans the sampled back-flank axis (the designed one when no
-        // back-flank node is well posed).
-        let d = table.back_design;
-        let back = table.back_axis().map_or((d.onset, -1.0, d.range, d.n), span);
-        let mut axes = [grid(span(&table.drive), 8, 3), grid(back, 6, 3)];
-        let phase_lo = table.phase_lo;
-        let axes_ref = &axes;
-        let new_full = || FullMesh::new(model.clone());
-        let rows = over_phase_rows(np, "pose table build", &new_full, |full, ip| {
-            let phi_p = phase_lo + phase_h * ip as f64;
-            let [d, bk] = [0, 1].map(|a| sample_row(full, phi_p, &axes_ref[a], &h));
-            Ok([d?, bk?])
-        })?;
-        for a in &mut axes {
-            a.values = vec![[0.0; NS]; np * a.n];
-        }
-        for (ip, rows) in rows {
-            for (a, row) in axes.iter_mut().zip(rows) {
-                let n = a.n;
-                a.values[ip * n..(ip + 1) * n].copy_from_slice(&row);
-            }
-        }
-        Ok(Self {
+        let mut pose = Self {
             np,
-            phase_h,
-            axes,
+            phase_lo: table.phase_lo,
+            phase_h: pitch / np as f64,
+            h: [h[0], h[1], h[2], h[3] / b, h[4] / b],
+            drive: PoseAxis::empty(),
+            back: std::sync::OnceLock::new(),
+            model: model.clone(),
             bound_u: TABLE_POSE_BOUND_MN * mn,
             bound_th: TABLE_POSE_BOUND_MN * mn / b,
-            build_s: t0.elapsed().as_secs_f64(),
-        })
+            build_s: 0.0,
+        };
+        let d = &table.drive;
+        pose.drive = pose.sample_axis((d.onset, d.dir, d.range, d.n), 8)?;
+        pose.build_s = t0.elapsed().as_secs_f64();
+        Ok(pose)
+    }
+
+    /// The back flanks' sensitivities of `table`, sampled at the first call: their grid spans
+    /// the table's sampled back-flank axis (the designed one where no back-flank node is well
+    /// posed). The values do not depend on when that happens.
+    fn back_axis(&self, table: &MeshTable) -> Result<&PoseAxis, MeshError> {
+        self.back
+            .get_or_init(|| {
+                let d = table.back_design;
+                let span = table
+                    .back_axis()
+                    .map_or((d.onset, -1.0, d.range, d.n), |ax| (ax.onset, ax.dir, ax.range, ax.n));
+                self.sample_axis(span, 6)
+            })
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+
+    /// The sensitivities on the table axis (onset, direction, extent, nodes), thinned to a
+    /// third of its nodes (at least `min`), phase rows split over the available cores.
+    fn sample_axis(
+        &self,
+        (onset, dir, range, n): (f64, f64, f64, usize),
+        min: usize,
+    ) -> Result<PoseAxis, MeshError> {
+        let mut axis = PoseAxis { onset, dir, range, n: (n / 3).max(min), values: Vec::new() };
+        let new_full = || FullMesh::new(self.model.clone());
+        let rows = over_phase_rows(self.np, "pose table build", &new_full, |full, ip| {
+            sample_row(full, self.phase_lo + self.phase_h * ip as f64, &axis, &self.h)
+        })?;
+        let mut values = vec![[0.0; NS]; self.np * axis.n];
+        for (ip, row) in rows {
+            values[ip * axis.n..(ip + 1) * axis.n].copy_from_slice(&row);
+        }
+        axis.values = values;
+        Ok(axis)
     }
 
     /// Wall time of the build, s.
@@ -207,16 +243,19 @@ impl PoseTable {
 
     /// The first-order part δ·Σ_k (S_k/δ)·R_k of the 7 outputs (module docs) at the reduced
     /// pinion angle `phi_red` (rad, in the table's phase frame) and shifted TE `te` on axis
-    /// `a` (0 driving, 1 back), for the relative pose `r`.
+    /// `a` (0 driving, 1 back) of `table` (the one these sensitivities belong to), for the
+    /// relative pose `r`. The first back-flank call samples the back flanks' sensitivities;
+    /// errors: that sampling failed.
     pub(crate) fn correction(
         &self,
-        phase_lo: f64,
+        table: &MeshTable,
         phi_red: f64,
         te: f64,
         a: usize,
         r: &RelativePose,
-    ) -> [f64; NO] {
-        let ax = &self.axes[a];
+    ) -> Result<[f64; NO], MeshError> {
+        let phase_lo = self.phase_lo;
+        let ax = if a == 0 { &self.drive } else { self.back_axis(table)? };
         let dist = (te - ax.onset).abs().min(ax.range);
         let xp = (phi_red - phase_lo) / self.phase_h;
         let ip = crate::numeric::floor(xp);
@@ -237,7 +276,7 @@ impl PoseTable {
                 }
             }
         }
-        out
+        Ok(out)
     }
 }
 
