@@ -177,7 +177,7 @@ fn back_flank_pose_sensitivities_are_sampled_on_demand_and_the_same_whenever() {
     assert_eq!(eager.mesh(&back).unwrap(), b);
     assert_eq!(eager.mesh(&drive).unwrap(), d);
 
-    // Over a pitch and two back-flank loads (light and heavy): within 2·10⁻³ of M_F,p
+    // Over a pitch and three back-flank loads (light to heavy): within 2·10⁻³ of M_F,p
     // (measured at most 3.6·10⁻⁴ on this 32 × 24 table), where ignoring the pose would be off
     // by more than 5 %.
     let (mut worst, mut ignored) = (0.0f64, f64::INFINITY);

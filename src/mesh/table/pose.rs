@@ -56,11 +56,11 @@
 //! flanks' sensitivities are sampled, whole and in the same way, at the first posed state on
 //! the back flanks (after the table's back-flank axis, whose span they take), once per table,
 //! with values that do not depend on when that happens. A drive line whose flanks stay in
-//! contact pays neither. An evaluation adds one bilinear interpolation of
-//! 35 values. Relative poses beyond [`TABLE_POSE_BOUND_MN`]·m_n (translations) or that over b
-//! (tilts) are refused with an error naming the bound: the first-order part is measured
-//! within it (`tests/table_pose.rs`). The per-pair table of tooth deviations and friction are
-//! not covered (refused when the model is prepared).
+//! contact pays neither. An evaluation adds one bilinear interpolation of 35 values. Relative
+//! poses beyond [`TABLE_POSE_BOUND_MN`]·m_n (translations) or that over b (tilts) are refused
+//! with an error naming the bound: the first-order part is measured within it
+//! (`tests/table_pose.rs`). The per-pair table of tooth deviations and friction are not
+//! covered (refused when the model is prepared).
 
 use std::sync::Arc;
 
@@ -254,10 +254,9 @@ impl PoseTable {
         a: usize,
         r: &RelativePose,
     ) -> Result<[f64; NO], MeshError> {
-        let phase_lo = self.phase_lo;
         let ax = if a == 0 { &self.drive } else { self.back_axis(table)? };
         let dist = (te - ax.onset).abs().min(ax.range);
-        let xp = (phi_red - phase_lo) / self.phase_h;
+        let xp = (phi_red - self.phase_lo) / self.phase_h;
         let ip = crate::numeric::floor(xp);
         let fp = xp - ip;
         let ip0 = (ip as i64).rem_euclid(self.np as i64) as usize;
