@@ -10,7 +10,11 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-echo "== what a fresh machine needs: cargo with rustfmt and clippy, Python >= 3.11 with venv"
+# Each section starts with the time since the start (minutes:seconds), so a log shows where the
+# time goes.
+section() { printf '== [%d:%02d] %s\n' $((SECONDS / 60)) $((SECONDS % 60)) "$*"; }
+
+section "what a fresh machine needs: cargo with rustfmt and clippy, Python >= 3.11 with venv"
 missing=()
 command -v cargo >/dev/null || missing+=("cargo (the Rust toolchain: https://rustup.rs)")
 cargo fmt --version >/dev/null 2>&1 || missing+=("rustfmt (rustup component add rustfmt)")
@@ -28,7 +32,7 @@ fi
 # Offline cargo tools must not depend on what an earlier build happened to download: a cargo
 # home that holds only the host's crates (what a fresh Linux build downloads) is handed to the
 # tests that run cargo offline (tests/dependencies.rs reads HGM_HOST_ONLY_CARGO_HOME).
-echo "== a cargo home with only the host's crates, for the offline tools"
+section "a cargo home with only the host's crates, for the offline tools"
 host=$(rustc -vV | sed -n 's/^host: //p')
 host_only_home=$(mktemp -d)
 trap 'rm -rf "$host_only_home"' EXIT
@@ -41,7 +45,7 @@ export HGM_HOST_ONLY_CARGO_HOME="$host_only_home"
 
 # The declared minimum Rust version (rust-version in Cargo.toml) builds the workspace.
 msrv=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' Cargo.toml)
-echo "== minimum Rust version $msrv: cargo +$msrv check"
+section "minimum Rust version $msrv: cargo +$msrv check"
 if command -v rustup >/dev/null &&
   rustup toolchain install "$msrv" --profile minimal >/dev/null 2>&1; then
   CARGO_TARGET_DIR=target/msrv cargo "+$msrv" check --workspace --all-targets --quiet
@@ -49,20 +53,20 @@ else
   echo "test.sh: the Rust $msrv toolchain cannot be installed here: the minimum version is not checked"
 fi
 
-echo "== cargo fmt --check"
+section "cargo fmt --check"
 cargo fmt --all -- --check
 
-echo "== cargo clippy -D warnings"
+section "cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
 
-echo "== cargo doc -D warnings (the workspace's crates, no dependencies)"
+section "cargo doc -D warnings (the workspace's crates, no dependencies)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
-echo "== cargo test"
+section "cargo test"
 cargo test --workspace
 
 if [ -d tests/python ] && ls tests/python/test_*.py >/dev/null 2>&1; then
-  echo "== Windows tools: Rust target x86_64-pc-windows-gnu, MinGW-w64, wine"
+  section "Windows tools: Rust target x86_64-pc-windows-gnu, MinGW-w64, wine"
   win_start=$SECONDS
   if command -v rustup >/dev/null; then
     rustup target add x86_64-pc-windows-gnu >/dev/null 2>&1 ||
@@ -86,26 +90,33 @@ if [ -d tests/python ] && ls tests/python/test_*.py >/dev/null 2>&1; then
   fi
   echo "Windows tools ready in $((SECONDS - win_start)) s"
 
-  echo "== release build: FMU (target/fmu/HelicalGearMesh.fmu, linux64 and win64) and CLI"
-  cargo run --release -p fmu-build -- "${win64[@]}"
-  cargo build --release -p helical-gear-app --bin helical-gear
-
-  echo "== python tests (fmpy + pytest in .venv; includes the C test of tests/c)"
+  section "python environment: fmpy and pytest in .venv"
   if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
   fi
   .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt
 
-  echo "== python package helical_gear (python/: PyO3 + maturin, release build into .venv)"
+  # Release builds in this order: the Python package, then the FMUs, then the CLI. The library
+  # is a cdylib, so its files carry no hash of the build's dependency set, and each build whose
+  # set differs from the last compiles it again: the package's (PyO3's macros add to it) once,
+  # the FMUs' and the CLI's after it, and the README's `cargo run --release` in pytest reuses
+  # the CLI's.
+  section "python package helical_gear (python/: PyO3 + maturin, release build into .venv)"
   .venv/bin/python -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
   .venv/bin/python -m pip install --quiet --disable-pip-version-check ./python
 
+  section "release build: FMU (target/fmu/HelicalGearMesh.fmu, linux64 and win64) and CLI"
+  cargo run --release -p fmu-build -- "${win64[@]}"
+  cargo build --release -p helical-gear-app --bin helical-gear
+
+  section "python tests (pytest in .venv; includes the C test of tests/c)"
   # pytest exits 5 when it collects no test: say so instead of failing on a bare status.
   pytest_status=0
-  .venv/bin/python -m pytest -q tests/python || pytest_status=$?
+  .venv/bin/python -m pytest -q --durations=10 tests/python || pytest_status=$?
   if [ "$pytest_status" -eq 5 ]; then
     echo "pytest collected no test in tests/python"
   elif [ "$pytest_status" -ne 0 ]; then
     exit "$pytest_status"
   fi
 fi
+section "every suite passed"
