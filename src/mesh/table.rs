@@ -311,7 +311,7 @@ impl TeAxis {
     ) -> [f64; 4] {
         let mut v = [0.0; 4];
         for (a, &wa) in wp.iter().enumerate() {
-            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            let ip = wrap_index(ip0 + a as i64, np);
             let base = ip * self.n + it0;
             if nt == 4 {
                 let row: &[[f64; 4]; 4] = recs[base..base + 4].try_into().expect("4 TE nodes");
@@ -510,6 +510,20 @@ impl PairTable {
         }
         Self { sep, r_lo, nr, values, flags }
     }
+}
+
+/// `i.rem_euclid(n)` as an index, without the integer division where `i` lies within one
+/// period of the range (the phase rows of a cell: −1 … n + 2); the same value for every `i`.
+#[inline(always)]
+fn wrap_index(i: i64, n: i64) -> usize {
+    let j = if i < 0 {
+        i + n
+    } else if i >= n {
+        i - n
+    } else {
+        i
+    };
+    if (0..n).contains(&j) { j as usize } else { i.rem_euclid(n) as usize }
 }
 
 /// The cubic Hermite basis (h00, h10, h01, h11) at t ∈ [0, 1].
@@ -729,39 +743,44 @@ impl MeshTable {
     /// from the packed node records (32 bytes per node) with the same operations in the same
     /// order as [`MeshTable::evaluate`], so they agree bit for bit; the flag says whether the
     /// outputs are complete. `te` is the state's TE, `dot2(φp, g_p, φg, g_g)`, as the caller
-    /// has it from its validity check.
+    /// has it from its validity check. The outputs are written into `out`, whose fields the
+    /// evaluation does not produce are left at their defaults (`out` is expected to hold
+    /// [`MeshOutputs::default`]). Filled in place, they are not built in one stack slot and
+    /// copied to the next on the way out: that copy read back bytes just stored at another
+    /// alignment, a stall of about an eighth of the call.
     #[inline]
     pub fn evaluate_torques(
         &self,
         model: &MeshModel,
         state: &MeshState,
         te: f64,
-    ) -> Option<(MeshOutputs, bool)> {
+        out: &mut MeshOutputs,
+    ) -> Option<bool> {
         if let Some(pt) = &self.pairs {
-            return self.evaluate_pairs(pt, model, state, None).map(|o| (o, true));
+            *out = self.evaluate_pairs(pt, model, state, None)?;
+            return Some(true);
         }
         let Some(Cell { axis, wp, ip0, dist, it0, wt, nt, .. }) = self.cell(state.phi_p, te)?
         else {
-            return Some((MeshOutputs { te, separated: true, ..MeshOutputs::default() }, false));
+            out.te = te;
+            out.separated = true;
+            return Some(false);
         };
         let np = self.np as i64;
         let v = axis.interpolate_packed(&axis.torques, np, (&wp, ip0), (it0, &wt, nt));
         let extent = v[2].max(0.0);
         let (m_d_p, m_d_g) = model.damping_for(state, extent);
-        let mut out = MeshOutputs {
-            m_f_p: v[0] * dist,
-            m_f_g: v[1] * dist,
-            m_d_p,
-            m_d_g,
-            te,
-            contact_length: extent * model.length_per_extent(),
-            ..MeshOutputs::default()
-        };
+        out.m_f_p = v[0] * dist;
+        out.m_f_g = v[1] * dist;
+        out.m_d_p = m_d_p;
+        out.m_d_g = m_d_g;
+        out.te = te;
+        out.contact_length = extent * model.length_per_extent();
         if let Some(fc) = model.friction() {
             let f = axis.interpolate_packed(&axis.friction_torques, np, (&wp, ip0), (it0, &wt, nt));
-            friction_torques(fc, state, f.map(|x| x * dist), &mut out);
+            friction_torques(fc, state, f.map(|x| x * dist), out);
         }
-        Some((out, false))
+        Some(false)
     }
 
     /// [`MeshTable::evaluate`] with tooth deviations: every tooth pair's driving-flank values
@@ -923,7 +942,7 @@ impl MeshTable {
         let np = self.np as i64;
         let mut v = [0.0; NV];
         for (a, &wa) in wp.iter().enumerate() {
-            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            let ip = wrap_index(ip0 + a as i64, np);
             let base = (ip * axis.n + it0) * NV;
             if nt == 4 {
                 // The common case as fixed-size arrays: one bounds check per phase row, and
@@ -950,7 +969,7 @@ impl MeshTable {
             }
         }
         // Nearest node for the discrete outputs.
-        let ipn = ((crate::numeric::round(xp) as i64).rem_euclid(np)) as usize;
+        let ipn = wrap_index(crate::numeric::round(xp) as i64, np);
         let itn = (crate::numeric::round(xt) as usize).min(axis.n - 1);
         let f = axis.flags[ipn * axis.n + itn];
         let extent = v[3].max(0.0);
@@ -987,7 +1006,7 @@ impl MeshTable {
                 // Row by row (Σ_b w_b·x, then Σ_a w_a·row), scaled by δ once.
                 let mut fv = [0.0; FRICTION_NODE];
                 for (a, &wa) in wp.iter().enumerate() {
-                    let base = (ip0 + a as i64).rem_euclid(np) as usize * axis.n + it0;
+                    let base = wrap_index(ip0 + a as i64, np) * axis.n + it0;
                     let mut r = [0.0; FRICTION_NODE];
                     for (x, &wb) in axis.friction[base..base + nt].iter().zip(&wt) {
                         for (rk, &xk) in r.iter_mut().zip(x) {
@@ -1078,7 +1097,7 @@ impl MeshTable {
         // v, ∂v/∂x_p, ∂v/∂x_t for M_F,p, M_F,g and the extent.
         let (mut v, mut vp, mut vt) = ([0.0; NV], [0.0; NV], [0.0; NV]);
         for a in 0..4 {
-            let ip = (ip0 + a as i64).rem_euclid(np) as usize;
+            let ip = wrap_index(ip0 + a as i64, np);
             for b in 0..nt {
                 let base = (ip * axis.n + it0 + b) * NV;
                 for k in 0..NV {
@@ -1233,8 +1252,10 @@ impl MeshTorques for TableMesh {
         if !state.bodies_at_rest() {
             return Ok((self.evaluate_posed(state)?, true));
         }
-        if let Some(r) = self.table.evaluate_torques(self.full.model(), state, te) {
-            return Ok(r);
+        let mut out = MeshOutputs::default();
+        if let Some(complete) = self.table.evaluate_torques(self.full.model(), state, te, &mut out)
+        {
+            return Ok((out, complete));
         }
         Ok((self.full.evaluate(state)?, true))
     }
