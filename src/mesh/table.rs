@@ -747,7 +747,7 @@ impl MeshTable {
     /// evaluation does not produce are left at their defaults (`out` is expected to hold
     /// [`MeshOutputs::default`]). Filled in place, they are not built in one stack slot and
     /// copied to the next on the way out: that copy read back bytes just stored at another
-    /// alignment, a stall of about an eighth of the call.
+    /// alignment, a store-forwarding stall on every call.
     #[inline]
     pub fn evaluate_torques(
         &self,
