@@ -39,7 +39,7 @@
 //! A drive line that keeps its flanks in contact never reaches the back flanks; only a loss of
 //! contact deeper than the backlash (rattle, a torque reversal) does. The build therefore
 //! samples the driving axis alone, and the back-flank axis is sampled, whole and in the same
-//! way (phase rows over the cores, each thread from a cold start, cut at the model's range),
+//! way (phase rows over the cores, each row from a cold start, cut at the model's range),
 //! the first time a state with TE < −j_t is evaluated or a caller asks for the covered range
 //! ([`MeshTable::te_range`], [`MeshTable::truncations`], [`MeshTable::sizes`]). That takes
 //! about half the time of the driving axis, once per table (every mesh sharing the table

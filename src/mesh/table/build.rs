@@ -1,12 +1,20 @@
-//! Building the table: the full model sampled on the (phase, TE) grid, phase rows split over
-//! the cores; each TE axis cut where the full model stops being well posed; the error check at
-//! cell centres (see the parent module's docs).
+//! Building the table: the full model sampled on the (phase, TE) grid, the phase rows spread
+//! over the cores, each row from a cold start; each TE axis cut where the full model stops
+//! being well posed; the error check at cell centres (see the parent module's docs).
+//!
+//! The cores take the next row not yet taken ([`over_indices`]), not a fixed share of the
+//! rows: a row costs what its contact lines do (22 to 86 ms per row of the default table on
+//! Table 1, where two or three lines are in contact), and the two fixed halves of its 64 rows
+//! took 1.26 and 1.90 s in one build on two cores. The range check at the last TE node and the error
+//! check at cell centres, 64 full evaluations each, run over the cores the same way. Each row
+//! and each checked state starts cold, so the table depends neither on the number of cores
+//! nor on which core sampled a row.
 
 use std::sync::Arc;
 
 use super::super::model::{FullMesh, MeshModel, PairSum};
 use super::super::statics::{EquilibriumSettings, equilibrium};
-use super::super::{MeshError, MeshState};
+use super::super::{MeshError, MeshState, MeshTorques};
 use super::{
     BackDesign, BackFlanks, FRICTION_NODE, MeshTable, NV, PairTable, TableTruncation, TeAxis,
 };
@@ -15,7 +23,7 @@ use crate::modifications::Separation;
 
 impl MeshTable {
     /// Builds the table from the full model `model` (see the module docs), each thread of the
-    /// build with its own workspace and a cold start. With `deviations` (the pair's
+    /// build with its own workspace, each phase row from a cold start. With `deviations` (the pair's
     /// separation with tooth-by-tooth deviations; `model` then holds its periodic part) the
     /// driving-flank values are also kept per tooth pair and evaluation shifts each pair by
     /// its deviation. Errors: a full evaluation fails, or the nominal static TE cannot be
@@ -82,12 +90,12 @@ impl MeshTable {
         // The back-flank axis is sampled at the first state that needs it (`sample_back`).
         let back_design = BackDesign { onset: -jt, range: -jt - back_lo, n: nb };
 
-        // Sample the full model, phase rows split over the available cores.
+        // Sample the full model, phase rows over the available cores.
         let phases = (phase_lo, phase_h);
         let drive_rows = sample_rows(&new_full, phases, np, &drive)?;
         let mut truncations = Vec::new();
         let (drive, pair_samples) =
-            assemble(model, &drive, drive_rows, phases, te_nom, "driving", &mut truncations)?;
+            assemble(&new_full, &drive, drive_rows, phases, te_nom, "driving", &mut truncations)?;
         let mut table = Self {
             phase_lo,
             phase_h,
@@ -115,7 +123,7 @@ impl MeshTable {
         // tip roundings, is monotone in TE and phase), and the check starts again on the
         // shorter axis.
         let (worst, checked) = loop {
-            match table.self_check(model, torque)? {
+            match table.self_check(model, &new_full, torque)? {
                 Ok(found) => break found,
                 Err((te, e)) => {
                     let m = (0..table.drive.n).take_while(|&k| table.drive.node_te(k) < te).count();
@@ -152,8 +160,8 @@ impl MeshTable {
     }
 
     /// Samples the back-flank axis (module docs, "Back flanks on demand"): the full model on
-    /// the designed axis, phase rows split over the available cores, each thread with its own
-    /// workspace and a cold start, cut at the model's range as the driving axis is. A sampling
+    /// the designed axis, phase rows over the available cores, each thread with its own
+    /// workspace, each row from a cold start, cut at the model's range as the driving axis is. A sampling
     /// error leaves the table without a back-flank axis, recorded as a cut to nothing (every
     /// back-flank state then falls back to the full model, which reports its own error).
     pub(super) fn build_back(&self) -> BackFlanks {
@@ -163,9 +171,8 @@ impl MeshTable {
         let phases = (self.phase_lo, self.phase_h);
         let new_full = || FullMesh::new(self.model.clone());
         let mut cut = Vec::new();
-        let sampled = sample_rows(&new_full, phases, self.np, &proto).and_then(|rows| {
-            assemble(&mut new_full(), &proto, rows, phases, 0.0, "back", &mut cut)
-        });
+        let sampled = sample_rows(&new_full, phases, self.np, &proto)
+            .and_then(|rows| assemble(&new_full, &proto, rows, phases, 0.0, "back", &mut cut));
         let (axis, truncation) = match sampled {
             Ok((axis, _)) => (Some(axis), cut.pop()),
             Err(e) => (
@@ -182,33 +189,47 @@ impl MeshTable {
     }
 
     /// The build's error check: the full model against the table at the centres of a
-    /// deterministic subset of 64 driving-axis cells. Returns the largest relative error of
+    /// deterministic subset of 64 driving-axis cells, the full evaluations spread over the
+    /// cores, each from a cold start ([`over_indices`]). Returns the largest relative error of
     /// M_F,p where |M_F,p| > 1 % of `torque` and the number of such cells, or the TE and the
-    /// error of the first checked state out of the model's range.
+    /// error of the first checked state (in the subset's order) out of the model's range.
     #[allow(clippy::type_complexity)]
     fn self_check(
         &self,
-        model: &mut FullMesh,
+        model: &FullMesh,
+        new_full: &(impl Fn() -> FullMesh + Sync),
         torque: f64,
     ) -> Result<Result<(f64, usize), (f64, MeshError)>, MeshError> {
+        let nd = self.drive.n;
+        let cells: Vec<(f64, f64)> = (0..64usize)
+            .map(|k| {
+                let ip = (k * 7919) % self.np;
+                let it = (k * 104_729) % (nd - 1);
+                let phi_p = self.phase_lo + self.phase_h * (ip as f64 + 0.5);
+                (phi_p, 0.5 * (self.drive.node_te(it.max(1)) + self.drive.node_te(it + 1)))
+            })
+            .collect();
+        // An out-of-range state is a result here, not a failure: every cell is evaluated.
+        let full = over_indices(cells.len(), "table check", new_full, |m, k| {
+            let (phi_p, te) = cells[k];
+            match m.evaluate(&state_at(m.model(), phi_p, te)) {
+                Ok(o) => Ok(Ok(o.m_f_p)),
+                Err(e @ MeshError::OutOfRange { .. }) => Ok(Err(e)),
+                Err(e) => Err(e),
+            }
+        })?;
         let mut worst: f64 = 0.0;
         let mut checked = 0;
-        let nd = self.drive.n;
-        for k in 0..64usize {
-            let ip = (k * 7919) % self.np;
-            let it = (k * 104_729) % (nd - 1);
-            let phi_p = self.phase_lo + self.phase_h * (ip as f64 + 0.5);
-            let te = 0.5 * (self.drive.node_te(it.max(1)) + self.drive.node_te(it + 1));
-            let state = state_at(model.model(), phi_p, te);
-            let full = match model.evaluate(&state) {
-                Ok(o) => o,
-                Err(e @ MeshError::OutOfRange { .. }) => return Ok(Err((te, e))),
-                Err(e) => return Err(e),
+        for (k, full) in full {
+            let (phi_p, te) = cells[k];
+            let m_f_p = match full {
+                Ok(m) => m,
+                Err(e) => return Ok(Err((te, e))),
             };
-            if full.m_f_p.abs() > 0.01 * torque
-                && let Some(t) = self.evaluate(model.model(), &state)
+            if m_f_p.abs() > 0.01 * torque
+                && let Some(t) = self.evaluate(model.model(), &state_at(model.model(), phi_p, te))
             {
-                worst = worst.max((t.m_f_p - full.m_f_p).abs() / full.m_f_p.abs());
+                worst = worst.max((t.m_f_p - m_f_p).abs() / m_f_p.abs());
                 checked += 1;
             }
         }
@@ -220,59 +241,85 @@ impl MeshTable {
 type PairSample = (usize, usize, PairSum);
 
 /// The full model sampled along `axis` at every phase row `phase_lo + ip·phase_h`, ip < `np`
-/// ([`over_phase_rows`]). Returns (row, samples) per row in row order.
+/// ([`over_indices`]). Returns (row, samples) per row in row order.
 fn sample_rows(
     new_full: &(impl Fn() -> FullMesh + Sync),
     (phase_lo, phase_h): (f64, f64),
     np: usize,
     axis: &TeAxis,
 ) -> Result<Vec<(usize, AxisRow)>, MeshError> {
-    over_phase_rows(np, "table build", new_full, |m, ip| {
+    over_indices(np, "table build", new_full, |m, ip| {
         sample_row(m, phase_lo + phase_h * ip as f64, axis)
     })
 }
 
-/// `sample(model, ip)` for every phase row ip < `np`, the rows split into one contiguous chunk
-/// per available core, each chunk on its own thread with its own model from `new_full`, rows
-/// in order within a chunk. Returns (row, result) in row order, or the first error; a thread
-/// that panicked is reported as an error naming `what`.
-pub(super) fn over_phase_rows<T: Send>(
-    np: usize,
+/// `sample(model, ip)` for every index ip < `n` (a phase row, or a state of a check), spread
+/// over the available cores, and returns (ip, result) in index order, or the error of the
+/// smallest index that failed; a thread that panicked is reported as an error naming `what`.
+///
+/// Each thread has its own model from `new_full` and takes the next index not yet taken, so
+/// the cores stay busy however the cost varies between indices (the default table's rows cost
+/// from 22 to 86 ms: two or three contact lines). Every index starts from a cold start (the
+/// model's warm start is cleared before it), so a result depends neither on the thread nor
+/// on the number of cores. After a failure no thread takes a new index; the indices taken
+/// before it, all the smaller ones among them, are finished, so the error reported is that of
+/// the smallest failing index, as in a serial loop.
+pub(super) fn over_indices<T: Send>(
+    n: usize,
     what: &str,
     new_full: &(impl Fn() -> FullMesh + Sync),
     sample: impl Fn(&mut FullMesh, usize) -> Result<T, MeshError> + Sync,
 ) -> Result<Vec<(usize, T)>, MeshError> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(np);
-    let rows: Vec<usize> = (0..np).collect();
-    let chunk = np.div_ceil(threads);
-    let sample = &sample;
-    let results: Vec<Result<Vec<(usize, T)>, MeshError>> = std::thread::scope(|s| {
-        let handles: Vec<_> = rows
-            .chunks(chunk)
-            .map(|rs| {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let threads = std::thread::available_parallelism().map_or(1, |c| c.get()).min(n);
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let (next, failed, sample) = (&next, &failed, &sample);
+    type Part<T> = (Vec<(usize, T)>, Option<(usize, MeshError)>);
+    let parts: Vec<Result<Part<T>, MeshError>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|_| {
                 let mut m = new_full();
                 s.spawn(move || {
-                    let mut out = Vec::with_capacity(rs.len());
-                    for &ip in rs {
-                        out.push((ip, sample(&mut m, ip)?));
+                    let mut out = Vec::new();
+                    while !failed.load(Ordering::Relaxed) {
+                        let ip = next.fetch_add(1, Ordering::Relaxed);
+                        if ip >= n {
+                            break;
+                        }
+                        m.forget_history();
+                        match sample(&mut m, ip) {
+                            Ok(v) => out.push((ip, v)),
+                            Err(e) => {
+                                failed.store(true, Ordering::Relaxed);
+                                return (out, Some((ip, e)));
+                            }
+                        }
                     }
-                    Ok(out)
+                    (out, None)
                 })
             })
             .collect();
         handles
             .into_iter()
-            .map(|h| {
-                h.join().unwrap_or_else(|_| {
-                    Err(MeshError::Compliance(format!("{what} thread panicked")))
-                })
-            })
+            .map(|h| h.join().map_err(|_| MeshError::Compliance(format!("{what} thread panicked"))))
             .collect()
     });
-    let mut out = Vec::with_capacity(np);
-    for r in results {
-        out.extend(r?);
+    let mut out = Vec::with_capacity(n);
+    let mut first_error: Option<(usize, MeshError)> = None;
+    for part in parts {
+        let (done, error) = part?;
+        out.extend(done);
+        if let Some((ip, e)) = error
+            && first_error.as_ref().is_none_or(|(k, _)| ip < *k)
+        {
+            first_error = Some((ip, e));
+        }
     }
+    if let Some((_, e)) = first_error {
+        return Err(e);
+    }
+    out.sort_unstable_by_key(|(ip, _)| *ip);
     Ok(out)
 }
 
@@ -302,7 +349,7 @@ fn state_at(model: &MeshModel, phi_p: f64, te: f64) -> MeshState {
 /// axis and the per-pair samples (phase row, TE node, pair outputs) of the kept nodes.
 #[allow(clippy::too_many_arguments)]
 fn assemble(
-    model: &mut FullMesh,
+    new_full: &(impl Fn() -> FullMesh + Sync),
     proto: &TeAxis,
     rows: Vec<(usize, AxisRow)>,
     (phase_lo, phase_h): (f64, f64),
@@ -335,18 +382,17 @@ fn assemble(
             return Err(cause.expect("the axis is cut only at an out-of-range state"));
         }
         let te = proto.node_te(m - 1);
-        let mut beyond = None;
-        for ip in 0..np {
+        // The cell centres at the last node, over the cores; the first failure in phase
+        // order decides.
+        let checked = over_indices(np, "table range check", new_full, |model, ip| {
             let phi_p = phase_lo + phase_h * (ip as f64 + 0.5);
-            match model.evaluate(&state_at(model.model(), phi_p, te)) {
-                Ok(_) => {}
-                Err(e @ MeshError::OutOfRange { .. }) => {
-                    beyond = Some(e);
-                    break;
-                }
-                Err(e) => return Err(e),
-            }
-        }
+            model.evaluate(&state_at(model.model(), phi_p, te)).map(|_| ())
+        });
+        let beyond = match checked {
+            Ok(_) => None,
+            Err(e @ MeshError::OutOfRange { .. }) => Some(e),
+            Err(e) => return Err(e),
+        };
         match beyond {
             None => break,
             Some(e) => {
@@ -437,4 +483,38 @@ struct AxisRow {
     friction: Vec<[f64; FRICTION_NODE]>,
     pairs: Vec<(usize, PairSum)>,
     out_of_range: Option<MeshError>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::GearPair;
+
+    /// Every index once, in index order, each from a cold start whatever the thread did
+    /// before; a failure reports the smallest failing index.
+    #[test]
+    fn over_indices_keeps_order_starts_cold_and_reports_the_first_failure() {
+        let pair = GearPair::paper_table1();
+        let options = crate::mesh::MeshOptions { slices: 40, ..Default::default() };
+        let model = Arc::new(MeshModel::new(&pair, options).expect("model"));
+        let new_full = || FullMesh::new(model.clone());
+        let loaded = |m: &FullMesh, k: usize| state_at(m.model(), 1e-3 * k as f64, 20e-6);
+        let out = over_indices(9, "test", &new_full, |m, k| {
+            let cold = m.warm().is_empty();
+            m.evaluate(&loaded(m, k))?;
+            // The evaluation leaves loads for a warm start: the next index on this thread
+            // starts cold only because over_indices clears them.
+            assert!(!m.warm().is_empty());
+            Ok((cold, k * k))
+        })
+        .expect("no failure");
+        assert_eq!(out, (0..9).map(|k| (k, (true, k * k))).collect::<Vec<_>>());
+
+        let fail = |k: usize| k == 5 || k >= 7;
+        let err = over_indices(40, "test", &new_full, |_, k| {
+            if fail(k) { Err(MeshError::Compliance(format!("index {k}"))) } else { Ok(k) }
+        })
+        .expect_err("indices 5 and 7.. fail");
+        assert_eq!(err.to_string(), MeshError::Compliance("index 5".into()).to_string());
+    }
 }

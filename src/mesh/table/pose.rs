@@ -65,7 +65,7 @@
 use std::sync::Arc;
 
 use super::MeshTable;
-use super::build::over_phase_rows;
+use super::build::over_indices;
 use crate::contact::RelativePose;
 use crate::geometry::PairGeometry;
 use crate::mesh::model::{FullMesh, MeshModel};
@@ -138,8 +138,8 @@ fn components(r: &RelativePose) -> [f64; 5] {
 
 impl PoseTable {
     /// Builds the sensitivities of `table` on the driving flanks from the full model `model`
-    /// (module docs), the coarse grid's phase rows split over the available cores; the back
-    /// flanks' follow at their first need ([`PoseTable::correction`]).
+    /// (module docs), the coarse grid's phase rows over the available cores, each from a cold
+    /// start; the back flanks' follow at their first need ([`PoseTable::correction`]).
     pub(crate) fn build(table: &MeshTable, model: &Arc<MeshModel>) -> Result<Self, MeshError> {
         let t0 = std::time::Instant::now();
         if table.pairs.is_some() {
@@ -195,7 +195,8 @@ impl PoseTable {
     }
 
     /// The sensitivities on the table axis (onset, direction, extent, nodes), thinned to a
-    /// third of its nodes (at least `min`), phase rows split over the available cores.
+    /// third of its nodes (at least `min`), phase rows over the available cores, each from a
+    /// cold start.
     fn sample_axis(
         &self,
         (onset, dir, range, n): (f64, f64, f64, usize),
@@ -203,7 +204,7 @@ impl PoseTable {
     ) -> Result<PoseAxis, MeshError> {
         let mut axis = PoseAxis { onset, dir, range, n: (n / 3).max(min), values: Vec::new() };
         let new_full = || FullMesh::new(self.model.clone());
-        let rows = over_phase_rows(self.np, "pose table build", &new_full, |full, ip| {
+        let rows = over_indices(self.np, "pose table build", &new_full, |full, ip| {
             sample_row(full, self.phase_lo + self.phase_h * ip as f64, &axis, &self.h)
         })?;
         let mut values = vec![[0.0; NS]; self.np * axis.n];
