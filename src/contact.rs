@@ -170,10 +170,34 @@ pub struct ContactSolver<'a> {
     pitch_p: crate::numeric::Pitch,
 }
 
-#[inline]
-fn rot(a: f64, p: [f64; 2]) -> [f64; 2] {
-    let (s, c) = a.sin_cos();
-    [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+/// A tooth's rotation angle (rad) with its sine and cosine, taken once per slice and pair:
+/// the contact search rotates every piece it tries, and the contact it finds, by the same two
+/// angles, so one `sin_cos` each serves them all. [`Turn::apply`] rotates by the angle,
+/// [`Turn::apply_inverse`] by minus it (sin odd, cos even: the values of `sin_cos(−angle)`).
+#[derive(Debug, Clone, Copy)]
+struct Turn {
+    angle: f64,
+    sin: f64,
+    cos: f64,
+}
+
+impl Turn {
+    fn new(angle: f64) -> Self {
+        let (sin, cos) = angle.sin_cos();
+        Self { angle, sin, cos }
+    }
+
+    /// `p` rotated by the angle.
+    #[inline]
+    fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+        [self.cos * p[0] - self.sin * p[1], self.sin * p[0] + self.cos * p[1]]
+    }
+
+    /// `p` rotated by minus the angle.
+    #[inline]
+    fn apply_inverse(&self, p: [f64; 2]) -> [f64; 2] {
+        [self.cos * p[0] - (-self.sin) * p[1], (-self.sin) * p[0] + self.cos * p[1]]
+    }
 }
 
 /// `angle` wrapped into (ref − π, ref + π].
@@ -433,14 +457,14 @@ impl<'a> ContactSolver<'a> {
         &self,
         pp: Piece,
         pg: Piece,
-        tp: f64,
-        tg: f64,
+        tp: Turn,
+        tg: Turn,
         center_g: [f64; 2],
         buf: &mut [Option<Trial>; 2],
     ) {
         *buf = [None, None];
-        let a1 = rot(tp, pp.anchor());
-        let ag = rot(tg, pg.anchor());
+        let a1 = tp.apply(pp.anchor());
+        let ag = tg.apply(pg.anchor());
         let a2 = [center_g[0] + ag[0], center_g[1] + ag[1]];
         let d = [a2[0] - a1[0], a2[1] - a1[1]];
         let dist = d[0].hypot(d[1]);
@@ -461,8 +485,8 @@ impl<'a> ContactSolver<'a> {
             }
             let mid_p = 0.5 * (pp.nu_min() + pp.nu_max());
             let mid_g = 0.5 * (pg.nu_min() + pg.nu_max());
-            let nu_p_local = wrap_near(nu - tp, mid_p);
-            let nu_g_local = wrap_near(nu + PI - tg, mid_g);
+            let nu_p_local = wrap_near(nu - tp.angle, mid_p);
+            let nu_g_local = wrap_near(nu + PI - tg.angle, mid_g);
             *slot = Some(Trial {
                 nu,
                 nu_p_local,
@@ -481,8 +505,8 @@ impl<'a> ContactSolver<'a> {
         pp: Piece,
         pg: Piece,
         tr: &Trial,
-        tp: f64,
-        tg: f64,
+        tp: Turn,
+        tg: Turn,
         zeta: f64,
         center_g: [f64; 2],
     ) -> ContactPoint {
@@ -490,8 +514,8 @@ impl<'a> ContactSolver<'a> {
         let (s, c) = tr.nu.sin_cos();
         let n = [c, s];
         let m = [s, -c];
-        let a1 = rot(tp, pp.anchor());
-        let ag = rot(tg, pg.anchor());
+        let a1 = tp.apply(pp.anchor());
+        let ag = tg.apply(pg.anchor());
         let a2 = [center_g[0] + ag[0], center_g[1] + ag[1]];
         let d = [a2[0] - a1[0], a2[1] - a1[1]];
         let l1 = pp.reach(tr.nu_p_local);
@@ -514,8 +538,8 @@ impl<'a> ContactSolver<'a> {
             };
             (eta, tau)
         };
-        let (eta_p, tau_p) = flank_coords(&g.pinion, pp, rot(-tp, p1), tr.nu_p_local);
-        let (eta_g, tau_g) = flank_coords(&g.gear, pg, rot(-tg, r2), tr.nu_g_local);
+        let (eta_p, tau_p) = flank_coords(&g.pinion, pp, tp.apply_inverse(p1), tr.nu_p_local);
+        let (eta_g, tau_g) = flank_coords(&g.gear, pg, tg.apply_inverse(r2), tr.nu_g_local);
         ContactPoint {
             zeta,
             pair: 0,
@@ -570,6 +594,7 @@ impl<'a> ContactSolver<'a> {
         center_g: [f64; 2],
     ) -> Option<ContactPoint> {
         let (tp, tg) = self.theta(side, phi_p, phi_g, k, zeta);
+        let (tp, tg) = (Turn::new(tp), Turn::new(tg));
         let mirror = side == FlankSide::Back;
         let fp = &self.geo.pinion.flank.primitives;
         let fg = &self.geo.gear.flank.primitives;
@@ -633,6 +658,7 @@ impl<'a> ContactSolver<'a> {
         center_g: [f64; 2],
     ) -> Option<ContactPoint> {
         let (tp, tg) = self.theta(side, phi_p, phi_g, k, zeta);
+        let (tp, tg) = (Turn::new(tp), Turn::new(tg));
         let mirror = side == FlankSide::Back;
         let mut best: Option<ContactPoint> = None;
         let mut buf = [None, None];
