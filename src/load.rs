@@ -99,7 +99,9 @@
 //! Cost: one factorisation of the working block per full iteration (O(m³), m loaded slices)
 //! plus matrix–vector products (O(n²)) per line-search trial. The solver's own buffers are sized at
 //! construction ([`LoadSolver::with_capacity`]) and reused; a warm start from the previous
-//! solution of a nearby problem typically needs one iteration.
+//! solution of a nearby problem typically needs one iteration. The working block is copied
+//! from C by runs of consecutive slices (the working set is usually one run per contact line),
+//! contiguous memory instead of one indexed read per entry.
 //!
 //! ## Convergence test
 //! With `tol = abs_tol + rel_tol·max_i |d_i|` (m): |g_i| ≤ tol on loaded slices (q_i > 0),
@@ -429,6 +431,8 @@ pub struct LoadSolver {
     stack: MemBuffer,
     /// Working set of the LU factors held in `jac`/`perm` (valid when `lu_valid`).
     lu_working: Vec<usize>,
+    /// The working set as runs of consecutive slices: (position in W, first slice, length).
+    runs: Vec<(usize, usize, usize)>,
     lu_valid: bool,
     /// Whether the next step may reuse the held LU factors (simplified Newton).
     chord: bool,
@@ -480,6 +484,7 @@ impl LoadSolver {
             perm_inv: Vec::new(),
             stack: MemBuffer::new(stack_req(0)),
             lu_working: Vec::new(),
+            runs: Vec::new(),
             lu_valid: false,
             chord: false,
             approach_part: Vec::new(),
@@ -519,6 +524,7 @@ impl LoadSolver {
         self.perm.resize(n, 0);
         self.perm_inv.resize(n, 0);
         self.lu_working.reserve(n);
+        self.runs.reserve(n);
         self.stack = MemBuffer::new(stack_req(n));
         self.capacity = n;
     }
@@ -822,12 +828,24 @@ impl LoadSolver {
         let c = problem.compliance;
         let w = problem.line_length;
         let m = self.working.len();
+        // The working set as runs of consecutive slices (usually a few: one per contact line
+        // or less), so that each column is copied run by run from contiguous memory.
+        self.runs.clear();
+        for (a, &i) in self.working.iter().enumerate() {
+            match self.runs.last_mut() {
+                Some((a0, i0, len)) if *i0 + *len == i && *a0 + *len == a => *len += 1,
+                _ => self.runs.push((a, i, 1)),
+            }
+        }
         for (b, &j) in self.working.iter().enumerate() {
             let dst = &mut self.jac.col_as_slice_mut(b)[..m];
             match column(c, j) {
                 Some(src) => {
-                    for (x, &i) in dst.iter_mut().zip(&self.working) {
-                        *x = src[i] * w[j];
+                    let wj = w[j];
+                    for &(a0, i0, len) in &self.runs {
+                        for (x, &v) in dst[a0..a0 + len].iter_mut().zip(&src[i0..i0 + len]) {
+                            *x = v * wj;
+                        }
                     }
                 }
                 None => {
