@@ -833,7 +833,7 @@ impl LoadSolver {
         self.runs.clear();
         for (a, &i) in self.working.iter().enumerate() {
             match self.runs.last_mut() {
-                Some((a0, i0, len)) if *i0 + *len == i && *a0 + *len == a => *len += 1,
+                Some((_, i0, len)) if *i0 + *len == i => *len += 1,
                 _ => self.runs.push((a, i, 1)),
             }
         }

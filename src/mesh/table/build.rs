@@ -5,10 +5,10 @@
 //! The cores take the next row not yet taken ([`over_indices`]), not a fixed share of the
 //! rows: a row costs what its contact lines do (22 to 86 ms per row of the default table on
 //! Table 1, where two or three lines are in contact), and the two fixed halves of its 64 rows
-//! took 1.26 and 1.90 s in one build on two cores. The range check at the last TE node and the error
-//! check at cell centres, 64 full evaluations each, run over the cores the same way. Each row
-//! and each checked state starts cold, so the table depends neither on the number of cores
-//! nor on which core sampled a row.
+//! took 1.26 and 1.90 s in one build on two cores. The range check at the last TE node and
+//! the error check at cell centres, 64 full evaluations each, run over the cores the same
+//! way. Each row and each checked state starts cold, so the table depends neither on the
+//! number of cores nor on which core sampled a row.
 
 use std::sync::Arc;
 
@@ -23,10 +23,10 @@ use crate::modifications::Separation;
 
 impl MeshTable {
     /// Builds the table from the full model `model` (see the module docs), each thread of the
-    /// build with its own workspace, each phase row from a cold start. With `deviations` (the pair's
-    /// separation with tooth-by-tooth deviations; `model` then holds its periodic part) the
-    /// driving-flank values are also kept per tooth pair and evaluation shifts each pair by
-    /// its deviation. Errors: a full evaluation fails, or the nominal static TE cannot be
+    /// build with its own workspace, each phase row from a cold start. With `deviations` (the
+    /// pair's separation with tooth-by-tooth deviations; `model` then holds its periodic part)
+    /// the driving-flank values are also kept per tooth pair and evaluation shifts each pair
+    /// by its deviation. Errors: a full evaluation fails, or the nominal static TE cannot be
     /// found.
     pub fn build(
         model: &Arc<MeshModel>,
@@ -123,7 +123,7 @@ impl MeshTable {
         // tip roundings, is monotone in TE and phase), and the check starts again on the
         // shorter axis.
         let (worst, checked) = loop {
-            match table.self_check(model, &new_full, torque)? {
+            match table.self_check(&new_full, torque)? {
                 Ok(found) => break found,
                 Err((te, e)) => {
                     let m = (0..table.drive.n).take_while(|&k| table.drive.node_te(k) < te).count();
@@ -161,9 +161,10 @@ impl MeshTable {
 
     /// Samples the back-flank axis (module docs, "Back flanks on demand"): the full model on
     /// the designed axis, phase rows over the available cores, each thread with its own
-    /// workspace, each row from a cold start, cut at the model's range as the driving axis is. A sampling
-    /// error leaves the table without a back-flank axis, recorded as a cut to nothing (every
-    /// back-flank state then falls back to the full model, which reports its own error).
+    /// workspace, each row from a cold start, cut at the model's range as the driving axis is.
+    /// A sampling error leaves the table without a back-flank axis, recorded as a cut to
+    /// nothing (every back-flank state then falls back to the full model, which reports its
+    /// own error).
     pub(super) fn build_back(&self) -> BackFlanks {
         let t0 = std::time::Instant::now();
         let design = self.back_design;
@@ -196,7 +197,6 @@ impl MeshTable {
     #[allow(clippy::type_complexity)]
     fn self_check(
         &self,
-        model: &FullMesh,
         new_full: &(impl Fn() -> FullMesh + Sync),
         torque: f64,
     ) -> Result<Result<(f64, usize), (f64, MeshError)>, MeshError> {
@@ -227,7 +227,7 @@ impl MeshTable {
                 Err(e) => return Ok(Err((te, e))),
             };
             if m_f_p.abs() > 0.01 * torque
-                && let Some(t) = self.evaluate(model.model(), &state_at(model.model(), phi_p, te))
+                && let Some(t) = self.evaluate(&self.model, &state_at(&self.model, phi_p, te))
             {
                 worst = worst.max((t.m_f_p - m_f_p).abs() / m_f_p.abs());
                 checked += 1;
