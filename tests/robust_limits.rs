@@ -182,12 +182,13 @@ fn table_design_torque_the_pair_cannot_carry_names_the_option() {
 #[test]
 fn table_build_work_is_bounded_in_node_slices_before_any_work() {
     let pair = GearPair::paper_table1();
-    // 256 × 256 nodes at 200 slices: two minutes of build, refused at once.
+    // 256 × 256 nodes sampled at 200 slices: two minutes of build, refused at once.
     let options = MeshOptions {
         fidelity: Fidelity::Table,
         table_phase_points: 256,
         table_te_points: 256,
         slices: 200,
+        table_slices: 200,
         ..MeshOptions::default()
     };
     let t0 = std::time::Instant::now();

@@ -105,6 +105,10 @@ pub struct MeshCase {
     pub factorizations_per_solve: Option<f64>,
     /// Table build time, s (table family only).
     pub build_s: Option<f64>,
+    /// The slices the table sampled the full model at (`MeshOptions::table_sample_slices`;
+    /// table families only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sample_slices: Option<usize>,
 }
 
 /// The cost of one option at 200 slices, full fidelity.
@@ -317,6 +321,7 @@ pub fn run_bench(
                 iterations_per_solve: per(st.iterations),
                 factorizations_per_solve: per(st.factorizations),
                 build_s: None,
+                sample_slices: None,
             });
             say(&format!("{family}, {slices} slices: {us:.1} µs, error {:.2e}", rel_err(&out)));
             if compliance == ComplianceModel::Interpolated && slices == general_at {
@@ -351,6 +356,7 @@ pub fn run_bench(
                     iterations_per_solve: None,
                     factorizations_per_solve: None,
                     build_s: None,
+                    sample_slices: None,
                 });
                 say(&format!("general assembly, {slices} slices: {us:.1} µs"));
             }
@@ -408,6 +414,32 @@ pub fn run_bench(
             iterations_per_solve: None,
             factorizations_per_solve: None,
             build_s: Some(build_s),
+            sample_slices: Some(o.table_sample_slices()),
+        });
+    }
+    // The default table sampled at the full model's slices (the method before the table had
+    // its own sample slices), for the side-by-side row.
+    if !q {
+        let o =
+            MeshOptions { fidelity: Fidelity::Table, slices: table_slices, table_slices, ..base };
+        let t0 = Instant::now();
+        let mut m = Mesh::new(pair, o).map_err(err)?;
+        let build_s = t0.elapsed().as_secs_f64();
+        let (us, out) = time_eval(&mut m, &states, min_pass_s)?;
+        let e = rel_err(&out);
+        say(&format!(
+            "table 64×48 sampled at {table_slices} slices: error {e:.2e}, built in {build_s:.1} s"
+        ));
+        mesh.push(MeshCase {
+            family: "table, sampled at the full model's slices".into(),
+            slices: table_slices,
+            table_size: Some([64, 48]),
+            eval_us: us,
+            max_rel_err: e,
+            iterations_per_solve: None,
+            factorizations_per_solve: None,
+            build_s: Some(build_s),
+            sample_slices: Some(o.table_sample_slices()),
         });
     }
 
@@ -1020,7 +1052,8 @@ pub fn write_bench_files(r: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, St
         "full interpolated" => 0.0,
         "full interpolated, general assembly" => 1.0,
         "full fitted" => 2.0,
-        _ => 3.0,
+        "table" => 3.0,
+        _ => 4.0,
     };
     let p = dir.join("bench_mesh.csv");
     write_csv(

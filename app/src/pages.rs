@@ -178,7 +178,9 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
     let mesh = list(bench, "mesh")?;
     let table_default = mesh
         .iter()
-        .find(|c| c.get("table_size") == Some(&serde_json::json!([64, 48])))
+        .find(|c| {
+            c["family"] == "table" && c.get("table_size") == Some(&serde_json::json!([64, 48]))
+        })
         .ok_or("the report has no table case of size 64 × 48")?;
     let paper_s = bench.get("paper_runtime_s").and_then(Value::as_f64);
     push(&mut p, "| key | value |");
@@ -270,14 +272,23 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
                 "full, fitted (Eqs. 5–8)".to_string()
             }
             "full fitted" => "full, fitted".to_string(),
-            "table" => {
+            "table" | "table, sampled at the full model's slices" => {
                 let size = list(c, "table_size")?;
                 let (a, b) = (size[0].as_f64().unwrap_or(0.0), size[1].as_f64().unwrap_or(0.0));
                 let build = num(c, "build_s")?;
-                if (a, b) == (64.0, 48.0) {
-                    format!("table {a} × {b}, the default ({build:.1} s to build)")
+                // Reports before the table had its own sample slices have no such key.
+                let sampled = c
+                    .get("sample_slices")
+                    .and_then(Value::as_f64)
+                    .map_or(String::new(), |n| format!(", sampled at {n} slices"));
+                if family != "table" {
+                    format!(
+                        "table {a} × {b}{sampled}, the method before 2026-11-28 ({build:.1} s to build)"
+                    )
+                } else if (a, b) == (64.0, 48.0) {
+                    format!("table {a} × {b}, the default{sampled} ({build:.1} s to build)")
                 } else {
-                    format!("table {a} × {b} ({build:.1} s to build)")
+                    format!("table {a} × {b}{sampled} ({build:.1} s to build)")
                 }
             }
             other => other.to_string(),

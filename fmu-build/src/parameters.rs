@@ -85,6 +85,7 @@ pub const MESH_OPTIONS: &[(&str, &str, &str)] = &[
     ("table_phase_points", "—", "`table_size=(phase, te)`"),
     ("table_te_points", "—", "`table_size=(phase, te)`"),
     ("table_design_torque_nm", "— (the drive line's torque)", "`table_design_torque=`"),
+    ("table_slices", "—", "`table_slices=`"),
     (
         "friction",
         "`--friction FILE\\|none` (`static`, `simulate`, `sweep`, `spectrum --dynamic`)",

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{7b42ba22-99c2-82e8-a5f7-1b57b3a511c3}"
+#define HelicalGearDrive_GUID "{a5cfd1db-216a-8702-9734-a08647796f0b}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */
@@ -89,6 +89,7 @@ typedef enum {
     HelicalGearDrive_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearDrive_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearDrive_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearDrive_vr_table_slices = 209, /* parameter Integer  */
     HelicalGearDrive_vr_friction = 208, /* parameter String  */
     HelicalGearDrive_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearDrive_vr_integrator = 301, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{d38c50f1-f0ac-8652-abe8-b89321eb94b2}"
+#define HelicalGearMesh_GUID "{a24ff156-1207-8c81-a742-c42eb20cf916}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */
@@ -95,6 +95,7 @@ typedef enum {
     HelicalGearMesh_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearMesh_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearMesh_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearMesh_vr_table_slices = 209, /* parameter Integer  */
     HelicalGearMesh_vr_friction = 208, /* parameter String  */
     HelicalGearMesh_vr_table_design_torque_nm = 207, /* parameter Real N.m */
 } HelicalGearMesh_ValueReference;

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{d4f35c81-6b62-80a9-ad72-bf34022ef995}"
+#define HelicalGearPair_GUID "{74bbebec-fae0-8aa8-b157-1f3f60726f63}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */
@@ -80,6 +80,7 @@ typedef enum {
     HelicalGearPair_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearPair_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearPair_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearPair_vr_table_slices = 209, /* parameter Integer  */
     HelicalGearPair_vr_friction = 208, /* parameter String  */
     HelicalGearPair_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearPair_vr_integrator = 301, /* parameter Integer  */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{5b00c0ff-f5ac-84ae-ac96-e72c9ed9f85c}"
+#define HelicalGearStage_GUID "{249dd2ab-f9c6-843d-b9dd-822df09103c8}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */
@@ -88,6 +88,7 @@ typedef enum {
     HelicalGearStage_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearStage_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearStage_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearStage_vr_table_slices = 209, /* parameter Integer  */
     HelicalGearStage_vr_friction = 208, /* parameter String  */
     HelicalGearStage_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearStage_vr_integrator = 301, /* parameter Integer  */

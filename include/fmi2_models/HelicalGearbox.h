@@ -3,7 +3,7 @@
 #ifndef HELICALGEARBOX_H
 #define HELICALGEARBOX_H
 
-#define HelicalGearbox_GUID "{7c712148-27ca-84b1-93d8-5b39ace026ed}"
+#define HelicalGearbox_GUID "{39e49136-a5c8-84b9-bebf-e9e9e4992b53}"
 
 typedef enum {
     HelicalGearbox_vr_M = 60, /* input Real N.m */
@@ -99,6 +99,7 @@ typedef enum {
     HelicalGearbox_vr_compute_pressure = 204, /* parameter Boolean  */
     HelicalGearbox_vr_table_phase_points = 205, /* parameter Integer  */
     HelicalGearbox_vr_table_te_points = 206, /* parameter Integer  */
+    HelicalGearbox_vr_table_slices = 209, /* parameter Integer  */
     HelicalGearbox_vr_friction = 208, /* parameter String  */
     HelicalGearbox_vr_w_p_start = 300, /* parameter Real rad/s */
     HelicalGearbox_vr_rk4_steps_per_mesh_period = 302, /* parameter Integer  */

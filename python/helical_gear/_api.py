@@ -242,9 +242,11 @@ class MeshModel:
     `table_design_torque`: the torque (N·m, 1 … 1e9) whose static TE sizes the table's TE range
     (default 100, Table 1's; `simulate` and `sweep` size a table they build themselves for
     their ``drive``); a torque the pair cannot carry within the model's overlap limit (Table 1:
-    about 2.2 kN·m) is a ``ParameterError`` naming it. `slices` and `table_size` are whole
-    numbers (else ``ParameterError`` naming them); the table's points × slices are at most
-    65 536 × 100 (about a minute of build). `friction`: the mesh friction option, a dict or
+    about 2.2 kN·m) is a ``ParameterError`` naming it. `table_slices`: the table samples the
+    full model at min(`slices`, `table_slices`) slices (default 100: the table's error is
+    unchanged, its build three times faster than at 200; 10 … 4000). `slices`, `table_size` and
+    `table_slices` are whole numbers (else ``ParameterError`` naming them); the table's points ×
+    sample slices are at most 65 536 × 100 (about a minute of build). `friction`: the mesh friction option, a dict or
     JSON text ``{"model": "none" | "constant" | "iso_tr_14179_2", "mu": …,
     "oil_viscosity_pa_s": …, "roughness_ra_m": …, "lubricant_factor": …,
     "regularisation_speed_m_s": …}`` (every key optional, SI units; an unknown key or a value
@@ -263,6 +265,7 @@ class MeshModel:
         table_size: tuple[int, int] = (64, 48),
         table_design_torque: float = 100.0,
         friction: Mapping[str, Any] | str | None = None,
+        table_slices: int = 100,
     ):
         self.pair = _pair(pair)
         self.friction = _friction_text(friction)
@@ -274,6 +277,7 @@ class MeshModel:
             _count("table_size[1]", table_size[1]),
         )
         self.table_design_torque = float(table_design_torque)
+        self.table_slices = _count("table_slices", table_slices, 1)
         self._m = _native.MeshModel(
             self.pair.to_json(),
             fidelity,
@@ -282,6 +286,7 @@ class MeshModel:
             *self.table_size,
             self.table_design_torque,
             self.friction,
+            self.table_slices,
         )
 
     def __reduce__(self):
@@ -295,6 +300,7 @@ class MeshModel:
                 self.table_size,
                 self.table_design_torque,
                 self.friction,
+                self.table_slices,
             ),
         )
 

@@ -512,11 +512,12 @@ impl MeshModel {
     /// pair) or from the library's default source ([`Compliance::for_pair`]). The table
     /// fidelity's resolution: `table_phase_points` per mesh period × `table_te_points` along TE
     /// (the library's defaults 64 × 48), its TE range sized for `table_design_torque` N·m
-    /// (default 100, Table 1's torque). `friction`: the mesh friction option as JSON text
+    /// (default 100, Table 1's torque), its samples at min(`slices`, `table_slices`) slices
+    /// (default 100). `friction`: the mesh friction option as JSON text
     /// (the library's `mesh::Friction::from_json`: `{"model": …, "mu": …, …}`, `none` or
     /// None for the paper's frictionless model).
     #[new]
-    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48, table_design_torque = 100.0, friction = None))]
+    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48, table_design_torque = 100.0, friction = None, table_slices = 100))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -528,6 +529,7 @@ impl MeshModel {
         table_te_points: usize,
         table_design_torque: f64,
         friction: Option<&str>,
+        table_slices: usize,
     ) -> PyResult<Self> {
         let data = compliance.map(|c| c.data.clone());
         run(py, move || {
@@ -542,6 +544,7 @@ impl MeshModel {
                 table_phase_points,
                 table_te_points,
                 table_design_torque_nm: table_design_torque,
+                table_slices,
                 friction,
                 ..MeshOptions::default()
             };

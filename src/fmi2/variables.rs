@@ -22,7 +22,8 @@
 //! gear-pair parameters ([`GEAR_PARAMS`], 100–122 and 130, the String `modifications`), the
 //! drive line's ([`DRIVE_TORQUE`], [`DRIVE_INERTIAS`], [`DRIVE_SHAFTS`], 123–129; each model
 //! lists only those it uses: the mesh element none, the Pair the torque of its static start,
-//! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206 and the String `friction` 208), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
+//! the Stage also the shafts, the Drive all), the mesh options ([`MESH_OPTIONS`], 200–206, the String `friction` 208 and
+//! `table_slices` 209), the calculated parameters ([`CALCULATED`], 30–33), the mesh outputs
 //! ([`MESH_OUTPUTS`], 10–21; the 3D force and moments 400–409; the root stresses 410–411;
 //! the friction torques, loss, efficiency and heat 412–417)
 //! and the options of the stateful models ([`UNIT_OPTIONS`], 300–).
@@ -1287,7 +1288,7 @@ fn set_modifications_json(s: &mut Settings, text: &str) -> Result<(), String> {
 }
 
 /// Options of the mesh model (value references 200–206).
-pub const MESH_OPTIONS: [Variable; 8] = [
+pub const MESH_OPTIONS: [Variable; 9] = [
     Variable {
         name: "fidelity",
         vr: 200,
@@ -1388,6 +1389,24 @@ pub const MESH_OPTIONS: [Variable; 8] = [
             |s| usize_to_i32(s.options.table_te_points),
             |s, v| {
                 s.options.table_te_points = usize::try_from(v).map_err(|_| ">= 2")?;
+                Ok(())
+            },
+        ),
+        ..NONE
+    },
+    Variable {
+        name: "table_slices",
+        vr: 209,
+        description: "Table fidelity: the most slices of the full-model samples the table is \
+                      built from (it samples at min(slices, table_slices); 100 keeps the \
+                      table's error and builds it three times faster than 200)",
+        min: Some(crate::mesh::model::SLICES.min as f64),
+        max: Some(crate::mesh::model::SLICES.max as f64),
+        group: group::OPTIONS,
+        access: Access::IntParam(
+            |s| usize_to_i32(s.options.table_slices),
+            |s, v| {
+                s.options.table_slices = usize::try_from(v).map_err(|_| ">= 1")?;
                 Ok(())
             },
         ),

@@ -259,6 +259,9 @@ pub struct MeshModel {
     /// The root-stress influence of both gears at this model's slices, when the model was
     /// built from FE data ([`MeshModel::with_root_stress`]).
     root_stress: Option<Arc<[SliceStress; 2]>>,
+    /// The root-stress data the kernel above was prepared from, kept for
+    /// [`MeshModel::with_slices`].
+    root_stress_data: Option<Arc<RootStressData>>,
     local: LocalContact,
     /// Mesh damping d_mesh of Eq. 14, N·s/m (a model field: [`MeshModel::with_d_mesh`]).
     d_mesh: f64,
@@ -635,11 +638,7 @@ impl MeshModel {
         let (hp, hg) = (pinion.depth(), gear.depth());
         let local = LocalContact::new(&pair.material_p, &pair.material_g, hp, hg)
             .map_err(|e| MeshError::Compliance(format!("local contact: {e}")))?;
-        let lines = (geo.eps_alpha + geo.eps_beta).ceil().max(1.0) as usize;
-        let n_line = options.slices.div_ceil(lines).max(2);
-        let b0 = geo.b0();
-        let dzeta = b0 / n_line as f64;
-        let zetas: Vec<f64> = (0..n_line).map(|i| (i as f64 + 0.5) * dzeta).collect();
+        let (zetas, dzeta) = slice_centres(&geo, options.slices);
         let slice_comp = slice_kernel(&pinion, &gear, &zetas);
         let cos_theta = geo.base_helix_angle.cos();
         let validity = ValidityRange::of(&geo);
@@ -654,6 +653,7 @@ impl MeshModel {
             comp_g: gear,
             slice_comp,
             root_stress: None,
+            root_stress_data: None,
             local,
             d_mesh: pair.d_mesh_n_s_per_m,
             validity,
@@ -669,7 +669,15 @@ impl MeshModel {
     /// The same model with the root-stress influence `data` (of this pair's FE run) prepared
     /// for its slices, so that evaluations report the tooth-root stress
     /// ([`MeshOutputs::root_stress_p`]). Errors: data of another pair or invalid grids.
-    pub fn with_root_stress(mut self, data: &RootStressData) -> Result<Self, MeshError> {
+    pub fn with_root_stress(self, data: &RootStressData) -> Result<Self, MeshError> {
+        self.with_shared_root_stress(&Arc::new(data.clone()))
+    }
+
+    /// [`MeshModel::with_root_stress`] with data shared by `Arc` (kept, not copied).
+    pub(crate) fn with_shared_root_stress(
+        mut self,
+        data: &Arc<RootStressData>,
+    ) -> Result<Self, MeshError> {
         if data.key != crate::compliance::data::ComplianceKey::of(&self.pair) {
             return Err(MeshError::Compliance(
                 "the root-stress data belong to another gear pair".into(),
@@ -680,7 +688,35 @@ impl MeshModel {
                 .map_err(|e| MeshError::Compliance(format!("root stress: {e}")))
         };
         self.root_stress = Some(Arc::new([one(&data.pinion)?, one(&data.gear)?]));
+        self.root_stress_data = Some(data.clone());
         Ok(self)
+    }
+
+    /// The same model at `slices` total slices ([`MeshOptions::slices`]): the slice centres,
+    /// the slice kernels and the root-stress kernel prepared again for them, everything else
+    /// shared. The table is built from such a model at [`MeshOptions::table_slices`]. A clone
+    /// when `slices` is the model's own. Errors: `slices` outside [`SLICES`].
+    pub fn with_slices(&self, slices: usize) -> Result<Self, MeshError> {
+        if slices == self.options.slices {
+            return Ok(self.clone());
+        }
+        let options = MeshOptions { slices, ..self.options };
+        check_options(&options)?;
+        let (zetas, dzeta) = slice_centres(&self.geo, slices);
+        let slice_comp = slice_kernel(&self.comp_p, &self.comp_g, &zetas);
+        let model = Self {
+            options,
+            zetas,
+            dzeta,
+            slice_comp,
+            root_stress: None,
+            root_stress_data: None,
+            ..self.clone()
+        };
+        match &self.root_stress_data {
+            Some(data) => model.with_shared_root_stress(data),
+            None => Ok(model),
+        }
     }
 
     /// True when evaluations report the tooth-root stress ([`MeshModel::with_root_stress`]).
@@ -1478,6 +1514,16 @@ fn state_error(state: &MeshState) -> Result<(), MeshError> {
         }
     }
     Ok(())
+}
+
+/// The slice centres ζ_k (units of m_n) and the slice width Δζ of `slices` total slices
+/// ([`MeshOptions::slices`]): each contact line cut into `slices / ceil(ε_α + ε_β)` (at least
+/// two) equal axial slices over the face width b₀.
+fn slice_centres(geo: &PairGeometry, slices: usize) -> (Vec<f64>, f64) {
+    let lines = (geo.eps_alpha + geo.eps_beta).ceil().max(1.0) as usize;
+    let n_line = slices.div_ceil(lines).max(2);
+    let dzeta = geo.b0() / n_line as f64;
+    ((0..n_line).map(|i| (i as f64 + 0.5) * dzeta).collect(), dzeta)
 }
 
 /// The compliance kernel of both gears at the slice centres `zetas`, when both compliances are

@@ -126,9 +126,36 @@
 //! differentiates the same sum pair by pair (each term as on the periodic table, at the pair's
 //! TE − e_k).
 //!
+//! # Sample slices
+//! The table samples the full model at min(`slices`, `table_slices`) total slices
+//! ([`MeshOptions::table_sample_slices`](super::MeshOptions::table_sample_slices), default
+//! min(200, 100)): the full model built again at that count ([`MeshModel::with_slices`]), the
+//! same compliance data, its pose sensitivities and back-flank axis too. The full model
+//! outside the table keeps `slices`. The reason is the balance of the two errors in a table
+//! value against the converged model (800 slices). The interpolation's error is 2.8·10⁻⁴ of
+//! M_F,p at 64 × 48 on the benchmark's 192 states and 1.1·10⁻³ on random states; the
+//! discretisation's is 4.4·10⁻⁵ at 100 slices and 9.3·10⁻⁶ at 200. Sampling at 200 slices
+//! therefore buys nothing the interpolation keeps, at three times the cost per node (the
+//! performance page's full evaluations: 231 µs at 100 slices, 706 µs at 200). Measured for
+//! Table 1 against 800 slices, the largest relative error of M_F,p (`tests/table_slices.rs`
+//! holds the default's row):
+//!
+//! | table | sampled at 200 slices | at 100 | at 75 | at 50 |
+//! | --- | --- | --- | --- | --- |
+//! | 32 × 24, benchmark states | 1.36·10⁻³ | 1.35·10⁻³ | | 1.38·10⁻³ |
+//! | 64 × 48, benchmark states | 2.76·10⁻⁴ | 2.70·10⁻⁴ | 2.66·10⁻⁴ | 3.34·10⁻⁴ |
+//! | 64 × 48, 300 random states | 1.12·10⁻³ | 1.13·10⁻³ | 1.03·10⁻³ | |
+//! | 128 × 96, benchmark states | 8.76·10⁻⁵ | 8.71·10⁻⁵ | 1.31·10⁻⁴ | |
+//!
+//! 100 slices is the default because it leaves the error of every table size up to 128 × 96
+//! where it was; 75 already moves the 128 × 96 table's. A finer table than 128 × 96, or a
+//! table that stands for a full model of more than 100 slices at its nodes, wants a larger
+//! `table_slices`.
+//!
 //! After the build the table measures its own error: it evaluates the full model at cell
 //! centres (where the interpolation error is largest) and records the largest relative error
-//! of M_F,p where |M_F,p| exceeds 1 % of the nominal torque ([`MeshTable::max_rel_err`]).
+//! of M_F,p where |M_F,p| exceeds 1 % of the nominal torque ([`MeshTable::max_rel_err`]). It
+//! is the interpolation's error against the sampled model (at the sample slices).
 
 use std::sync::Arc;
 
@@ -188,23 +215,29 @@ pub fn check_table_size(
 /// slices, where the node bound alone allowed two minutes at 200 slices and more beyond.
 pub const MAX_TABLE_SLICE_NODES: f64 = 65_536.0 * 100.0;
 
-/// Checks the work of building the table of `options` (at [`super::Fidelity::Table`] only):
-/// `table_phase_points` × `table_te_points` × `slices` ≤ [`MAX_TABLE_SLICE_NODES`]. The
-/// error names the option, the work and the bound.
+/// Checks `table_slices` against [`super::model::SLICES`] (at every fidelity) and the work
+/// of building the table of `options` (at [`super::Fidelity::Table`] only):
+/// `table_phase_points` × `table_te_points` × the sample slices
+/// ([`super::MeshOptions::table_sample_slices`]) ≤ [`MAX_TABLE_SLICE_NODES`]. The error names
+/// the option, the value or the work, and the bound.
 pub fn check_table_work(options: &super::MeshOptions) -> Result<(), crate::error::ParamError> {
+    let cap = options.table_slices;
+    super::model::SLICES.check_int("table_slices", i64::try_from(cap).unwrap_or(i64::MAX))?;
     if options.fidelity != super::Fidelity::Table {
         return Ok(());
     }
-    let (np, nt, slices) = (options.table_phase_points, options.table_te_points, options.slices);
+    let slices = options.table_sample_slices();
+    let (np, nt) = (options.table_phase_points, options.table_te_points);
     let work = np as f64 * nt as f64 * slices as f64;
     if work > MAX_TABLE_SLICE_NODES {
         return Err(crate::error::ParamError::new(
             "table_phase_points",
             np as f64,
             format!(
-                "table_phase_points × table_te_points × slices <= {MAX_TABLE_SLICE_NODES:.4e} \
-                 node-slices (about a minute of build; {np} × {nt} × {slices} = {work:.3e} \
-                 would take about {:.1} minutes): fewer table points or fewer slices",
+                "table_phase_points × table_te_points × min(slices, table_slices) <= \
+                 {MAX_TABLE_SLICE_NODES:.4e} node-slices (about a minute of build; {np} × {nt} \
+                 × {slices} = {work:.3e} would take about {:.1} minutes): fewer table points or \
+                 fewer slices",
                 work / MAX_TABLE_SLICE_NODES
             ),
         ));
@@ -606,15 +639,16 @@ fn axis_weights_of(i: usize, n: usize, [h00, h10, h01, h11]: [f64; 4]) -> (usize
 }
 
 impl MeshTable {
-    /// The pose sensitivities of this table ([`PoseTable`]), built from the full model `model`
-    /// (the one the table was built from) at the first call and kept: every mesh that shares
+    /// The pose sensitivities of this table ([`PoseTable`]), built from the full model the
+    /// table was built from (at [`super::MeshOptions::table_slices`]) at the first call and
+    /// kept: every mesh that shares
     /// this table shares them. The call samples the driving flanks' sensitivities; the back
     /// flanks' follow at the first posed back-flank state ([`PoseTable`]).
     /// Errors: the table or the model has no pose sensitivities (tooth deviations, friction),
     /// or the build failed; the same error at every call.
-    pub fn pose_table(&self, model: &Arc<MeshModel>) -> Result<&Arc<PoseTable>, MeshError> {
+    pub fn pose_table(&self) -> Result<&Arc<PoseTable>, MeshError> {
         self.pose
-            .get_or_init(|| PoseTable::build(self, model).map(Arc::new))
+            .get_or_init(|| PoseTable::build(self, &self.model).map(Arc::new))
             .as_ref()
             .map_err(Clone::clone)
     }
@@ -1148,7 +1182,7 @@ impl TableMesh {
     #[cold]
     #[inline(never)]
     fn evaluate_posed(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
-        let pt = self.table.pose_table(self.full.model())?.clone();
+        let pt = self.table.pose_table()?.clone();
         let model = self.full.model();
         let geo = model.geometry();
         let a = geo.center_distance;
@@ -1275,7 +1309,7 @@ impl MeshTorques for TableMesh {
     /// Builds the table's pose sensitivities ([`MeshTable::pose_table`]) now rather than at the
     /// first posed state; every mesh sharing the table shares them.
     fn prepare_poses(&mut self) -> Result<(), MeshError> {
-        self.table.pose_table(self.full.model()).map(|_| ())
+        self.table.pose_table().map(|_| ())
     }
 
     /// Exact partial derivatives of the table's interpolant

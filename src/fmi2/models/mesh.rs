@@ -392,8 +392,9 @@ mod tests {
     #[test]
     fn the_table_is_inputs_outputs_calculated_parameters_options() {
         // 24 gear-pair parameters: none of the drive line's seven (the element does not use
-        // them); 8 mesh options (friction included) and the table's design torque.
-        assert_eq!(VARIABLES.len(), 4 + 20 + 30 + 4 + 24 + 8 + 1);
+        // them); 9 mesh options (friction and the table's sample slices included) and the
+        // table's design torque.
+        assert_eq!(VARIABLES.len(), 4 + 20 + 30 + 4 + 24 + 9 + 1);
         assert_eq!(VARIABLES[0].name, "phi_p");
         assert!(VARIABLES[..24].iter().all(|v| v.causality == Causality::Input));
         assert_eq!(VARIABLES[4].name, "u_p_x");
