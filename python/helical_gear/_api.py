@@ -233,8 +233,8 @@ class MeshModel:
     """The Andersson–Vedmar mesh model of a pair.
 
     ``fidelity="full"`` does the contact search and load solve at every evaluation;
-    ``"table"`` interpolates in a (mesh phase, TE) table built once from the full model (about
-    2 s) and falls back to the full model outside it. `slices`: total axial slices over the
+    ``"table"`` interpolates in a (mesh phase, TE) table built once from the full model (under
+    a second for Table 1) and falls back to the full model outside it. `slices`: total axial slices over the
     simultaneous contact lines (the paper's 200). `compliance`: FE data of this pair (default:
     `compliance(pair)`). `table_size`: the table's points per mesh period × points along TE
     (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³); each 8 … 4096 and
