@@ -373,12 +373,22 @@ pub fn run_bench(
     let mut table_back_build_s = f64::NAN;
     let mut table_eval_torques_ns = f64::NAN;
     let mut default_table = None;
-    for &[p, t] in sizes {
+    // Each size at the default sample slices, and the default size sampled at the full
+    // model's slices (the method before the table had its own sample slices), for the
+    // side-by-side row.
+    let default_samples = MeshOptions::default().table_slices;
+    let mut cases: Vec<([usize; 2], usize, &str)> =
+        sizes.iter().map(|&size| (size, default_samples, "table")).collect();
+    if !q {
+        cases.push(([64, 48], table_slices, "table, sampled at the full model's slices"));
+    }
+    for ([p, t], samples, family) in cases {
         let o = MeshOptions {
             fidelity: Fidelity::Table,
             slices: table_slices,
             table_phase_points: p,
             table_te_points: t,
+            table_slices: samples,
             ..base
         };
         let t0 = Instant::now();
@@ -386,8 +396,13 @@ pub fn run_bench(
         let build_s = t0.elapsed().as_secs_f64();
         let (us, out) = time_eval(&mut m, &states, min_pass_s)?;
         let e = rel_err(&out);
-        say(&format!("table {p}×{t}: {:.0} ns, error {e:.2e}, built in {build_s:.1} s", us * 1e3));
-        if [p, t] == [64, 48] || q {
+        let sampled = o.table_sample_slices();
+        say(&format!(
+            "table {p}×{t} sampled at {sampled} slices: {:.0} ns, error {e:.2e}, built in \
+             {build_s:.1} s",
+            us * 1e3
+        ));
+        if family == "table" && ([p, t] == [64, 48] || q) {
             table_eval_ns = us * 1e3;
             table_max_rel_err = e;
             table_build_s = build_s;
@@ -406,7 +421,7 @@ pub fn run_bench(
             default_table = Some(m);
         }
         mesh.push(MeshCase {
-            family: "table".into(),
+            family: family.into(),
             slices: table_slices,
             table_size: Some([p, t]),
             eval_us: us,
@@ -414,32 +429,7 @@ pub fn run_bench(
             iterations_per_solve: None,
             factorizations_per_solve: None,
             build_s: Some(build_s),
-            sample_slices: Some(o.table_sample_slices()),
-        });
-    }
-    // The default table sampled at the full model's slices (the method before the table had
-    // its own sample slices), for the side-by-side row.
-    if !q {
-        let o =
-            MeshOptions { fidelity: Fidelity::Table, slices: table_slices, table_slices, ..base };
-        let t0 = Instant::now();
-        let mut m = Mesh::new(pair, o).map_err(err)?;
-        let build_s = t0.elapsed().as_secs_f64();
-        let (us, out) = time_eval(&mut m, &states, min_pass_s)?;
-        let e = rel_err(&out);
-        say(&format!(
-            "table 64×48 sampled at {table_slices} slices: error {e:.2e}, built in {build_s:.1} s"
-        ));
-        mesh.push(MeshCase {
-            family: "table, sampled at the full model's slices".into(),
-            slices: table_slices,
-            table_size: Some([64, 48]),
-            eval_us: us,
-            max_rel_err: e,
-            iterations_per_solve: None,
-            factorizations_per_solve: None,
-            build_s: Some(build_s),
-            sample_slices: Some(o.table_sample_slices()),
+            sample_slices: Some(sampled),
         });
     }
 
