@@ -234,11 +234,12 @@ class MeshModel:
 
     ``fidelity="full"`` does the contact search and load solve at every evaluation;
     ``"table"`` interpolates in a (mesh phase, TE) table built once from the full model (under
-    a second for Table 1) and falls back to the full model outside it. `slices`: total axial slices over the
-    simultaneous contact lines (the paper's 200). `compliance`: FE data of this pair (default:
-    `compliance(pair)`). `table_size`: the table's points per mesh period × points along TE
-    (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³); each 8 … 4096 and
-    their product at most 65 536 (about a minute of build), else `ParameterError`.
+    a second for Table 1) and falls back to the full model outside it. `slices`: total axial
+    slices over the simultaneous contact lines (the paper's 200). `compliance`: FE data of this
+    pair (default: `compliance(pair)`). `table_size`: the table's points per mesh period ×
+    points along TE (64 × 48: 2.8·10⁻⁴ relative error; 16 × 12 builds 9× faster at 6·10⁻³);
+    each 8 … 4096 and their product at most 65 536 (about a minute of build), else
+    `ParameterError`.
     `table_design_torque`: the torque (N·m, 1 … 1e9) whose static TE sizes the table's TE range
     (default 100, Table 1's; `simulate` and `sweep` size a table they build themselves for
     their ``drive``); a torque the pair cannot carry within the model's overlap limit (Table 1:
@@ -246,9 +247,9 @@ class MeshModel:
     full model at min(`slices`, `table_slices`) slices (default 100: the table's error is
     unchanged, its build three times faster than at 200; 10 … 4000). `slices`, `table_size` and
     `table_slices` are whole numbers (else ``ParameterError`` naming them); the table's points ×
-    sample slices are at most 65 536 × 100 (about a minute of build). `friction`: the mesh friction option, a dict or
-    JSON text ``{"model": "none" | "constant" | "iso_tr_14179_2", "mu": …,
-    "oil_viscosity_pa_s": …, "roughness_ra_m": …, "lubricant_factor": …,
+    sample slices are at most 65 536 × 100 (about a minute of build). `friction`: the mesh
+    friction option, a dict or JSON text ``{"model": "none" | "constant" | "iso_tr_14179_2",
+    "mu": …, "oil_viscosity_pa_s": …, "roughness_ra_m": …, "lubricant_factor": …,
     "regularisation_speed_m_s": …}`` (every key optional, SI units; an unknown key or a value
     out of range is a ``ParameterError`` naming it), or None (default) for the paper's
     frictionless model; with friction the torques include the friction torques ``M_R_p``,
