@@ -137,7 +137,7 @@ use crate::compliance::interpolated::{
 use crate::compliance::root_stress::{LoadedSlice, RootStressWorkspace, SliceStress, root_stress};
 use crate::compliance::{Compliance, FlankCoord};
 
-use crate::contact::{ContactPoint, ContactSolver, FlankSide};
+use crate::contact::{ContactPoint, ContactSolver, FlankSide, SliceTwist};
 use crate::error::ParamError;
 use crate::geometry::{PairGeometry, SegmentKind};
 use crate::load::{HertzLocal, LoadProblem, LoadSettings, LoadSolver, Start, damping_torques};
@@ -268,6 +268,8 @@ pub struct MeshModel {
     /// The validity range of the state (`super::validity`).
     validity: ValidityRange,
     zetas: Vec<f64>,
+    /// The helix's turn of the teeth at each of `zetas` (for the contact search).
+    twists: Vec<SliceTwist>,
     dzeta: f64,
     cos_theta: f64,
     /// Flank modifications and deviations ([`crate::modifications`]); `None` without any.
@@ -639,6 +641,7 @@ impl MeshModel {
         let local = LocalContact::new(&pair.material_p, &pair.material_g, hp, hg)
             .map_err(|e| MeshError::Compliance(format!("local contact: {e}")))?;
         let (zetas, dzeta) = slice_centres(&geo, options.slices);
+        let twists = slice_twists(&geo, &zetas);
         let slice_comp = slice_kernel(&pinion, &gear, &zetas);
         let cos_theta = geo.base_helix_angle.cos();
         let validity = ValidityRange::of(&geo);
@@ -658,6 +661,7 @@ impl MeshModel {
             d_mesh: pair.d_mesh_n_s_per_m,
             validity,
             zetas,
+            twists,
             dzeta,
             cos_theta,
             separation,
@@ -703,10 +707,12 @@ impl MeshModel {
         let options = MeshOptions { slices, ..self.options };
         check_options(&options)?;
         let (zetas, dzeta) = slice_centres(&self.geo, slices);
+        let twists = slice_twists(&self.geo, &zetas);
         let slice_comp = slice_kernel(&self.comp_p, &self.comp_g, &zetas);
         let model = Self {
             options,
             zetas,
+            twists,
             dzeta,
             slice_comp,
             root_stress: None,
@@ -882,7 +888,8 @@ impl MeshModel {
                 continue;
             }
             let pose = posed.as_ref().map(|(p, _)| p);
-            cs.contacts_posed(side, state.phi_p, state.phi_g, &self.zetas, pose, &mut ws.contacts);
+            let slices = (&self.zetas[..], &self.twists[..]);
+            cs.contacts_posed(side, state.phi_p, state.phi_g, slices, pose, &mut ws.contacts);
             for c in &ws.contacts {
                 let mut c = *c;
                 if let Some(sep) = &self.separation {
@@ -1524,6 +1531,13 @@ fn slice_centres(geo: &PairGeometry, slices: usize) -> (Vec<f64>, f64) {
     let n_line = slices.div_ceil(lines).max(2);
     let dzeta = geo.b0() / n_line as f64;
     ((0..n_line).map(|i| (i as f64 + 0.5) * dzeta).collect(), dzeta)
+}
+
+/// The helix's turn of the teeth at each of the slice centres `zetas`
+/// ([`ContactSolver::slice_twist`]).
+fn slice_twists(geo: &PairGeometry, zetas: &[f64]) -> Vec<SliceTwist> {
+    let cs = ContactSolver::new(geo);
+    zetas.iter().map(|&z| cs.slice_twist(z)).collect()
 }
 
 /// The compliance kernel of both gears at the slice centres `zetas`, when both compliances are
