@@ -297,13 +297,19 @@ fn fe(dir: &Path) -> Result<Vec<PathBuf>, String> {
     Ok(vec![write(dir, "fe.md", &md)?, write(dir, "fe_alpha.csv", &csv)?])
 }
 
+/// The default table's size, "phase points × TE points".
+fn default_table() -> String {
+    let o = MeshOptions::default();
+    format!("{} × {}", o.table_phase_points, o.table_te_points)
+}
+
 /// The co-simulation error table.
 fn cosimulation(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let (_, drive) = cosim::table_mesh();
     let mut md =
         header("Co-simulation of the drive line: TE error against the whole model", "cosim");
-    md.push_str(
-        "Table 1 at table fidelity (default 64 × 48 table). TE error = largest |TE − TE_ref| at \
+    md.push_str(&format!(
+        "Table 1 at table fidelity (default {dt} table). TE error = largest |TE − TE_ref| at \
          the communication points t_k = k·H over ≈ 30 mesh periods, relative to the largest \
          |TE_ref|; reference: `simulate` of Eqs. 1–4, RK4 at ≤ T_m/256; units at 128 RK4 \
          sub-steps per mesh period. Stage cut: J1 and J2 in the master, kinematics in, shaft \
@@ -314,7 +320,8 @@ fn cosimulation(dir: &Path) -> Result<Vec<PathBuf>, String> {
          | ω_p, rad/s | H | stage cut | pair cut | pair cut, mid-step torque | pair cut, \
          first-order hold | pair cut, hub coupling | pair cut, first-order hold and hub \
          coupling |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n",
-    );
+        dt = default_table()
+    ));
     let mut csv = String::from(
         "omega_rad_s,h_s,stage,pair,pair_mid,pair_foh,pair_coupled,pair_foh_coupled\n",
     );
@@ -354,15 +361,16 @@ fn units(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let err = |e: helical_gear_mesh::dynamics::DynamicsError| e.to_string();
     let (omega, h, n) = (532.0, 1e-4, 10_000);
     let mut md = header("Drive-line units in-process: speed and TE error", "units");
-    md.push_str(
+    md.push_str(&format!(
         "The engine of the FMUs (`DriveUnit`, in-process) on Table 1 at 532 rad/s from its \
          static equilibrium, communication step H = 1e-4 s, the outputs read after every \
-         step.\n\n## Table fidelity\n\nThe Drive unit on the default table (64 × 48) over 1 s \
+         step.\n\n## Table fidelity\n\nThe Drive unit on the default table ({dt}) over 1 s \
          of drive-line time (10 000 steps): simulated seconds per wall second, and the TE error \
          at the communication points (largest difference over the largest |TE|) against the \
          same unit at 1024 RK4 sub-steps per mesh period. DOPRI5 at atol = 1e-6·rtol.\n\n\
          | integrator in the unit | simulated s per wall s | TE error |\n| --- | --- | --- |\n",
-    );
+        dt = default_table()
+    ));
     let mut csv =
         String::from("fidelity,kind,integrator,setting,warm_start,realtime_factor,te_rel_err\n");
     let run_with = |stepping: UnitStepping| -> Result<(Vec<f64>, f64), String> {
@@ -448,13 +456,14 @@ fn units(dir: &Path) -> Result<Vec<PathBuf>, String> {
 /// Cost of one exact mesh Jacobian against one evaluation.
 fn jacobian(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut md = header("Cost of the exact mesh Jacobian", "jacobian");
-    md.push_str(
+    md.push_str(&format!(
         "`MeshTorques::mesh_jacobian` against `evaluate` on Table 1 along a warm-started \
          trajectory: one pitch in 64 steps at TE = 30 µm, 300 rad/s with a TE rate of 1 mm/s; \
          the time per call is the fastest of five passes. Full fidelity at 200 slices \
-         (default options) and table fidelity (default 64 × 48 table).\n\n\
+         (default options) and table fidelity (default {dt} table).\n\n\
          | fidelity | evaluate, µs | mesh_jacobian, µs | ratio |\n| --- | --- | --- | --- |\n",
-    );
+        dt = default_table()
+    ));
     let p = GearPair::paper_table1();
     let pitch = std::f64::consts::TAU / f64::from(p.z_p);
     for fidelity in [Fidelity::Full, Fidelity::Table] {
@@ -588,9 +597,10 @@ fn loads(dir: &Path) -> Result<Vec<PathBuf>, String> {
     md.push_str(&format!(
         "Table 1 at M = {torque} N·m on the pinion, static equilibrium at {points} pinion \
          angles over one pitch (`mesh::static_curve`, default options: 200 slices; the table \
-         64 × 48). Frame and signs: [the guide](../loads.md) (x from the pinion axis to the \
+         {dt}). Frame and signs: [the guide](../loads.md) (x from the pinion axis to the \
          gear axis, z along the pinion axis, y = z × x; moments about each gear's centre at \
-         mid-face). The gear's force is the pinion's negated.\n\n"
+         mid-face). The gear's force is the pinion's negated.\n\n",
+        dt = default_table()
     ));
     let p = GearPair::paper_table1();
     let text = std::fs::read_to_string("docs/loads/bearings_table1.json")
@@ -818,13 +828,14 @@ fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
     md.push_str("## Designs at the default FE density\n\n");
     md.push_str(&table(&mut rows.iter().skip(1).take(1).chain(rows.iter().skip(3))));
     // Cost per evaluation, with and without the root stress.
-    md.push_str(
+    md.push_str(&format!(
         "\n## Cost per evaluation\n\nTable 1 along one pitch at TE = 30 µm (64 states, \
          warm-started), fastest of nine passes alternating between the two models; the same model \
          without the root-stress data \
-         for comparison (full fidelity 200 slices, table fidelity the default 64 × 48 \
+         for comparison (full fidelity 200 slices, table fidelity the default {dt} \
          table).\n\n| fidelity | without, µs | with root stress, µs | ratio |\n| --- | --- | --- | --- |\n",
-    );
+        dt = default_table()
+    ));
     for fidelity in [Fidelity::Full, Fidelity::Table] {
         let (without, with) = evaluation_cost(fidelity)?;
         writeln!(md, "| {fidelity:?} | {without:.2} | {with:.2} | {:.3} |", with / without).ok();
@@ -1115,11 +1126,12 @@ fn friction(dir: &Path) -> Result<Vec<PathBuf>, String> {
     writeln!(
         md,
         "## Effect on the dynamics\n\nSteady runs of Eqs. 1–4 (`run_to_steady`, RK4, table \
-         fidelity 64 × 48), Table 1 drive line, with and without constant μ = 0.05 (the brake \
+         fidelity {dt}), Table 1 drive line, with and without constant μ = 0.05 (the brake \
          set to take the power the mesh delivers). Means and peak-to-peak over the steady \
          window.\n\n\
          | ω_p, rad/s | friction | TE mean, µm | TE p-p, µm | F_p,z mean, N | F_p,z p-p, N | M_R,p p-p, N·m | mean P_loss, W | mean efficiency |\n\
-         | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        dt = default_table()
     )
     .ok();
     let drive_line = helical_gear_mesh::DriveLine::paper_table1();

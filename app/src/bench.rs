@@ -10,7 +10,8 @@
 //!   relative error of M_F,p against the reference: full fidelity at 50…400 slices, with
 //!   interpolated and fitted compliance, the general interpolation without the slice kernel
 //!   (the assembly before [`helical_gear_mesh::compliance::interpolated::SliceInfluence`]), and the table
-//!   fidelity at four sizes (with its build time).
+//!   fidelity at four sizes (with its build time), the default among them also sampled at
+//!   the full model's 200 slices (the method before the table had its own sample slices).
 //! * **Options**: what switching off pressure, damping or the neighbour coupling, or switching
 //!   on the per-slice detail, costs or saves at 200 slices (and, for the coupling, the error
 //!   it makes).
@@ -177,7 +178,7 @@ pub struct DesignCase {
     pub fe_compliance_s: f64,
     /// Static TE over one pitch at 20 points, full fidelity, 200 slices, s.
     pub static_s: f64,
-    /// Default 64 × 48 table build from the FE data, s.
+    /// Default table build (`MeshOptions`' default size) from the FE data, s.
     pub table_build_s: f64,
     /// Speed sweep of the study's defaults (12 speeds 100…1200 rad/s, RK4 at 128 steps per
     /// mesh period, 4 refinement runs per resonance, one thread), s.
@@ -198,8 +199,10 @@ pub struct BenchReport {
     pub full_eval_warm_us: f64,
     /// Largest relative M_F,p error of that evaluation (200 slices) against the reference.
     pub full_eval_max_rel_err: f64,
-    /// Build time of the default 64 × 48 table (200 slices), s.
+    /// Build time of the default table (200 slices, sampled at the default sample slices), s.
     pub table_build_s: f64,
+    /// The default table's size (phase points, TE points), `MeshOptions`' default.
+    pub table_default_size: [usize; 2],
     /// Build time of the per-pair table with the hunting case's pitch deviations, s.
     pub table_deviation_build_s: f64,
     /// Sampling time of the default table's back-flank axis, done at the first state with
@@ -364,6 +367,8 @@ pub fn run_bench(
     }
 
     // Table fidelity.
+    // The default size (`MeshOptions`) among them.
+    let default_size = default_table_size();
     let sizes: &[[usize; 2]] =
         if q { &[[16, 12]] } else { &[[16, 12], [32, 24], [64, 48], [128, 96]] };
     let table_slices = if q { 50 } else { 200 };
@@ -379,8 +384,11 @@ pub fn run_bench(
     let default_samples = MeshOptions::default().table_slices;
     let mut cases: Vec<([usize; 2], usize, &str)> =
         sizes.iter().map(|&size| (size, default_samples, "table")).collect();
+    if !q && !sizes.contains(&default_size) {
+        cases.push((default_size, default_samples, "table"));
+    }
     if !q {
-        cases.push(([64, 48], table_slices, "table, sampled at the full model's slices"));
+        cases.push((default_size, table_slices, "table, sampled at the full model's slices"));
     }
     for ([p, t], samples, family) in cases {
         let o = MeshOptions {
@@ -402,7 +410,7 @@ pub fn run_bench(
              {build_s:.1} s",
             us * 1e3
         ));
-        if family == "table" && ([p, t] == [64, 48] || q) {
+        if family == "table" && ([p, t] == default_size || q) {
             table_eval_ns = us * 1e3;
             table_max_rel_err = e;
             table_build_s = build_s;
@@ -495,6 +503,7 @@ pub fn run_bench(
         full_eval_warm_us,
         full_eval_max_rel_err,
         table_build_s,
+        table_default_size: default_size,
         table_deviation_build_s: hunting.build_s,
         table_back_build_s,
         fe_compliance_s: design.fe_compliance_s,
@@ -858,6 +867,12 @@ fn drive_unit_cases(
     Ok(cases)
 }
 
+/// The default table's size (phase points, TE points).
+fn default_table_size() -> [usize; 2] {
+    let o = MeshOptions::default();
+    [o.table_phase_points, o.table_te_points]
+}
+
 /// The hunting-period case (see the module docs).
 fn hunting_case(
     pair: &GearPair,
@@ -946,7 +961,7 @@ fn hunting_case(
 
 /// One design as `helical_gear.study.run` computes it at its defaults (see [`DesignCase`]): the
 /// FE compliance of `pair` computed afresh (default mesh; `--quick`: coarse), the static TE at
-/// 20 points over one pitch (full fidelity, 200 slices; `--quick`: 50), the 64 × 48 table
+/// 20 points over one pitch (full fidelity, 200 slices; `--quick`: 50), the default table
 /// (`--quick`: 16 × 12) and the sweep over 12 speeds from 100 to 1200 rad/s (`--quick`: 3) at
 /// 128 RK4 steps per mesh period, 4 refinement runs, on one thread.
 fn design_case(
@@ -978,7 +993,7 @@ fn design_case(
     static_curve(&mut full, drive.torque_nm, 0.0, pitch, 20, 1).map_err(err)?;
     let static_s = t0.elapsed().as_secs_f64();
 
-    let size = if q { [16, 12] } else { [64, 48] };
+    let size = if q { [16, 12] } else { default_table_size() };
     let o = MeshOptions {
         fidelity: Fidelity::Table,
         table_phase_points: size[0],

@@ -176,12 +176,14 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
     push(&mut p, "");
 
     let mesh = list(bench, "mesh")?;
+    // The default table's size (reports before it was recorded: 64 × 48, the default then).
+    let default_size =
+        bench.get("table_default_size").cloned().unwrap_or_else(|| serde_json::json!([64, 48]));
+    let dsize = format!("{} × {}", default_size[0], default_size[1]);
     let table_default = mesh
         .iter()
-        .find(|c| {
-            c["family"] == "table" && c.get("table_size") == Some(&serde_json::json!([64, 48]))
-        })
-        .ok_or("the report has no table case of size 64 × 48")?;
+        .find(|c| c["family"] == "table" && c.get("table_size") == Some(&default_size))
+        .ok_or(format!("the report has no table case of the default size {dsize}"))?;
     let paper_s = bench.get("paper_runtime_s").and_then(Value::as_f64);
     push(&mut p, "| key | value |");
     push(&mut p, "| --- | --- |");
@@ -196,7 +198,7 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
              options, cold start) | {} |\n{}| `full_eval_warm_us` (the same warm-started from \
              the state before, as along a trajectory) | {} |\n| `full_eval_max_rel_err` (its \
              M_F,p \
-             error against the reference) | {} |\n| `table_build_s` (the default 64 × 48 \
+             error against the reference) | {} |\n| `table_build_s` (the default {dsize} \
              table of the driving flanks) | {} |\n{}| `table_deviation_build_s` (the per-pair table with pitch \
              deviations, [hunting case](#tooth-deviations-on-the-table-a-dynamic-run-over-a-hunting-period)) | {} |\n| \
              `fe_compliance_s` (FE compliance of a new pair, default mesh, no cache) | {} \
@@ -230,7 +232,7 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
         ));
     }
     p.push_str(&format!(
-        "| `table_eval_ns` (table fidelity, 64 × 48 nodes) | {} |\n| `table_max_rel_err` \
+        "| `table_eval_ns` (table fidelity, {dsize} nodes) | {} |\n| `table_max_rel_err` \
          (the same table against the {}-slice reference) | {} |\n| `paper_runtime_s` (the whole \
          `paper` run, quiet) | {} |\n\n",
         time_us(num(bench, "table_eval_ns")? * 1e-3),
@@ -285,7 +287,8 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
                     format!(
                         "table {a} × {b}{sampled}, the method before 2026-11-28 ({build:.1} s to build)"
                     )
-                } else if (a, b) == (64.0, 48.0) {
+                } else if [Some(a), Some(b)] == [default_size[0].as_f64(), default_size[1].as_f64()]
+                {
                     format!("table {a} × {b}, the default{sampled} ({build:.1} s to build)")
                 } else {
                     format!("table {a} × {b}{sampled} ({build:.1} s to build)")
@@ -318,7 +321,7 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
     p.push_str(&format!(
         "Which to use when:\n\
          * **Dynamics, sweeps, the FMU in a drivetrain:** the table. It costs the same at every \
-         size ({} at 64 × 48); its error falls from {} at {} to {} at the default 64 × 48 and \
+         size ({} at {dsize}); its error falls from {} at {} to {} at the default {dsize} and \
          {} at {} ({:.1} s to build).\n\
          * **Static analysis, pressure waterfalls, per-slice detail, references:** full \
          fidelity at 100–200 slices ({} at 200 slices, error {}; 400 slices: {}, {}).\n\
@@ -374,12 +377,12 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
         "## Tooth deviations on the table (a dynamic run over a hunting period)\n\n\
          The `hunting` case: Table 1 with the pitch errors and runouts of \
          `docs/modifications/table1_pitch_errors.json` (pinion deviations within ±1.9 µm, \
-         runouts 5 and 8 µm) on the per-pair table ({} slices, 64 × 48), RK4 at {} steps per \
+         runouts 5 and 8 µm) on the per-pair table ({} slices, {dsize}), RK4 at {} steps per \
          mesh period from the static start at 500 rad/s over {} meshes (the whole hunting \
          period); the torque error is |ΔM_F,p| against full fidelity at the same slices at {} \
          states sampled evenly from the run, over the nominal torque.\n\n\
          | key | value |\n| --- | --- |\n\
-         | table build with deviations ({} slices, 64 × 48) | {:.1} s |\n\
+         | table build with deviations ({} slices, {dsize}) | {:.1} s |\n\
          | the run: {} meshes, {} mesh evaluations | {:.3} s ({} per evaluation, RK4 included) |\n\
          | table evaluation at the run's states | {} |\n\
          | M_F,p error against full fidelity, largest / RMS | {:.2} % / {:.2} % of the nominal \

@@ -279,9 +279,10 @@ pub struct MeshOptions {
     /// Keep the per-slice detail ([`Mesh::slices`]) of the last evaluation (the initial
     /// setting of each workspace, [`MeshWorkspace::set_detail`]).
     pub detail: bool,
-    /// Table resolution: points per mesh period along the phase.
+    /// Table resolution: points per mesh period along the phase (default 64; [`table`],
+    /// "Default size").
     pub table_phase_points: usize,
-    /// Table resolution: points along TE.
+    /// Table resolution: points along TE (default 48).
     pub table_te_points: usize,
     /// Table fidelity: the most total slices (as [`MeshOptions::slices`], in
     /// [`model::SLICES`]) of the full-model samples the table is built from: the table samples

@@ -126,14 +126,44 @@
 //! differentiates the same sum pair by pair (each term as on the periodic table, at the pair's
 //! TE − e_k).
 //!
+//! # Default size
+//! 64 phase points × 48 TE points. On Table 1 against the converged model (800 slices; the
+//! errors are the interpolation's, the 100 sample slices add 4.4·10⁻⁵), the largest relative
+//! error of M_F,p where |M_F,p| > 1 N·m of the default and of other grids (the build time
+//! goes with the nodes):
+//!
+//! | grid | nodes | benchmark's 192 states | 2 000 random states, TE ≤ 51 µm (RMS) | 2 000 random states, TE ≤ 120 µm (RMS) | own check |
+//! | --- | --- | --- | --- | --- | --- |
+//! | 64 × 48 (default) | 3 072 | 2.70·10⁻⁴ | 1.30·10⁻³ (8.2·10⁻⁵) | 1.28·10⁻³ (4.8·10⁻⁵) | 7.3·10⁻⁴ |
+//! | 96 × 24 | 2 304 | 1.99·10⁻⁴ | 7.3·10⁻⁴ (5.4·10⁻⁵) | 4.2·10⁻⁴ (3.0·10⁻⁵) | 3.4·10⁻⁴ |
+//! | 96 × 32 | 3 072 | 1.17·10⁻⁴ | 5.7·10⁻⁴ (3.9·10⁻⁵) | 4.4·10⁻⁴ (2.2·10⁻⁵) | 3.1·10⁻⁴ |
+//! | 80 × 24 | 1 920 | 1.48·10⁻⁴ | 1.86·10⁻³ (7.8·10⁻⁵) | | 4.6·10⁻⁴ |
+//! | 112 × 16 | 1 792 | 4.08·10⁻⁴ | 2.13·10⁻³ (1.1·10⁻⁴) | 7.3·10⁻⁴ (6.6·10⁻⁵) | 6.2·10⁻⁴ |
+//! | 96 × 16 | 1 536 | 4.10·10⁻⁴ | 1.88·10⁻³ (1.0·10⁻⁴) | 1.42·10⁻³ (7.3·10⁻⁵) | 9.9·10⁻⁴ |
+//!
+//! For M_F,p the phase direction sets the error (the kinks where a contact line starts or
+//! ends on a relief or a tip) and 48 TE points are twice what it needs: 96 × 24 is more
+//! accurate on every measure above with three quarters of the nodes (fewer than 24 TE points
+//! lose the benchmark's accuracy, 80 phase points the random states'). It is not the default
+//! because of the damping torque: M_D follows the loaded extent, a count of slices (first
+//! order in the slice width, "Sample slices" below), and that staircase in TE is interpolated
+//! worse on 24 points. Against 800 slices, M_D,p with a TE rate (φ̇p = 200, φ̇g = −120 rad/s)
+//! is off by up to 1.32·10⁻² on the benchmark's states and 2.0·10⁻² on 1 000 random states
+//! at 96 × 24, against 9.3·10⁻³ and 1.44·10⁻² at 64 × 48 (sampled at 200 slices both are
+//! near 8·10⁻³: 8.7·10⁻³ and 8.1·10⁻³ on the random states). An extent resolved within the
+//! slices would lift that. Its back-flank axis would also need as many nodes as the driving
+//! one: with 12 (`table_te_points / 2`) its error over 1 000 random back-flank states was
+//! 1.6·10⁻³ (RMS 1.2·10⁻⁴), against 9.9·10⁻⁴ (6.1·10⁻⁵) on the default's 64 × 24.
+//!
 //! # Sample slices
 //! The table samples the full model at min(`slices`, `table_slices`) total slices
 //! ([`MeshOptions::table_sample_slices`](super::MeshOptions::table_sample_slices), default
 //! min(200, 100)): the full model built again at that count ([`MeshModel::with_slices`]), the
 //! same compliance data, its pose sensitivities and back-flank axis too. The full model
 //! outside the table keeps `slices`. The reason is the balance of the two errors in a table
-//! value against the converged model (800 slices). The interpolation's error is 2.8·10⁻⁴ of
-//! M_F,p at 64 × 48 on the benchmark's 192 states and 1.1·10⁻³ on random states; the
+//! value against the converged model (800 slices). Measured on the 64 × 48 table (the
+//! default then), the interpolation's error is 2.8·10⁻⁴ of
+//! M_F,p on the benchmark's 192 states and 1.1·10⁻³ on random states; the
 //! discretisation's is 4.4·10⁻⁵ at 100 slices and 9.3·10⁻⁶ at 200. Sampling at 200 slices
 //! therefore buys nothing the interpolation keeps, at three times the cost per node (the
 //! performance page's full evaluations: 231 µs at 100 slices, 706 µs at 200). Measured for
