@@ -242,7 +242,8 @@ impl Turn {
 #[inline]
 fn wrap_near(angle: f64, reference: f64) -> f64 {
     let d = angle - reference;
-    reference + (d - 2.0 * PI * ((d + PI) / (2.0 * PI)).floor())
+    // `numeric::floor`: `floor` bit for bit, without the library call.
+    reference + (d - 2.0 * PI * crate::numeric::floor((d + PI) / (2.0 * PI)))
 }
 
 /// One flank piece as seen on a given side: the back flank is the mirror image (y → −y in

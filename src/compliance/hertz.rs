@@ -326,7 +326,13 @@ impl LocalContact {
         check_rho(rho)?;
         let l_coef = (4.0 / PI * self.compliance * rho).sqrt();
         let (up, dp) = body_uc(q, l_coef, self.depth_p, &self.pinion);
-        let (ug, dg) = body_uc(q, l_coef, self.depth_g, &self.gear);
+        // Equal bodies (same material and depth, the common case) deform equally: the gear's
+        // term is the pinion's, bit for bit, without a second logarithm.
+        let (ug, dg) = if self.depth_g == self.depth_p && self.gear == self.pinion {
+            (up, dp)
+        } else {
+            body_uc(q, l_coef, self.depth_g, &self.gear)
+        };
         Ok(LocalDeformation { pinion: up, gear: ug, total: up + ug, d_total_dq: dp + dg })
     }
 }
