@@ -416,8 +416,8 @@ impl<'a> ContactSolver<'a> {
     /// in each slice the gear's axis is offset, its tooth turned by the helix for the axial
     /// displacement at the operating pitch point, and each contact's overlap corrected for the
     /// axial displacement at its own point. `(zetas, twists)`: the slices, and
-    /// [`ContactSolver::slice_twist`] of each (a model computes them once; any other length of
-    /// `twists` computes them here).
+    /// [`ContactSolver::slice_twist`] of each (a model computes them once; with any other
+    /// length of `twists` each slice's is computed where it is needed).
     pub(crate) fn contacts_posed(
         &self,
         side: FlankSide,
@@ -444,18 +444,14 @@ impl<'a> ContactSolver<'a> {
         // The gear tooth turned by the helix for the axial displacement at the pitch point.
         let phi_g = if pose.is_some() { red.phi_g - tw * w_ref } else { red.phi_g };
         // Each tooth's turn is its pair's base turn plus the helix's turn at the slice: one
-        // `sin_cos` per pair and gear, the slices' from `twists` ([`SliceTwist`]).
-        let computed;
-        let twists = if twists.len() == zetas.len() {
-            twists
-        } else {
-            computed = zetas.iter().map(|&z| self.slice_twist(z)).collect::<Vec<_>>();
-            &computed[..]
-        };
+        // `sin_cos` per pair and gear, the slices' from `twists` ([`SliceTwist`]; computed
+        // here, slice by slice, when not given).
+        let given = twists.len() == zetas.len();
         for k in lo..=hi {
             let (base_p, base_g) = self.theta_base(side, red.phi_p, phi_g, k);
             let (turn_p, turn_g) = (Turn::new(base_p), Turn::new(base_g));
-            for (&zeta, tw_z) in zetas.iter().zip(twists) {
+            for (i, &zeta) in zetas.iter().enumerate() {
+                let tw_z = if given { twists[i] } else { self.slice_twist(zeta) };
                 let z_m = zeta * mn;
                 let tp = Turn::added(turn_p, base_p + g.pinion.twist_rate * z_m, tw_z.pinion);
                 let tg = Turn::added(turn_g, base_g + g.gear.twist_rate * z_m, tw_z.gear);

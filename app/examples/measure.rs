@@ -299,8 +299,8 @@ fn fe(dir: &Path) -> Result<Vec<PathBuf>, String> {
 
 /// The default table's size, "phase points × TE points".
 fn default_table() -> String {
-    let o = MeshOptions::default();
-    format!("{} × {}", o.table_phase_points, o.table_te_points)
+    let [phase, te] = helical_gear_app::bench::default_table_size();
+    format!("{phase} × {te}")
 }
 
 /// The co-simulation error table.

@@ -384,10 +384,10 @@ pub fn run_bench(
     let default_samples = MeshOptions::default().table_slices;
     let mut cases: Vec<([usize; 2], usize, &str)> =
         sizes.iter().map(|&size| (size, default_samples, "table")).collect();
-    if !q && !sizes.contains(&default_size) {
-        cases.push((default_size, default_samples, "table"));
-    }
     if !q {
+        if !sizes.contains(&default_size) {
+            cases.push((default_size, default_samples, "table"));
+        }
         cases.push((default_size, table_slices, "table, sampled at the full model's slices"));
     }
     for ([p, t], samples, family) in cases {
@@ -867,8 +867,8 @@ fn drive_unit_cases(
     Ok(cases)
 }
 
-/// The default table's size (phase points, TE points).
-fn default_table_size() -> [usize; 2] {
+/// The default table's size (phase points, TE points) of [`MeshOptions`].
+pub fn default_table_size() -> [usize; 2] {
     let o = MeshOptions::default();
     [o.table_phase_points, o.table_te_points]
 }

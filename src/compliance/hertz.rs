@@ -287,6 +287,8 @@ pub struct LocalContact {
     depth_p: f64,
     depth_g: f64,
     compliance: f64,
+    /// Same material and depth: both bodies deform alike ([`LocalContact::deformation`]).
+    equal_bodies: bool,
 }
 
 impl LocalContact {
@@ -300,7 +302,8 @@ impl LocalContact {
         let compliance = compliance_sum(pinion, gear)?;
         check_depth("h_p", depth_p)?;
         check_depth("h_g", depth_g)?;
-        Ok(Self { pinion: *pinion, gear: *gear, depth_p, depth_g, compliance })
+        let equal_bodies = depth_p == depth_g && pinion == gear;
+        Ok(Self { pinion: *pinion, gear: *gear, depth_p, depth_g, compliance, equal_bodies })
     }
 
     /// C = (1 − ν_p²)/E_p + (1 − ν_g²)/E_g, 1/Pa.
@@ -328,11 +331,8 @@ impl LocalContact {
         let (up, dp) = body_uc(q, l_coef, self.depth_p, &self.pinion);
         // Equal bodies (same material and depth, the common case) deform equally: the gear's
         // term is the pinion's, bit for bit, without a second logarithm.
-        let (ug, dg) = if self.depth_g == self.depth_p && self.gear == self.pinion {
-            (up, dp)
-        } else {
-            body_uc(q, l_coef, self.depth_g, &self.gear)
-        };
+        let (ug, dg) =
+            if self.equal_bodies { (up, dp) } else { body_uc(q, l_coef, self.depth_g, &self.gear) };
         Ok(LocalDeformation { pinion: up, gear: ug, total: up + ug, d_total_dq: dp + dg })
     }
 }
