@@ -60,9 +60,12 @@ fn the_default_sample_slices_keep_the_tables_error_against_800_slices() {
     // 2.76e-4).
     assert!(e100 <= 2.8e-4, "sampled at 100 slices: {e100:.3e}");
     assert!(e100 <= 1.05 * e200, "100 slices {e100:.3e} against 200 slices {e200:.3e}");
-    // M_D,p follows the loaded extent, a count of slices: its error is first order in the
-    // slice width and grows with it (measured 9.3e-3 at 100, 8.2e-3 at 200).
-    assert!(d100 <= 1e-2 && d200 <= d100, "M_D,p: {d100:.3e} at 100, {d200:.3e} at 200 slices");
+    // M_D,p follows the loaded extent, resolved within the slices (second order in the slice
+    // width, `tests/mesh_extent.rs`): its table error is the interpolation's, and sampling at
+    // 100 slices leaves it where 200 put it (measured 8.10e-3 and 8.54e-3; counted in whole
+    // slices it was 9.3e-3 and 8.2e-3).
+    assert!(d100 <= 9e-3, "M_D,p: {d100:.3e} at 100 slices");
+    assert!(d100 <= 1.05 * d200, "M_D,p: {d100:.3e} at 100, {d200:.3e} at 200 slices");
 }
 
 #[test]

@@ -56,20 +56,22 @@
 //!
 //! # Damping part (Eq. 14)
 //! Eq. 14 is a viscous force along the plane of action, f_D = d_mesh·(φ̇p·r_bp + φ̇g·r_bg)·E,
-//! with E = Σ_i Δζ the loaded axial extent, acting at the base radii (M_D,k = f_D·r_bk). It is
-//! distributed over the loaded slices in proportion to their Δζ (as E is built), each share
-//! along the 3D normal of the plane of action of that slice's flank side, at the operating
-//! pitch point (r_wp, 0) in the slice's plane z = ζ_i·m_n:
+//! with E = Σ_i e_i the loaded axial extent (e_i the loaded part of slice i, units of m_n,
+//! resolved within the slices: [`super::model`], "Slices"), acting at the base radii
+//! (M_D,k = f_D·r_bk). It is distributed along the loaded parts of the lines (as E is
+//! built), each share along the 3D normal of the plane of action of that slice's flank side,
+//! at the operating pitch point (r_wp, 0) in the plane z = ζ·m_n:
 //!
 //! ```text
-//! F_D,i = −d_mesh·rate·Δζ·(σ·sin α_wt, cos α_wt, −ω_p·r_bp)     at (r_wp, 0, ζ_i·m_n)
+//! dF_D = −d_mesh·rate·dζ·(σ·sin α_wt, cos α_wt, −ω_p·r_bp)     at (r_wp, 0, ζ·m_n)
 //! ```
 //!
 //! (σ = +1 driving flanks, −1 back flanks). The pitch point lies on both lines of action, at
 //! arm r_wp·cos α_wt = r_bp from the pinion axis and r_wg·cos α_wt = r_bg from the gear axis, so
 //! the moment about each axis is exactly −M_D of that gear whatever the distribution; the
-//! distribution by Δζ puts the damping where the mesh is loaded, and the point makes the damping
-//! wrench a function of the loaded extent E and its first axial moment Z₁ = Σ_i ζ_i·Δζ alone
+//! distribution along the loaded parts puts the damping where the mesh is loaded, and the point makes the damping
+//! wrench a function of the loaded extent E and its first axial moment Z₁ = ∫ζ·dζ over the
+//! loaded parts alone
 //! (which the table carries beside E). With f = d_mesh·rate and c = ζ·m_n − b/2:
 //!
 //! ```text

@@ -510,8 +510,8 @@ pub struct MeshJacobian {
 /// ∂torque_i/∂(pose component) of [`MeshJacobian`]: rows as [`MeshJacobian`]'s (M_F,p, M_F,g,
 /// M_D,p, M_D,g), columns the five components of a body's pose or rate in the order of
 /// [`BodyPose::values`] (u_x, u_y, u_z: N·m/m or N·m/(m/s); th_x, th_y: N·m/rad or
-/// N·m/(rad/s)). The elastic torques depend on the poses, the damping torques on the rates
-/// (the loaded extent is piecewise constant).
+/// N·m/(rad/s)). The elastic torques depend on the poses; the damping torques on the rates and,
+/// through the loaded extent, on the poses.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PoseJacobian {
     /// ∂torque/∂pose_p.

@@ -33,6 +33,13 @@
 //! matrix a slice with an open gap stays open whatever the other loads are, so leaving it out
 //! is exact.
 //!
+//! The loaded axial extent of Eq. 14 (and the loaded contact length, its multiple
+//! m_n/cos θ) is resolved within the slices: each end of a loaded run of slices is placed
+//! where the required approach less the global deformation changes sign between the run's
+//! last slice and the next (the module `model::extent`), not on the slice boundary. It
+//! converges at second order in the slice width and is continuous in the state (but where a
+//! line's loaded part reaches the face), and so are the damping torques and their wrench.
+//!
 //! # Load problem (Eq. 12)
 //! Slice i: required normal approach d_i = Δ_i·cos θ, line length w_i = m_n·Δζ/cos θ, normal-
 //! section radii ρ_n = ρ_t/cos θ (θ the base helix angle, ρ_t the transverse radius of the
@@ -113,6 +120,7 @@
 //! faster. When the coarse solve fails or loads nothing, the fine solve starts from q = 0
 //! as before.
 
+mod extent;
 mod jacobian;
 
 pub(crate) use jacobian::damping_rows;
@@ -140,7 +148,9 @@ use crate::compliance::{Compliance, FlankCoord};
 use crate::contact::{ContactPoint, ContactSolver, FlankSide, SliceTwist};
 use crate::error::ParamError;
 use crate::geometry::{PairGeometry, SegmentKind};
-use crate::load::{HertzLocal, LoadProblem, LoadSettings, LoadSolver, Start, damping_torques};
+use crate::load::{
+    HertzLocal, LoadProblem, LoadSettings, LoadSolver, LocalTerm as _, Start, damping_torques,
+};
 use crate::modifications::Separation;
 use crate::params::GearPair;
 
@@ -238,6 +248,9 @@ struct Slice {
     contact: ContactPoint,
     /// Index of the axial slice (0 … n_line − 1).
     k: usize,
+    /// Overlap (m, separation subtracted) of the same line's contact at slices k − 1 and
+    /// k + 1, NaN where there is none.
+    nb: [f64; 2],
 }
 
 /// The mesh model of a gear pair: everything that is fixed once the pair and the options are
@@ -325,10 +338,12 @@ pub struct MeshWorkspace {
     pair_sums: Vec<PairSum>,
     /// The whole wrench (z components included) of the last full evaluation.
     wrench: MeshWrench,
-    /// Σ ζ_i·Δζ over the loaded slices of the last full evaluation, m_n².
+    /// ∫ζ·dζ over the loaded parts of the slices of the last full evaluation, m_n².
     first_moment: f64,
     /// Scratch memory of the root stress.
     root_stress: RootStressWorkspace,
+    /// Loaded axial extent of each slice to either side of its centre (units of m_n).
+    widths: Vec<[f64; 2]>,
 }
 
 impl MeshWorkspace {
@@ -354,6 +369,7 @@ impl MeshWorkspace {
             coarse: CoarseStart::new(cap / COARSE_STRIDE + 8),
             detail: Vec::with_capacity(cap),
             runs: Vec::with_capacity(8),
+            widths: Vec::with_capacity(cap),
             ws: MatrixWorkspace::default(),
             stats: SolveStats::default(),
             keep_detail: model.options.detail,
@@ -378,8 +394,9 @@ impl MeshWorkspace {
         &self.wrench
     }
 
-    /// First axial moment Z₁ = Σ ζ_i·Δζ of the loaded slices of the last full evaluation,
-    /// units of m_n² (the table carries it beside the extent for the damping's moments).
+    /// First axial moment Z₁ = ∫ζ·dζ over the loaded parts of the slices of the last full
+    /// evaluation (`extent`), units of m_n² (the table carries it beside the extent for the
+    /// damping's moments).
     pub fn first_moment(&self) -> f64 {
         self.first_moment
     }
@@ -571,7 +588,7 @@ pub(crate) struct PairSum {
     /// The pair's elastic force on the pinion (x, y, z, N) and its tilting moment about the
     /// pinion centre (x, y, N·m), [`super::forces`].
     pub wrench: [f64; 5],
-    /// Σ ζ_i·Δζ over the pair's loaded slices, m_n².
+    /// ∫ζ·dζ over the loaded parts of the pair's slices, m_n².
     pub first_moment: f64,
     /// True when a loaded contact of the pair lies on a tip.
     pub tip: bool,
@@ -890,14 +907,29 @@ impl MeshModel {
             let pose = posed.as_ref().map(|(p, _)| p);
             let slices = (&self.zetas[..], &self.twists[..]);
             cs.contacts_posed(side, state.phi_p, state.phi_g, slices, pose, &mut ws.contacts);
-            for c in &ws.contacts {
+            let overlap = |c: &ContactPoint| match &self.separation {
+                Some(sep) => c.overlap_m - sep.of_contact(c),
+                None => c.overlap_m,
+            };
+            let slice_of = |c: &ContactPoint| ((c.zeta / self.dzeta) as usize).min(nl - 1);
+            for (j, c) in ws.contacts.iter().enumerate() {
                 let mut c = *c;
-                if let Some(sep) = &self.separation {
-                    c.overlap_m -= sep.of_contact(&c);
-                }
+                c.overlap_m = overlap(&c);
                 if c.overlap_m > 0.0 {
-                    let k = ((c.zeta / self.dzeta) as usize).min(nl - 1);
-                    ws.slices.push(Slice { contact: c, k });
+                    let k = slice_of(&c);
+                    let nb_at = |jj: Option<usize>, kk: Option<usize>| match (jj, kk) {
+                        (Some(jj), Some(kk)) => ws
+                            .contacts
+                            .get(jj)
+                            .filter(|n| n.pair == c.pair && slice_of(n) == kk)
+                            .map_or(f64::NAN, overlap),
+                        _ => f64::NAN,
+                    };
+                    let nb = [
+                        nb_at(j.checked_sub(1), k.checked_sub(1)),
+                        nb_at(Some(j + 1), (k + 1 < nl).then_some(k + 1)),
+                    ];
+                    ws.slices.push(Slice { contact: c, k, nb });
                 }
             }
         }
@@ -1052,6 +1084,26 @@ impl MeshModel {
         ws.stats.add(&report, n);
         let q = ws.solver.load();
 
+        // Loaded extent of each slice, resolved within the slices (`extent`).
+        let local_on = self.options.local_contact;
+        let sigma = |i: usize| -> f64 {
+            if local_on {
+                hertz.eval(i, q[i]).0 - ws.solver.gap()[i]
+            } else {
+                ws.cmat[(i, i)] * ws.line_length[i] * q[i]
+            }
+        };
+        extent::resolve(
+            &ws.slices,
+            q,
+            ws.solver.gap(),
+            &ws.approach,
+            sigma,
+            (self.dzeta, nl, ct),
+            &mut ws.widths,
+            None,
+        );
+
         // Outputs.
         let axial = mn * self.dzeta;
         let mut pairs: [(bool, i64); 8] = [(false, 0); 8];
@@ -1068,13 +1120,14 @@ impl MeshModel {
                 out.m_f_p += c.arm_p_m * q[i] * axial;
                 out.m_f_g += c.arm_g_m * q[i] * axial;
                 out.f_n += q[i] * ws.line_length[i];
-                out.contact_length += ws.line_length[i];
-                extent += self.dzeta;
+                let [wl, wr] = ws.widths[i];
+                out.contact_length += ws.line_length[i] * (wl + wr) / self.dzeta;
+                extent += wl + wr;
                 let slice_wrench = MeshWrench::of_contact(&self.frame, c, q[i] * axial);
                 wrench.add(&slice_wrench);
                 let se = &mut side_extent[usize::from(c.side == FlankSide::Back)];
-                se[0] += self.dzeta;
-                se[1] += c.zeta * self.dzeta;
+                se[0] += wl + wr;
+                se[1] += c.zeta * (wl + wr) + 0.5 * (wr * wr - wl * wl);
                 let key = (c.side == FlankSide::Back, c.pair);
                 if !pairs[..n_pairs].contains(&key) && n_pairs < pairs.len() {
                     pairs[n_pairs] = key;
@@ -1107,12 +1160,12 @@ impl MeshModel {
                     ps.values[0] += c.arm_p_m * q[i] * axial;
                     ps.values[1] += c.arm_g_m * q[i] * axial;
                     ps.values[2] += q[i] * ws.line_length[i];
-                    ps.values[3] += self.dzeta;
+                    ps.values[3] += wl + wr;
                     let (f, m) = (&slice_wrench.force_p, &slice_wrench.moment_p);
                     for (acc, v) in ps.wrench.iter_mut().zip([f[0], f[1], f[2], m[0], m[1]]) {
                         *acc += v;
                     }
-                    ps.first_moment += c.zeta * self.dzeta;
+                    ps.first_moment += c.zeta * (wl + wr) + 0.5 * (wr * wr - wl * wl);
                     if self.options.pressure {
                         let p = self.local.max_pressure(q[i], ws.rho[i]).unwrap_or(0.0);
                         ps.values[4] = ps.values[4].max(p * p);

@@ -144,16 +144,17 @@
 //! For M_F,p the phase direction sets the error (the kinks where a contact line starts or
 //! ends on a relief or a tip) and 48 TE points are twice what it needs: 96 × 24 is more
 //! accurate on every measure above with three quarters of the nodes (fewer than 24 TE points
-//! lose the benchmark's accuracy, 80 phase points the random states'). It is not the default
-//! because of the damping torque: M_D follows the loaded extent, a count of slices (first
-//! order in the slice width, "Sample slices" below), and that staircase in TE is interpolated
-//! worse on 24 points. Against 800 slices, M_D,p with a TE rate (φ̇p = 200, φ̇g = −120 rad/s)
-//! is off by up to 1.32·10⁻² on the benchmark's states and 2.0·10⁻² on 1 000 random states
-//! at 96 × 24, against 9.3·10⁻³ and 1.44·10⁻² at 64 × 48 (sampled at 200 slices both are
-//! near 8·10⁻³: 8.7·10⁻³ and 8.1·10⁻³ on the random states). An extent resolved within the
-//! slices would lift that. Its back-flank axis would also need as many nodes as the driving
-//! one: with 12 (`table_te_points / 2`) its error over 1 000 random back-flank states was
-//! 1.6·10⁻³ (RMS 1.2·10⁻⁴), against 9.9·10⁻⁴ (6.1·10⁻⁵) on the default's 64 × 24.
+//! lose the benchmark's accuracy, 80 phase points the random states'). The damping torque
+//! M_D follows the loaded extent, resolved within the slices ([`super::model`], "Slices"),
+//! whose remaining table error is the interpolation's at the kinks where a line's loaded part
+//! starts to shorten. Against 800 slices, M_D,p with a TE rate (φ̇p = 200, φ̇g = −120 rad/s)
+//! is off by up to 5.5·10⁻³ on the benchmark's states and 8.2·10⁻³ on 2 000 random states at
+//! 96 × 24, against 8.1·10⁻³ and 1.06·10⁻² at 64 × 48. (With the extent counted in whole
+//! slices, as before, 96 × 24 was the worse: 1.32·10⁻² and 2.0·10⁻² against 9.3·10⁻³ and
+//! 1.44·10⁻² on 1 000 random states.) It is not the default yet because its back-flank axis
+//! would need as many nodes as the driving one: with 12 (`table_te_points / 2`) its error
+//! over 1 000 random back-flank states was 1.6·10⁻³ (RMS 1.2·10⁻⁴), against 9.9·10⁻⁴
+//! (6.1·10⁻⁵) on the default's 64 × 24.
 //!
 //! # Sample slices
 //! The table samples the full model at min(`slices`, `table_slices`) total slices
@@ -182,10 +183,11 @@
 //! 128 × 96 where it was, and the largest error over random states (1.1·10⁻³, set by the
 //! phase interpolation) too; 75 already moves the 128 × 96 table's. At heavy load the 100
 //! slices show (6.5·10⁻⁴ against 4.7·10⁻⁴ at TE up to 120 µm, still below that largest
-//! error). The damping torque M_D and the contact length follow the loaded extent, a count of
-//! slices, whose error is first order in the slice width: against 800 slices the table's M_D
-//! is off by up to 9.3·10⁻³ sampled at 100 slices and 8.2·10⁻³ at 200 (benchmark states with
-//! a TE rate; 1.2·10⁻² and 8.4·10⁻³ on the 400 random states). A finer table than 128 × 96,
+//! error). The damping torque M_D and the contact length follow the loaded extent, resolved
+//! within the slices and second order in the slice width: the full model's M_D is off by up
+//! to 8.2·10⁻⁴ at 100 slices and 2.0·10⁻⁴ at 200 against 1 600 (benchmark states with a TE
+//! rate), so the table's M_D error is its interpolation's (8.1·10⁻³ sampled at 100 slices,
+//! 8.2·10⁻³ at 80, 8.7·10⁻³ at 64). A finer table than 128 × 96,
 //! a table that stands for a full model of more than 100 slices at its nodes, or a study of
 //! the damping's share wants a larger `table_slices`; `table_slices = slices` gives the table
 //! of the full model's slices bit for bit.
@@ -1136,7 +1138,7 @@ impl MeshTable {
                 let extent = out.contact_length / model.length_per_extent();
                 if extent > 0.0 {
                     let de = [d[2][0] + rb_p * d[2][1], rb_g * d[2][1]];
-                    damping_rows(model, state, extent, de, &mut jac);
+                    damping_rows(model, state, extent, de, None, &mut jac);
                 }
                 return Some((out, jac));
             }
@@ -1191,7 +1193,14 @@ impl MeshTable {
         // Damping: M_D,k = d·(φ̇p·g_p + φ̇g·g_g)·E·g_k with E = max(v₃, 0).
         if v[3] > 0.0 {
             let (de_phase, de_te) = (vp[3] / self.phase_h, axis.dir * vt[3] * half_xt / dist);
-            damping_rows(model, state, v[3], [de_phase + rb_p * de_te, rb_g * de_te], &mut jac);
+            damping_rows(
+                model,
+                state,
+                v[3],
+                [de_phase + rb_p * de_te, rb_g * de_te],
+                None,
+                &mut jac,
+            );
         }
         Some((out, jac))
     }

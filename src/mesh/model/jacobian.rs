@@ -78,15 +78,30 @@
 //! factorised once (LU) for both angle directions. Then
 //! ∂M_F,k = m_n·Δζ·Σ_A (∂s_k,i·q_i + s_k,i·∂q_i).
 //!
+//! # The loaded extent
+//! The damping torques follow the loaded extent E ([`super::extent`]), whose ends inside
+//! their slices move with the state: x = Δζ·σ_i/(σ_i − σ_n) with σ_i = u_c(q_i) − g_i of the
+//! run's last loaded slice (g_i = 0 held) and σ_n = −g_n of the open slice beyond, so
+//!
+//! ```text
+//! ∂σ_i = ∂u_c/∂q·∂q_i + ∂u_c/∂ρ·∂ρ_i,     ∂σ_n = ∂d_n − (∂C·w q)_n − (C·w ∂q)_n
+//! ```
+//!
+//! from the same ∂q and right-hand sides (the open rows' ∂d − ∂C·w q are formed beside the
+//! loaded ones); without the local term σ_i = C_ii·w_i·q_i and ∂σ_i = ∂C_ii·w_i·q_i +
+//! C_ii·w_i·∂q_i. Beyond an end outside the problem σ_n = d_n − d_i + σ_i, so
+//! x = Δζ·σ_i/(d_i − d_n) needs ∂d_n of that slice's contact, found again by the contact
+//! search. ∂E = Σ ∂x over the ends inside their bounds (a clamped end does not move), and
+//! ∂M_D,k = d_mesh·rate·∂E·r_bk, the rate including the approach rate of the body motion.
+//!
 //! Nothing is neglected: every term is the exact derivative of the model as evaluated (at a
-//! fixed active set and fixed contact-piece combination). The loaded axial extent is piecewise
-//! constant, so the damping torques' angle derivatives are zero here; their rate derivatives
-//! are exact. Supported compliance representations: interpolated with the slice kernel (the
+//! fixed active set and fixed contact-piece combination). Supported compliance representations: interpolated with the slice kernel (the
 //! default) and Winkler; others return [`MeshError::Unsupported`].
 
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 
+use super::extent::Beyond;
 use super::{GearCompliance, MeshModel, MeshWorkspace, Slice, WarmStart};
 use crate::compliance::FlankCoord;
 use crate::compliance::interpolated::{SliceInfluence, SliceWeights};
@@ -246,8 +261,6 @@ impl MeshModel {
         let n = ws.slices.len();
         let q: Vec<f64> = if n == 0 { Vec::new() } else { ws.solver.load()[..n].to_vec() };
         let active: Vec<usize> = (0..n).filter(|&i| q[i] > 0.0).collect();
-        let extent = active.len() as f64 * self.dzeta;
-        damping_rows(self, state, extent, [0.0, 0.0], &mut jac);
         if active.is_empty() {
             return Ok((out, jac));
         }
@@ -276,51 +289,55 @@ impl MeshModel {
         let w_ref = rel.axial([-r_wg, 0.0]);
         let mn = geo.params.normal_module_m;
 
-        // Per-slice geometric rates, by column (module docs, "Body poses").
+        // Geometric rates of a contact, by column (module docs, "Body poses").
+        let rates_of = |c: &ContactPoint, obs: [FlankCoord; 2], pr: [(f64, f64); 2]| {
+            let (tp, tg) = cs.tooth_angles(c.side, &red, c.pair, c.zeta);
+            let h = c.zeta * mn - 0.5 * b;
+            let o = rel.axis_offset(c.zeta * mn, b);
+            let cg = [a + o[0], o[1]];
+            let base = contact_rates(&geo, c, (tp, tg - tw * w_ref), cg, obs, pr, ct);
+            ColRates::of(&base, c, cg, &rel, [tw, r_wg, h])
+        };
+        // ∂d of a contact with rates `r`: the overlap's, less the separation's of the profile
+        // modifications, which moves with the contact's roll position.
+        let approach_rate = |c: &ContactPoint, r: &ColRates| -> [f64; NCOL] {
+            let mut d = r.overlap.map(|v| v * ct);
+            if let Some(sep) = &self.separation
+                && c.side == FlankSide::Drive
+            {
+                let (dsp, dsg) = sep.radial_rates(c.zeta, c.radius_p_m, c.radius_g_m);
+                for (j, v) in d.iter_mut().enumerate() {
+                    *v -= (dsp * r.radius_p[j] + dsg * r.radius_g[j]) * ct;
+                }
+            }
+            d
+        };
         let rates: Vec<ColRates> = ws
             .slices
             .iter()
             .enumerate()
             .map(|(i, s)| {
-                let c = &s.contact;
                 let pr = match &sc {
                     Some(sc) => {
                         [sc[0].profile_rates(ws.obs_p[i]), sc[1].profile_rates(ws.obs_g[i])]
                     }
                     None => [(0.0, 0.0); 2],
                 };
-                let (tp, tg) = cs.tooth_angles(c.side, &red, c.pair, c.zeta);
-                let h = c.zeta * mn - 0.5 * b;
-                let o = rel.axis_offset(c.zeta * mn, b);
-                let cg = [a + o[0], o[1]];
-                let base = contact_rates(
-                    &geo,
-                    c,
-                    (tp, tg - tw * w_ref),
-                    cg,
-                    [ws.obs_p[i], ws.obs_g[i]],
-                    pr,
-                    ct,
-                );
-                ColRates::of(&base, c, cg, &rel, [tw, r_wg, h])
+                rates_of(&s.contact, [ws.obs_p[i], ws.obs_g[i]], pr)
             })
             .collect();
 
-        // Right-hand sides: ∂d − (∂C·w q) − ∂u_c/∂ρ·∂ρ, per column.
+        // Right-hand sides: ∂d − (∂C·w q) − ∂u_c/∂ρ·∂ρ, per column; every row gets the first
+        // two terms (an open slice's ∂g for the loaded extent), the loaded rows the third.
         let mut rhs = Mat::<f64>::zeros(n, NCOL);
+        let mut dd = Mat::<f64>::zeros(n, NCOL);
+        // ∂C_ii·w_i·q_i (the loaded extent without the local term).
+        let mut dc_diag = Mat::<f64>::zeros(n, NCOL);
         for i in 0..n {
-            let c = &ws.slices[i].contact;
+            let d = approach_rate(&ws.slices[i].contact, &rates[i]);
             for j in 0..NCOL {
-                rhs[(i, j)] = rates[i].overlap[j] * ct;
-            }
-            // Profile modifications: the separation moves with the contact's roll position.
-            if let Some(sep) = &self.separation
-                && c.side == FlankSide::Drive
-            {
-                let (dsp, dsg) = sep.radial_rates(c.zeta, c.radius_p_m, c.radius_g_m);
-                for j in 0..NCOL {
-                    rhs[(i, j)] -= (dsp * rates[i].radius_p[j] + dsg * rates[i].radius_g[j]) * ct;
-                }
+                rhs[(i, j)] = d[j];
+                dd[(i, j)] = d[j];
             }
         }
         if let Some(sc) = &sc {
@@ -341,12 +358,13 @@ impl MeshModel {
                 for j in 0..NCOL {
                     let dp =
                         |i: usize| if g == 0 { rates[i].prof_p[j] } else { rates[i].prof_g[j] };
-                    for &i in &active {
+                    for i in 0..n {
                         let mut s = 0.0;
                         for &k in &active {
                             s += (d_obs[(i, k)] * dp(i) + d_load[(i, k)] * dp(k)) * wq[k];
                         }
                         rhs[(i, j)] -= s;
+                        dc_diag[(i, j)] += (d_obs[(i, i)] + d_load[(i, i)]) * dp(i) * wq[i];
                     }
                 }
             }
@@ -375,6 +393,107 @@ impl MeshModel {
         });
         let rhs_a = Mat::<f64>::from_fn(m, NCOL, |a, j| rhs[(active[a], j)]);
         let dq = kmat.partial_piv_lu().solve(&rhs_a);
+
+        // The loaded extent (`super::extent`) and its rates: each end inside its slice moves
+        // with σ of its loaded slice and with σ (or the approach) beyond it.
+        let gap = ws.solver.gap();
+        let local_on = self.options.local_contact;
+        let sigma = |i: usize| {
+            if local_on {
+                self.local.deformation(q[i], ws.rho[i]).map_or(f64::NAN, |d| d.total) - gap[i]
+            } else {
+                ws.cmat[(i, i)] * ws.line_length[i] * q[i]
+            }
+        };
+        let (mut widths, mut ends) = (Vec::with_capacity(n), Vec::new());
+        super::extent::resolve(
+            &ws.slices,
+            &q,
+            gap,
+            &ws.approach,
+            sigma,
+            (self.dzeta, nl, ct),
+            &mut widths,
+            Some(&mut ends),
+        );
+        let extent: f64 = widths.iter().map(|w| w[0] + w[1]).sum();
+        let pose = (!state.bodies_at_rest()).then_some(rel);
+        let mut side_contacts: [Option<Vec<ContactPoint>>; 2] = [None, None];
+        let mut d_extent = [0.0; NCOL];
+        for e in &ends {
+            let i = e.slice;
+            let ai = active.binary_search(&i).map_err(|_| {
+                MeshError::Unsupported("mesh Jacobian: an end of a loaded run on an open slice")
+            })?;
+            let d_sigma: [f64; NCOL] = if local_on {
+                let d = self.local.deformation(q[i], ws.rho[i]).map_err(|e| {
+                    MeshError::Load(crate::load::LoadError::Hertz { slice: i, source: e })
+                })?;
+                let du_drho = -(d.total - q[i] * d.d_total_dq) / ws.rho[i];
+                std::array::from_fn(|j| d.d_total_dq * dq[(ai, j)] + du_drho * rates[i].rho[j])
+            } else {
+                std::array::from_fn(|j| {
+                    dc_diag[(i, j)] + ws.cmat[(i, i)] * ws.line_length[i] * dq[(ai, j)]
+                })
+            };
+            let d_beyond: [f64; NCOL] = match e.beyond {
+                // −∂g_n = ∂d_n − ∂C·w q − C·w ∂q on row n.
+                Beyond::Candidate(nn) => std::array::from_fn(|j| {
+                    let mut v = rhs[(nn, j)];
+                    for (a2, &k) in active.iter().enumerate() {
+                        v -= ws.cmat[(nn, k)] * ws.line_length[k] * dq[(a2, j)];
+                    }
+                    v
+                }),
+                // ∂d_i − ∂d_n, with the neighbour's contact found again.
+                Beyond::Outside { .. } => {
+                    let sl = &ws.slices[i];
+                    let side = sl.contact.side;
+                    let list = side_contacts[usize::from(side == FlankSide::Back)]
+                        .get_or_insert_with(|| {
+                            let mut v = Vec::new();
+                            let slices = (&self.zetas[..], &self.twists[..]);
+                            cs.contacts_posed(
+                                side,
+                                state.phi_p,
+                                state.phi_g,
+                                slices,
+                                pose.as_ref(),
+                                &mut v,
+                            );
+                            v
+                        });
+                    let k = if e.toward == 0 { sl.k - 1 } else { sl.k + 1 };
+                    let slice_of = |c: &ContactPoint| ((c.zeta / self.dzeta) as usize).min(nl - 1);
+                    let c = list
+                        .iter()
+                        .find(|c| c.pair == sl.contact.pair && slice_of(c) == k)
+                        .ok_or(MeshError::Unsupported(
+                            "mesh Jacobian: the contact beyond a loaded run is not found again",
+                        ))?;
+                    let z = if side == FlankSide::Back { geo.b0() - c.zeta } else { c.zeta };
+                    let obs = [
+                        FlankCoord { eta_star: c.eta_star_p, tau: c.tau_p, zeta: z },
+                        FlankCoord { eta_star: c.eta_star_g, tau: c.tau_g, zeta: z },
+                    ];
+                    let ddn = approach_rate(c, &rates_of(c, obs, [(0.0, 0.0); 2]));
+                    std::array::from_fn(|j| dd[(i, j)] - ddn[j])
+                }
+            };
+            for j in 0..NCOL {
+                d_extent[j] += e.rate(self.dzeta, d_sigma[j], d_beyond[j]);
+            }
+        }
+        let mut d_extent_pose = [0.0; 5];
+        d_extent_pose.copy_from_slice(&d_extent[2..]);
+        damping_rows(
+            self,
+            state,
+            extent,
+            [d_extent[0], d_extent[1]],
+            Some(d_extent_pose),
+            &mut jac,
+        );
 
         let axial = self.pair.normal_module_m * self.dzeta;
         let mut d_rel = [[0.0; 5]; 2];
@@ -434,12 +553,14 @@ fn derivative_blocks(
 
 /// Fills the damping rows of `jac` for Eq. 14 as [`MeshModel::damping_for`] computes it, with
 /// loaded extent `extent` (units of m_n, > 0) and its derivatives `d_extent` with respect to
-/// (φp, φg) (per rad).
+/// (φp, φg) (per rad) and, when given, `d_extent_pose` with respect to the relative pose
+/// (U_x, U_y, U_z per m, Θ_x, Θ_y per rad).
 pub(crate) fn damping_rows(
     model: &MeshModel,
     state: &MeshState,
     extent: f64,
     d_extent: [f64; 2],
+    d_extent_pose: Option<[f64; 5]>,
     jac: &mut MeshJacobian,
 ) {
     if !model.options().damping || extent <= 0.0 {
@@ -447,7 +568,13 @@ pub(crate) fn damping_rows(
     }
     let (rb_p, rb_g) = (model.geometry().pinion.rb, model.geometry().gear.rb);
     let d = model.d_mesh();
-    let rate = state.w_p * rb_p + state.w_g * rb_g;
+    // The damped rate: TE's, plus the approach rate of the body motion.
+    let mut rate = state.w_p * rb_p + state.w_g * rb_g;
+    if !state.bodies_at_rest() {
+        let a = model.geometry().center_distance;
+        let body = RelativePose::new(&state.rate_p, &state.rate_g, a);
+        rate += crate::mesh::pose::approach_rate(model.geometry(), &body);
+    }
     for (row, rb_k) in [(MeshJacobian::M_D_P, rb_p), (MeshJacobian::M_D_G, rb_g)] {
         jac.d[row][MeshJacobian::W_P] = d * rb_p * extent * rb_k;
         jac.d[row][MeshJacobian::W_G] = d * rb_g * extent * rb_k;
@@ -465,6 +592,10 @@ pub(crate) fn damping_rows(
         for (row, rb_k) in [(MeshJacobian::M_D_P, rb_p), (MeshJacobian::M_D_G, rb_g)] {
             let g = da.map(|v| d * v * extent * rb_k);
             (p.d_rate_p[row], p.d_rate_g[row]) = body_columns(g, geo.center_distance);
+            if let Some(de) = d_extent_pose {
+                let g = de.map(|v| d * rate * v * rb_k);
+                (p.d_pose_p[row], p.d_pose_g[row]) = body_columns(g, geo.center_distance);
+            }
         }
     }
 }
