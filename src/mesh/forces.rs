@@ -69,10 +69,10 @@
 //! (σ = +1 driving flanks, −1 back flanks). The pitch point lies on both lines of action, at
 //! arm r_wp·cos α_wt = r_bp from the pinion axis and r_wg·cos α_wt = r_bg from the gear axis, so
 //! the moment about each axis is exactly −M_D of that gear whatever the distribution; the
-//! distribution along the loaded parts puts the damping where the mesh is loaded, and the point makes the damping
-//! wrench a function of the loaded extent E and its first axial moment Z₁ = ∫ζ·dζ over the
-//! loaded parts alone
-//! (which the table carries beside E). With f = d_mesh·rate and c = ζ·m_n − b/2:
+//! distribution along the loaded parts puts the damping where the mesh is loaded, and the
+//! point makes the damping wrench a function of the loaded extent E and its first axial
+//! moment Z₁ = ∫ζ·dζ over the loaded parts alone (which the table carries beside E). With
+//! f = d_mesh·rate and c = ζ·m_n − b/2:
 //!
 //! ```text
 //! F_D = −f·E·(σ·sin α_wt, cos α_wt, −tan β_b)

@@ -344,6 +344,8 @@ pub struct MeshWorkspace {
     root_stress: RootStressWorkspace,
     /// Loaded axial extent of each slice to either side of its centre (units of m_n).
     widths: Vec<[f64; 2]>,
+    /// The overlap less the separation of each of `contacts`, m.
+    overlaps: Vec<f64>,
 }
 
 impl MeshWorkspace {
@@ -370,6 +372,7 @@ impl MeshWorkspace {
             detail: Vec::with_capacity(cap),
             runs: Vec::with_capacity(8),
             widths: Vec::with_capacity(cap),
+            overlaps: Vec::with_capacity(cap),
             ws: MatrixWorkspace::default(),
             stats: SolveStats::default(),
             keep_detail: model.options.detail,
@@ -907,29 +910,31 @@ impl MeshModel {
             let pose = posed.as_ref().map(|(p, _)| p);
             let slices = (&self.zetas[..], &self.twists[..]);
             cs.contacts_posed(side, state.phi_p, state.phi_g, slices, pose, &mut ws.contacts);
-            let overlap = |c: &ContactPoint| match &self.separation {
+            // The overlaps less the separation, once per contact: a candidate's neighbours'
+            // are read for its loaded extent (`extent`).
+            ws.overlaps.clear();
+            ws.overlaps.extend(ws.contacts.iter().map(|c| match &self.separation {
                 Some(sep) => c.overlap_m - sep.of_contact(c),
                 None => c.overlap_m,
-            };
-            let slice_of = |c: &ContactPoint| ((c.zeta / self.dzeta) as usize).min(nl - 1);
-            for (j, c) in ws.contacts.iter().enumerate() {
-                let mut c = *c;
-                c.overlap_m = overlap(&c);
-                if c.overlap_m > 0.0 {
-                    let k = slice_of(&c);
+            }));
+            for (j, (c, &overlap)) in ws.contacts.iter().zip(&ws.overlaps).enumerate() {
+                if overlap > 0.0 {
+                    let k = self.slice_index(c.zeta);
+                    // Contacts come by pair, then slice: a neighbour is next in the list.
                     let nb_at = |jj: Option<usize>, kk: Option<usize>| match (jj, kk) {
                         (Some(jj), Some(kk)) => ws
                             .contacts
                             .get(jj)
-                            .filter(|n| n.pair == c.pair && slice_of(n) == kk)
-                            .map_or(f64::NAN, overlap),
+                            .filter(|n| n.pair == c.pair && self.slice_index(n.zeta) == kk)
+                            .map_or(f64::NAN, |_| ws.overlaps[jj]),
                         _ => f64::NAN,
                     };
                     let nb = [
                         nb_at(j.checked_sub(1), k.checked_sub(1)),
                         nb_at(Some(j + 1), (k + 1 < nl).then_some(k + 1)),
                     ];
-                    ws.slices.push(Slice { contact: c, k, nb });
+                    let contact = ContactPoint { overlap_m: overlap, ..*c };
+                    ws.slices.push(Slice { contact, k, nb });
                 }
             }
         }
@@ -1314,6 +1319,11 @@ impl MeshModel {
         let (rp, rg) = sums.torques();
         let (f, m) = (sums.wrench.force_p, sums.wrench.moment_p);
         [rp, rg, f[0], f[1], f[2], m[0], m[1], sums.loss, sums.heat_p]
+    }
+
+    /// The axial slice (0 … n_line − 1) that holds ζ (units of m_n).
+    fn slice_index(&self, zeta: f64) -> usize {
+        ((zeta / self.dzeta) as usize).min(self.zetas.len() - 1)
     }
 
     /// Damping torques (Eq. 14) for a loaded axial extent `extent` (Σ(ζ_e − ζ_b), units of

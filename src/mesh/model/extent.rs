@@ -51,11 +51,8 @@ use super::Slice;
 pub(crate) enum Beyond {
     /// Slice `n` of the problem, unloaded: σ_n = −g_n.
     Candidate(usize),
-    /// A slice outside the problem with rigid approach d_n (m): σ_n = d_n − (d_i − σ_i).
-    Outside {
-        /// d_n, m.
-        approach: f64,
-    },
+    /// A slice outside the problem, of rigid approach d_n: σ_n = d_n − (d_i − σ_i).
+    Outside,
 }
 
 /// One end of a loaded run inside its bounds: x = Δζ·σ_i/(σ_i − σ_n) with 0 < x < Δζ.
@@ -84,7 +81,7 @@ impl End {
             // x = Δζ·σ_i/(σ_i − σ_n).
             Beyond::Candidate(_) => dzeta * (si * d_sigma_beyond - sn * d_sigma) / (den * den),
             // x = Δζ·σ_i/(d_i − d_n), d_i − d_n = σ_i − σ_n.
-            Beyond::Outside { .. } => dzeta * (d_sigma * den - si * d_sigma_beyond) / (den * den),
+            Beyond::Outside => dzeta * (d_sigma * den - si * d_sigma_beyond) / (den * den),
         }
     }
 }
@@ -146,7 +143,7 @@ pub(crate) fn resolve(
                     if !dn.is_finite() {
                         continue;
                     }
-                    (dn - (approach[i] - si), Beyond::Outside { approach: dn })
+                    (dn - (approach[i] - si), Beyond::Outside)
                 }
             };
             // A vanishing σ_i ends the run at the centre, a σ_n ≥ 0 beyond the next centre.
@@ -198,7 +195,7 @@ mod tests {
             toward: 1,
             sigma: 2e-6,
             sigma_beyond: dn - di + 2e-6,
-            beyond: Beyond::Outside { approach: dn },
+            beyond: Beyond::Outside,
         };
         let (ddi, ddn) = (0.4, 2.1);
         let fd = (x_o(2e-6 + h * dsi, di + h * ddi, dn + h * ddn)

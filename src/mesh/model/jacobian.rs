@@ -95,8 +95,9 @@
 //! ∂M_D,k = d_mesh·rate·∂E·r_bk, the rate including the approach rate of the body motion.
 //!
 //! Nothing is neglected: every term is the exact derivative of the model as evaluated (at a
-//! fixed active set and fixed contact-piece combination). Supported compliance representations: interpolated with the slice kernel (the
-//! default) and Winkler; others return [`MeshError::Unsupported`].
+//! fixed active set and fixed contact-piece combination). Supported compliance
+//! representations: interpolated with the slice kernel (the default) and Winkler; others
+//! return [`MeshError::Unsupported`].
 
 use faer::Mat;
 use faer::linalg::solvers::Solve;
@@ -364,7 +365,9 @@ impl MeshModel {
                             s += (d_obs[(i, k)] * dp(i) + d_load[(i, k)] * dp(k)) * wq[k];
                         }
                         rhs[(i, j)] -= s;
-                        dc_diag[(i, j)] += (d_obs[(i, i)] + d_load[(i, i)]) * dp(i) * wq[i];
+                        if !self.options.local_contact {
+                            dc_diag[(i, j)] += (d_obs[(i, i)] + d_load[(i, i)]) * dp(i) * wq[i];
+                        }
                     }
                 }
             }
@@ -446,7 +449,7 @@ impl MeshModel {
                     v
                 }),
                 // ∂d_i − ∂d_n, with the neighbour's contact found again.
-                Beyond::Outside { .. } => {
+                Beyond::Outside => {
                     let sl = &ws.slices[i];
                     let side = sl.contact.side;
                     let list = side_contacts[usize::from(side == FlankSide::Back)]
@@ -464,10 +467,9 @@ impl MeshModel {
                             v
                         });
                     let k = if e.toward == 0 { sl.k - 1 } else { sl.k + 1 };
-                    let slice_of = |c: &ContactPoint| ((c.zeta / self.dzeta) as usize).min(nl - 1);
                     let c = list
                         .iter()
-                        .find(|c| c.pair == sl.contact.pair && slice_of(c) == k)
+                        .find(|c| c.pair == sl.contact.pair && self.slice_index(c.zeta) == k)
                         .ok_or(MeshError::Unsupported(
                             "mesh Jacobian: the contact beyond a loaded run is not found again",
                         ))?;
@@ -484,16 +486,8 @@ impl MeshModel {
                 d_extent[j] += e.rate(self.dzeta, d_sigma[j], d_beyond[j]);
             }
         }
-        let mut d_extent_pose = [0.0; 5];
-        d_extent_pose.copy_from_slice(&d_extent[2..]);
-        damping_rows(
-            self,
-            state,
-            extent,
-            [d_extent[0], d_extent[1]],
-            Some(d_extent_pose),
-            &mut jac,
-        );
+        let [de_p, de_g, de_pose @ ..] = d_extent;
+        damping_rows(self, state, extent, [de_p, de_g], Some(de_pose), &mut jac);
 
         let axial = self.pair.normal_module_m * self.dzeta;
         let mut d_rel = [[0.0; 5]; 2];
