@@ -2,7 +2,7 @@
 //! co-simulation of the drive line cut at the shafts (Stage) and at the hubs (Pair) with a
 //! zero-order-hold master, snapshots, failures, stability at rest and the linearisation.
 //!
-//! The Table 1 pair runs at table fidelity with the default table (64 × 48 nodes, built once
+//! The Table 1 pair runs at table fidelity with the default table (96 × 24 nodes, built once
 //! for the whole file, a few seconds).
 
 mod common;

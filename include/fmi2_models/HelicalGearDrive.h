@@ -3,7 +3,7 @@
 #ifndef HELICALGEARDRIVE_H
 #define HELICALGEARDRIVE_H
 
-#define HelicalGearDrive_GUID "{a5cfd1db-216a-8702-9734-a08647796f0b}"
+#define HelicalGearDrive_GUID "{156f07ea-d8f9-88ea-a7a8-23f84f66b20c}"
 
 typedef enum {
     HelicalGearDrive_vr_M = 60, /* input Real N.m */

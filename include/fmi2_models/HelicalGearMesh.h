@@ -3,7 +3,7 @@
 #ifndef HELICALGEARMESH_H
 #define HELICALGEARMESH_H
 
-#define HelicalGearMesh_GUID "{a24ff156-1207-8c81-a742-c42eb20cf916}"
+#define HelicalGearMesh_GUID "{ff120131-e46c-86e8-900e-c6236967322f}"
 
 typedef enum {
     HelicalGearMesh_vr_phi_p = 0, /* input Real rad */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARPAIR_H
 #define HELICALGEARPAIR_H
 
-#define HelicalGearPair_GUID "{74bbebec-fae0-8aa8-b157-1f3f60726f63}"
+#define HelicalGearPair_GUID "{c826c94a-f1cf-8bcd-b1d2-4c0b698d513c}"
 
 typedef enum {
     HelicalGearPair_vr_tau_p = 4, /* input Real N.m */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARSTAGE_H
 #define HELICALGEARSTAGE_H
 
-#define HelicalGearStage_GUID "{249dd2ab-f9c6-843d-b9dd-822df09103c8}"
+#define HelicalGearStage_GUID "{48cbe09a-0590-8c3e-b419-13106340803f}"
 
 typedef enum {
     HelicalGearStage_vr_phi_1 = 6, /* input Real rad */

@@ -3,7 +3,7 @@
 #ifndef HELICALGEARBOX_H
 #define HELICALGEARBOX_H
 
-#define HelicalGearbox_GUID "{39e49136-a5c8-84b9-bebf-e9e9e4992b53}"
+#define HelicalGearbox_GUID "{23c7591e-0fa6-82e8-a05a-abb55a362d90}"
 
 typedef enum {
     HelicalGearbox_vr_M = 60, /* input Real N.m */

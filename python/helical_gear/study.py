@@ -380,7 +380,7 @@ def run(
     steps_per_period: int = 128,
     max_periods: int = 3000,
     refine_runs: int = 4,
-    table_size: tuple = (64, 48),
+    table_size: tuple = (96, 24),
     cache_dir: str | os.PathLike | None = None,
     progress: bool = True,
     flush_seconds: float = 2.0,

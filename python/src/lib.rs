@@ -511,13 +511,13 @@ impl MeshModel {
     /// over the simultaneous contact lines, from `compliance` when given (it must belong to the
     /// pair) or from the library's default source ([`Compliance::for_pair`]). The table
     /// fidelity's resolution: `table_phase_points` per mesh period × `table_te_points` along TE
-    /// (the library's defaults 64 × 48), its TE range sized for `table_design_torque` N·m
+    /// (the library's defaults 96 × 24), its TE range sized for `table_design_torque` N·m
     /// (default 100, Table 1's torque), its samples at min(`slices`, `table_slices`) slices
     /// (default 100). `friction`: the mesh friction option as JSON text
     /// (the library's `mesh::Friction::from_json`: `{"model": …, "mu": …, …}`, `none` or
     /// None for the paper's frictionless model).
     #[new]
-    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 64, table_te_points = 48, table_design_torque = 100.0, friction = None, table_slices = 100))]
+    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 96, table_te_points = 24, table_design_torque = 100.0, friction = None, table_slices = 100))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,

@@ -11,9 +11,9 @@
 //!   [`MeshOptions`](super::MeshOptions) (default 100 N·m, Table 1's torque; the drive-line
 //!   units set it to max(|M|, 1 N·m) of their torque M), the table's nominal torque (heavy
 //!   overload: about 4–5× the torque);
-//! * TE, back flanks: `table_te_points / 2` (at least 8) nodes on [−j_t − TE_hi/2, −j_t]
-//!   (j_t the backlash along the line of action), sampled at the first state that needs them
-//!   (see "Back flanks on demand" below).
+//! * TE, back flanks: `table_te_points` nodes on [−j_t − TE_hi/2, −j_t] (j_t the backlash
+//!   along the line of action), sampled at the first state that needs them (see "Back flanks
+//!   on demand" below).
 //!
 //! The TE nodes are graded quadratically towards the onset (distance δ_k ∝ k²), uniform in
 //! u = √δ: the first cells, where the load is a small fraction of nominal and the Hertzian
@@ -42,10 +42,10 @@
 //! way (phase rows over the cores, each row from a cold start, cut at the model's range),
 //! the first time a state with TE < −j_t is evaluated or a caller asks for the covered range
 //! ([`MeshTable::te_range`], [`MeshTable::truncations`], [`MeshTable::sizes`]). That takes
-//! about half the time of the driving axis, once per table (every mesh sharing the table
-//! shares it); the values do not depend on when it happens, so results do not depend on the
-//! call history. The build does a third less work: the default table samples 64 × 48 nodes
-//! instead of 64 × 72. A back-flank axis whose sampling fails (not four well-posed nodes) is
+//! about the time of the driving axis, once per table (every mesh sharing the table shares
+//! it); the values do not depend on when it happens, so results do not depend on the call
+//! history. The build does half the work: the default table samples 96 × 24 nodes instead of
+//! 96 × 48. A back-flank axis whose sampling fails (not four well-posed nodes) is
 //! recorded as a cut to nothing: back-flank states then fall back to the full model, which
 //! reports its own error where it has one.
 //! The pose sensitivities ([`PoseTable`]) follow the same rule: their build samples the driving
@@ -127,34 +127,32 @@
 //! TE − e_k).
 //!
 //! # Default size
-//! 64 phase points × 48 TE points. On Table 1 against the converged model (800 slices; the
-//! errors are the interpolation's, the 100 sample slices add 4.4·10⁻⁵), the largest relative
-//! error of M_F,p where |M_F,p| > 1 N·m of the default and of other grids (the build time
-//! goes with the nodes):
+//! 96 phase points × 24 TE points on each flank side. On Table 1 against the converged model
+//! (800 slices; the errors are the interpolation's, the 100 sample slices add 4.4·10⁻⁵), the
+//! largest relative error of M_F,p where |M_F,p| > 1 N·m of the default and of other grids
+//! (the build time goes with the nodes):
 //!
 //! | grid | nodes | benchmark's 192 states | 2 000 random states, TE ≤ 51 µm (RMS) | 2 000 random states, TE ≤ 120 µm (RMS) | own check |
 //! | --- | --- | --- | --- | --- | --- |
-//! | 64 × 48 (default) | 3 072 | 2.70·10⁻⁴ | 1.30·10⁻³ (8.2·10⁻⁵) | 1.28·10⁻³ (4.8·10⁻⁵) | 7.3·10⁻⁴ |
-//! | 96 × 24 | 2 304 | 1.99·10⁻⁴ | 7.3·10⁻⁴ (5.4·10⁻⁵) | 4.2·10⁻⁴ (3.0·10⁻⁵) | 3.4·10⁻⁴ |
+//! | 64 × 48 (the default before) | 3 072 | 2.70·10⁻⁴ | 1.30·10⁻³ (8.2·10⁻⁵) | 1.28·10⁻³ (4.8·10⁻⁵) | 7.3·10⁻⁴ |
+//! | 96 × 24 (default) | 2 304 | 1.99·10⁻⁴ | 7.3·10⁻⁴ (5.4·10⁻⁵) | 4.2·10⁻⁴ (3.0·10⁻⁵) | 3.4·10⁻⁴ |
 //! | 96 × 32 | 3 072 | 1.17·10⁻⁴ | 5.7·10⁻⁴ (3.9·10⁻⁵) | 4.4·10⁻⁴ (2.2·10⁻⁵) | 3.1·10⁻⁴ |
 //! | 80 × 24 | 1 920 | 1.48·10⁻⁴ | 1.86·10⁻³ (7.8·10⁻⁵) | | 4.6·10⁻⁴ |
 //! | 112 × 16 | 1 792 | 4.08·10⁻⁴ | 2.13·10⁻³ (1.1·10⁻⁴) | 7.3·10⁻⁴ (6.6·10⁻⁵) | 6.2·10⁻⁴ |
 //! | 96 × 16 | 1 536 | 4.10·10⁻⁴ | 1.88·10⁻³ (1.0·10⁻⁴) | 1.42·10⁻³ (7.3·10⁻⁵) | 9.9·10⁻⁴ |
 //!
 //! For M_F,p the phase direction sets the error (the kinks where a contact line starts or
-//! ends on a relief or a tip) and 48 TE points are twice what it needs: 96 × 24 is more
-//! accurate on every measure above with three quarters of the nodes (fewer than 24 TE points
-//! lose the benchmark's accuracy, 80 phase points the random states'). The damping torque
-//! M_D follows the loaded extent, resolved within the slices ([`super::model`], "Slices"),
-//! whose remaining table error is the interpolation's at the kinks where a line's loaded part
+//! ends on a relief or a tip) and 24 TE points are enough: 96 × 24 is more accurate on every
+//! measure above than 64 × 48 with three quarters of the nodes (fewer than 24 TE points lose
+//! the benchmark's accuracy, 80 phase points the random states'). The damping torque M_D
+//! follows the loaded extent, resolved within the slices ([`super::model`], "Slices"), whose
+//! remaining table error is the interpolation's at the kinks where a line's loaded part
 //! starts to shorten. Against 800 slices, M_D,p with a TE rate (φ̇p = 200, φ̇g = −120 rad/s)
 //! is off by up to 5.5·10⁻³ on the benchmark's states and 8.2·10⁻³ on 2 000 random states at
-//! 96 × 24, against 8.1·10⁻³ and 1.06·10⁻² at 64 × 48. (With the extent counted in whole
-//! slices, as before, 96 × 24 was the worse: 1.32·10⁻² and 2.0·10⁻² against 9.3·10⁻³ and
-//! 1.44·10⁻² on 1 000 random states.) It is not the default yet because its back-flank axis
-//! would need as many nodes as the driving one: with 12 (`table_te_points / 2`) its error
-//! over 1 000 random back-flank states was 1.6·10⁻³ (RMS 1.2·10⁻⁴), against 9.9·10⁻⁴
-//! (6.1·10⁻⁵) on the default's 64 × 24.
+//! 96 × 24, against 8.1·10⁻³ and 1.06·10⁻² at 64 × 48. The back-flank axis has as many TE
+//! points as the driving one over half its range: over 1 000 random back-flank states
+//! (depth 1–100 % of the axis) M_F,p is off by up to 7.3·10⁻⁴ (RMS 4.5·10⁻⁵) at 96 × 24,
+//! against 9.9·10⁻⁴ (6.1·10⁻⁵) on the back axis of 64 × 24 that the 64 × 48 default had.
 //!
 //! # Sample slices
 //! The table samples the full model at min(`slices`, `table_slices`) total slices
@@ -174,20 +172,24 @@
 //! | table | sampled at 200 slices | at 100 | at 75 | at 50 |
 //! | --- | --- | --- | --- | --- |
 //! | 32 × 24, benchmark states | 1.36·10⁻³ | 1.35·10⁻³ | | 1.38·10⁻³ |
+//! | 96 × 24 (default), benchmark states | 1.93·10⁻⁴ | 1.99·10⁻⁴ | 3.37·10⁻⁴ | 4.16·10⁻⁴ |
+//! | 96 × 24, 300 random states, TE ≤ 51 µm | 4.05·10⁻⁴ | 4.17·10⁻⁴ | 4.02·10⁻⁴ | |
 //! | 64 × 48, benchmark states | 2.76·10⁻⁴ | 2.70·10⁻⁴ | 2.66·10⁻⁴ | 3.34·10⁻⁴ |
 //! | 64 × 48, 300 random states, TE ≤ 51 µm | 1.12·10⁻³ | 1.13·10⁻³ | 1.03·10⁻³ | |
 //! | 64 × 48, 400 random states, TE ≤ 120 µm | 4.7·10⁻⁴ | 6.5·10⁻⁴ | | |
 //! | 128 × 96, benchmark states | 8.76·10⁻⁵ | 8.71·10⁻⁵ | 1.31·10⁻⁴ | |
 //!
 //! 100 slices is the default because it leaves the benchmark's error of every table size up to
-//! 128 × 96 where it was, and the largest error over random states (1.1·10⁻³, set by the
-//! phase interpolation) too; 75 already moves the 128 × 96 table's. At heavy load the 100
+//! 128 × 96 where it was, and the largest error over random states (1.1·10⁻³ at 64 × 48, set
+//! by the phase interpolation) too; 75 already moves the 128 × 96 table's and the default
+//! 96 × 24's. At heavy load the 100
 //! slices show (6.5·10⁻⁴ against 4.7·10⁻⁴ at TE up to 120 µm, still below that largest
 //! error). The damping torque M_D and the contact length follow the loaded extent, resolved
 //! within the slices and second order in the slice width: the full model's M_D is off by up
 //! to 8.2·10⁻⁴ at 100 slices and 2.0·10⁻⁴ at 200 against 1 600 (benchmark states with a TE
-//! rate), so the table's M_D error is its interpolation's (8.1·10⁻³ sampled at 100 slices,
-//! 8.2·10⁻³ at 80, 8.7·10⁻³ at 64). A finer table than 128 × 96,
+//! rate), so the table's M_D error is its interpolation's (5.5·10⁻³ sampled at 100 slices
+//! and 5.6·10⁻³ at 200 on the default 96 × 24; 8.1·10⁻³ at 100, 8.2·10⁻³ at 80 and
+//! 8.7·10⁻³ at 64 on 64 × 48). A finer table than 128 × 96,
 //! a table that stands for a full model of more than 100 slices at its nodes, or a study of
 //! the damping's share wants a larger `table_slices`; `table_slices = slices` gives the table
 //! of the full model's slices bit for bit.
@@ -214,7 +216,7 @@ pub use pose::{POSE_STEP_MN, PoseTable, TABLE_POSE_BOUND_MN};
 
 /// Most nodes of one table, `table_phase_points` × `table_te_points` (each axis 8 … 4096):
 /// the build evaluates the full model about once per node (the driving axis and its checks),
-/// the back-flank axis of half the points another half time per node at its first need.
+/// the back-flank axis as many nodes again at its first need.
 /// 65 536 nodes (e.g. 256 × 256) take about a minute in all.
 /// A 4096 × 4096 table (1.7·10⁷ nodes) would take hours and GB.
 pub const MAX_TABLE_NODES: usize = 65_536;

@@ -7,7 +7,7 @@
 //! each communication step H. Every function returns TE (m) at the communication points
 //! t_k = k·H, k = 0…n; [`reference`] gives the same instants of the whole 4-DOF model, and
 //! [`rel_err`] the largest difference relative to the largest |TE_ref|. The mesh is the Table 1
-//! pair at table fidelity with the default table (64 × 48 nodes, built once per process).
+//! pair at table fidelity with the default table (96 × 24 nodes, built once per process).
 
 use std::sync::OnceLock;
 

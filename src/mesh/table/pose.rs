@@ -33,10 +33,11 @@
 //!    with h = [`POSE_STEP_MN`]·m_n for the translations and h/b for the tilts (a secant over
 //!    the poses soft supports produce, which also averages the kinks where a contact starts
 //!    or ends), as secants S/δ over the distance from the onset like the other node values,
-//!    on a coarser grid: a third of the phase points (at least 8) and a third of the TE points
-//!    per axis (at least 8 and 6), interpolated bilinearly in (phase, √δ). (Half the phase
-//!    points cost 3.4 s instead of 2.1 s for the default table and lowered the errors of
-//!    `tests/table_pose.rs` by 10–25 %.) The outputs are then
+//!    on a coarser grid: a third of the phase points (at least 8) and half the TE points per
+//!    axis (at least 8 and 6), interpolated bilinearly in (phase, √δ): 32 × 12 for the
+//!    default 96 × 24 table. (A third of its TE points, 32 × 8, samples a third fewer nodes
+//!    but raised the soft supports' errors of `tests/table_pose.rs` by 20–30 %.) The outputs
+//!    are then
 //!
 //!    ```text
 //!    O(phase, TE, R) = O_table(phase, TE + ΔTE(R)) + δ·Σ_k (S_k/δ)·R_k
@@ -51,7 +52,7 @@
 //! The sensitivities are built once per table, at its first posed state or when a model is
 //! prepared for poses ([`crate::mesh::MeshTorques::prepare_poses`]), and shared by every mesh
 //! that shares the table ([`super::MeshTable::pose_table`]): 10 full evaluations per node of
-//! the coarse grid (about as many as the table itself). As with the table's own back flanks
+//! the coarse grid (1.6 times the table's at the default size). As with the table's own back flanks
 //! ([`super`], "Back flanks on demand"), the build samples the driving flanks alone; the back
 //! flanks' sensitivities are sampled, whole and in the same way, at the first posed state on
 //! the back flanks (after the table's back-flank axis, whose span they take), once per table,
@@ -194,15 +195,15 @@ impl PoseTable {
             .map_err(Clone::clone)
     }
 
-    /// The sensitivities on the table axis (onset, direction, extent, nodes), thinned to a
-    /// third of its nodes (at least `min`), phase rows over the available cores, each from a
+    /// The sensitivities on the table axis (onset, direction, extent, nodes), thinned to
+    /// half its nodes (at least `min`), phase rows over the available cores, each from a
     /// cold start.
     fn sample_axis(
         &self,
         (onset, dir, range, n): (f64, f64, f64, usize),
         min: usize,
     ) -> Result<PoseAxis, MeshError> {
-        let mut axis = PoseAxis { onset, dir, range, n: (n / 3).max(min), values: Vec::new() };
+        let mut axis = PoseAxis { onset, dir, range, n: (n / 2).max(min), values: Vec::new() };
         let new_full = || FullMesh::new(self.model.clone());
         let rows = over_indices(self.np, "pose table build", &new_full, |full, ip| {
             sample_row(full, self.phase_lo + self.phase_h * ip as f64, &axis, &self.h)
