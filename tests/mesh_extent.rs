@@ -5,30 +5,16 @@
 mod common;
 
 use helical_gear_mesh::DriveLine;
+use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{Mesh, MeshOptions, MeshState};
-use helical_gear_mesh::{GearPair, PairGeometry};
-
-/// 16 phases over a pitch at TE = 16, 32 and 48 µm, with a TE rate (φ̇p = 200, φ̇g = −120
-/// rad/s) for the damping torque.
-fn states(geo: &PairGeometry) -> Vec<MeshState> {
-    let pitch = common::table1_pitch();
-    let mut states = Vec::new();
-    for f in [0.53, 1.07, 1.61] {
-        for k in 0..16 {
-            let phi_p = (k as f64 + 0.37) / 16.0 * pitch;
-            let phi_g = geo.phi_g_for_te(phi_p, f * 30e-6);
-            states.push(MeshState { phi_p, phi_g, w_p: 200.0, w_g: -120.0, ..Default::default() });
-        }
-    }
-    states
-}
 
 #[test]
 fn the_damping_torque_converges_at_second_order_in_the_slice_width() {
     let pair = GearPair::paper_table1();
     let base = MeshOptions::default().sized_for(&DriveLine::paper_table1());
     let mut reference = Mesh::new(&pair, MeshOptions { slices: 1600, ..base }).unwrap();
-    let states = states(reference.geometry());
+    // 16 phases over a pitch at TE = 16, 32 and 48 µm, with a TE rate.
+    let states = common::benchmark_states(reference.geometry(), 16);
     let r: Vec<_> = states.iter().map(|s| reference.evaluate(s).unwrap()).collect();
     let mut errors = Vec::new();
     for slices in [100, 200, 400] {

@@ -6,24 +6,8 @@
 mod common;
 
 use helical_gear_mesh::DriveLine;
+use helical_gear_mesh::GearPair;
 use helical_gear_mesh::mesh::{Fidelity, Mesh, MeshError, MeshOptions, MeshState};
-use helical_gear_mesh::{GearPair, PairGeometry};
-
-/// The benchmark's 192 states (`bench`, "Mesh evaluation": 64 phases per pitch at 0.37 of a
-/// phase cell, at TE = 16, 32 and 48 µm), with a TE rate for the damping torque (φ̇p = 200,
-/// φ̇g = −120 rad/s; M_F,p does not depend on the speeds).
-fn bench_states(geo: &PairGeometry) -> Vec<MeshState> {
-    let pitch = common::table1_pitch();
-    let mut states = Vec::new();
-    for f in [0.53, 1.07, 1.61] {
-        for k in 0..64 {
-            let phi_p = (k as f64 + 0.37) / 64.0 * pitch;
-            let phi_g = geo.phi_g_for_te(phi_p, f * 30e-6);
-            states.push(MeshState { phi_p, phi_g, w_p: 200.0, w_g: -120.0, ..Default::default() });
-        }
-    }
-    states
-}
 
 /// Largest relative errors of (M_F,p, M_D,p) of `mesh` against `reference` over `states`.
 fn max_rel_err(mesh: &mut Mesh, reference: &[(f64, f64)], states: &[MeshState]) -> (f64, f64) {
@@ -42,7 +26,9 @@ fn the_default_sample_slices_keep_the_tables_error_against_800_slices() {
     let base = MeshOptions::default().sized_for(&DriveLine::paper_table1());
     assert_eq!(base.table_slices, 100);
     let mut reference = Mesh::new(&pair, MeshOptions { slices: 800, ..base }).unwrap();
-    let states = bench_states(reference.geometry());
+    // The benchmark's 192 states, with a TE rate for the damping torque (M_F,p does not depend
+    // on the speeds).
+    let states = common::benchmark_states(reference.geometry(), 64);
     let r: Vec<(f64, f64)> = states
         .iter()
         .map(|s| {

@@ -307,12 +307,12 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
     push(&mut p, "");
     let tables: Vec<&Value> = mesh.iter().filter(|c| c["family"] == "table").collect();
     // The smallest and the largest grid by nodes (the default may come last in the report).
-    let nodes = |c: &&Value| {
+    let nodes = |c: &Value| {
         list(c, "table_size").map_or(0.0, |s| s.iter().filter_map(Value::as_f64).product())
     };
-    let by_nodes = |a: &&&Value, b: &&&Value| nodes(a).total_cmp(&nodes(b));
-    let smallest = tables.iter().min_by(by_nodes).ok_or("the report has no table case")?;
-    let largest = tables.iter().max_by(by_nodes).ok_or("the report has no table case")?;
+    let by_nodes = |a: &&Value, b: &&Value| nodes(a).total_cmp(&nodes(b));
+    let smallest = tables.iter().copied().min_by(by_nodes).ok_or("the report has no table case")?;
+    let largest = tables.iter().copied().max_by(by_nodes).ok_or("the report has no table case")?;
     let size = |c: &Value| -> Result<String, String> {
         let s = list(c, "table_size")?;
         Ok(format!("{} × {}", s[0], s[1]))

@@ -237,7 +237,7 @@ class MeshModel:
     a second for Table 1) and falls back to the full model outside it. `slices`: total axial
     slices over the simultaneous contact lines (the paper's 200). `compliance`: FE data of this
     pair (default: `compliance(pair)`). `table_size`: the table's points per mesh period ×
-    points along TE (96 × 24: 2.0·10⁻⁴ relative error; 16 × 12 builds 4× faster at 6·10⁻³);
+    points along TE (96 × 24: 2.0·10⁻⁴ relative error; 16 × 12 builds 4–6× faster at 6·10⁻³);
     each 8 … 4096 and their product at most 65 536 (about a minute of build), else
     `ParameterError`.
     `table_design_torque`: the torque (N·m, 1 … 1e9) whose static TE sizes the table's TE range

@@ -197,19 +197,18 @@
 //! | 128 × 96, benchmark states | 8.76·10⁻⁵ | 8.71·10⁻⁵ | 1.31·10⁻⁴ | |
 //!
 //! 100 slices is the default because it leaves the benchmark's error of every table size up to
-//! 128 × 96 where it was, and the largest error over random states (1.1·10⁻³ at 64 × 48, set
-//! by the phase interpolation) too; 75 already moves the 128 × 96 table's and the default
-//! 96 × 24's. At heavy load the 100
-//! slices show (6.5·10⁻⁴ against 4.7·10⁻⁴ at TE up to 120 µm, still below that largest
-//! error). The damping torque M_D and the contact length follow the loaded extent, resolved
-//! within the slices and second order in the slice width: the full model's M_D is off by up
-//! to 8.2·10⁻⁴ at 100 slices and 2.0·10⁻⁴ at 200 against 1 600 (benchmark states with a TE
-//! rate), so the table's M_D error is its interpolation's (5.5·10⁻³ sampled at 100 slices
-//! and 5.6·10⁻³ at 200 on the default 96 × 24; 8.1·10⁻³ at 100, 8.2·10⁻³ at 80 and
-//! 8.7·10⁻³ at 64 on 64 × 48). A finer table than 128 × 96,
-//! a table that stands for a full model of more than 100 slices at its nodes, or a study of
-//! the damping's share wants a larger `table_slices`; `table_slices = slices` gives the table
-//! of the full model's slices bit for bit.
+//! 128 × 96 where it was, and the largest error over random states (1.1·10⁻³ at 64 × 48, set by
+//! the phase interpolation) too; 75 already moves the 128 × 96 table's and the default
+//! 96 × 24's. At heavy load the 100 slices show (6.5·10⁻⁴ against 4.7·10⁻⁴ at TE up to 120 µm,
+//! still below that largest error). The damping torque M_D and the contact length follow the
+//! loaded extent, resolved within the slices and second order in the slice width: the full
+//! model's M_D is off by up to 8.2·10⁻⁴ at 100 slices and 2.0·10⁻⁴ at 200 against 1 600
+//! (benchmark states with a TE rate), so the table's M_D error is its interpolation's (5.5·10⁻³
+//! sampled at 100 slices and 5.6·10⁻³ at 200 on the default 96 × 24; 8.1·10⁻³ at 100, 8.2·10⁻³
+//! at 80 and 8.7·10⁻³ at 64 on 64 × 48). A finer table than 128 × 96, a table that stands for a
+//! full model of more than 100 slices at its nodes, or a study of the damping's share wants a
+//! larger `table_slices`; `table_slices = slices` gives the table of the full model's slices
+//! bit for bit.
 //!
 //! After the build the table measures its own error: it evaluates the full model at cell
 //! centres (where the interpolation error is largest) and records the largest relative error

@@ -50,6 +50,23 @@ pub fn table1_pitch() -> f64 {
     2.0 * std::f64::consts::PI / GearPair::paper_table1().z_p as f64
 }
 
+/// The benchmark's layout of Table 1 states (`bench`, "Mesh evaluation", which takes 64
+/// phases): `phases` pinion angles over one pitch, each at 0.37 of its phase cell, at TE = 16,
+/// 32 and 48 µm (0.53, 1.07 and 1.61 × 30 µm), with a TE rate for the damping torque
+/// (φ̇p = 200, φ̇g = −120 rad/s).
+pub fn benchmark_states(geo: &PairGeometry, phases: usize) -> Vec<MeshState> {
+    let pitch = table1_pitch();
+    let mut states = Vec::new();
+    for f in [0.53, 1.07, 1.61] {
+        for k in 0..phases {
+            let phi_p = (k as f64 + 0.37) / phases as f64 * pitch;
+            let phi_g = geo.phi_g_for_te(phi_p, f * 30e-6);
+            states.push(MeshState { phi_p, phi_g, w_p: 200.0, w_g: -120.0, ..Default::default() });
+        }
+    }
+    states
+}
+
 /// Small, fast mesh options at `fidelity`: 40 slices and a 16 × 12 table.
 pub fn coarse_options(fidelity: Fidelity) -> MeshOptions {
     MeshOptions {

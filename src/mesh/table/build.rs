@@ -85,10 +85,10 @@ impl MeshTable {
         let nd = opts.table_te_points;
         let jt = geo.backlash_te;
         let back_lo = -jt - 0.5 * te_hi;
-        let nb = nd;
         let drive = TeAxis::new(0.0, 1.0, te_hi, nd, np);
-        // The back-flank axis is sampled at the first state that needs it (`sample_back`).
-        let back_design = BackDesign { onset: -jt, range: -jt - back_lo, n: nb };
+        // The back-flank axis, as many TE points as the driving one over half its range, is
+        // sampled at the first state that needs it (`sample_back`).
+        let back_design = BackDesign { onset: -jt, range: -jt - back_lo, n: nd };
 
         // Sample the full model, phase rows over the available cores.
         let phases = (phase_lo, phase_h);

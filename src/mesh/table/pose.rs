@@ -52,15 +52,15 @@
 //! The sensitivities are built once per table, at its first posed state or when a model is
 //! prepared for poses ([`crate::mesh::MeshTorques::prepare_poses`]), and shared by every mesh
 //! that shares the table ([`super::MeshTable::pose_table`]): 10 full evaluations per node of
-//! the coarse grid (1.6 times the table's at the default size). As with the table's own back flanks
-//! ([`super`], "Back flanks on demand"), the build samples the driving flanks alone; the back
-//! flanks' sensitivities are sampled, whole and in the same way, at the first posed state on
-//! the back flanks (after the table's back-flank axis, whose span they take), once per table,
-//! with values that do not depend on when that happens. A drive line whose flanks stay in
-//! contact pays neither. An evaluation adds one bilinear interpolation of 35 values. Relative
-//! poses beyond [`TABLE_POSE_BOUND_MN`]·m_n (translations) or that over b (tilts) are refused
-//! with an error naming the bound: the first-order part is measured within it
-//! (`tests/table_pose.rs`). The per-pair table of tooth deviations and friction are not
+//! the coarse grid (3 840 for the default table, 1.7 times its nodes). As with the table's own
+//! back flanks ([`super`], "Back flanks on demand"), the build samples the driving flanks
+//! alone; the back flanks' sensitivities are sampled, whole and in the same way, at the first
+//! posed state on the back flanks (after the table's back-flank axis, whose span they take),
+//! once per table, with values that do not depend on when that happens. A drive line whose
+//! flanks stay in contact pays neither. An evaluation adds one bilinear interpolation of 35
+//! values. Relative poses beyond [`TABLE_POSE_BOUND_MN`]·m_n (translations) or that over b
+//! (tilts) are refused with an error naming the bound: the first-order part is measured within
+//! it (`tests/table_pose.rs`). The per-pair table of tooth deviations and friction are not
 //! covered (refused when the model is prepared).
 
 use std::sync::Arc;
