@@ -796,6 +796,7 @@ impl MeshModel {
     /// Checks `state` against the validity range: a NaN or infinite component
     /// ([`MeshError::NonFinite`]), |φp| beyond the exact range ([`MeshError::AngleOutOfRange`])
     /// or TE outside [TE_min, TE_max] ([`MeshError::OutOfRange`], no load-solver cause).
+    #[inline]
     pub fn check_state(&self, state: &MeshState) -> Result<(), MeshError> {
         self.check_state_te(state).map(|_| ())
     }
