@@ -31,6 +31,17 @@ OUTPUT_NAMES = tuple(name for name, _unit, _kind, _meaning in _native.MESH_OUTPU
 #: gear ``g``: the FMU's input names, from the library (`_native.POSE_INPUTS`).
 POSE_NAMES = tuple(_native.POSE_INPUTS)
 
+#: The library's default mesh options (`_native.MESH_OPTION_DEFAULTS`, from its
+#: `MeshOptions::default()`): ``slices``, ``table_phase_points``, ``table_te_points``,
+#: ``table_design_torque`` (N·m) and ``table_slices``; every default below is read from here.
+MESH_OPTION_DEFAULTS = dict(_native.MESH_OPTION_DEFAULTS)
+_SLICES = MESH_OPTION_DEFAULTS["slices"]
+#: The table's default points per mesh period × points along TE.
+DEFAULT_TABLE_SIZE = (
+    MESH_OPTION_DEFAULTS["table_phase_points"],
+    MESH_OPTION_DEFAULTS["table_te_points"],
+)
+
 #: SI unit of each output of `OUTPUT_NAMES` ("" for counts and flags).
 OUTPUT_UNITS = {name: unit for name, unit, _kind, _meaning in _native.MESH_OUTPUTS}
 
@@ -261,12 +272,12 @@ class MeshModel:
         self,
         pair: GearPair | None = None,
         fidelity: str = "full",
-        slices: int = 200,
+        slices: int = _SLICES,
         compliance: Compliance | None = None,
-        table_size: tuple[int, int] = (96, 24),
-        table_design_torque: float = 100.0,
+        table_size: tuple[int, int] = DEFAULT_TABLE_SIZE,
+        table_design_torque: float = MESH_OPTION_DEFAULTS["table_design_torque"],
         friction: Mapping[str, Any] | str | None = None,
-        table_slices: int = 100,
+        table_slices: int = MESH_OPTION_DEFAULTS["table_slices"],
     ):
         self.pair = _pair(pair)
         self.friction = _friction_text(friction)
@@ -372,7 +383,7 @@ def _model(
         return pair_or_model
     torque = _design_torque(_drive(drive))
     return MeshModel(
-        _pair(pair_or_model), fidelity, slices, compliance, (96, 24), torque, friction
+        _pair(pair_or_model), fidelity, slices, compliance, DEFAULT_TABLE_SIZE, torque, friction
     )
 
 
@@ -475,7 +486,7 @@ def static_curve(
     torque: float | None = None,
     points_per_pitch: int = 20,
     pitches: int = 1,
-    slices: int = 200,
+    slices: int = _SLICES,
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
     friction: Mapping[str, Any] | str | None = None,
@@ -742,7 +753,7 @@ def simulate(
     phi_p0: float = 0.0,
     rtol: float = 1e-8,
     atol: float = 1e-12,
-    slices: int = 200,
+    slices: int = _SLICES,
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
     friction: Mapping[str, Any] | str | None = None,
@@ -891,7 +902,7 @@ def sweep(
     refine_runs: int = 6,
     min_prominence: float = 0.005,
     threads: int | None = None,
-    slices: int = 200,
+    slices: int = _SLICES,
     compliance: Compliance | None = None,
     drive: DriveLine | None = None,
     friction: Mapping[str, Any] | str | None = None,
@@ -986,7 +997,7 @@ def paper(
     out_dir: str | os.PathLike,
     pair: GearPair | None = None,
     quick: bool = False,
-    slices: int = 200,
+    slices: int = _SLICES,
     threads: int | None = None,
     progress: bool = True,
     drive: DriveLine | None = None,

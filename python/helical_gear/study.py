@@ -63,6 +63,8 @@ from pathlib import Path
 from typing import Any
 
 from ._api import (
+    _SLICES,
+    DEFAULT_TABLE_SIZE,
     Compliance,
     MeshModel,
     _design_torque,
@@ -376,11 +378,11 @@ def run(
     *,
     sweep: tuple = (100.0, 1200.0, 12),
     static_points: int = 20,
-    slices: int = 200,
+    slices: int = _SLICES,
     steps_per_period: int = 128,
     max_periods: int = 3000,
     refine_runs: int = 4,
-    table_size: tuple = (96, 24),
+    table_size: tuple = DEFAULT_TABLE_SIZE,
     cache_dir: str | os.PathLike | None = None,
     progress: bool = True,
     flush_seconds: float = 2.0,

@@ -517,7 +517,7 @@ impl MeshModel {
     /// (the library's `mesh::Friction::from_json`: `{"model": …, "mu": …, …}`, `none` or
     /// None for the paper's frictionless model).
     #[new]
-    #[pyo3(signature = (pair_json, fidelity = "full", slices = 200, compliance = None, table_phase_points = 96, table_te_points = 24, table_design_torque = 100.0, friction = None, table_slices = 100))]
+    #[pyo3(signature = (pair_json, fidelity, slices, compliance, table_phase_points, table_te_points, table_design_torque, friction, table_slices))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -1107,6 +1107,15 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         .collect();
     m.add("MESH_OUTPUTS", outputs)?;
     m.add("POSE_INPUTS", helical_gear_mesh::mesh::pose::INPUT_NAMES.to_vec())?;
+    // The library's default mesh options: the one source of the Python shell's defaults.
+    let d = MeshOptions::default();
+    let defaults = PyDict::new(py);
+    defaults.set_item("slices", d.slices)?;
+    defaults.set_item("table_phase_points", d.table_phase_points)?;
+    defaults.set_item("table_te_points", d.table_te_points)?;
+    defaults.set_item("table_design_torque", d.table_design_torque_nm)?;
+    defaults.set_item("table_slices", d.table_slices)?;
+    m.add("MESH_OPTION_DEFAULTS", defaults)?;
     m.add_class::<Compliance>()?;
     m.add_class::<MeshModel>()?;
     m.add_function(wrap_pyfunction!(default_pair_json, m)?)?;
