@@ -223,7 +223,7 @@ pub fn fnv1a_64(bytes: &[u8]) -> u64 {
 /// True when the CPU has AVX2 and FMA (x86-64; the answer is cached by the standard library).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-pub fn has_avx2() -> bool {
+pub fn has_avx2_fma() -> bool {
     std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
 }
 
