@@ -666,11 +666,13 @@ impl TrajectoryRecord {
     }
 }
 
-/// Name of a preset FE mesh density (`coarse`, `default`, `refined`), or `custom`.
+/// Name of a preset FE mesh density (`coarse`, `default`, `conforming`, `refined`), or
+/// `custom`.
 pub fn density_name(d: &GearMeshDensity) -> &'static str {
     [
         ("coarse", GearMeshDensity::coarse()),
         ("default", GearMeshDensity::default()),
+        ("conforming", GearMeshDensity::conforming()),
         ("refined", GearMeshDensity::refined()),
     ]
     .into_iter()

@@ -3,7 +3,9 @@
 //! Checked: mesh volume against the transverse outline, positive Jacobians, flank grid nodes
 //! on the analytic flank with the documented η*/τ, Maxwell–Betti symmetry of the
 //! surface-to-surface influence, positivity and axial decay of α*, a small but non-zero
-//! neighbour-tooth coupling, and the torsion of the web against the annulus solution.
+//! neighbour-tooth coupling, the torsion of the web against the annulus solution, and the
+//! axial coarsening: its ties interpolate exactly, its influence stays symmetric, and it
+//! changes α* far less than the mesh's own discretisation error.
 
 mod common;
 
@@ -38,7 +40,7 @@ fn check_flank_nodes(g: &GearGeometry, gm: &GearMesh, k: usize) {
             let local = rot([x[0], x[1]], -(g.angular_pitch() * k as f64 + g.twist_rate * x[2]));
             let d = (local[0] - exact[0]).hypot(local[1] - exact[1]);
             assert!(d < 1e-9, "tooth {k} row {r} col {c}: {d:e} m off the flank");
-            assert!((x[2] - gm.level_z[c]).abs() < 1e-15);
+            assert!((x[2] - gm.level_z[f.levels[c]]).abs() < 1e-15);
         }
     }
 }
@@ -239,12 +241,116 @@ fn web_torsion_matches_the_annulus() {
     }
 }
 
+/// The hanging nodes of the axial coarsening are tied by interpolations that reproduce the
+/// coarse element's field: on a spur gear (straight vertical edges) Σw = 1, and Σw·f(x_m) =
+/// f(x_s) for x, y, z, z² and x·z, at both layer ratios (2 and 3); every tied node sits where
+/// fine and coarse layers meet, and its masters are not tied.
+#[test]
+fn axial_coarsening_ties_interpolate_exactly() {
+    let p = GearPair { helix_angle_rad: 0.0, ..GearPair::paper_table1() };
+    let geo = PairGeometry::new(&p).expect("geometry");
+    for (layers, coarse) in [(6, 3), (6, 2)] {
+        let d =
+            GearMeshDensity { layers, coarse_layers: Some(coarse), ..GearMeshDensity::coarse() };
+        let gm = GearMesh::build(&geo.pinion, &p, &d).expect("mesh");
+        let full = GearMesh::build(
+            &geo.pinion,
+            &p,
+            &GearMeshDensity { layers, ..GearMeshDensity::coarse() },
+        )
+        .expect("mesh");
+        assert!(!gm.ties.is_empty());
+        assert!(gm.mesh.nodes.len() < full.mesh.nodes.len());
+        assert_eq!(gm.flank(0).expect("tooth 0").cols, 2 * layers + 1);
+        assert_eq!(gm.flank(10).expect("a coarse tooth").cols, 2 * coarse + 1);
+        let tied: std::collections::HashSet<usize> = gm.ties.iter().map(|t| t.node).collect();
+        assert_eq!(tied.len(), gm.ties.len(), "a node tied twice");
+        let r = p.face_width_m.max(geo.pinion.ra);
+        let fields: [&dyn Fn([f64; 3]) -> f64; 6] =
+            [&|_| 1.0, &|x| x[0], &|x| x[1], &|x| x[2], &|x| x[2] * x[2], &|x| x[0] * x[2]];
+        for t in &gm.ties {
+            assert!(t.masters.iter().all(|(m, _)| !tied.contains(m)));
+            let xs = gm.mesh.nodes[t.node];
+            for (k, f) in fields.iter().enumerate() {
+                let v: f64 = t.masters.iter().map(|&(m, w)| w * f(gm.mesh.nodes[m])).sum();
+                let scale = [1.0, r, r, r, r * r, r * r][k];
+                assert!(
+                    (v - f(xs)).abs() <= 1e-12 * scale,
+                    "tie of node {} field {k}: {v:e} against {:e}",
+                    t.node,
+                    f(xs)
+                );
+            }
+        }
+    }
+}
+
+/// The axial coarsening on Table 1 (helical) at the coarse density, two layers in the fine
+/// region and one elsewhere, against the conforming mesh: the surface influence stays
+/// symmetric (loads on tied nodes go to their masters as their displacements come from
+/// them), and α* moves by less than 1 % of each block's largest value, against the coarse
+/// density's own error of ≈ 14 % (coarse → default at the pitch point). Measured: 7.6·10⁻⁴
+/// (same tooth) and 6.1·10⁻³ (neighbours), with 29 % fewer DOFs.
+#[test]
+fn axial_coarsening_keeps_the_compliance() {
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    let h = DEFAULT_DEPTH_MN * p.normal_module_m;
+    let g = &geo.pinion;
+    let conforming = fe_influence(g, &p, &GearMeshDensity::coarse(), h, false).expect("FE");
+    let d = GearMeshDensity { coarse_layers: Some(1), ..GearMeshDensity::coarse() };
+    let coarsened = fe_influence(g, &p, &d, h, false).expect("FE");
+    assert!(coarsened.stats.dofs < conforming.stats.dofs);
+    let (a, b) = (&conforming.grid, &coarsened.grid);
+    assert_eq!((a.profile.len(), a.zeta.len()), (b.profile.len(), b.zeta.len()));
+    let n = a.points();
+    let mut worst = [0.0f64; 3];
+    for (t, w) in worst.iter_mut().enumerate() {
+        let mut big = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                big = big.max(a.value(t, i, j).abs());
+            }
+        }
+        for i in 0..n {
+            for j in 0..n {
+                *w = w.max((a.value(t, i, j) - b.value(t, i, j)).abs() / big);
+            }
+        }
+    }
+    let s = &coarsened.surface;
+    let smax = s.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut asym = 0.0f64;
+    for i in 0..n {
+        for j in 0..n {
+            asym = asym.max((s[i * n + j] - s[j * n + i]).abs());
+        }
+    }
+    eprintln!(
+        "coarsened: {} against {} DOFs; α* blocks −1/0/+1 moved by {:.2e} {:.2e} {:.2e}; \
+         surface asymmetry {:.1e}",
+        coarsened.stats.dofs,
+        conforming.stats.dofs,
+        worst[0],
+        worst[1],
+        worst[2],
+        asym / smax
+    );
+    assert!(asym <= 1e-9 * smax);
+    assert!(worst.iter().all(|&w| w < 1e-2), "{worst:?}");
+    assert!(worst[1] < 2e-3, "{worst:?}");
+}
+
 #[test]
 fn invalid_inputs_are_errors() {
     let p = GearPair::paper_table1();
     let geo = PairGeometry::new(&p).expect("geometry");
     let g = &geo.pinion;
     let bad = GearMeshDensity { layers: 0, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &bad).is_err());
+    let bad = GearMeshDensity { coarse_layers: Some(4), layers: 6, ..GearMeshDensity::coarse() };
+    assert!(GearMesh::build(g, &p, &bad).is_err());
+    let bad = GearMeshDensity { coarse_layers: Some(0), ..GearMeshDensity::coarse() };
     assert!(GearMesh::build(g, &p, &bad).is_err());
     let bad = GearMeshDensity { web_ring_ratio: 1.5, ..GearMeshDensity::coarse() };
     assert!(GearMesh::build(g, &p, &bad).is_err());

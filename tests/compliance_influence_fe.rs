@@ -98,11 +98,22 @@ fn layer_congruent_assembly_equals_the_plain_one() {
 
 #[test]
 fn selected_solve_equals_the_whole_solve_on_its_rows() {
+    selected_solve_case(&GearMeshDensity::coarse());
+}
+
+/// As above on a mesh with axial coarsening: the wanted nodes and the loads include tied
+/// nodes (their displacements interpolated from their masters, their loads passed to them).
+#[test]
+fn selected_solve_equals_the_whole_solve_with_tied_nodes() {
+    selected_solve_case(&GearMeshDensity { coarse_layers: Some(1), ..GearMeshDensity::coarse() });
+}
+
+fn selected_solve_case(density: &GearMeshDensity) {
     let p = GearPair::paper_table1();
     let geo = PairGeometry::new(&p).expect("geometry");
-    let gm = GearMesh::build(&geo.pinion, &p, &GearMeshDensity::coarse()).expect("mesh");
+    let gm = GearMesh::build(&geo.pinion, &p, density).expect("mesh");
     let congruence = gm.layer_congruence();
-    let options = ModelOptions { congruent: &congruence, node_ordering: true };
+    let options = ModelOptions { congruent: &congruence, node_ordering: true, ties: &gm.ties };
     let material = Material::from(&p.material_p);
     let model =
         FeModel::with_options(gm.mesh.clone(), material, &gm.bore_nodes, &options).expect("model");
@@ -110,12 +121,17 @@ fn selected_solve_equals_the_whole_solve_on_its_rows() {
     // Three load cases: a flank node, two nodes together, and a load on a fixed node only.
     let (a, b) = (flank.nodes[0], flank.nodes[flank.nodes.len() - 1]);
     let fixed = gm.bore_nodes[0];
-    let cases = vec![
+    let mut cases = vec![
         vec![(dof(a, 0), 1.0), (dof(a, 2), -0.5)],
         vec![(dof(a, 1), 2.0), (dof(b, 0), 1.0), (dof(b, 0), 0.5)],
         vec![(dof(fixed, 1), 3.0)],
     ];
-    let wanted: Vec<usize> = vec![a, b, fixed, gm.flank(-1).expect("tooth -1").nodes[3]];
+    let mut wanted: Vec<usize> = vec![a, b, fixed, gm.flank(-1).expect("tooth -1").nodes[3]];
+    if let Some(t) = gm.ties.get(gm.ties.len() / 2) {
+        cases.push(vec![(dof(t.node, 0), 1.5), (dof(a, 2), 0.25)]);
+        wanted.push(t.node);
+        wanted.push(t.masters[0].0);
+    }
     let selected = model.solve_at_nodes(&cases, &wanted).expect("selected");
     let mut f = Mat::<f64>::zeros(model.dofs(), cases.len());
     for (c, case) in cases.iter().enumerate() {

@@ -140,8 +140,8 @@ fn root_stress_is_linear_in_the_load() {
     assert!(common::rel_diff(g.max_principal(t0, &scaled), 3.0 * p) < 1e-12);
 }
 
-/// The embedded Table 1 root-stress resource agrees with a fresh FE computation at the default
-/// density (to two quanta of the stored integers).
+/// The embedded Table 1 root-stress resource agrees with a fresh FE computation at its
+/// density, the default without axial coarsening (to two quanta of the stored integers).
 #[test]
 fn embedded_root_stress_matches_a_fresh_computation() {
     use helical_gear_mesh::compliance::data::{ComplianceData, RootStressData};
@@ -150,7 +150,7 @@ fn embedded_root_stress_matches_a_fresh_computation() {
     let embedded = RootStressData::embedded_table1().expect("resource parses");
     let fresh = ComplianceData::compute(
         &p,
-        &GearMeshDensity::default(),
+        &GearMeshDensity::conforming(),
         DEFAULT_DEPTH_MN * p.normal_module_m,
         false,
     )

@@ -984,7 +984,8 @@ fn rim_fixed_case(
     st: &mut Stages,
 ) -> Result<RimCase, String> {
     let quick = ctx.opts.quick;
-    let density = if quick { GearMeshDensity::coarse() } else { GearMeshDensity::default() };
+    // The mesh of the embedded bore-fixed data this case is compared with.
+    let density = if quick { GearMeshDensity::coarse() } else { GearMeshDensity::conforming() };
     let data = ComplianceData::compute_rim_fixed(pair, &density, h_m, ctx.opts.progress)
         .map_err(|e| e.to_string())?;
     let interp = |m: Member| -> Result<GearCompliance, String> {

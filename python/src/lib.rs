@@ -236,9 +236,10 @@ fn density(name: &str) -> Res<GearMeshDensity> {
     match name {
         "coarse" => Ok(GearMeshDensity::coarse()),
         "default" => Ok(GearMeshDensity::default()),
+        "conforming" => Ok(GearMeshDensity::conforming()),
         "refined" => Ok(GearMeshDensity::refined()),
         other => Err(Failure::Param(format!(
-            "fe_density = {other:?}: allowed \"coarse\", \"default\" or \"refined\""
+            "fe_density = {other:?}: allowed \"coarse\", \"default\", \"conforming\" or \"refined\""
         ))),
     }
 }

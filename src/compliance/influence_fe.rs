@@ -194,7 +194,7 @@ pub fn fe_influence_with(
         FeMethod::Reference => Vec::new(),
         FeMethod::Fast => gm.layer_congruence(),
     };
-    let GearMesh { mesh, bore_nodes, flanks, level_z, .. } = gm;
+    let GearMesh { mesh, bore_nodes, flanks, level_z, ties, .. } = gm;
     let grids: Vec<FlankGrid> = [-1i64, 0, 1]
         .iter()
         .map(|&o| {
@@ -224,7 +224,11 @@ pub fn fe_influence_with(
             mesh.elements.len()
         );
     }
-    let options = ModelOptions { congruent: &congruence, node_ordering: method == FeMethod::Fast };
+    let options = ModelOptions {
+        congruent: &congruence,
+        node_ordering: method == FeMethod::Fast,
+        ties: &ties,
+    };
     let model = FeModel::with_options(mesh, material, &bore_nodes, &options)?;
     let st = model.stats();
     if progress {

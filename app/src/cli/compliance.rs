@@ -16,6 +16,9 @@ pub enum DensityArg {
     Coarse,
     /// `GearMeshDensity::default()`.
     Default,
+    /// `GearMeshDensity::conforming()`: the default without axial coarsening (the embedded
+    /// Table 1 data's mesh).
+    Conforming,
     /// `GearMeshDensity::refined()`.
     Refined,
 }
@@ -25,6 +28,7 @@ impl DensityArg {
         match self {
             DensityArg::Coarse => GearMeshDensity::coarse(),
             DensityArg::Default => GearMeshDensity::default(),
+            DensityArg::Conforming => GearMeshDensity::conforming(),
             DensityArg::Refined => GearMeshDensity::refined(),
         }
     }

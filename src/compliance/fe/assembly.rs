@@ -12,6 +12,19 @@
 //! with sorted row indices; element matrices are then added in place. This costs one entry per
 //! stored non-zero instead of one triplet per element-matrix entry (≈ 1830 per hex20 element,
 //! several times the final non-zero count), which matters for gear meshes of 10⁵ DOFs.
+//!
+//! # Tied nodes
+//! Where elements of different axial size meet (a fine element's face on half or a third of a
+//! coarse element's face), the fine side has nodes that are not nodes of the coarse element:
+//! *hanging* nodes. Each is tied to the coarse face ([`Tie`]): u_s = Σ_m w_m u_m for every
+//! component alike, with w_m the coarse element's shape functions at the hanging node, so the
+//! displacement field stays continuous across the interface (the serendipity face space
+//! restricted to a part of the face cut at a constant face coordinate is in the fine face's
+//! space). A tied node has no unknowns of its own: with T the map from the unknowns to all
+//! DOFs (identity rows for untied DOFs, the weights for tied ones), the assembled matrix is
+//! Tᵀ K T and a load on a tied node goes to its masters with the same weights (the virtual work
+//! of the load is kept). An element holding a tied node couples all of its untied nodes and
+//! all the masters of its tied ones; [`DofMap::element_nodes`] gives that list.
 
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
@@ -23,34 +36,117 @@ use super::mesh::Mesh;
 /// Marker for a fixed (eliminated) DOF in [`DofMap`].
 const FIXED: usize = usize::MAX;
 
-/// Numbering of the free DOFs after elimination of the fixed nodes.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// A tied node (see the module docs): its displacement is Σ w·u over its masters, the same
+/// weights for x, y and z.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tie {
+    /// The tied (hanging) node.
+    pub node: usize,
+    /// (master node, weight) pairs; masters are not tied themselves. Weights are
+    /// dimensionless (shape-function values, summing to 1 for an interpolation).
+    pub masters: Vec<(usize, f64)>,
+}
+
+/// Numbering of the free DOFs after elimination of the fixed nodes and the tied nodes.
+#[derive(Debug, Clone, PartialEq)]
 pub struct DofMap {
-    /// Global DOF → free index, or `FIXED`.
+    /// Global DOF → free index, or `FIXED` (a fixed or a tied node's DOF).
     free_of: Vec<usize>,
     /// Free index → global DOF.
     global_of: Vec<usize>,
+    /// Node → index into `ties`, or `FIXED` (not tied).
+    tie_of: Vec<usize>,
+    /// The node of each tie.
+    tied_node: Vec<usize>,
+    /// Masters and weights of each tie, fixed masters left out (they do not move).
+    ties: Vec<Vec<(usize, f64)>>,
 }
 
 impl DofMap {
     /// Numbering for a mesh of `nodes` nodes with all three DOFs of each node in `fixed_nodes`
     /// held at zero (duplicates allowed). Error: a fixed node index ≥ `nodes`.
     pub fn new(nodes: usize, fixed_nodes: &[usize]) -> Result<Self, FeError> {
+        Self::with_ties(nodes, fixed_nodes, &[])
+    }
+
+    /// As [`DofMap::new`] with the nodes of `ties` tied to their masters. A tie of a fixed
+    /// node is ignored (the node stays fixed). Errors: a node out of range, a node tied twice,
+    /// a master that is tied itself or is the node, or a non-finite weight.
+    pub fn with_ties(nodes: usize, fixed_nodes: &[usize], ties: &[Tie]) -> Result<Self, FeError> {
         let mut fixed = vec![false; nodes];
         for &n in fixed_nodes {
             *fixed.get_mut(n).ok_or(FeError::FixedNodeOutOfRange { node: n, nodes })? = true;
         }
+        let mut tie_of = vec![FIXED; nodes];
+        let mut tied_node = Vec::new();
+        let mut lists = Vec::new();
+        for t in ties {
+            let bad = |why: &str| FeError::InvalidInput(format!("tie of node {}: {why}", t.node));
+            if t.node >= nodes {
+                return Err(bad(&format!("node out of range ({nodes} nodes)")));
+            }
+            if tie_of[t.node] != FIXED {
+                return Err(bad("node tied twice"));
+            }
+            if t.masters.iter().any(|&(m, w)| m >= nodes || m == t.node || !w.is_finite()) {
+                return Err(bad("a master out of range, the node itself, or a non-finite weight"));
+            }
+            if fixed[t.node] {
+                continue;
+            }
+            tie_of[t.node] = lists.len();
+            tied_node.push(t.node);
+            lists.push(t.masters.iter().copied().filter(|&(m, _)| !fixed[m]).collect::<Vec<_>>());
+        }
+        if let Some(t) = ties.iter().find(|t| t.masters.iter().any(|&(m, _)| tie_of[m] != FIXED)) {
+            return Err(FeError::InvalidInput(format!(
+                "tie of node {}: a master is tied itself",
+                t.node
+            )));
+        }
         let mut free_of = vec![FIXED; 3 * nodes];
         let mut global_of = Vec::with_capacity(3 * nodes);
-        for (n, &f) in fixed.iter().enumerate() {
-            if !f {
+        for n in 0..nodes {
+            if !fixed[n] && tie_of[n] == FIXED {
                 for (i, slot) in free_of[3 * n..3 * n + 3].iter_mut().enumerate() {
                     *slot = global_of.len();
                     global_of.push(3 * n + i);
                 }
             }
         }
-        Ok(Self { free_of, global_of })
+        Ok(Self { free_of, global_of, tie_of, tied_node, ties: lists })
+    }
+
+    /// The masters and weights of node `node` if it is tied (fixed masters left out).
+    pub fn tie(&self, node: usize) -> Option<&[(usize, f64)]> {
+        let t = *self.tie_of.get(node)?;
+        self.ties.get(t).map(Vec::as_slice)
+    }
+
+    /// Each tied node with its masters and weights (fixed masters left out).
+    pub fn ties(&self) -> impl Iterator<Item = (usize, &[(usize, f64)])> {
+        self.tied_node.iter().zip(&self.ties).map(|(&n, m)| (n, m.as_slice()))
+    }
+
+    /// Whether any node is tied.
+    pub fn has_ties(&self) -> bool {
+        !self.ties.is_empty()
+    }
+
+    /// The nodes an element with nodes `conn` couples in K_ff: its nodes, each tied node
+    /// replaced by its masters, without fixed nodes, ascending and without repeats. Written to
+    /// `out` (cleared first).
+    pub fn element_nodes(&self, conn: &[usize], out: &mut Vec<usize>) {
+        out.clear();
+        for &n in conn {
+            match self.tie(n) {
+                Some(m) => out.extend(m.iter().map(|&(n, _)| n)),
+                None if self.free_of[3 * n] != FIXED => out.push(n),
+                None => {}
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
     }
 
     /// Total number of DOFs (3 × nodes).
@@ -149,24 +245,24 @@ pub fn assemble_lower_congruent(
     }
     let mut ke = [[0.0; DOFS]; DOFS];
     let mut base = [FIXED; NODES];
+    let mut work = TiedWork::default();
     for (e, conn) in mesh.elements.iter().enumerate() {
-        for (a, &n) in conn.iter().enumerate() {
-            base[a] = dofs.free_of[3 * n];
-        }
-        match plan[e] {
-            Some(c) => {
-                let k = &sources[source_slot[c.source]];
-                scatter(k, Some(&rotation(c.angle)), &base, &col_ptr, &row_idx, &mut values)?;
-            }
-            None if source_slot[e] != usize::MAX => {
-                let k = &sources[source_slot[e]];
-                scatter(k, None, &base, &col_ptr, &row_idx, &mut values)?;
-            }
+        let (k, rot) = match plan[e] {
+            Some(c) => (&*sources[source_slot[c.source]], Some(rotation(c.angle))),
+            None if source_slot[e] != usize::MAX => (&*sources[source_slot[e]], None),
             None => {
                 let coords = element_coords(mesh, e);
                 element::stiffness(&coords, material, &mut ke).map_err(|err| err.in_element(e))?;
-                scatter(&ke, None, &base, &col_ptr, &row_idx, &mut values)?;
+                (&ke, None)
             }
+        };
+        if dofs.has_ties() && conn.iter().any(|&n| dofs.tie_of[n] != FIXED) {
+            scatter_tied(k, rot.as_ref(), conn, dofs, &mut work, &col_ptr, &row_idx, &mut values)?;
+        } else {
+            for (a, &n) in conn.iter().enumerate() {
+                base[a] = dofs.free_of[3 * n];
+            }
+            scatter(|a, b| block(k, a, b, rot.as_ref()), &base, &col_ptr, &row_idx, &mut values)?;
         }
     }
     let n = dofs.free_count();
@@ -229,16 +325,16 @@ fn block(
     m
 }
 
-/// Adds the lower-triangle entries of the element matrix `k` (turned block by block by `rot`,
-/// see [`block`]) to `values`. `base[a]` is the free index of the x DOF of element node a (its
-/// y, z DOFs follow) or `FIXED`. The pattern of column jb + j (node b's DOF j) is that of
-/// column jb without its first j rows, and a node's three rows are consecutive in it, so one
-/// search per node pair places nine entries. Each entry receives one addition per element, in
-/// element order.
+/// Adds the lower-triangle entries of an element matrix to `values`: `get(a, b)` is the 3 × 3
+/// block of element nodes a and b (for an element matrix `k`, [`block`], turned by the
+/// element's rotation), `base[a]` the free index of the x DOF of node a (its y, z DOFs
+/// follow) or `FIXED`. The pattern of column jb + j (node b's DOF j) is that of column jb
+/// without its first j rows, and a node's three rows are consecutive in it, so one search per
+/// node pair places nine entries. Each entry receives one addition per element, in element
+/// order.
 fn scatter(
-    k: &[[f64; DOFS]; DOFS],
-    rot: Option<&[[f64; 3]; 3]>,
-    base: &[usize; NODES],
+    get: impl Fn(usize, usize) -> [[f64; 3]; 3],
+    base: &[usize],
     col_ptr: &[usize],
     row_idx: &[usize],
     values: &mut [f64],
@@ -252,7 +348,7 @@ fn scatter(
             if ia == FIXED || ia < jb {
                 continue;
             }
-            let m = block(k, a, b, rot);
+            let m = get(a, b);
             if ia == jb {
                 // Column jb + j starts with its own diagonal: row jb + i sits at i − j.
                 for j in 0..3 {
@@ -277,34 +373,138 @@ fn scatter(
     Ok(())
 }
 
-/// Node → elements incidence in compressed form: the elements holding node n are
-/// `incident[start[n]..start[n + 1]]`, in ascending order.
-pub(super) fn node_elements(mesh: &Mesh) -> (Vec<usize>, Vec<usize>) {
-    let nn = mesh.nodes.len();
-    let mut start = vec![0usize; nn + 1];
-    for conn in &mesh.elements {
-        for &n in conn {
-            start[n + 1] += 1;
+/// Scratch space of [`scatter_tied`], kept between elements.
+#[derive(Default)]
+struct TiedWork {
+    /// The nodes the element couples ([`DofMap::element_nodes`]).
+    nodes: Vec<usize>,
+    /// Free index of each coupled node's x DOF.
+    base: Vec<usize>,
+    /// For each element node: (index into `nodes`, weight) of what it moves with.
+    map: Vec<Vec<(usize, f64)>>,
+    /// Blocks of Tᵀ K T, row-major over `nodes`.
+    blocks: Vec<[[f64; 3]; 3]>,
+}
+
+/// [`scatter`] for an element holding tied nodes: its matrix `k` (turned by `rot`) becomes
+/// Tᵀ K T over the nodes it couples (see the module docs), then is added.
+#[allow(clippy::too_many_arguments)]
+fn scatter_tied(
+    k: &[[f64; DOFS]; DOFS],
+    rot: Option<&[[f64; 3]; 3]>,
+    conn: &[usize; NODES],
+    dofs: &DofMap,
+    w: &mut TiedWork,
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    values: &mut [f64],
+) -> Result<(), FeError> {
+    dofs.element_nodes(conn, &mut w.nodes);
+    let m = w.nodes.len();
+    let at = |nodes: &[usize], n: usize| {
+        nodes
+            .binary_search(&n)
+            .map_err(|_| FeError::Solver(format!("internal: node {n} missing from its element")))
+    };
+    w.map.resize(NODES, Vec::new());
+    for (a, &n) in conn.iter().enumerate() {
+        w.map[a].clear();
+        match dofs.tie(n) {
+            Some(masters) => {
+                for &(mn, wt) in masters {
+                    let i = at(&w.nodes, mn)?;
+                    w.map[a].push((i, wt));
+                }
+            }
+            None if dofs.free_of[3 * n] != FIXED => {
+                let i = at(&w.nodes, n)?;
+                w.map[a].push((i, 1.0));
+            }
+            None => {}
         }
     }
-    for i in 0..nn {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut incident = vec![0usize; start[nn]];
-    for (e, conn) in mesh.elements.iter().enumerate() {
-        for &n in conn {
-            incident[fill[n]] = e;
-            fill[n] += 1;
+    w.blocks.clear();
+    w.blocks.resize(m * m, [[0.0; 3]; 3]);
+    for a in 0..NODES {
+        for b in 0..NODES {
+            if w.map[a].is_empty() || w.map[b].is_empty() {
+                continue;
+            }
+            let blk = block(k, a, b, rot);
+            for &(ia, wa) in &w.map[a] {
+                for &(ib, wb) in &w.map[b] {
+                    let t = &mut w.blocks[ia * m + ib];
+                    for (ti, bi) in t.iter_mut().zip(blk.iter()) {
+                        for (tij, bij) in ti.iter_mut().zip(bi.iter()) {
+                            *tij += wa * wb * bij;
+                        }
+                    }
+                }
+            }
         }
     }
-    (start, incident)
+    w.base.clear();
+    w.base.extend(w.nodes.iter().map(|&n| dofs.free_of[3 * n]));
+    let blocks = &w.blocks;
+    scatter(|a, b| blocks[a * m + b], &w.base, col_ptr, row_idx, values)
+}
+
+/// The nodes each element couples ([`DofMap::element_nodes`]: tied nodes replaced by their
+/// masters, fixed nodes left out) in compressed form, element e's being
+/// `nodes[start[e]..start[e + 1]]`, and the node → element incidence over these lists (the
+/// elements coupling node n are `incident[node_start[n]..node_start[n + 1]]`, ascending).
+pub(super) struct Coupling {
+    pub start: Vec<usize>,
+    pub nodes: Vec<usize>,
+    pub node_start: Vec<usize>,
+    pub incident: Vec<usize>,
+}
+
+impl Coupling {
+    pub(super) fn new(mesh: &Mesh, dofs: &DofMap) -> Self {
+        let nn = mesh.nodes.len();
+        let mut start = Vec::with_capacity(mesh.elements.len() + 1);
+        start.push(0);
+        let mut nodes = Vec::with_capacity(NODES * mesh.elements.len());
+        let mut list = Vec::with_capacity(NODES);
+        for conn in &mesh.elements {
+            dofs.element_nodes(conn, &mut list);
+            nodes.extend_from_slice(&list);
+            start.push(nodes.len());
+        }
+        let mut node_start = vec![0usize; nn + 1];
+        for &n in &nodes {
+            node_start[n + 1] += 1;
+        }
+        for i in 0..nn {
+            node_start[i + 1] += node_start[i];
+        }
+        let mut fill = node_start.clone();
+        let mut incident = vec![0usize; nodes.len()];
+        for e in 0..mesh.elements.len() {
+            for &n in &nodes[start[e]..start[e + 1]] {
+                incident[fill[n]] = e;
+                fill[n] += 1;
+            }
+        }
+        Self { start, nodes, node_start, incident }
+    }
+
+    /// The nodes element `e` couples.
+    pub(super) fn element(&self, e: usize) -> &[usize] {
+        &self.nodes[self.start[e]..self.start[e + 1]]
+    }
+
+    /// The elements coupling node `n`.
+    pub(super) fn elements_of(&self, n: usize) -> &[usize] {
+        &self.incident[self.node_start[n]..self.node_start[n + 1]]
+    }
 }
 
 /// Column pointers and sorted row indices of the lower triangle of K_ff.
 fn lower_pattern(mesh: &Mesh, dofs: &DofMap) -> (Vec<usize>, Vec<usize>) {
     let nn = mesh.nodes.len();
-    let (start, incident) = node_elements(mesh);
+    let coupling = Coupling::new(mesh, dofs);
     let mut col_ptr = Vec::with_capacity(dofs.free_count() + 1);
     col_ptr.push(0);
     let mut row_idx = Vec::new();
@@ -312,8 +512,8 @@ fn lower_pattern(mesh: &Mesh, dofs: &DofMap) -> (Vec<usize>, Vec<usize>) {
     let mut neigh: Vec<usize> = Vec::new();
     for c in 0..nn {
         neigh.clear();
-        for &e in &incident[start[c]..start[c + 1]] {
-            for &r in &mesh.elements[e] {
+        for &e in coupling.elements_of(c) {
+            for &r in coupling.element(e) {
                 if r >= c && mark[r] != c {
                     mark[r] = c;
                     neigh.push(r);
@@ -345,15 +545,20 @@ mod tests {
     use super::*;
     use faer::sparse::Triplet;
 
-    /// The pattern-based assembly equals a plain triplet assembly of the element matrices.
-    #[test]
-    fn matches_triplet_assembly() {
+    /// A distorted 2 × 2 × 1 block of steel-like elements and its nodes at x = 0.
+    fn distorted_block() -> (Mesh, Material, Vec<usize>) {
         let mesh = Mesh::structured_block([2, 2, 1], |u, v, w| {
             [u + 0.1 * v * v, v + 0.05 * u * w, 0.5 * w + 0.1 * u * v]
         })
         .expect("block");
-        let material = Material { e: 200e9, nu: 0.3 };
         let fixed = mesh.nodes_where(|x| x[0] < 1e-12);
+        (mesh, Material { e: 200e9, nu: 0.3 }, fixed)
+    }
+
+    /// The pattern-based assembly equals a plain triplet assembly of the element matrices.
+    #[test]
+    fn matches_triplet_assembly() {
+        let (mesh, material, fixed) = distorted_block();
         let dofs = DofMap::new(mesh.nodes.len(), &fixed).expect("dofs");
         let k = assemble_lower(&mesh, &material, &dofs).expect("assemble");
         let n = dofs.free_count();
@@ -387,5 +592,64 @@ mod tests {
         assert_eq!(n, 3 * (mesh.nodes.len() - fixed.len()));
         assert_eq!(dofs.free_index(3 * fixed[0]), None);
         assert!(DofMap::new(3, &[3]).is_err());
+    }
+
+    /// With tied nodes the assembled K_ff equals Tᵀ K T (dense), T mapping the unknowns to all
+    /// DOFs (identity on untied free DOFs, the weights on tied ones, zero on fixed ones); and
+    /// the map rejects a tie of a master, a node tied twice, and a tie out of range.
+    #[test]
+    fn tied_assembly_is_the_transformed_matrix() {
+        let (mesh, material, fixed) = distorted_block();
+        let nn = mesh.nodes.len();
+        // Tie two free nodes to others (one master fixed), as a hanging node would be.
+        let free: Vec<usize> = (0..nn).filter(|n| !fixed.contains(n)).collect();
+        let ties = vec![
+            Tie {
+                node: free[3],
+                masters: vec![(free[0], 0.375), (free[5], 0.75), (free[7], -0.125)],
+            },
+            Tie { node: free[9], masters: vec![(free[1], 0.5), (fixed[0], 0.5)] },
+        ];
+        let dofs = DofMap::with_ties(nn, &fixed, &ties).expect("dofs");
+        assert_eq!(dofs.free_count(), 3 * (free.len() - 2));
+        let k = assemble_lower(&mesh, &material, &dofs).expect("assemble");
+        let all = DofMap::new(nn, &[]).expect("dofs");
+        let kfull = assemble_lower(&mesh, &material, &all).expect("assemble").to_dense();
+        let nd = 3 * nn;
+        let kf =
+            faer::Mat::<f64>::from_fn(
+                nd,
+                nd,
+                |i, j| {
+                    if i >= j { kfull[(i, j)] } else { kfull[(j, i)] }
+                },
+            );
+        let nf = dofs.free_count();
+        let mut t = faer::Mat::<f64>::zeros(nd, nf);
+        for g in 0..nd {
+            if let Some(f) = dofs.free_index(g) {
+                t[(g, f)] = 1.0;
+            } else if let Some(masters) = dofs.tie(g / 3) {
+                for &(m, w) in masters {
+                    if let Some(f) = dofs.free_index(3 * m + g % 3) {
+                        t[(g, f)] += w;
+                    }
+                }
+            }
+        }
+        let reference = t.transpose() * &kf * &t;
+        let got = k.to_dense();
+        let scale = reference.norm_max();
+        for j in 0..nf {
+            for i in j..nf {
+                assert!((got[(i, j)] - reference[(i, j)]).abs() <= 1e-13 * scale, "({i}, {j})");
+            }
+        }
+        let bad = |ties: &[Tie]| DofMap::with_ties(nn, &fixed, ties).is_err();
+        assert!(bad(&[ties[0].clone(), Tie { node: free[0], masters: vec![(free[2], 1.0)] }]));
+        assert!(bad(&[ties[0].clone(), ties[0].clone()]));
+        assert!(bad(&[Tie { node: nn, masters: vec![] }]));
+        assert!(bad(&[Tie { node: free[2], masters: vec![(free[2], 1.0)] }]));
+        assert!(bad(&[Tie { node: free[2], masters: vec![(free[4], f64::NAN)] }]));
     }
 }

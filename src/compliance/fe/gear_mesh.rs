@@ -36,6 +36,26 @@
 //!    Each quad × layer gives one hex20 element (C3D20 node order; quads counter-clockwise,
 //!    z upward, so every element is right-handed).
 //!
+//! # Axial coarsening
+//! With `coarse_layers` set, the quads away from the fine teeth are extruded in fewer, taller
+//! layers: those of the coarse teeth's sectors, and the web quads whose polar angles do not
+//! overlap the fine teeth's sectors (|θ| < (`fine_teeth` + ½)·2π/z), so the web under the loaded
+//! teeth keeps the fine layers. A coarse layer is `layers`/`coarse_layers` fine layers high;
+//! node levels are counted on the fine grid and a transverse node carries the levels its
+//! quads need. Where a fine and a coarse quad share a transverse node, the fine side has
+//! nodes at levels the coarse element has no node at; each is tied to the coarse element
+//! ([`super::assembly::Tie`]): on a vertical edge (a transverse corner) by the edge's quadratic
+//! interpolation, u = ½ζ(ζ − 1)·u_a + (1 − ζ²)·u_m + ½ζ(ζ + 1)·u_b, ζ ∈ (−1, 1) the level
+//! within the coarse layer; at a transverse mid-edge node by the serendipity face
+//! interpolation on the line through it, u = ½(1 − ζ)·u_a + ½(1 + ζ)·u_b +
+//! ½(1 − ζ²)·(u_{1,m} + u_{2,m}) − ¼(1 − ζ²)·(u_{1,a} + u_{1,b} + u_{2,a} + u_{2,b}), with 1, 2
+//! the ends of the edge. The field is then continuous across the interface. The gear's far
+//! side deforms smoothly along the axis (the load is carried to the bore through the web), so
+//! the taller elements change the compliance at the loaded teeth little: see
+//! [`GearMeshDensity::default`]. Nodes on a helix (β ≠ 0) are not exactly where the coarse
+//! element's quadratic edge puts them (a gap of third order in the twist ω·Δz over the layer, ω
+//! the twist rate); the ties are exact for spur gears.
+//!
 //! # Boundary condition
 //! All nodes on the bore surface r = d_bore/2 are fixed (all three components): the hub is
 //! rigid and its rotation is the reference of the gear angle. Everything else is free.
@@ -49,7 +69,7 @@
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
-use super::assembly::Congruent;
+use super::assembly::{Congruent, Tie};
 use super::element::NODES;
 use super::error::FeError;
 use super::mesh::Mesh;
@@ -88,14 +108,25 @@ pub struct GearMeshDensity {
     pub web_min_divisions: usize,
     /// Number of axial element layers over the face width.
     pub layers: usize,
+    /// Axial element layers of the coarse part: the coarse teeth's sectors and the web
+    /// elements outside the fine teeth's sectors (see "Axial coarsening" in the module docs);
+    /// must divide `layers`. `None`: `layers` everywhere (one conforming extrusion).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coarse_layers: Option<usize>,
 }
 
 impl Default for GearMeshDensity {
     /// The default density for production influence data: 11 × 13 flank grid (rows × axial
-    /// node levels); for the Table 1 pair 68k DOFs (pinion) and 91k DOFs (gear), about 1 s of
-    /// factorisation and < 0.5 GB each. Six axial layers: the same-tooth α* is governed by the
-    /// axial element length (4 → 6 → 8 layers change it by +4 % and +1.5 %), so the layers are
-    /// spent there; with `layers: 4` the pair has 45k/61k DOFs and α* ≈ 4 % lower.
+    /// node levels); for the Table 1 pair 44k DOFs (pinion) and 53k DOFs (gear), about 0.6 s
+    /// of factorisation each. Six axial layers on the fine teeth and the web beneath them: the
+    /// same-tooth α* is governed by the axial element length (4 → 6 → 8 layers change it by
+    /// +4 % and +1.5 %), so the layers are spent there; with `layers: 4` the pair has 45k/61k
+    /// DOFs (conforming) and α* ≈ 4 % lower. Two axial layers on the rest of the gear
+    /// (`coarse_layers`, "Axial coarsening" in the module docs), which changes α* by at most
+    /// 1.6·10⁻⁴ (same tooth) and 1.2·10⁻³ (neighbouring teeth) of each block's largest value
+    /// against [`GearMeshDensity::conforming`] and the root stress by 1.1·10⁻³ of its largest
+    /// value (Table 1), a hundredth of the default mesh's own error (α* +3 % to the refined
+    /// mesh), at 0.55–0.6 of the time.
     ///
     /// Four elements on the tip rounding: contacts reach the rounding only up to τ ≈ 0.18 rad
     /// (Table 1, TE up to 200 µm), and α* falls steeply there (pinion, mid face: 11.9, 9.0,
@@ -117,11 +148,19 @@ impl Default for GearMeshDensity {
             web_ring_ratio: 0.6,
             web_min_divisions: 12,
             layers: 6,
+            coarse_layers: Some(2),
         }
     }
 }
 
 impl GearMeshDensity {
+    /// The default density extruded in six layers everywhere (no axial coarsening): 68k DOFs
+    /// (pinion) and 91k DOFs (gear) for Table 1. The mesh of the embedded Table 1 data, and of
+    /// the paper run's sensitivity case that is compared with them.
+    pub fn conforming() -> Self {
+        Self { coarse_layers: None, ..Self::default() }
+    }
+
     /// A coarse mesh for tests: 5 × 5 flank grid; for the Table 1 pair ≈ 20k DOFs (pinion)
     /// and 30k DOFs (gear), well under a second of factorisation.
     pub fn coarse() -> Self {
@@ -138,6 +177,7 @@ impl GearMeshDensity {
             web_ring_ratio: 0.5,
             web_min_divisions: 8,
             layers: 2,
+            coarse_layers: None,
         }
     }
 
@@ -157,6 +197,7 @@ impl GearMeshDensity {
             web_ring_ratio: 0.65,
             web_min_divisions: 16,
             layers: 8,
+            coarse_layers: None,
         }
     }
 
@@ -179,6 +220,14 @@ impl GearMeshDensity {
                     "gear mesh density: {name} = {v}, allowed 1 … 1000"
                 )));
             }
+        }
+        if let Some(c) = self.coarse_layers
+            && (c == 0 || c > self.layers || !self.layers.is_multiple_of(c))
+        {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh density: coarse_layers = {c} must divide layers = {}",
+                self.layers
+            )));
         }
         if !(self.web_ring_ratio > 0.05 && self.web_ring_ratio < 0.98) {
             return Err(FeError::InvalidInput(format!(
@@ -205,6 +254,9 @@ pub struct FlankGrid {
     pub rows: usize,
     /// Number of axial columns (increasing z).
     pub cols: usize,
+    /// Node level (index into [`GearMesh::level_z`]) of each column: every level on the fine
+    /// teeth, the coarse part's levels on the others.
+    pub levels: Vec<usize>,
     /// Mesh node of grid point `row * cols + col`.
     pub nodes: Vec<usize>,
     /// Tooth-local outward-normal angle ν of each row, rad (see [`crate::geometry::flank`]).
@@ -232,8 +284,15 @@ pub struct GearMesh {
     pub web_radii: Vec<f64>,
     /// Bore radius, m.
     pub r_bore: f64,
-    /// Number of quads of the transverse mesh (= elements per axial layer).
+    /// Number of quads of the transverse mesh (= elements per axial layer without axial
+    /// coarsening).
     pub quads: usize,
+    /// Hanging nodes where fine and coarse layers meet, tied to the coarse elements' faces
+    /// (empty without axial coarsening).
+    pub ties: Vec<Tie>,
+    /// Per element: the element of the same quad in the bottom layer and the turn to it
+    /// ([`GearMesh::layer_congruence`]); `None` in the bottom layer.
+    pub congruence: Vec<Option<Congruent>>,
     /// Twist rate ω of the helix, rad/m: the node at axial position z is the transverse node
     /// turned by ω·z.
     pub twist_rate: f64,
@@ -518,6 +577,20 @@ fn half_sector(
 }
 
 /// Rotates a 2D point by angle `a`.
+/// Whether the polar angles covered by the quad with corners `q[0..4]` (a web quad, spanning
+/// less than half a turn) overlap (−`range`, `range`) by more than rounding.
+fn overlaps_angle(q: &[P2; 8], range: f64) -> bool {
+    let a0 = q[0][1].atan2(q[0][0]);
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for p in &q[1..4] {
+        let d = (p[1].atan2(p[0]) - a0 + PI).rem_euclid(2.0 * PI) - PI;
+        lo = lo.min(d);
+        hi = hi.max(d);
+    }
+    let centre = (a0 + 0.5 * (lo + hi) + PI).rem_euclid(2.0 * PI) - PI;
+    centre.abs() < range + 0.5 * (hi - lo) - 1e-9 * range
+}
+
 fn rot2(p: P2, a: f64) -> P2 {
     let (s, c) = a.sin_cos();
     [c * p[0] - s * p[1], s * p[0] + c * p[1]]
@@ -582,6 +655,8 @@ impl GearMesh {
             quads.push(ids);
         };
         let mut flank_ids: Vec<Vec<usize>> = Vec::with_capacity(z);
+        // Whether each quad of the teeth's sectors belongs to a fine tooth.
+        let mut tooth_fine: Vec<bool> = Vec::new();
         for k in 0..z {
             let offset = if k <= z / 2 { k as i64 } else { k as i64 - z as i64 };
             let fine = offset.unsigned_abs() as usize <= d.fine_teeth;
@@ -590,6 +665,7 @@ impl GearMesh {
             for q in &hs.quads {
                 push(&mut pool, q.map(|p| rot2(p, th)));
                 push(&mut pool, q.map(|p| rot2([p[0], -p[1]], th)));
+                tooth_fine.extend([fine, fine]);
             }
             // Corner rows of the flank, tip → root.
             let ids: Vec<usize> =
@@ -673,52 +749,139 @@ impl GearMesh {
             )));
         }
 
-        // Extrusion.
+        // Extrusion: fine quads in `layers` layers, coarse quads (axial coarsening) in
+        // `coarse_layers`, each coarse layer `ratio` fine layers high. Node levels are counted
+        // on the fine grid (2·layers + 1, corner and mid-layer).
         let levels = 2 * d.layers + 1;
         let level_z: Vec<f64> = (0..levels).map(|l| b * l as f64 / (levels - 1) as f64).collect();
+        let ratio = d.coarse_layers.map_or(1, |c| d.layers / c);
+        let fine_range = (d.fine_teeth as f64 + 0.5) * pitch;
+        let quad_coarse: Vec<bool> = (0..quads.len())
+            .map(|qi| {
+                ratio > 1
+                    && match tooth_fine.get(qi) {
+                        Some(&fine) => !fine,
+                        None => !overlaps_angle(&quads[qi].map(|i| pool.pts[i]), fine_range),
+                    }
+            })
+            .collect();
+        // Node (i, l) exists where l is a multiple of the smallest level step of the quads
+        // using transverse node i: 1 at a fine corner, 2 at a fine mid-edge node, `ratio` and
+        // 2·`ratio` on coarse quads.
         let n2 = pool.pts.len();
-        let corner_ids: Vec<usize> = (0..n2).filter(|&i| pool.corner[i]).collect();
-        let mut corner_index = vec![usize::MAX; n2];
-        for (ci, &i) in corner_ids.iter().enumerate() {
-            corner_index[i] = ci;
+        let mut step = vec![usize::MAX; n2];
+        for (qi, qd) in quads.iter().enumerate() {
+            let h = if quad_coarse[qi] { ratio } else { 1 };
+            for (k, &i) in qd.iter().enumerate() {
+                step[i] = step[i].min(if k < 4 { h } else { 2 * h });
+            }
         }
-        let mut level_offset = Vec::with_capacity(levels);
+        for (i, s) in step.iter_mut().enumerate() {
+            if *s == usize::MAX {
+                *s = if pool.corner[i] { 1 } else { 2 };
+            }
+        }
+        const NONE: usize = usize::MAX;
+        let mut node_at = vec![NONE; n2 * levels];
         let mut nodes = Vec::new();
         for (l, &zl) in level_z.iter().enumerate() {
-            level_offset.push(nodes.len());
             let turn = g.twist_rate * zl;
-            if l % 2 == 0 {
-                for p in &pool.pts {
+            for (i, p) in pool.pts.iter().enumerate() {
+                if l.is_multiple_of(step[i]) {
+                    node_at[i * levels + l] = nodes.len();
                     let t = rot2(*p, turn);
                     nodes.push([t[0], t[1], zl]);
                 }
-            } else {
-                for &i in &corner_ids {
-                    let t = rot2(pool.pts[i], turn);
-                    nodes.push([t[0], t[1], zl]);
-                }
             }
         }
-        let id3 = |l: usize, i2: usize| -> usize {
-            if l.is_multiple_of(2) {
-                level_offset[l] + i2
-            } else {
-                level_offset[l] + corner_index[i2]
+        let missing =
+            || FeError::InvalidInput("gear mesh: internal: a node level is missing".into());
+        let at = |l: usize, i2: usize| -> Result<usize, FeError> {
+            match node_at[i2 * levels + l] {
+                NONE => Err(missing()),
+                id => Ok(id),
             }
         };
         let mut elements = Vec::with_capacity(quads.len() * d.layers);
+        let mut congruence = Vec::with_capacity(quads.len() * d.layers);
+        let mut bottom = vec![NONE; quads.len()];
         for layer in 0..d.layers {
-            let (lb, lm, lt) = (2 * layer, 2 * layer + 1, 2 * layer + 2);
-            for qd in &quads {
+            for (qi, qd) in quads.iter().enumerate() {
+                let (h, k) = if quad_coarse[qi] {
+                    if !layer.is_multiple_of(ratio) {
+                        continue;
+                    }
+                    (ratio, layer / ratio)
+                } else {
+                    (1, layer)
+                };
+                let (lb, lm, lt) = (2 * h * k, 2 * h * k + h, 2 * h * (k + 1));
                 let mut conn = [0usize; NODES];
-                for k in 0..4 {
-                    conn[k] = id3(lb, qd[k]);
-                    conn[4 + k] = id3(lt, qd[k]);
-                    conn[8 + k] = id3(lb, qd[4 + k]);
-                    conn[12 + k] = id3(lt, qd[4 + k]);
-                    conn[16 + k] = id3(lm, qd[k]);
+                for c in 0..4 {
+                    conn[c] = at(lb, qd[c])?;
+                    conn[4 + c] = at(lt, qd[c])?;
+                    conn[8 + c] = at(lb, qd[4 + c])?;
+                    conn[12 + c] = at(lt, qd[4 + c])?;
+                    conn[16 + c] = at(lm, qd[c])?;
+                }
+                if k == 0 {
+                    bottom[qi] = elements.len();
+                    congruence.push(None);
+                } else {
+                    congruence.push(Some(Congruent {
+                        source: bottom[qi],
+                        angle: g.twist_rate * level_z[lb],
+                    }));
                 }
                 elements.push(conn);
+            }
+        }
+        // Hanging nodes: levels of a transverse node that a coarse quad uses but has no node
+        // at, tied to that quad's element face ("Axial coarsening" in the module docs).
+        let mut ties = Vec::new();
+        if ratio > 1 {
+            let mut coarse_at: Vec<Option<(usize, usize)>> = vec![None; n2];
+            for (qi, qd) in quads.iter().enumerate() {
+                if quad_coarse[qi] {
+                    for (k, &i) in qd.iter().enumerate() {
+                        coarse_at[i].get_or_insert((qi, k));
+                    }
+                }
+            }
+            for l in 0..levels {
+                for (i, c) in coarse_at.iter().enumerate() {
+                    let (Some((qi, k)), node) = (*c, node_at[i * levels + l]) else { continue };
+                    let own = if k < 4 { ratio } else { 2 * ratio };
+                    if node == NONE || l.is_multiple_of(own) {
+                        continue;
+                    }
+                    let kk = l / (2 * ratio);
+                    let (a, m, top) =
+                        (2 * ratio * kk, 2 * ratio * kk + ratio, 2 * ratio * (kk + 1));
+                    let zeta = (l as f64 - m as f64) / ratio as f64;
+                    let masters = if k < 4 {
+                        vec![
+                            (at(a, i)?, 0.5 * zeta * (zeta - 1.0)),
+                            (at(m, i)?, 1.0 - zeta * zeta),
+                            (at(top, i)?, 0.5 * zeta * (zeta + 1.0)),
+                        ]
+                    } else {
+                        let qd = &quads[qi];
+                        let (c1, c2) = (qd[k - 4], qd[(k - 3) % 4]);
+                        let bubble = 1.0 - zeta * zeta;
+                        vec![
+                            (at(a, i)?, 0.5 * (1.0 - zeta)),
+                            (at(top, i)?, 0.5 * (1.0 + zeta)),
+                            (at(m, c1)?, 0.5 * bubble),
+                            (at(m, c2)?, 0.5 * bubble),
+                            (at(a, c1)?, -0.25 * bubble),
+                            (at(top, c1)?, -0.25 * bubble),
+                            (at(a, c2)?, -0.25 * bubble),
+                            (at(top, c2)?, -0.25 * bubble),
+                        ]
+                    };
+                    ties.push(Tie { node, masters });
+                }
             }
         }
         let mesh = Mesh::new(nodes, elements)?;
@@ -735,8 +898,12 @@ impl GearMesh {
             };
             let rows: Vec<&(f64, P2, SegmentKind)> = hs.rows.iter().step_by(2).rev().collect();
             let th = pitch * k as f64;
-            let mut grid_nodes = Vec::with_capacity(rows.len() * levels);
-            let mut normals = Vec::with_capacity(rows.len() * levels);
+            let tooth_levels: Vec<usize> = match ids.first() {
+                Some(&i0) => (0..levels).filter(|&l| l.is_multiple_of(step[i0])).collect(),
+                None => Vec::new(),
+            };
+            let mut grid_nodes = Vec::with_capacity(rows.len() * tooth_levels.len());
+            let mut normals = Vec::with_capacity(rows.len() * tooth_levels.len());
             for (row, &i2) in rows.iter().zip(ids.iter()) {
                 let (nu, pl, _) = **row;
                 // Outward normal of the helicoid X(s, z) = Rot(θ + ωz)·P(s) + z·e_z:
@@ -744,16 +911,17 @@ impl GearMesh {
                 let cross = pl[0] * nu.sin() - pl[1] * nu.cos();
                 let axial = -g.twist_rate * cross;
                 let norm = (1.0 + axial * axial).sqrt();
-                for (l, &zl) in level_z.iter().enumerate() {
-                    let n_t = rot2([nu.cos(), nu.sin()], th + g.twist_rate * zl);
-                    grid_nodes.push(id3(l, i2));
+                for &l in &tooth_levels {
+                    let n_t = rot2([nu.cos(), nu.sin()], th + g.twist_rate * level_z[l]);
+                    grid_nodes.push(at(l, i2)?);
                     normals.push([n_t[0] / norm, n_t[1] / norm, axial / norm]);
                 }
             }
             flanks.push(FlankGrid {
                 tooth: k,
                 rows: rows.len(),
-                cols: levels,
+                cols: tooth_levels.len(),
+                levels: tooth_levels,
                 nodes: grid_nodes,
                 nu: rows.iter().map(|r| r.0).collect(),
                 local: rows.iter().map(|r| r.1).collect(),
@@ -769,25 +937,19 @@ impl GearMesh {
             web_radii,
             r_bore,
             quads: quads.len(),
+            ties,
+            congruence,
             twist_rate: g.twist_rate,
         })
     }
 
-    /// The congruence of the axial layers: element q of layer L (element L·`quads` + q) is
-    /// element q of layer 0 turned about the axis by ω·z_L (z_L the bottom of layer L) and
-    /// moved up by z_L, since every node at height z is its transverse node turned by ω·z
-    /// ([`Congruent`]; layer 0 has no entry). [`super::assembly::assemble_lower_congruent`]
-    /// then integrates the `quads` elements of one layer only.
+    /// The congruence of the axial layers: an element of layer L of its quad's layering is
+    /// that quad's bottom element turned about the axis by ω·z_L (z_L the bottom of layer L)
+    /// and moved up by z_L, since every node at height z is its transverse node turned by ω·z
+    /// ([`Congruent`]; the bottom layer has no entry). [`super::assembly::assemble_lower_congruent`]
+    /// then integrates the elements of the bottom layer only.
     pub fn layer_congruence(&self) -> Vec<Option<Congruent>> {
-        let nq = self.quads;
-        let ne = self.mesh.elements.len();
-        (0..ne)
-            .map(|e| {
-                let layer = e / nq.max(1);
-                let z = self.level_z.get(2 * layer).copied()?;
-                (layer > 0).then_some(Congruent { source: e % nq, angle: self.twist_rate * z })
-            })
-            .collect()
+        self.congruence.clone()
     }
 
     /// The flank grid of the tooth `offset` teeth counter-clockwise from tooth 0 (negative:

@@ -16,7 +16,10 @@
 //!   [`element`];
 //! - global DOF of node n in direction d ∈ {0: x, 1: y, 2: z} is 3n + d ([`dof`]);
 //! - fixed nodes have all three components zero; loads given on fixed DOFs are ignored (they go
-//!   into the support reactions) and their displacements are returned as exactly 0.
+//!   into the support reactions) and their displacements are returned as exactly 0;
+//! - tied nodes ([`assembly::Tie`], the hanging nodes where elements of different size meet)
+//!   move with their masters; a load on one goes to its masters, and its displacement is
+//!   returned as the masters' weighted sum.
 //!
 //! Meshes are built from mapped structured blocks glued by node merging ([`mesh`]); the mesh
 //! of a whole helical gear (teeth, fillets, web to the bore) is built by [`gear_mesh`].
@@ -51,7 +54,7 @@ use std::time::Instant;
 
 use faer::{Mat, MatRef};
 
-pub use assembly::DofMap;
+pub use assembly::{DofMap, Tie};
 pub use error::{FeError, JacobianError};
 pub use material::Material;
 pub use mesh::{Face, Mesh};
@@ -109,6 +112,8 @@ pub struct ModelOptions<'a> {
     pub congruent: &'a [Option<assembly::Congruent>],
     /// Order the unknowns by AMD on the node graph ([`ordering`]) instead of on the DOF graph.
     pub node_ordering: bool,
+    /// Tied (hanging) nodes and their masters ([`assembly::Tie`]); empty: none.
+    pub ties: &'a [Tie],
 }
 
 /// An assembled and factorised linear-elastic FE model, ready for block solves.
@@ -149,13 +154,13 @@ impl FeModel {
         material.validate()?;
         mesh.validate()?;
         let t0 = Instant::now();
-        let dof_map = DofMap::new(mesh.nodes.len(), fixed_nodes)?;
+        let dof_map = DofMap::with_ties(mesh.nodes.len(), fixed_nodes, options.ties)?;
         check_constraints(&mesh, fixed_nodes)?;
         let k = assembly::assemble_lower_congruent(&mesh, &material, &dof_map, options.congruent)?;
         let assembly_s = t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let order = if options.node_ordering {
-            Some(ordering::expand_to_free_dofs(&ordering::node_amd(&mesh, fixed_nodes)?, &dof_map)?)
+            Some(ordering::expand_to_free_dofs(&ordering::node_amd(&mesh, &dof_map)?, &dof_map)?)
         } else {
             None
         };
@@ -205,9 +210,10 @@ impl FeModel {
         &self.dof_map
     }
 
-    /// Whether global DOF `dof` is fixed (true also for a DOF that does not exist).
+    /// Whether global DOF `dof` is fixed (true also for a DOF that does not exist; false for a
+    /// tied node's DOF, which moves with its masters).
     pub fn is_fixed(&self, dof: usize) -> bool {
-        self.dof_map.free_index(dof).is_none()
+        self.dof_map.free_index(dof).is_none() && self.dof_map.tie(dof / 3).is_none()
     }
 
     /// Sizes and timings, including the solve time accumulated so far.
@@ -223,7 +229,8 @@ impl FeModel {
     ///
     /// `loads` is dofs() × k: column j holds the nodal forces (N) of load case j at global DOFs
     /// 3n + d. Returns the dofs() × k displacement block; fixed DOFs are exactly zero and loads
-    /// on them are ignored. Errors: wrong row count or a non-finite load.
+    /// on them are ignored; a tied node's load goes to its masters and its displacement is
+    /// theirs interpolated. Errors: wrong row count or a non-finite load.
     pub fn solve_block(&self, loads: MatRef<'_, f64>) -> Result<Mat<f64>, FeError> {
         let t0 = Instant::now();
         let n = self.dofs();
@@ -244,12 +251,27 @@ impl FeModel {
             for (fi, &g) in free.iter().enumerate() {
                 x[(fi, j)] = loads[(g, j)];
             }
+            for (node, masters) in self.dof_map.ties() {
+                for &(m, w) in masters {
+                    for d in 0..3 {
+                        if let Some(fi) = self.dof_map.free_index(dof(m, d)) {
+                            x[(fi, j)] += w * loads[(dof(node, d), j)];
+                        }
+                    }
+                }
+            }
         }
         self.cholesky.solve_in_place(x.as_mut())?;
         let mut u = Mat::<f64>::zeros(n, k);
         for j in 0..k {
             for (fi, &g) in free.iter().enumerate() {
                 u[(g, j)] = x[(fi, j)];
+            }
+            for (node, masters) in self.dof_map.ties() {
+                for d in 0..3 {
+                    let v = masters.iter().map(|&(m, w)| w * u[(dof(m, d), j)]).sum();
+                    u[(dof(node, d), j)] = v;
+                }
             }
         }
         let dt = t0.elapsed().as_secs_f64();
@@ -264,7 +286,7 @@ impl FeModel {
     /// Displacements (m) at the nodes `nodes` for load cases given sparsely: `loads[c]` lists
     /// the (global DOF, force in N) pairs of load case c. Returns the (3·nodes.len()) × k
     /// block whose row 3i + d is the displacement of `nodes[i]` in direction d; fixed DOFs are
-    /// exactly zero and loads on them are ignored. The values are those of
+    /// exactly zero and loads on them are ignored; tied nodes as in [`FeModel::solve_block`]. The values are those of
     /// [`FeModel::solve_block`] at these DOFs, computed by the selected solve of
     /// [`solver`] (only the substitution steps that reach the loads or the wanted DOFs).
     /// Errors: a DOF or node out of range, or a non-finite load.
@@ -287,12 +309,21 @@ impl FeModel {
                 }
                 if let Some(fi) = self.dof_map.free_index(g) {
                     fc.push((fi, v));
+                } else if let Some(masters) = self.dof_map.tie(g / 3) {
+                    for &(m, w) in masters {
+                        if let Some(fi) = self.dof_map.free_index(dof(m, g % 3)) {
+                            fc.push((fi, w * v));
+                        }
+                    }
                 }
             }
             free_loads.push(fc);
         }
+        // Each wanted free DOF once; each output row a weighted sum of them (one term for an
+        // untied node, the masters for a tied one).
         let mut wanted = Vec::with_capacity(3 * nodes.len());
-        let mut rows = Vec::with_capacity(3 * nodes.len());
+        let mut position = std::collections::HashMap::new();
+        let mut terms: Vec<(usize, usize, f64)> = Vec::with_capacity(3 * nodes.len());
         for (i, &node) in nodes.iter().enumerate() {
             if node >= self.mesh.nodes.len() {
                 return Err(FeError::InvalidInput(format!(
@@ -300,10 +331,17 @@ impl FeModel {
                     self.mesh.nodes.len()
                 )));
             }
-            for d in 0..3 {
-                if let Some(fi) = self.dof_map.free_index(dof(node, d)) {
-                    wanted.push(fi);
-                    rows.push(3 * i + d);
+            let single = [(node, 1.0)];
+            let sources = self.dof_map.tie(node).unwrap_or(&single);
+            for &(m, w) in sources {
+                for d in 0..3 {
+                    if let Some(fi) = self.dof_map.free_index(dof(m, d)) {
+                        let p = *position.entry(fi).or_insert_with(|| {
+                            wanted.push(fi);
+                            wanted.len() - 1
+                        });
+                        terms.push((3 * i + d, p, w));
+                    }
                 }
             }
         }
@@ -311,8 +349,8 @@ impl FeModel {
         let k = loads.len();
         let mut u = Mat::<f64>::zeros(3 * nodes.len(), k);
         for j in 0..k {
-            for (i, &r) in rows.iter().enumerate() {
-                u[(r, j)] = x[(i, j)];
+            for &(r, p, w) in &terms {
+                u[(r, j)] += w * x[(p, j)];
             }
         }
         let dt = t0.elapsed().as_secs_f64();

@@ -11,9 +11,10 @@
 //! 0.31 → 0.15 s, ordering included; the factor has the same 29.6 and 36.8 million values).
 //!
 //! # Graph
-//! Vertices are the mesh nodes; two free nodes are adjacent when an element uses both. The
-//! fixed nodes' DOFs are eliminated from K_ff, so their edges are left out (with them in, the
-//! factor grew by 4 % and 1 %). The ordering does not change the discretised problem, only
+//! Vertices are the mesh nodes; two free nodes are adjacent when an element couples both
+//! (uses both, or uses a node tied to one and the other, see [`super::assembly`]'s tied
+//! nodes). The fixed and the tied nodes have no unknowns in K_ff, so their edges are left out
+//! (with the fixed nodes' in, the factor grew by 4 % and 1 %). The ordering does not change the discretised problem, only
 //! the order of elimination, so the solution is the same up to rounding.
 //!
 //! Nested dissection by geometric cuts (the gear is a thick ring: radial–axial cuts through
@@ -25,27 +26,28 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::amd;
 
-use super::assembly::{DofMap, node_elements};
+use super::assembly::{Coupling, DofMap};
 use super::error::FeError;
 use super::mesh::Mesh;
 
 /// The approximate-minimum-degree order of the nodes of `mesh` on its node graph without the
-/// nodes `fixed` (their edges left out: they are isolated vertices, placed anywhere, and
-/// dropped by [`expand_to_free_dofs`]): `order[k]` is the node eliminated k-th; every node
-/// appears once. Indices in `fixed` beyond the mesh are ignored.
-pub fn node_amd(mesh: &Mesh, fixed: &[usize]) -> Result<Vec<usize>, FeError> {
+/// nodes that have no free DOF in `dofs`, fixed or tied (their edges left out: they are
+/// isolated vertices, placed anywhere, and dropped by [`expand_to_free_dofs`]): `order[k]` is
+/// the node eliminated k-th; every node appears once. Error: `dofs` is not for this mesh.
+pub fn node_amd(mesh: &Mesh, dofs: &DofMap) -> Result<Vec<usize>, FeError> {
     let nn = mesh.nodes.len();
-    let mut is_fixed = vec![false; nn];
-    for &n in fixed {
-        if let Some(f) = is_fixed.get_mut(n) {
-            *f = true;
-        }
+    if dofs.dof_count() != 3 * nn {
+        return Err(FeError::InvalidInput(format!(
+            "DOF map for {} DOFs used with a mesh of {nn} nodes",
+            dofs.dof_count()
+        )));
     }
+    let is_fixed: Vec<bool> = (0..nn).map(|n| dofs.free_index(3 * n).is_none()).collect();
     if nn <= 1 {
         return Ok((0..nn).collect());
     }
     // Node → elements incidence, then each node's higher-numbered neighbours (upper pattern).
-    let (start, incident) = node_elements(mesh);
+    let coupling = Coupling::new(mesh, dofs);
     let mut col_ptr = Vec::with_capacity(nn + 1);
     col_ptr.push(0usize);
     let mut row_idx = Vec::new();
@@ -56,8 +58,8 @@ pub fn node_amd(mesh: &Mesh, fixed: &[usize]) -> Result<Vec<usize>, FeError> {
             col_ptr.push(row_idx.len());
             continue;
         }
-        for &e in &incident[start[c]..start[c + 1]] {
-            for &r in &mesh.elements[e] {
+        for &e in coupling.elements_of(c) {
+            for &r in coupling.element(e) {
                 if r > c && !is_fixed[r] && mark[r] != c {
                     mark[r] = c;
                     row_idx.push(r);
@@ -114,11 +116,11 @@ mod tests {
     fn node_order_is_a_permutation_and_expands_to_the_free_dofs() {
         let mesh = Mesh::structured_block([3, 2, 2], |u, v, w| [u, v, w]).expect("block");
         let fixed = mesh.nodes_where(|x| x[0] < 1e-12);
-        let order = node_amd(&mesh, &fixed).expect("amd");
+        let dofs = DofMap::new(mesh.nodes.len(), &fixed).expect("dofs");
+        let order = node_amd(&mesh, &dofs).expect("amd");
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert_eq!(sorted, (0..mesh.nodes.len()).collect::<Vec<_>>());
-        let dofs = DofMap::new(mesh.nodes.len(), &fixed).expect("dofs");
         let fwd = expand_to_free_dofs(&order, &dofs).expect("expand");
         let mut seen = fwd.clone();
         seen.sort_unstable();
