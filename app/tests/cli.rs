@@ -201,7 +201,8 @@ fn compliance_json_from_the_embedded_data() {
         assert!(v[key].as_f64().is_some_and(|x| x.is_finite() && x > 0.0), "missing {key}");
     }
     assert_eq!(v["fe_dofs_p"].as_u64(), Some(67_590));
-    assert_eq!(v["density"], "default");
+    // The embedded data's mesh: the default without its axial coarsening.
+    assert_eq!(v["density"], "conforming");
     assert!((v["depth_h_m"].as_f64().unwrap() - 0.6e-3).abs() < 1e-12);
     for key in ["e_rel_std_p", "e_rel_std_g"] {
         assert!(v[key].as_f64().unwrap() <= 0.03, "{key} = {}", v[key]);
@@ -222,6 +223,7 @@ fn compliance_json_from_the_embedded_data() {
 #[test]
 fn compliance_reads_the_cache_dir_from_the_environment() {
     use helical_gear_mesh::compliance::data::{ComplianceData, ComplianceKey, RootStressData};
+    use helical_gear_mesh::compliance::fe::gear_mesh::GearMeshDensity;
     let dir = std::env::temp_dir().join(format!("hg-cli-cache-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut p = helical_gear_mesh::GearPair::paper_table1();
@@ -229,6 +231,9 @@ fn compliance_reads_the_cache_dir_from_the_environment() {
     p.material_g.youngs_modulus_pa *= 2.0;
     let mut data = (*ComplianceData::embedded_table1().unwrap()).clone();
     data.provenance.key = ComplianceKey::of(&p);
+    // A cache file is trusted only at the default density; the embedded data's own mesh is
+    // the conforming one.
+    data.provenance.density = GearMeshDensity::default();
     for m in [&mut data.pinion, &mut data.gear] {
         m.fit.alpha_ref_m_per_n *= 0.5;
         for block in &mut m.grid.alpha {
@@ -238,6 +243,7 @@ fn compliance_reads_the_cache_dir_from_the_environment() {
     data.write_file(&dir.join(ComplianceData::cache_file_name(&p))).unwrap();
     let mut stress = (*RootStressData::embedded_table1().unwrap()).clone();
     stress.key = ComplianceKey::of(&p);
+    stress.density = GearMeshDensity::default();
     stress.write_file(&dir.join(RootStressData::cache_file_name(&p))).unwrap();
     let params = dir.join("p.json");
     std::fs::write(&params, serde_json::to_string(&p).unwrap()).unwrap();
