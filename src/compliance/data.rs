@@ -41,10 +41,10 @@
 //! ```text
 //! cargo run --release -- compliance --density conforming --write-cache resources/compliance_table1.json
 //! ```
-//! computes the Table 1 data afresh at [`GearMeshDensity::conforming`] (the default density
-//! without its axial coarsening: the embedded data were computed before the coarsening and
-//! are the more converged of the two, so they were kept) (it never copies the embedded or cached data) and writes
-//! them. The α* values of the grids are stored rounded to [`ALPHA_SIGNIFICANT_DIGITS`]
+//! computes the Table 1 data afresh (it never copies the embedded or cached data) at
+//! [`GearMeshDensity::conforming`], the default density without its axial coarsening: the
+//! embedded data were computed before the coarsening and are the more converged of the two,
+//! so they were kept. It writes them. The α* values of the grids are stored rounded to [`ALPHA_SIGNIFICANT_DIGITS`]
 //! significant digits (far below the FE discretisation error of about 3 %), which keeps the
 //! file near 1.9 MB; all other numbers are stored exactly. A test recomputes the data and checks
 //! the resource against them.

@@ -56,8 +56,6 @@ pub struct DofMap {
     global_of: Vec<usize>,
     /// Node → index into `ties`, or `FIXED` (not tied).
     tie_of: Vec<usize>,
-    /// The node of each tie.
-    tied_node: Vec<usize>,
     /// Masters and weights of each tie, fixed masters left out (they do not move).
     ties: Vec<Vec<(usize, f64)>>,
 }
@@ -78,7 +76,6 @@ impl DofMap {
             *fixed.get_mut(n).ok_or(FeError::FixedNodeOutOfRange { node: n, nodes })? = true;
         }
         let mut tie_of = vec![FIXED; nodes];
-        let mut tied_node = Vec::new();
         let mut lists = Vec::new();
         for t in ties {
             let bad = |why: &str| FeError::InvalidInput(format!("tie of node {}: {why}", t.node));
@@ -95,7 +92,6 @@ impl DofMap {
                 continue;
             }
             tie_of[t.node] = lists.len();
-            tied_node.push(t.node);
             lists.push(t.masters.iter().copied().filter(|&(m, _)| !fixed[m]).collect::<Vec<_>>());
         }
         if let Some(t) = ties.iter().find(|t| t.masters.iter().any(|&(m, _)| tie_of[m] != FIXED)) {
@@ -114,7 +110,7 @@ impl DofMap {
                 }
             }
         }
-        Ok(Self { free_of, global_of, tie_of, tied_node, ties: lists })
+        Ok(Self { free_of, global_of, tie_of, ties: lists })
     }
 
     /// The masters and weights of node `node` if it is tied (fixed masters left out).
@@ -123,9 +119,16 @@ impl DofMap {
         self.ties.get(t).map(Vec::as_slice)
     }
 
-    /// Each tied node with its masters and weights (fixed masters left out).
-    pub fn ties(&self) -> impl Iterator<Item = (usize, &[(usize, f64)])> {
-        self.tied_node.iter().zip(&self.ties).map(|(&n, m)| (n, m.as_slice()))
+    /// The unknowns global DOF `dof` moves with, as (free index, weight) pairs: itself with
+    /// weight 1 when free, the same-direction DOFs of its node's masters when tied, none when
+    /// fixed or out of range. A load on `dof` goes to these unknowns with these weights and its
+    /// displacement is their weighted sum (Tᵀ and T of the module docs).
+    pub fn unknowns_of(&self, dof: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let own = self.free_index(dof).map(|fi| (fi, 1.0));
+        let masters = self.tie(dof / 3).unwrap_or(&[]);
+        own.into_iter().chain(
+            masters.iter().filter_map(move |&(m, w)| Some((self.free_index(3 * m + dof % 3)?, w))),
+        )
     }
 
     /// Whether any node is tied.

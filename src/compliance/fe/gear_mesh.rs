@@ -291,8 +291,8 @@ pub struct GearMesh {
     /// (empty without axial coarsening).
     pub ties: Vec<Tie>,
     /// Per element: the element of the same quad in the bottom layer and the turn to it
-    /// ([`GearMesh::layer_congruence`]); `None` in the bottom layer.
-    pub congruence: Vec<Option<Congruent>>,
+    /// (read through [`GearMesh::layer_congruence`]); `None` in the bottom layer.
+    congruence: Vec<Option<Congruent>>,
     /// Twist rate ω of the helix, rad/m: the node at axial position z is the transverse node
     /// turned by ω·z.
     pub twist_rate: f64,
@@ -576,7 +576,6 @@ fn half_sector(
     Ok(HalfSector { quads, rows })
 }
 
-/// Rotates a 2D point by angle `a`.
 /// Whether the polar angles covered by the quad with corners `q[0..4]` (a web quad, spanning
 /// less than half a turn) overlap (−`range`, `range`) by more than rounding.
 fn overlaps_angle(q: &[P2; 8], range: f64) -> bool {
@@ -591,6 +590,7 @@ fn overlaps_angle(q: &[P2; 8], range: f64) -> bool {
     centre.abs() < range + 0.5 * (hi - lo) - 1e-9 * range
 }
 
+/// Rotates a 2D point by angle `a`.
 fn rot2(p: P2, a: f64) -> P2 {
     let (s, c) = a.sin_cos();
     [c * p[0] - s * p[1], s * p[0] + c * p[1]]

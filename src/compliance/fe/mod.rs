@@ -245,33 +245,19 @@ impl FeModel {
                 }
             }
         }
-        let free = self.dof_map.free_dofs();
-        let mut x = Mat::<f64>::zeros(free.len(), k);
+        let mut x = Mat::<f64>::zeros(self.dof_map.free_count(), k);
         for j in 0..k {
-            for (fi, &g) in free.iter().enumerate() {
-                x[(fi, j)] = loads[(g, j)];
-            }
-            for (node, masters) in self.dof_map.ties() {
-                for &(m, w) in masters {
-                    for d in 0..3 {
-                        if let Some(fi) = self.dof_map.free_index(dof(m, d)) {
-                            x[(fi, j)] += w * loads[(dof(node, d), j)];
-                        }
-                    }
+            for g in 0..n {
+                for (fi, w) in self.dof_map.unknowns_of(g) {
+                    x[(fi, j)] += w * loads[(g, j)];
                 }
             }
         }
         self.cholesky.solve_in_place(x.as_mut())?;
         let mut u = Mat::<f64>::zeros(n, k);
         for j in 0..k {
-            for (fi, &g) in free.iter().enumerate() {
-                u[(g, j)] = x[(fi, j)];
-            }
-            for (node, masters) in self.dof_map.ties() {
-                for d in 0..3 {
-                    let v = masters.iter().map(|&(m, w)| w * u[(dof(m, d), j)]).sum();
-                    u[(dof(node, d), j)] = v;
-                }
+            for g in 0..n {
+                u[(g, j)] = self.dof_map.unknowns_of(g).map(|(fi, w)| w * x[(fi, j)]).sum();
             }
         }
         let dt = t0.elapsed().as_secs_f64();
@@ -286,8 +272,8 @@ impl FeModel {
     /// Displacements (m) at the nodes `nodes` for load cases given sparsely: `loads[c]` lists
     /// the (global DOF, force in N) pairs of load case c. Returns the (3·nodes.len()) × k
     /// block whose row 3i + d is the displacement of `nodes[i]` in direction d; fixed DOFs are
-    /// exactly zero and loads on them are ignored; tied nodes as in [`FeModel::solve_block`]. The values are those of
-    /// [`FeModel::solve_block`] at these DOFs, computed by the selected solve of
+    /// exactly zero and loads on them are ignored; tied nodes as in [`FeModel::solve_block`].
+    /// The values are those of [`FeModel::solve_block`] at these DOFs, computed by the selected solve of
     /// [`solver`] (only the substitution steps that reach the loads or the wanted DOFs).
     /// Errors: a DOF or node out of range, or a non-finite load.
     pub fn solve_at_nodes(
@@ -307,15 +293,7 @@ impl FeModel {
                 if !v.is_finite() {
                     return Err(FeError::NonFiniteLoad { row: g, col: c });
                 }
-                if let Some(fi) = self.dof_map.free_index(g) {
-                    fc.push((fi, v));
-                } else if let Some(masters) = self.dof_map.tie(g / 3) {
-                    for &(m, w) in masters {
-                        if let Some(fi) = self.dof_map.free_index(dof(m, g % 3)) {
-                            fc.push((fi, w * v));
-                        }
-                    }
-                }
+                fc.extend(self.dof_map.unknowns_of(g).map(|(fi, w)| (fi, w * v)));
             }
             free_loads.push(fc);
         }
@@ -331,17 +309,13 @@ impl FeModel {
                     self.mesh.nodes.len()
                 )));
             }
-            let single = [(node, 1.0)];
-            let sources = self.dof_map.tie(node).unwrap_or(&single);
-            for &(m, w) in sources {
-                for d in 0..3 {
-                    if let Some(fi) = self.dof_map.free_index(dof(m, d)) {
-                        let p = *position.entry(fi).or_insert_with(|| {
-                            wanted.push(fi);
-                            wanted.len() - 1
-                        });
-                        terms.push((3 * i + d, p, w));
-                    }
+            for d in 0..3 {
+                for (fi, w) in self.dof_map.unknowns_of(dof(node, d)) {
+                    let p = *position.entry(fi).or_insert_with(|| {
+                        wanted.push(fi);
+                        wanted.len() - 1
+                    });
+                    terms.push((3 * i + d, p, w));
                 }
             }
         }
