@@ -98,7 +98,7 @@ use std::time::Instant;
 
 use faer::Mat;
 
-use super::fe::gear_mesh::{FlankGrid, GearMesh, GearMeshDensity};
+use super::fe::gear_mesh::{FlankGrid, GearMesh, GearMeshDensity, NO_NODE};
 use super::fe::{FeError, FeModel, FeStats, Material, ModelOptions, dof, element};
 use super::root_stress::{FilletObserver, RootStressGrid};
 use super::{FlankCoord, InfluenceGrid};
@@ -207,6 +207,11 @@ pub fn fe_influence_with(
         .collect::<Result<_, _>>()?;
     let load = &grids[1];
     let n = load.rows * load.cols;
+    if load.nodes.contains(&NO_NODE) {
+        return Err(FeError::InvalidInput(
+            "gear mesh: internal: the loaded tooth's flank grid lacks nodes".into(),
+        ));
+    }
     if grids.iter().any(|f| f.rows != load.rows || f.cols != load.cols) {
         return Err(FeError::InvalidInput(
             "flank grids of teeth −1, 0, +1 differ (fine_teeth must be ≥ 1)".into(),
@@ -246,8 +251,7 @@ pub fn fe_influence_with(
     let mut stencils: Vec<Vec<Stencil>> = Vec::with_capacity(3);
     for f in &grids {
         let mut list = Vec::with_capacity(n);
-        for (i, &node) in f.nodes.iter().enumerate() {
-            let x = model.mesh().nodes[node];
+        for (i, &x) in f.points.iter().enumerate() {
             let nv = f.normals[i];
             // On the end faces the inward normal of the helicoid leaves the gear axially by
             // h·sin β_b; the point is then taken on the end face (z clamped to [0, b]).
@@ -258,7 +262,7 @@ pub fn fe_influence_with(
             ];
             let (e, xi) = model.mesh().locate_with(&boxes, target).ok_or_else(|| {
                 FeError::InvalidInput(format!(
-                    "point at depth h = {depth_h} m beneath flank node {node} ({:?}) is outside \
+                    "point at depth h = {depth_h} m beneath flank point {i} ({:?}) is outside \
                      the mesh",
                     x
                 ))

@@ -37,10 +37,13 @@
 //!    z upward, so every element is right-handed).
 //!
 //! # Axial coarsening
-//! With `coarse_layers` set, the quads away from the fine teeth are extruded in fewer, taller
-//! layers: those of the coarse teeth's sectors, and the web quads whose polar angles do not
-//! overlap the fine teeth's sectors (|θ| < (`fine_teeth` + ½)·2π/z), so the web under the loaded
-//! teeth keeps the fine layers. A coarse layer is `layers`/`coarse_layers` fine layers high;
+//! With `coarse_layers` set, the quads away from the loaded tooth are extruded in fewer,
+//! taller layers: those of the coarse teeth's sectors, the tooth blocks (above F → M) of the
+//! fine teeth beyond `layered_teeth` (by default the loaded tooth's neighbours: their root
+//! blocks, fillets and rim keep the layers), and the web quads whose polar angles do not
+//! overlap the layered teeth's sectors (|θ| < (`layered_teeth` + ½)·2π/z), so the web under the
+//! loaded tooth keeps the fine layers. A coarse layer is `layers`/`coarse_layers` fine layers
+//! high;
 //! node levels are counted on the fine grid and a transverse node carries the levels its
 //! quads need. Where a fine and a coarse quad share a transverse node, the fine side has
 //! nodes at levels the coarse element has no node at; each is tied to the coarse element
@@ -50,9 +53,18 @@
 //! interpolation on the line through it, u = ½(1 − ζ)·u_a + ½(1 + ζ)·u_b +
 //! ½(1 − ζ²)·(u_{1,m} + u_{2,m}) − ¼(1 − ζ²)·(u_{1,a} + u_{1,b} + u_{2,a} + u_{2,b}), with 1, 2
 //! the ends of the edge. The field is then continuous across the interface. The gear's far
-//! side deforms smoothly along the axis (the load is carried to the bore through the web), so
-//! the taller elements change the compliance at the loaded teeth little: see
-//! [`GearMeshDensity::default`]. Nodes on a helix (β ≠ 0) are not exactly where the coarse
+//! side deforms smoothly along the axis (the load is carried to the bore through the web), and
+//! so do the bodies of the loaded tooth's neighbours, which are only observed (α* at depth h
+//! beneath their flank grid, in whatever element holds the point): interpolated from every
+//! third level of the six-layer solution by the quadratic of a two-layer element, the
+//! neighbour blocks of α* (Table 1) are reproduced to 2.6·10⁻³ of their largest value,
+//! against 0.19 for the loaded tooth's own block, whose layers therefore stay. The
+//! neighbours' root blocks keep the layers: coarsened as well, they moved the loaded tooth's
+//! own fillet stress influence by 1.2·10⁻² of its largest value through the tooth space they
+//! share (5·10⁻⁴ with them kept, at 0.05 s more factorisation per gear). The taller elements
+//! change the compliance at the loaded tooth little: see [`GearMeshDensity::default`]. The
+//! flank grid of a fine tooth keeps every level ([`FlankGrid::points`]); where its elements
+//! have no node the grid names none ([`NO_NODE`]): such teeth are observed, never loaded. Nodes on a helix (β ≠ 0) are not exactly where the coarse
 //! element's quadratic edge puts them (a gap of third order in the twist ω·Δz over the layer, ω
 //! the twist rate); the ties are exact for spur gears.
 //!
@@ -113,20 +125,31 @@ pub struct GearMeshDensity {
     /// must divide `layers`. `None`: `layers` everywhere (one conforming extrusion).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coarse_layers: Option<usize>,
+    /// With `coarse_layers`: the teeth with offsets −`layered_teeth` … `layered_teeth` from
+    /// tooth 0, and the web beneath them, keep the `layers`; the other fine teeth (the
+    /// loaded tooth's neighbours, observed but never loaded) have their tooth blocks (above
+    /// the line F → M at the form circle) in `coarse_layers` like the coarse part (see "Axial
+    /// coarsening" in the module docs); at most `fine_teeth`. `None`: `fine_teeth` (every
+    /// fine tooth keeps the layers).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layered_teeth: Option<usize>,
 }
 
 impl Default for GearMeshDensity {
     /// The default density for production influence data: 11 × 13 flank grid (rows × axial
-    /// node levels); for the Table 1 pair 44k DOFs (pinion) and 53k DOFs (gear), about 0.6 s
-    /// of factorisation each. Six axial layers on the fine teeth and the web beneath them: the
+    /// node levels); for the Table 1 pair 36k DOFs (pinion) and 46k DOFs (gear), about 0.35 s
+    /// of factorisation each. Six axial layers on the loaded tooth and the web beneath it: the
     /// same-tooth α* is governed by the axial element length (4 → 6 → 8 layers change it by
     /// +4 % and +1.5 %), so the layers are spent there; with `layers: 4` the pair has 45k/61k
     /// DOFs (conforming) and α* ≈ 4 % lower. Two axial layers on the rest of the gear
-    /// (`coarse_layers`, "Axial coarsening" in the module docs), which changes α* by at most
-    /// 1.6·10⁻⁴ (same tooth) and 1.2·10⁻³ (neighbouring teeth) of each block's largest value
-    /// against [`GearMeshDensity::conforming`] and the root stress by 1.1·10⁻³ of its largest
-    /// value (Table 1), a hundredth of the default mesh's own error (α* +3 % to the refined
-    /// mesh), at 0.55–0.6 of the time.
+    /// (`coarse_layers`, `layered_teeth`, "Axial coarsening" in the module docs): the coarse
+    /// teeth, the web away from tooth 0 and the bodies of the loaded tooth's neighbours. Against
+    /// [`GearMeshDensity::conforming`] (Table 1) that changes α* by at most 2.2·10⁻⁴ (same
+    /// tooth) and 2.2·10⁻³ (neighbouring teeth) of each block's largest value, the stored root
+    /// stress by 3.3·10⁻³ of its largest value, and the pair's static TE and root stresses
+    /// (20, 100 and 250 N·m over a mesh cycle) by at most 3.8·10⁻⁴ and 2.7·10⁻³ of their
+    /// largest values: a tenth of the default mesh's own error (α* +3 %, pinion root stress
+    /// +5 % to the refined mesh), at 0.35–0.4 of the time.
     ///
     /// Four elements on the tip rounding: contacts reach the rounding only up to τ ≈ 0.18 rad
     /// (Table 1, TE up to 200 µm), and α* falls steeply there (pinion, mid face: 11.9, 9.0,
@@ -149,6 +172,7 @@ impl Default for GearMeshDensity {
             web_min_divisions: 12,
             layers: 6,
             coarse_layers: Some(2),
+            layered_teeth: Some(0),
         }
     }
 }
@@ -158,7 +182,7 @@ impl GearMeshDensity {
     /// (pinion) and 91k DOFs (gear) for Table 1. The mesh of the embedded Table 1 data, and of
     /// the paper run's sensitivity case that is compared with them.
     pub fn conforming() -> Self {
-        Self { coarse_layers: None, ..Self::default() }
+        Self { coarse_layers: None, layered_teeth: None, ..Self::default() }
     }
 
     /// A coarse mesh for tests: 5 × 5 flank grid; for the Table 1 pair ≈ 20k DOFs (pinion)
@@ -178,6 +202,7 @@ impl GearMeshDensity {
             web_min_divisions: 8,
             layers: 2,
             coarse_layers: None,
+            layered_teeth: None,
         }
     }
 
@@ -198,6 +223,7 @@ impl GearMeshDensity {
             web_min_divisions: 16,
             layers: 8,
             coarse_layers: None,
+            layered_teeth: None,
         }
     }
 
@@ -229,6 +255,14 @@ impl GearMeshDensity {
                 self.layers
             )));
         }
+        if let Some(t) = self.layered_teeth
+            && t > self.fine_teeth
+        {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh density: layered_teeth = {t} must not exceed fine_teeth = {}",
+                self.fine_teeth
+            )));
+        }
         if !(self.web_ring_ratio > 0.05 && self.web_ring_ratio < 0.98) {
             return Err(FeError::InvalidInput(format!(
                 "gear mesh density: web_ring_ratio = {}, allowed (0.05, 0.98)",
@@ -245,6 +279,9 @@ impl GearMeshDensity {
     }
 }
 
+/// [`FlankGrid::nodes`] of a grid point without a mesh node.
+pub const NO_NODE: usize = usize::MAX;
+
 /// The structured grid of surface nodes on the active flank of one tooth.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlankGrid {
@@ -257,8 +294,13 @@ pub struct FlankGrid {
     /// Node level (index into [`GearMesh::level_z`]) of each column: every level on the fine
     /// teeth, the coarse part's levels on the others.
     pub levels: Vec<usize>,
-    /// Mesh node of grid point `row * cols + col`.
+    /// Mesh node of grid point `row * cols + col`; [`NO_NODE`] where the tooth's elements
+    /// have no node at that level (a neighbour of the loaded tooth in the coarse layers, see
+    /// [`GearMeshDensity::layered_teeth`]).
     pub nodes: Vec<usize>,
+    /// Position of grid point `row * cols + col` on the exact flank (the node's where there is
+    /// one), m.
+    pub points: Vec<[f64; 3]>,
     /// Tooth-local outward-normal angle ν of each row, rad (see [`crate::geometry::flank`]).
     pub nu: Vec<f64>,
     /// Tooth-local transverse position of each row, m (x along the tooth centre line).
@@ -504,6 +546,8 @@ fn flank_rows(
 /// The quads of the upper half of one pitch sector (tooth-local frame) and the flank rows.
 struct HalfSector {
     quads: Vec<[P2; 8]>,
+    /// The first `tooth_quads` of `quads` are the tooth block's, the rest the root block's.
+    tooth_quads: usize,
     rows: Vec<(f64, P2, SegmentKind)>,
 }
 
@@ -535,6 +579,7 @@ fn half_sector(
         (0..nj).map(|j| polar(ra, phi_t * (1.0 - j as f64 / (nj - 1) as f64))).collect();
     let tooth = coons(&a, &c, &bottom, &tip);
     let mut quads: Vec<[P2; 8]> = grid_quads(&tooth);
+    let tooth_quads = quads.len();
 
     // Root block: composite side fillet F→G, root circle G→A, cut line A→K.
     let rack = g.rack;
@@ -573,7 +618,7 @@ fn half_sector(
         (0..nj).map(|j| polar(r_k, half_pitch * (1.0 - j as f64 / (nj - 1) as f64))).collect();
     let rootb = coons(&side, &left, &bottom, &arc);
     quads.extend(grid_quads(&rootb));
-    Ok(HalfSector { quads, rows })
+    Ok(HalfSector { quads, tooth_quads, rows })
 }
 
 /// Whether the polar angles covered by the quad with corners `q[0..4]` (a web quad, spanning
@@ -655,17 +700,21 @@ impl GearMesh {
             quads.push(ids);
         };
         let mut flank_ids: Vec<Vec<usize>> = Vec::with_capacity(z);
-        // Whether each quad of the teeth's sectors belongs to a fine tooth.
-        let mut tooth_fine: Vec<bool> = Vec::new();
+        // Whether each quad of the teeth's sectors belongs to a tooth that keeps the layers.
+        let mut tooth_layered: Vec<bool> = Vec::new();
+        let layered = d.layered_teeth.unwrap_or(d.fine_teeth);
         for k in 0..z {
             let offset = if k <= z / 2 { k as i64 } else { k as i64 - z as i64 };
             let fine = offset.unsigned_abs() as usize <= d.fine_teeth;
+            let keeps = offset.unsigned_abs() as usize <= layered;
             let hs = if fine { &fine_half } else { &coarse_half };
             let th = pitch * k as f64;
-            for q in &hs.quads {
+            for (qi, q) in hs.quads.iter().enumerate() {
                 push(&mut pool, q.map(|p| rot2(p, th)));
                 push(&mut pool, q.map(|p| rot2([p[0], -p[1]], th)));
-                tooth_fine.extend([fine, fine]);
+                // A fine tooth beyond `layered_teeth` keeps the layers below F → M.
+                let k = keeps || (fine && qi >= hs.tooth_quads);
+                tooth_layered.extend([k, k]);
             }
             // Corner rows of the flank, tip → root.
             let ids: Vec<usize> =
@@ -755,11 +804,12 @@ impl GearMesh {
         let levels = 2 * d.layers + 1;
         let level_z: Vec<f64> = (0..levels).map(|l| b * l as f64 / (levels - 1) as f64).collect();
         let ratio = d.coarse_layers.map_or(1, |c| d.layers / c);
-        let fine_range = (d.fine_teeth as f64 + 0.5) * pitch;
+        let layered = d.layered_teeth.unwrap_or(d.fine_teeth);
+        let fine_range = (layered as f64 + 0.5) * pitch;
         let quad_coarse: Vec<bool> = (0..quads.len())
             .map(|qi| {
                 ratio > 1
-                    && match tooth_fine.get(qi) {
+                    && match tooth_layered.get(qi) {
                         Some(&fine) => !fine,
                         None => !overlaps_angle(&quads[qi].map(|i| pool.pts[i]), fine_range),
                     }
@@ -898,11 +948,16 @@ impl GearMesh {
             };
             let rows: Vec<&(f64, P2, SegmentKind)> = hs.rows.iter().step_by(2).rev().collect();
             let th = pitch * k as f64;
+            // A fine tooth's grid has every level, also where its elements are coarse (the
+            // loaded tooth's neighbours with `layered_teeth`): such points have no node.
+            let fine = offset.unsigned_abs() as usize <= d.fine_teeth;
             let tooth_levels: Vec<usize> = match ids.first() {
+                Some(_) if fine => (0..levels).collect(),
                 Some(&i0) => (0..levels).filter(|&l| l.is_multiple_of(step[i0])).collect(),
                 None => Vec::new(),
             };
             let mut grid_nodes = Vec::with_capacity(rows.len() * tooth_levels.len());
+            let mut points = Vec::with_capacity(rows.len() * tooth_levels.len());
             let mut normals = Vec::with_capacity(rows.len() * tooth_levels.len());
             for (row, &i2) in rows.iter().zip(ids.iter()) {
                 let (nu, pl, _) = **row;
@@ -913,7 +968,9 @@ impl GearMesh {
                 let norm = (1.0 + axial * axial).sqrt();
                 for &l in &tooth_levels {
                     let n_t = rot2([nu.cos(), nu.sin()], th + g.twist_rate * level_z[l]);
-                    grid_nodes.push(at(l, i2)?);
+                    let t = rot2(pool.pts[i2], g.twist_rate * level_z[l]);
+                    grid_nodes.push(node_at[i2 * levels + l]);
+                    points.push([t[0], t[1], level_z[l]]);
                     normals.push([n_t[0] / norm, n_t[1] / norm, axial / norm]);
                 }
             }
@@ -923,6 +980,7 @@ impl GearMesh {
                 cols: tooth_levels.len(),
                 levels: tooth_levels,
                 nodes: grid_nodes,
+                points,
                 nu: rows.iter().map(|r| r.0).collect(),
                 local: rows.iter().map(|r| r.1).collect(),
                 kind: rows.iter().map(|r| r.2).collect(),
