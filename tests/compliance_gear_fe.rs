@@ -13,7 +13,7 @@ use faer::Mat;
 use helical_gear_mesh::PairGeometry;
 use helical_gear_mesh::compliance::InfluenceGrid;
 use helical_gear_mesh::compliance::fe::element::FACES;
-use helical_gear_mesh::compliance::fe::gear_mesh::{GearMesh, GearMeshDensity, NO_NODE};
+use helical_gear_mesh::compliance::fe::gear_mesh::{GearMesh, GearMeshDensity};
 use helical_gear_mesh::compliance::fe::{Face, FeModel, Material, dof};
 use helical_gear_mesh::compliance::influence_fe::{
     DEFAULT_DEPTH_MN, axial_gauss_resample, fe_influence,
@@ -36,7 +36,9 @@ fn check_flank_nodes(g: &GearGeometry, gm: &GearMesh, k: usize) {
     for r in 0..f.rows {
         let exact = g.flank.point_at_normal(f.nu[r]).expect("row on the flank").position;
         for c in 0..f.cols {
-            let x = gm.mesh.nodes[f.nodes[r * f.cols + c]];
+            let node = f.nodes[r * f.cols + c].expect("a node at every level of the coarse mesh");
+            let x = gm.mesh.nodes[node];
+            assert_eq!(x, f.points[r * f.cols + c]);
             let local = rot([x[0], x[1]], -(g.angular_pitch() * k as f64 + g.twist_rate * x[2]));
             let d = (local[0] - exact[0]).hypot(local[1] - exact[1]);
             assert!(d < 1e-9, "tooth {k} row {r} col {c}: {d:e} m off the flank");
@@ -366,14 +368,15 @@ fn coarse_layered_neighbours_keep_their_flank_grid_and_the_compliance() {
         for (i, (&node, x)) in f.nodes.iter().zip(&f.points).enumerate() {
             let l = f.levels[i % f.cols];
             assert!((x[2] - gm.level_z[l]).abs() < 1e-15, "point {i} of tooth {offset}");
-            if node == NO_NODE {
-                assert!(offset != 0 && l % 2 == 1, "tooth {offset} lacks level {l}");
-            } else {
-                let y = gm.mesh.nodes[node];
-                assert!((0..3).all(|k| (x[k] - y[k]).abs() < 1e-12), "point {i}: {x:?} {y:?}");
+            match node {
+                None => assert!(offset != 0 && l % 2 == 1, "tooth {offset} lacks level {l}"),
+                Some(node) => {
+                    let y = gm.mesh.nodes[node];
+                    assert!((0..3).all(|k| (x[k] - y[k]).abs() < 1e-12), "point {i}: {x:?} {y:?}");
+                }
             }
         }
-        assert_eq!(f.nodes.contains(&NO_NODE), offset != 0, "tooth {offset}");
+        assert_eq!(f.nodes.contains(&None), offset != 0, "tooth {offset}");
     }
     let reference = fe_influence(g, &p, &layered, h, false).expect("FE");
     let coarsened = fe_influence(g, &p, &d, h, false).expect("FE");

@@ -123,14 +123,16 @@ fn selected_solve_case(density: &GearMeshDensity) {
         FeModel::with_options(gm.mesh.clone(), material, &gm.bore_nodes, &options).expect("model");
     let flank = gm.flank(0).expect("tooth 0");
     // Three load cases: a flank node, two nodes together, and a load on a fixed node only.
-    let (a, b) = (flank.nodes[0], flank.nodes[flank.nodes.len() - 1]);
+    let node = |k: usize| flank.nodes[k].expect("the loaded tooth has a node at every point");
+    let (a, b) = (node(0), node(flank.nodes.len() - 1));
     let fixed = gm.bore_nodes[0];
     let mut cases = vec![
         vec![(dof(a, 0), 1.0), (dof(a, 2), -0.5)],
         vec![(dof(a, 1), 2.0), (dof(b, 0), 1.0), (dof(b, 0), 0.5)],
         vec![(dof(fixed, 1), 3.0)],
     ];
-    let mut wanted: Vec<usize> = vec![a, b, fixed, gm.flank(-1).expect("tooth -1").nodes[3]];
+    let mut wanted: Vec<usize> =
+        vec![a, b, fixed, gm.flank(-1).expect("tooth -1").nodes[3].expect("a node")];
     if let Some(t) = gm.ties.get(gm.ties.len() / 2) {
         cases.push(vec![(dof(t.node, 0), 1.5), (dof(a, 2), 0.25)]);
         wanted.push(t.node);

@@ -98,7 +98,7 @@ use std::time::Instant;
 
 use faer::Mat;
 
-use super::fe::gear_mesh::{FlankGrid, GearMesh, GearMeshDensity, NO_NODE};
+use super::fe::gear_mesh::{FlankGrid, GearMesh, GearMeshDensity};
 use super::fe::{FeError, FeModel, FeStats, Material, ModelOptions, dof, element};
 use super::root_stress::{FilletObserver, RootStressGrid};
 use super::{FlankCoord, InfluenceGrid};
@@ -207,11 +207,13 @@ pub fn fe_influence_with(
         .collect::<Result<_, _>>()?;
     let load = &grids[1];
     let n = load.rows * load.cols;
-    if load.nodes.contains(&NO_NODE) {
-        return Err(FeError::InvalidInput(
-            "gear mesh: internal: the loaded tooth's flank grid lacks nodes".into(),
-        ));
-    }
+    // The loaded tooth keeps its layers, so every point of its grid is a node.
+    let load_nodes: Vec<usize> =
+        load.nodes.iter().copied().collect::<Option<_>>().ok_or_else(|| {
+            FeError::InvalidInput(
+                "gear mesh: internal: the loaded tooth's flank grid lacks nodes".into(),
+            )
+        })?;
     if grids.iter().any(|f| f.rows != load.rows || f.cols != load.cols) {
         return Err(FeError::InvalidInput(
             "flank grids of teeth −1, 0, +1 differ (fine_teeth must be ≥ 1)".into(),
@@ -295,7 +297,7 @@ pub fn fe_influence_with(
             }
         }
         for i in 0..n {
-            let node = load.nodes[i];
+            let node = load_nodes[i];
             let mut v = 0.0;
             for d in 0..3 {
                 v -= load.normals[i][d] * u(node, d);
@@ -312,7 +314,7 @@ pub fn fe_influence_with(
                 .iter()
                 .flatten()
                 .flat_map(|s| s.nodes)
-                .chain(load.nodes.iter().copied())
+                .chain(load_nodes.iter().copied())
                 .chain(fillet_nodes.iter().copied())
                 .collect();
             v.sort_unstable();
@@ -333,7 +335,7 @@ pub fn fe_influence_with(
                 let mut f = Mat::<f64>::zeros(dofs, k);
                 for c in 0..k {
                     let j = start + c;
-                    let node = load.nodes[j];
+                    let node = load_nodes[j];
                     for d in 0..3 {
                         f[(dof(node, d), c)] = -load.normals[j][d];
                     }
@@ -348,7 +350,7 @@ pub fn fe_influence_with(
             FeMethod::Fast => {
                 let cases: Vec<Vec<(usize, f64)>> = (start..start + k)
                     .map(|j| {
-                        let node = load.nodes[j];
+                        let node = load_nodes[j];
                         (0..3).map(|d| (dof(node, d), -load.normals[j][d])).collect()
                     })
                     .collect();

@@ -64,9 +64,10 @@
 //! share (5·10⁻⁴ with them kept, at 0.05 s more factorisation per gear). The taller elements
 //! change the compliance at the loaded tooth little: see [`GearMeshDensity::default`]. The
 //! flank grid of a fine tooth keeps every level ([`FlankGrid::points`]); where its elements
-//! have no node the grid names none ([`NO_NODE`]): such teeth are observed, never loaded. Nodes on a helix (β ≠ 0) are not exactly where the coarse
-//! element's quadratic edge puts them (a gap of third order in the twist ω·Δz over the layer, ω
-//! the twist rate); the ties are exact for spur gears.
+//! have no node the grid names none ([`FlankGrid::nodes`]): such teeth are observed, never
+//! loaded. Nodes on a helix (β ≠ 0) are not exactly where the coarse element's quadratic edge
+//! puts them (a gap of third order in the twist ω·Δz over the layer, ω the twist rate); the
+//! ties are exact for spur gears.
 //!
 //! # Boundary condition
 //! All nodes on the bore surface r = d_bore/2 are fixed (all three components): the hub is
@@ -279,9 +280,6 @@ impl GearMeshDensity {
     }
 }
 
-/// [`FlankGrid::nodes`] of a grid point without a mesh node.
-pub const NO_NODE: usize = usize::MAX;
-
 /// The structured grid of surface nodes on the active flank of one tooth.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlankGrid {
@@ -294,10 +292,10 @@ pub struct FlankGrid {
     /// Node level (index into [`GearMesh::level_z`]) of each column: every level on the fine
     /// teeth, the coarse part's levels on the others.
     pub levels: Vec<usize>,
-    /// Mesh node of grid point `row * cols + col`; [`NO_NODE`] where the tooth's elements
-    /// have no node at that level (a neighbour of the loaded tooth in the coarse layers, see
+    /// Mesh node of grid point `row * cols + col`; `None` where the tooth's elements have no
+    /// node at that level (a neighbour of the loaded tooth in the coarse layers, see
     /// [`GearMeshDensity::layered_teeth`]).
-    pub nodes: Vec<usize>,
+    pub nodes: Vec<Option<usize>>,
     /// Position of grid point `row * cols + col` on the exact flank (the node's where there is
     /// one), m.
     pub points: Vec<[f64; 3]>,
@@ -969,7 +967,7 @@ impl GearMesh {
                 for &l in &tooth_levels {
                     let n_t = rot2([nu.cos(), nu.sin()], th + g.twist_rate * level_z[l]);
                     let t = rot2(pool.pts[i2], g.twist_rate * level_z[l]);
-                    grid_nodes.push(node_at[i2 * levels + l]);
+                    grid_nodes.push(Some(node_at[i2 * levels + l]).filter(|&n| n != NONE));
                     points.push([t[0], t[1], level_z[l]]);
                     normals.push([n_t[0] / norm, n_t[1] / norm, axial / norm]);
                 }
