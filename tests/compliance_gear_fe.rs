@@ -287,6 +287,18 @@ fn axial_coarsening_ties_interpolate_exactly() {
     }
 }
 
+/// The largest change of each α* block (teeth −1, 0, +1) from grid `a` to grid `b` (same grid
+/// points), relative to that block's largest value in `a`.
+fn block_changes(a: &InfluenceGrid, b: &InfluenceGrid) -> [f64; 3] {
+    let n = a.points();
+    std::array::from_fn(|t| {
+        let big = (0..n * n).fold(0.0f64, |m, k| m.max(a.value(t, k / n, k % n).abs()));
+        (0..n * n).fold(0.0f64, |m, k| {
+            m.max((a.value(t, k / n, k % n) - b.value(t, k / n, k % n)).abs() / big)
+        })
+    })
+}
+
 /// The axial coarsening on Table 1 (helical) at the coarse density, two layers in the fine
 /// region and one elsewhere, against the conforming mesh: the surface influence stays
 /// symmetric (loads on tied nodes go to their masters as their displacements come from
@@ -306,20 +318,7 @@ fn axial_coarsening_keeps_the_compliance() {
     let (a, b) = (&conforming.grid, &coarsened.grid);
     assert_eq!((a.profile.len(), a.zeta.len()), (b.profile.len(), b.zeta.len()));
     let n = a.points();
-    let mut worst = [0.0f64; 3];
-    for (t, w) in worst.iter_mut().enumerate() {
-        let mut big = 0.0f64;
-        for i in 0..n {
-            for j in 0..n {
-                big = big.max(a.value(t, i, j).abs());
-            }
-        }
-        for i in 0..n {
-            for j in 0..n {
-                *w = w.max((a.value(t, i, j) - b.value(t, i, j)).abs() / big);
-            }
-        }
-    }
+    let worst = block_changes(a, b);
     let s = &coarsened.surface;
     let smax = s.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut asym = 0.0f64;
@@ -381,15 +380,7 @@ fn coarse_layered_neighbours_keep_their_flank_grid_and_the_compliance() {
     let reference = fe_influence(g, &p, &layered, h, false).expect("FE");
     let coarsened = fe_influence(g, &p, &d, h, false).expect("FE");
     assert!(coarsened.stats.dofs < reference.stats.dofs);
-    let (a, b) = (&reference.grid, &coarsened.grid);
-    let n = a.points();
-    let mut worst = [0.0f64; 3];
-    for (t, w) in worst.iter_mut().enumerate() {
-        let big = (0..n * n).fold(0.0f64, |m, k| m.max(a.value(t, k / n, k % n).abs()));
-        for k in 0..n * n {
-            *w = w.max((a.value(t, k / n, k % n) - b.value(t, k / n, k % n)).abs() / big);
-        }
-    }
+    let worst = block_changes(&reference.grid, &coarsened.grid);
     eprintln!(
         "neighbours coarsened: {} against {} DOFs; α* blocks −1/0/+1 moved by {:.2e} {:.2e} \
          {:.2e}",

@@ -349,13 +349,13 @@ fn fe(dir: &Path) -> Result<Vec<PathBuf>, String> {
     }
     // The pair: static curves from the data of both densities.
     let curves = [GearMeshDensity::default(), GearMeshDensity::conforming()].map(|d| {
-        let s = |x: &dyn std::fmt::Display| x.to_string();
-        let data = ComplianceData::compute(&p, &d, depth, false).map_err(|x| s(&x))?;
-        let mut m = Mesh::from_data(&p, MeshOptions::default(), &data).map_err(|x| s(&x))?;
+        let data = ComplianceData::compute(&p, &d, depth, false).map_err(|x| x.to_string())?;
+        let mut m =
+            Mesh::from_data(&p, MeshOptions::default(), &data).map_err(|x| x.to_string())?;
         let pitch = m.geometry().pinion.angular_pitch();
         let mut v = Vec::new();
         for torque in [20.0, 100.0, 250.0] {
-            let c = static_curve(&mut m, torque, 0.0, pitch, 32, 1).map_err(|x| s(&x))?;
+            let c = static_curve(&mut m, torque, 0.0, pitch, 32, 1).map_err(|x| x.to_string())?;
             v.extend(c.points.iter().map(|s| {
                 let o = &s.outputs;
                 [o.te, o.root_stress_p, o.root_stress_g]

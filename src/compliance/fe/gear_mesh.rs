@@ -711,8 +711,8 @@ impl GearMesh {
                 push(&mut pool, q.map(|p| rot2(p, th)));
                 push(&mut pool, q.map(|p| rot2([p[0], -p[1]], th)));
                 // A fine tooth beyond `layered_teeth` keeps the layers below F → M.
-                let k = keeps || (fine && qi >= hs.tooth_quads);
-                tooth_layered.extend([k, k]);
+                let keep = keeps || (fine && qi >= hs.tooth_quads);
+                tooth_layered.extend([keep, keep]);
             }
             // Corner rows of the flank, tip → root.
             let ids: Vec<usize> =
@@ -802,13 +802,12 @@ impl GearMesh {
         let levels = 2 * d.layers + 1;
         let level_z: Vec<f64> = (0..levels).map(|l| b * l as f64 / (levels - 1) as f64).collect();
         let ratio = d.coarse_layers.map_or(1, |c| d.layers / c);
-        let layered = d.layered_teeth.unwrap_or(d.fine_teeth);
         let fine_range = (layered as f64 + 0.5) * pitch;
         let quad_coarse: Vec<bool> = (0..quads.len())
             .map(|qi| {
                 ratio > 1
                     && match tooth_layered.get(qi) {
-                        Some(&fine) => !fine,
+                        Some(&keep) => !keep,
                         None => !overlaps_angle(&quads[qi].map(|i| pool.pts[i]), fine_range),
                     }
             })
@@ -831,14 +830,17 @@ impl GearMesh {
         }
         const NONE: usize = usize::MAX;
         let mut node_at = vec![NONE; n2 * levels];
+        // The transverse point `p` at height z: turned with the helix by ω·z.
+        let at_height = |p: P2, z: f64| {
+            let t = rot2(p, g.twist_rate * z);
+            [t[0], t[1], z]
+        };
         let mut nodes = Vec::new();
         for (l, &zl) in level_z.iter().enumerate() {
-            let turn = g.twist_rate * zl;
             for (i, p) in pool.pts.iter().enumerate() {
                 if l.is_multiple_of(step[i]) {
                     node_at[i * levels + l] = nodes.len();
-                    let t = rot2(*p, turn);
-                    nodes.push([t[0], t[1], zl]);
+                    nodes.push(at_height(*p, zl));
                 }
             }
         }
@@ -939,16 +941,12 @@ impl GearMesh {
         let mut flanks = Vec::with_capacity(z);
         for (k, ids) in flank_ids.iter().enumerate() {
             let offset = if k <= z / 2 { k as i64 } else { k as i64 - z as i64 };
-            let hs = if offset.unsigned_abs() as usize <= d.fine_teeth {
-                &fine_half
-            } else {
-                &coarse_half
-            };
+            let fine = offset.unsigned_abs() as usize <= d.fine_teeth;
+            let hs = if fine { &fine_half } else { &coarse_half };
             let rows: Vec<&(f64, P2, SegmentKind)> = hs.rows.iter().step_by(2).rev().collect();
             let th = pitch * k as f64;
             // A fine tooth's grid has every level, also where its elements are coarse (the
             // loaded tooth's neighbours with `layered_teeth`): such points have no node.
-            let fine = offset.unsigned_abs() as usize <= d.fine_teeth;
             let tooth_levels: Vec<usize> = match ids.first() {
                 Some(_) if fine => (0..levels).collect(),
                 Some(&i0) => (0..levels).filter(|&l| l.is_multiple_of(step[i0])).collect(),
@@ -966,9 +964,8 @@ impl GearMesh {
                 let norm = (1.0 + axial * axial).sqrt();
                 for &l in &tooth_levels {
                     let n_t = rot2([nu.cos(), nu.sin()], th + g.twist_rate * level_z[l]);
-                    let t = rot2(pool.pts[i2], g.twist_rate * level_z[l]);
                     grid_nodes.push(Some(node_at[i2 * levels + l]).filter(|&n| n != NONE));
-                    points.push([t[0], t[1], level_z[l]]);
+                    points.push(at_height(pool.pts[i2], level_z[l]));
                     normals.push([n_t[0] / norm, n_t[1] / norm, axial / norm]);
                 }
             }
