@@ -8,6 +8,11 @@
 //! hgm_free(m);
 //! ```
 //!
+//! `hgm_create(json, fidelity)` chooses the fidelity (`hgm_create_default` and
+//! `hgm_create_from_json` are full fidelity); `hgm_evaluate_outputs` computes only the outputs
+//! a caller names by number (`hgm_output_index`), on the torques path when they are all
+//! torques outputs ([`crate::mesh::outputs::OutputField::torques`]).
+//!
 //! Conventions are those of the crate: SI units; φp and φg are hub angles measured in the same
 //! absolute sense (the pinion drives in the positive sense), TE = φp·g_p + φg·g_g (Eq. 16);
 //! the mesh torques enter the pinion and gear equations (Eqs. 2–3) with a minus sign and are
@@ -77,8 +82,9 @@ use crate::dynamics::{
     UnitSnapshot, UnitStepping,
 };
 use crate::error::short_num;
+use crate::mesh::outputs::MESH_OUTPUT_FIELDS;
 use crate::mesh::statics::EquilibriumSettings;
-use crate::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState};
+use crate::mesh::{Fidelity, Mesh, MeshOptions, MeshOutputs, MeshState, MeshTorques as _};
 use crate::options::OptionEnum;
 use crate::params::{DriveLine, GearPair};
 
@@ -132,10 +138,15 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     format!("internal error (panic): {what}")
 }
 
-fn create(pair: Result<GearPair, String>) -> *mut HgmModel {
+/// A model of `pair` at the fidelity of code `fidelity` ([`Fidelity::from_code`]), default
+/// options otherwise; an error message starts with `what`.
+fn create(pair: Result<GearPair, String>, fidelity: i32, what: &str) -> *mut HgmModel {
     let r = catch_unwind(|| {
+        let fidelity = Fidelity::from_code(fidelity)
+            .map_err(|e| format!("{what}: {e} (HGM_FIDELITY_FULL, HGM_FIDELITY_TABLE)"))?;
         let pair = pair?;
-        Mesh::new(&pair, MeshOptions::default()).map_err(|e| e.to_string())
+        Mesh::new(&pair, MeshOptions { fidelity, ..MeshOptions::default() })
+            .map_err(|e| e.to_string())
     });
     match r {
         Ok(Ok(model)) => {
@@ -156,27 +167,61 @@ fn create(pair: Result<GearPair, String>) -> *mut HgmModel {
 /// failure (message from `hgm_last_error(NULL)`). Free with `hgm_free`.
 #[unsafe(no_mangle)]
 pub extern "C" fn hgm_create_default() -> *mut HgmModel {
-    create(Ok(GearPair::paper_table1()))
+    create(Ok(GearPair::paper_table1()), Fidelity::Full as i32, "hgm_create_default")
+}
+
+/// The gear pair of the zero-terminated JSON text `json` (non-NULL), errors starting with
+/// `what`.
+///
+/// # Safety
+/// `json` must be a zero-terminated string.
+unsafe fn pair_from_json(json: *const c_char, what: &str) -> Result<GearPair, String> {
+    // SAFETY: caller contract.
+    match unsafe { CStr::from_ptr(json) }.to_str() {
+        Ok(text) => GearPair::from_json(text),
+        Err(e) => Err(format!("{what}: `json` is not UTF-8: {e}")),
+    }
 }
 
 /// Creates a model from gear-pair JSON (the schema of `helical-gear params`; unknown keys are an
-/// error). Returns NULL when `json` is NULL, malformed or names an invalid parameter (message
-/// from `hgm_last_error(NULL)`, e.g. "invalid parameter `z_p` = 12: allowed >= …").
+/// error) at full fidelity. Returns NULL when `json` is NULL, malformed or names an invalid
+/// parameter (message from `hgm_last_error(NULL)`, e.g. "invalid parameter `z_p` = 12: allowed
+/// >= …").
 ///
 /// # Safety
 /// `json` must be NULL or a zero-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn hgm_create_from_json(json: *const c_char) -> *mut HgmModel {
+    let what = "hgm_create_from_json";
     let pair = if json.is_null() {
-        Err("hgm_create_from_json: `json` is NULL".to_string())
+        Err(format!("{what}: `json` is NULL"))
     } else {
-        // SAFETY: caller contract.
-        match unsafe { CStr::from_ptr(json) }.to_str() {
-            Ok(text) => GearPair::from_json(text),
-            Err(e) => Err(format!("hgm_create_from_json: `json` is not UTF-8: {e}")),
-        }
+        // SAFETY: non-null, caller contract.
+        unsafe { pair_from_json(json, what) }
     };
-    create(pair)
+    create(pair, Fidelity::Full as i32, what)
+}
+
+/// Creates a model of the gear pair of `json` (as `hgm_create_from_json`) or, with `json`
+/// NULL, of the paper's Table 1 pair, at `fidelity`: `HGM_FIDELITY_FULL` (0), contact search
+/// and load solve at every call; `HGM_FIDELITY_TABLE` (1), the (phase, TE) table built now
+/// from the full model for a design torque of 100 N·m (for Table 1 about 0.3 s on two cores),
+/// the full model outside its range. Default options otherwise. Returns NULL on failure,
+/// another `fidelity` included (message from `hgm_last_error(NULL)` naming the argument and
+/// its allowed values). Free with `hgm_free`.
+///
+/// # Safety
+/// `json` must be NULL or a zero-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_create(json: *const c_char, fidelity: i32) -> *mut HgmModel {
+    let what = "hgm_create";
+    let pair = if json.is_null() {
+        Ok(GearPair::paper_table1())
+    } else {
+        // SAFETY: non-null, caller contract.
+        unsafe { pair_from_json(json, what) }
+    };
+    create(pair, fidelity, what)
 }
 
 /// A C handle: its payload and its last error message.
@@ -259,6 +304,34 @@ fn with_model(
     with_handle(h, what, f)
 }
 
+/// Checks a mesh state handed in through the C API: every value finite, the angles within
+/// 1e15 rad and the speeds within 1e5 rad/s, or an `HGM_STATUS_INVALID_ARGUMENT` naming the
+/// input and its range.
+fn check_state_inputs(
+    phi_p: f64,
+    phi_g: f64,
+    w_p: f64,
+    w_g: f64,
+) -> Result<MeshState, (HgmStatus, String)> {
+    for (name, v) in [("phi_p", phi_p), ("phi_g", phi_g), ("w_p", w_p), ("w_g", w_g)] {
+        if !v.is_finite() {
+            return Err(invalid_arg(format!("input `{name}` = {v} is not finite")));
+        }
+        let (max, range) = if name.starts_with("phi") {
+            (MAX_ANGLE_RAD, "1e15 rad")
+        } else {
+            (MAX_SPEED_RAD_S, "1e5 rad/s")
+        };
+        if v.abs() > max {
+            return Err(invalid_arg(format!(
+                "input `{name}` = {}: allowed |{name}| <= {range}",
+                short_num(v)
+            )));
+        }
+    }
+    Ok(MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() })
+}
+
 /// Evaluates the mesh at hub angles `phi_p`, `phi_g` (rad) and speeds `w_p`, `w_g` (rad/s) and
 /// writes the result to `*out`. A NaN or infinite input, or a NULL pointer, gives
 /// `HGM_STATUS_INVALID_ARGUMENT` with a message naming it.
@@ -278,31 +351,124 @@ pub unsafe extern "C" fn hgm_evaluate(
         if out.is_null() {
             return Err((HgmStatus::InvalidArgument, "`out` is NULL".into()));
         }
-        for (name, v) in [("phi_p", phi_p), ("phi_g", phi_g), ("w_p", w_p), ("w_g", w_g)] {
-            if !v.is_finite() {
-                return Err((
-                    HgmStatus::InvalidArgument,
-                    format!("input `{name}` = {v} is not finite"),
-                ));
-            }
-            let (max, range) = if name.starts_with("phi") {
-                (MAX_ANGLE_RAD, "1e15 rad")
-            } else {
-                (MAX_SPEED_RAD_S, "1e5 rad/s")
-            };
-            if v.abs() > max {
-                return Err((
-                    HgmStatus::InvalidArgument,
-                    format!("input `{name}` = {}: allowed |{name}| <= {range}", short_num(v)),
-                ));
-            }
-        }
-        let o = m
-            .evaluate(&MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() })
-            .map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
+        let state = check_state_inputs(phi_p, phi_g, w_p, w_g)?;
+        let o = m.evaluate(&state).map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
         check_mesh_outputs(&o)?;
         // SAFETY: non-null, caller contract.
         unsafe { out.write(o) };
+        Ok(())
+    })
+}
+
+/// Most outputs one `hgm_evaluate_outputs` call may request (an index may be repeated).
+const MAX_REQUESTED_OUTPUTS: usize = 1024;
+
+/// The number of the mesh output named `name` (its FMI variable name, `M_F_p`, `TE`, …; the
+/// fields of `HgmOutputs` in the FMI output order are numbered 0 … `HGM_N_OUTPUTS` − 1), for
+/// `hgm_evaluate_outputs`; −1 when `name` is NULL or names no output (message from
+/// `hgm_last_error(NULL)`, listing the names).
+///
+/// # Safety
+/// `name` must be NULL or a zero-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_output_index(name: *const c_char) -> i32 {
+    let r = catch_unwind(|| {
+        if name.is_null() {
+            return Err("hgm_output_index: `name` is NULL".to_string());
+        }
+        // SAFETY: non-null zero-terminated string (caller contract).
+        let text = unsafe { CStr::from_ptr(name) }.to_string_lossy();
+        crate::mesh::outputs::field_index(&text).map(|k| k as i32).ok_or_else(|| {
+            let names: Vec<_> = MESH_OUTPUT_FIELDS.iter().map(|f| f.name).collect();
+            format!(
+                "hgm_output_index: no mesh output is named `{text}`; the outputs: {}",
+                names.join(", ")
+            )
+        })
+    });
+    match r {
+        Ok(Ok(k)) => k,
+        Ok(Err(msg)) => {
+            set_thread_error(&msg);
+            -1
+        }
+        Err(p) => {
+            set_thread_error(&panic_message(&*p));
+            -1
+        }
+    }
+}
+
+/// Evaluates only the mesh outputs the caller reads: writes to `values[k]` the output numbered
+/// `fields[k]` (`hgm_output_index`; counts as whole numbers, flags as 0 or 1) for k <
+/// `n_fields` at hub angles `phi_p`, `phi_g` (rad) and speeds `w_p`, `w_g` (rad/s), each value
+/// bit for bit as `hgm_evaluate` gives it (the handle's warm start likewise). When every
+/// requested output is a torques output (`M_F_p`, `M_F_g`, `M_D_p`, `M_D_g`, `TE`,
+/// `contact_length`, `M_R_p`, `M_R_g`, `P_loss`) the evaluation computes only those: at table
+/// fidelity it interpolates 3 of the table's 13 node values (a right-hand side's evaluation);
+/// otherwise it evaluates every output. `HGM_STATUS_INVALID_ARGUMENT` naming the argument: a
+/// NULL handle, a NULL `fields` or `values` with `n_fields` > 0, `n_fields` > 1024, a number
+/// ≥ `HGM_N_OUTPUTS`, an input as for `hgm_evaluate`; `HGM_STATUS_MODEL_ERROR`: the model
+/// could not evaluate, or a requested value is not finite. On an error `values` is left as it
+/// was.
+///
+/// # Safety
+/// `h` must be NULL or a live handle; `fields` NULL or readable and `values` NULL or writable
+/// for `n_fields` elements each.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn hgm_evaluate_outputs(
+    h: *mut HgmModel,
+    phi_p: f64,
+    phi_g: f64,
+    w_p: f64,
+    w_g: f64,
+    fields: *const u32,
+    n_fields: usize,
+    values: *mut f64,
+) -> HgmStatus {
+    with_model(h, "hgm_evaluate_outputs", |m| {
+        if n_fields > MAX_REQUESTED_OUTPUTS {
+            return Err(invalid_arg(format!(
+                "`n_fields` = {n_fields}: allowed <= {MAX_REQUESTED_OUTPUTS}"
+            )));
+        }
+        if n_fields > 0 && (fields.is_null() || values.is_null()) {
+            let which = if fields.is_null() { "fields" } else { "values" };
+            return Err(invalid_arg(format!("`{which}` is NULL with `n_fields` = {n_fields}")));
+        }
+        let state = check_state_inputs(phi_p, phi_g, w_p, w_g)?;
+        let mut index = [0usize; MAX_REQUESTED_OUTPUTS];
+        let index = &mut index[..n_fields];
+        if n_fields > 0 {
+            // SAFETY: non-null, `n_fields` readable elements (caller contract).
+            let requested = unsafe { std::slice::from_raw_parts(fields, n_fields) };
+            for (k, (slot, &f)) in index.iter_mut().zip(requested).enumerate() {
+                if f as usize >= MESH_OUTPUT_FIELDS.len() {
+                    return Err(invalid_arg(format!(
+                        "`fields[{k}]` = {f}: allowed < HGM_N_OUTPUTS = {}",
+                        MESH_OUTPUT_FIELDS.len()
+                    )));
+                }
+                *slot = f as usize;
+            }
+        }
+        let o = if crate::mesh::outputs::torques_cover(index) {
+            m.torques(&state).map(|(o, _)| o)
+        } else {
+            m.evaluate(&state)
+        }
+        .map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
+        if let Some(&k) =
+            index.iter().find(|&&k| !crate::mesh::outputs::value_f64(&o, k).is_finite())
+        {
+            let f = &MESH_OUTPUT_FIELDS[k];
+            check_finite(&[(f.c_field, crate::mesh::outputs::value_f64(&o, k))])?;
+        }
+        for (j, &k) in index.iter().enumerate() {
+            // SAFETY: non-null (n_fields > 0 here), `n_fields` writable elements (caller
+            // contract).
+            unsafe { values.add(j).write(crate::mesh::outputs::value_f64(&o, k)) };
+        }
         Ok(())
     })
 }
@@ -709,7 +875,7 @@ pub unsafe extern "C" fn hgm_unit_free(u: *mut HgmUnit) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS};
+    use crate::mesh::outputs::FieldAccess;
 
     /// A non-finite value planted in each Real field of the mesh outputs in turn is refused
     /// with a message naming that field of `HgmOutputs`; each field of the unit outputs

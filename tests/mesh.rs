@@ -207,9 +207,10 @@ fn periodic_in_the_pitch() {
     assert!((a.m_f_p - b.m_f_p).abs() < 1e-9 * a.m_f_p.abs(), "{} vs {}", a.m_f_p, b.m_f_p);
 }
 
-/// `MeshTorques::torques` (the right-hand side's evaluation) gives M_F, M_D and TE bit for bit
-/// as `mesh` does, across the table's range (driving flanks, backlash, back flanks) and
-/// outside it (the full model, complete); with friction also the friction torques and loss.
+/// `MeshTorques::torques` (the right-hand side's evaluation) gives every output the table of
+/// outputs marks `torques` (M_F, M_D, TE, the contact length, the friction torques and loss)
+/// bit for bit as `mesh` does, across the table's range (driving flanks, backlash, back
+/// flanks) and outside it (the full model, complete), with and without friction.
 #[test]
 fn torques_only_evaluation_matches_the_complete_one() {
     use helical_gear_mesh::mesh::Friction;
@@ -220,6 +221,12 @@ fn torques_only_evaluation_matches_the_complete_one() {
 
 fn torques_only_matches(friction: helical_gear_mesh::mesh::Friction) {
     use helical_gear_mesh::mesh::MeshTorques;
+    use helical_gear_mesh::mesh::outputs::MESH_OUTPUT_FIELDS;
+    let names: Vec<_> = MESH_OUTPUT_FIELDS.iter().filter(|f| f.torques).map(|f| f.name).collect();
+    assert_eq!(
+        names,
+        ["M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "contact_length", "M_R_p", "M_R_g", "P_loss"]
+    );
     let mut table =
         model(MeshOptions { fidelity: Fidelity::Table, friction, ..MeshOptions::default() });
     let (lo, hi) = table.table().expect("table").te_range();
@@ -232,17 +239,9 @@ fn torques_only_matches(friction: helical_gear_mesh::mesh::Friction) {
         s.w_g = -190.0;
         let a = table.mesh(&s).unwrap();
         let (b, complete) = table.torques(&s).unwrap();
-        for (x, y) in [
-            (a.m_f_p, b.m_f_p),
-            (a.m_f_g, b.m_f_g),
-            (a.m_d_p, b.m_d_p),
-            (a.m_d_g, b.m_d_g),
-            (a.te, b.te),
-            (a.m_r_p, b.m_r_p),
-            (a.m_r_g, b.m_r_g),
-            (a.p_loss, b.p_loss),
-        ] {
-            assert_eq!(x.to_bits(), y.to_bits(), "TE {te:e}: {x:e} vs {y:e}");
+        for f in MESH_OUTPUT_FIELDS.iter().filter(|f| f.torques) {
+            let (x, y) = (f.real(&a).expect("a Real"), f.real(&b).expect("a Real"));
+            assert_eq!(x.to_bits(), y.to_bits(), "{} at TE {te:e}: {x:e} vs {y:e}", f.name);
         }
         if complete {
             assert_eq!(a, b);

@@ -52,16 +52,21 @@ pub const CAPI_TYPES: [(&str, &str); 6] = [
 /// Text of `include/helical_gear_mesh.h`: the functions of `src/capi.rs` and the library's
 /// types they take and return ([`CAPI_TYPES`], read from their own source files), so the C
 /// structs are the library's by construction; the length of `HgmUnitOutputs::dydt` is the
-/// library's number of drive states, `HGM_N_STATES`.
+/// library's number of drive states, `HGM_N_STATES`, and `HGM_N_OUTPUTS` the number of its
+/// mesh outputs.
 pub fn capi_header(root: &Path) -> Result<String, String> {
     let srcs = ["src/capi.rs", "src/mesh/mod.rs", "src/dynamics/unit.rs", "src/dynamics/kind.rs"];
     generate(root, &srcs, |c| {
         c.include_guard = Some("HELICAL_GEAR_MESH_H".into());
-        c.sys_includes = vec!["stdbool.h".into(), "stdint.h".into()];
+        c.sys_includes = vec!["stdbool.h".into(), "stddef.h".into(), "stdint.h".into()];
         c.after_includes = Some(format!(
             "\n/**\n * Number of states of the drive (Eqs. 1–4): the length of \
-             `HgmUnitOutputs::dydt`.\n */\n#define HGM_N_STATES {}",
-            helical_gear_mesh::dynamics::model::N_STATES
+             `HgmUnitOutputs::dydt`.\n */\n#define HGM_N_STATES {}\n\n/**\n * Number of \
+             mesh outputs: the fields of `HgmOutputs` in the FMI output order, numbered 0 … \
+             HGM_N_OUTPUTS − 1 for `hgm_output_index` and `hgm_evaluate_outputs`.\n */\n\
+             #define HGM_N_OUTPUTS {}",
+            helical_gear_mesh::dynamics::model::N_STATES,
+            helical_gear_mesh::mesh::outputs::MESH_OUTPUT_FIELDS.len()
         ));
         c.export.item_types =
             vec![ItemType::Functions, ItemType::Enums, ItemType::Structs, ItemType::OpaqueItems];

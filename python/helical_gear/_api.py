@@ -25,6 +25,11 @@ from ._pair import DriveLine, GearPair
 #: of the mesh outputs (`_native.MESH_OUTPUTS`: name, SI unit, kind, meaning), in its order.
 OUTPUT_NAMES = tuple(name for name, _unit, _kind, _meaning in _native.MESH_OUTPUTS)
 
+#: The outputs `MeshModel.evaluate` computes on its own when asked only for them
+#: (``outputs=``): the mesh torques, TE, the loaded contact length and the friction torques and
+#: loss, from the library's table (`_native.TORQUES_OUTPUTS`).
+TORQUES_OUTPUTS = tuple(_native.TORQUES_OUTPUTS)
+
 #: Keywords of `MeshModel.evaluate` for the gear bodies off their bearing axes: each body's
 #: translation ``u_*_x``, ``u_*_y``, ``u_*_z`` (m) and tilts ``th_*_x``, ``th_*_y`` (rad) at its
 #: centre at mid-face, then their rates ``v_*`` (m/s) and ``om_*`` (rad/s), pinion ``p`` then
@@ -324,7 +329,9 @@ class MeshModel:
         """Seconds the table took to build (0 for the full fidelity)."""
         return self._m.table_build_seconds()
 
-    def evaluate(self, phi_p, phi_g, w_p=0.0, w_g=0.0, **pose) -> dict[str, np.ndarray]:
+    def evaluate(
+        self, phi_p, phi_g, w_p=0.0, w_g=0.0, outputs=None, **pose
+    ) -> dict[str, np.ndarray]:
         """Mesh outputs at the states (φp, φg, φ̇p, φ̇g) (rad, rad/s); the four arguments are
         broadcast against each other (numpy rules) and evaluated in C order, each exactly as
         the library's ``Mesh::evaluate`` (the first state from a cold start, each next one
@@ -337,6 +344,13 @@ class MeshModel:
         friction torques ``M_R_p``, ``M_R_g`` (N·m, inside ``M_F_p``, ``M_F_g``), the loss
         ``P_loss`` (W), the mesh efficiency ``eta_mesh`` and the heat ``Q_p``, ``Q_g`` (W)
         (0, 1, 0 without friction), and every other name of `OUTPUT_NAMES`.
+
+        ``outputs``: the names of `OUTPUT_NAMES` to compute and return (each once, in the order
+        given; default all). When they are all torques outputs (`TORQUES_OUTPUTS`: ``M_F_p``,
+        ``M_F_g``, ``M_D_p``, ``M_D_g``, ``TE``, ``contact_length``, ``M_R_p``, ``M_R_g``,
+        ``P_loss``) the evaluation computes only those, bit for bit as the complete one: at
+        table fidelity 3 of the table's 13 node values are interpolated. An unknown name raises
+        `ParameterError` naming it.
 
         The gear bodies off their bearing axes (``docs/gear-bodies.md``): the keywords of
         `POSE_NAMES`, each broadcast like the angles, all 0 by default (the rigid-bearing
@@ -362,8 +376,10 @@ class MeshModel:
             poses = np.zeros((flat[0].size, len(POSE_NAMES)))
             for k, a in zip(names, flat[4:]):
                 poses[:, POSE_NAMES.index(k)] = a
-        out = self._m.evaluate(*flat[:4], poses)
-        return {k: out[k].reshape(shape) for k in OUTPUT_NAMES}
+        if outputs is not None:
+            outputs = [outputs] if isinstance(outputs, str) else [str(k) for k in outputs]
+        out = self._m.evaluate(*flat[:4], poses, outputs)
+        return {k: v.reshape(shape) for k, v in out.items()}
 
 
 def _model(

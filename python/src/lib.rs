@@ -35,7 +35,7 @@ use helical_gear_mesh::mesh::bearings::BearingArrangement;
 use helical_gear_mesh::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS, OutputKind, real_fields};
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Friction, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
-    static_curve_with,
+    MeshTorques as _, static_curve_with,
 };
 use helical_gear_mesh::options::Integrator;
 use helical_gear_mesh::results::{
@@ -562,8 +562,13 @@ impl MeshModel {
     /// another from a cold start (each state warm-started from the one before; the first
     /// cold); returns a dict of arrays keyed like the FMU outputs. `pose`, when given, is an
     /// (n, 20) float64 array of the gear bodies' poses and rates per state, columns in the order
-    /// of the library's `mesh::pose::INPUT_NAMES` (m, rad, m/s, rad/s).
-    #[pyo3(signature = (phi_p, phi_g, w_p, w_g, pose = None))]
+    /// of the library's `mesh::pose::INPUT_NAMES` (m, rad, m/s, rad/s). `outputs`, when
+    /// given, names the outputs to compute and return (keys of the FMU outputs, each once, in
+    /// the order given): when every one is a torques output of the library's
+    /// `mesh::outputs::MESH_OUTPUT_FIELDS` the evaluation takes the torques path
+    /// (`MeshTorques::torques`), whose values are bit for bit those of the complete one.
+    #[pyo3(signature = (phi_p, phi_g, w_p, w_g, pose = None, outputs = None))]
+    #[allow(clippy::too_many_arguments)]
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
@@ -572,7 +577,29 @@ impl MeshModel {
         w_p: PyReadonlyArray1<'py, f64>,
         w_g: PyReadonlyArray1<'py, f64>,
         pose: Option<PyReadonlyArray2<'py, f64>>,
+        outputs: Option<Vec<String>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let fields: Vec<usize> = match &outputs {
+            None => (0..MESH_OUTPUT_FIELDS.len()).collect(),
+            Some(names) => {
+                let mut fields = Vec::with_capacity(names.len().min(MESH_OUTPUT_FIELDS.len()));
+                for name in names {
+                    let Some(k) = helical_gear_mesh::mesh::outputs::field_index(name) else {
+                        let all: Vec<_> = MESH_OUTPUT_FIELDS.iter().map(|f| f.name).collect();
+                        return Err(ParameterError::new_err(format!(
+                            "evaluate: no mesh output is named {name:?}; the outputs: {}",
+                            all.join(", ")
+                        )));
+                    };
+                    if !fields.contains(&k) {
+                        fields.push(k);
+                    }
+                }
+                fields
+            }
+        };
+        let torques_only =
+            outputs.is_some() && helical_gear_mesh::mesh::outputs::torques_cover(&fields);
         let inputs = [phi_p.as_array(), phi_g.as_array(), w_p.as_array(), w_g.as_array()];
         let n = inputs[0].len();
         if inputs.iter().any(|a| a.len() != n) {
@@ -617,9 +644,9 @@ impl MeshModel {
         }
         let cols = run(py, || {
             let mut m = self.model.clone();
-            let mut cols: Vec<Column> = MESH_OUTPUT_FIELDS
+            let mut cols: Vec<Column> = fields
                 .iter()
-                .map(|f| match f.kind() {
+                .map(|&k| match MESH_OUTPUT_FIELDS[k].kind() {
                     OutputKind::Real => Column::Real(Vec::with_capacity(n)),
                     OutputKind::Integer => Column::Integer(Vec::with_capacity(n)),
                     OutputKind::Boolean => Column::Boolean(Vec::with_capacity(n)),
@@ -627,14 +654,15 @@ impl MeshModel {
                 .collect();
             for (i, s) in states.iter().enumerate() {
                 check_state(i, s)?;
-                let o = m.evaluate(s).map_err(|e| match Failure::from(e) {
+                let o = if torques_only { m.torques(s).map(|(o, _)| o) } else { m.evaluate(s) };
+                let o = o.map_err(|e| match Failure::from(e) {
                     Failure::Param(msg) => Failure::Param(format!("state {i}: {msg}")),
                     Failure::Solver(msg) => Failure::Solver(format!("state {i}: {msg}")),
                     other => other,
                 })?;
                 finite_outputs(&format!("state {i}"), &o)?;
-                for (c, f) in cols.iter_mut().zip(&MESH_OUTPUT_FIELDS) {
-                    match (c, f.access) {
+                for (c, &k) in cols.iter_mut().zip(&fields) {
+                    match (c, MESH_OUTPUT_FIELDS[k].access) {
                         (Column::Real(c), FieldAccess::Real { get, .. }) => c.push(get(&o)),
                         (Column::Integer(c), FieldAccess::Integer { get }) => c.push(get(&o)),
                         (Column::Boolean(c), FieldAccess::Boolean { get }) => c.push(get(&o)),
@@ -645,7 +673,8 @@ impl MeshModel {
             Ok(cols)
         })?;
         let d = PyDict::new(py);
-        for (f, c) in MESH_OUTPUT_FIELDS.iter().zip(cols) {
+        for (&k, c) in fields.iter().zip(cols) {
+            let f = &MESH_OUTPUT_FIELDS[k];
             match c {
                 Column::Real(c) => d.set_item(f.name, array(py, c))?,
                 Column::Integer(c) => d.set_item(f.name, PyArray1::from_vec(py, c))?,
@@ -1107,6 +1136,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
         })
         .collect();
     m.add("MESH_OUTPUTS", outputs)?;
+    // The outputs the torques path gives (`OutputField::torques`).
+    let torques: Vec<&str> =
+        MESH_OUTPUT_FIELDS.iter().filter(|f| f.torques).map(|f| f.name).collect();
+    m.add("TORQUES_OUTPUTS", torques)?;
     m.add("POSE_INPUTS", helical_gear_mesh::mesh::pose::INPUT_NAMES.to_vec())?;
     // The library's default mesh options: the one source of the Python shell's defaults.
     let d = MeshOptions::default();

@@ -561,10 +561,11 @@ pub trait MeshTorques {
     /// Mesh outputs for `state`.
     fn mesh(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError>;
 
-    /// The mesh outputs a right-hand side needs — M_F, M_D and TE — for `state`, and whether
-    /// the rest is there too (`true`: every field as [`Self::mesh`] gives it; `false`: F_n,
-    /// contact_length, p_max and the flags may be left at their defaults). The fields given
-    /// are bit for bit those of [`Self::mesh`]. The default is [`Self::mesh`], complete.
+    /// The mesh outputs a right-hand side needs for `state` — the [`outputs::OutputField::torques`]
+    /// outputs of [`outputs::MESH_OUTPUT_FIELDS`]: M_F, M_D, TE, the loaded contact length and
+    /// the friction torques and loss — bit for bit as [`Self::mesh`] gives them, and whether
+    /// the rest is there too (`true`: every field as [`Self::mesh`] gives it; `false`: the
+    /// other fields may be left at their defaults). The default is [`Self::mesh`], complete.
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
         Ok((self.mesh(state)?, true))
     }

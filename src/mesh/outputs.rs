@@ -7,7 +7,12 @@
 //! * the FMI layer takes each mesh output variable's name, unit and description from it, and
 //!   writes the output slots in its order (`fmi2::models::write_mesh_outputs`);
 //! * the C API refuses a result with any non-finite Real field, naming the field;
-//! * the Python package's result keys and the CLI's trajectory columns are its names.
+//! * the Python package's result keys and the CLI's trajectory columns are its names;
+//! * a caller that reads only some outputs names them by this table (the C API's
+//!   `hgm_evaluate_outputs`, Python's `evaluate(..., outputs=...)`): when every one it names is
+//!   a [`OutputField::torques`] output, the evaluation takes the torques path
+//!   ([`super::MeshTorques::torques`]), which on the periodic table interpolates 3 of the 13
+//!   node values instead of all of them.
 //!
 //! A new output is a field of [`MeshOutputs`] and one entry here; the FMI variable table adds
 //! only what is FMI's own (value reference, dependencies, display unit), and a test holds the
@@ -67,6 +72,11 @@ pub struct OutputField {
     pub description: &'static str,
     /// Read and write access.
     pub access: FieldAccess,
+    /// Given by the torques path ([`super::MeshTorques::torques`]) bit for bit as by
+    /// [`super::MeshTorques::mesh`], whether or not that path's outputs are complete: the
+    /// mesh torques, TE, the loaded contact length behind the damping, and the friction
+    /// torques and loss.
+    pub torques: bool,
 }
 
 impl OutputField {
@@ -109,13 +119,45 @@ pub fn first_non_finite(o: &MeshOutputs) -> Option<(&'static str, f64)> {
         .find_map(|f| f.real(o).filter(|v| !v.is_finite()).map(|v| (f.c_field, v)))
 }
 
+/// The position of the output named `name` ([`OutputField::name`]) in [`MESH_OUTPUT_FIELDS`].
+pub fn field_index(name: &str) -> Option<usize> {
+    MESH_OUTPUT_FIELDS.iter().position(|f| f.name == name)
+}
+
+/// True when every index of `fields` is a [`OutputField::torques`] output, so that the torques
+/// path gives them all (an index beyond the table is not: the caller checks indices first).
+pub fn torques_cover(fields: &[usize]) -> bool {
+    fields.iter().all(|&k| MESH_OUTPUT_FIELDS.get(k).is_some_and(|f| f.torques))
+}
+
+/// The value of field `index` of `o` as a double: Reals as they are, counts as whole numbers,
+/// flags as 0 or 1. Panics on an index beyond [`MESH_OUTPUT_FIELDS`].
+pub fn value_f64(o: &MeshOutputs, index: usize) -> f64 {
+    match MESH_OUTPUT_FIELDS[index].access {
+        FieldAccess::Real { get, .. } => get(o),
+        FieldAccess::Integer { get } => f64::from(get(o)),
+        FieldAccess::Boolean { get } => f64::from(u8::from(get(o))),
+    }
+}
+
 /// The Real fields in table order.
 pub fn real_fields() -> impl Iterator<Item = &'static OutputField> {
     MESH_OUTPUT_FIELDS.iter().filter(|f| f.kind() == OutputKind::Real)
 }
 
+/// `torques` after an entry's description marks it [`OutputField::torques`].
+macro_rules! torques {
+    () => {
+        false
+    };
+    (torques) => {
+        true
+    };
+}
+
 macro_rules! real {
-    ($name:literal, $col:literal, $unit:literal, $f:ident $([$i:literal])?, $desc:literal) => {
+    ($name:literal, $col:literal, $unit:literal, $f:ident $([$i:literal])?, $desc:literal
+     $(, $t:ident)?) => {
         OutputField {
             name: $name,
             column: $col,
@@ -126,6 +168,7 @@ macro_rules! real {
                 get: |o: &MeshOutputs| o.$f $([$i])?,
                 get_mut: |o: &mut MeshOutputs| &mut o.$f $([$i])?,
             },
+            torques: torques!($($t)?),
         }
     };
 }
@@ -139,6 +182,7 @@ macro_rules! integer {
             unit: $unit,
             description: $desc,
             access: FieldAccess::Integer { get: |o: &MeshOutputs| o.$f },
+            torques: false,
         }
     };
 }
@@ -152,6 +196,7 @@ macro_rules! boolean {
             unit: $unit,
             description: $desc,
             access: FieldAccess::Boolean { get: |o: &MeshOutputs| o.$f },
+            torques: false,
         }
     };
 }
@@ -162,29 +207,29 @@ pub const MESH_OUTPUT_FIELDS: [OutputField; 30] = [
     real!("M_F_p", "m_f_p_nm", "N.m", m_f_p,
         "Elastic mesh torque on the pinion (Eq. 13), N.m; enters the pinion equation with a \
          minus sign: J_p*phi_p'' = c1*(phi_1 - phi_p) + ... - M_F_p - M_D_p; positive in \
-         normal drive"
+         normal drive", torques
     ),
     real!("M_F_g", "m_f_g_nm", "N.m", m_f_g,
         "Elastic mesh torque on the gear (Eq. 13), N.m; enters the gear equation with a minus \
-         sign; M_F_g/M_F_p = g_g/g_p in the plane of action"
+         sign; M_F_g/M_F_p = g_g/g_p in the plane of action", torques
     ),
     real!("M_D_p", "m_d_p_nm", "N.m", m_d_p,
         "Damping mesh torque on the pinion (Eq. 14, d_mesh), N.m; enters the pinion equation \
-         with a minus sign"
+         with a minus sign", torques
     ),
     real!("M_D_g", "m_d_g_nm", "N.m", m_d_g,
         "Damping mesh torque on the gear (Eq. 14, d_mesh), N.m; enters the gear equation with \
-         a minus sign"
+         a minus sign", torques
     ),
     real!("TE", "te_m", "m", te,
         "Transmission error TE = phi_p*g_p + phi_g*g_g (Eq. 16), m; 0 when ideal unloaded \
-         driving flanks just touch, > 0 when the teeth must deform"
+         driving flanks just touch, > 0 when the teeth must deform", torques
     ),
     real!("F_n", "f_n_n", "N", f_n,
         "Total normal contact force of all loaded flanks, N (elastic part, >= 0)"
     ),
     real!("contact_length", "contact_length_m", "m", contact_length,
-        "Total length of the loaded contact lines, m"
+        "Total length of the loaded contact lines, m", torques
     ),
     real!("p_max", "p_max_pa", "Pa", p_max,
         "Largest Hertz contact pressure (Eq. 15), Pa; 0 without load or when compute_pressure \
@@ -256,15 +301,15 @@ pub const MESH_OUTPUT_FIELDS: [OutputField; 30] = [
     real!("M_R_p", "m_r_p_nm", "N.m", m_r_p,
         "Friction torque on the pinion, N.m: the part of M_F_p due to the friction at the \
          flanks (option friction), signed as M_F_p; M_R_p*w_p + M_R_g*w_g = P_loss; 0 without \
-         friction"
+         friction", torques
     ),
     real!("M_R_g", "m_r_g_nm", "N.m", m_r_g,
         "Friction torque on the gear, N.m: the part of M_F_g due to the friction at the \
-         flanks, signed as M_F_g; 0 without friction"
+         flanks, signed as M_F_g; 0 without friction", torques
     ),
     real!("P_loss", "p_loss_w", "W", p_loss,
         "Mesh friction power loss, W (>= 0): the work of the friction forces on the sliding \
-         of the flanks; 0 without friction and at standstill"
+         of the flanks; 0 without friction and at standstill", torques
     ),
     real!("eta_mesh", "eta_mesh", "", eta_mesh,
         "Instantaneous mesh efficiency 1 - P_loss/P_in (P_in: the power the driving gear puts \

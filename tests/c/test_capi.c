@@ -133,6 +133,86 @@ static void test_capi(void) {
     CHECK(out.back_contact && out.m_f_p < 0.0, "back contact at TE = -240 um: M_F_p = %g",
           out.m_f_p);
 
+    /* Only the outputs read (hgm_evaluate_outputs): the values of hgm_evaluate. At full
+     * fidelity both start from the handle's warm start, so they agree to the solver's
+     * tolerance; at table fidelity bit for bit, on the torques path (only torques outputs
+     * requested) and on the complete one. */
+    {
+        int32_t k_mfp = hgm_output_index("M_F_p"), k_te = hgm_output_index("TE");
+        int32_t k_fn = hgm_output_index("F_n"), k_np = hgm_output_index("n_pairs");
+        int32_t k_sep = hgm_output_index("separated");
+        CHECK(k_mfp == 0 && k_te == 4 && k_fn == 5 && k_np == 8 && k_sep == 10,
+              "indices %d %d %d %d %d", k_mfp, k_te, k_fn, k_np, k_sep);
+        CHECK(hgm_output_index("Q_g") == HGM_N_OUTPUTS - 1, "Q_g is the last output");
+        CHECK(hgm_output_index("colour") == -1, "unknown name");
+        CHECK(strstr(hgm_last_error(NULL), "`colour`") != NULL &&
+                  strstr(hgm_last_error(NULL), "M_F_p") != NULL,
+              "message: %s", hgm_last_error(NULL));
+        CHECK(hgm_output_index(NULL) == -1, "NULL name");
+        double phi_g = phi_g_for(0.0, te_static);
+        HgmOutputs all;
+        CHECK(hgm_evaluate(m, 0.0, phi_g, w_p, w_g, &all) == HGM_STATUS_OK, "%s",
+              hgm_last_error(m));
+        uint32_t torques[3] = {(uint32_t)k_te, (uint32_t)k_mfp, (uint32_t)k_mfp};
+        double v[4] = {-1, -1, -1, -1};
+        CHECK(hgm_evaluate_outputs(m, 0.0, phi_g, w_p, w_g, torques, 3, v) == HGM_STATUS_OK,
+              "%s", hgm_last_error(m));
+        CHECK(v[0] == all.te && fabs(v[1] - all.m_f_p) < 1e-9 * fabs(all.m_f_p) &&
+                  v[2] == v[1] && v[3] == -1,
+              "full: %g %g %g %g vs %g %g", v[0], v[1], v[2], v[3], all.te, all.m_f_p);
+        uint32_t mixed[3] = {(uint32_t)k_fn, (uint32_t)k_np, (uint32_t)k_sep};
+        CHECK(hgm_evaluate_outputs(m, 0.0, phi_g, w_p, w_g, mixed, 3, v) == HGM_STATUS_OK,
+              "%s", hgm_last_error(m));
+        CHECK(fabs(v[0] - all.f_n) < 1e-9 * all.f_n && v[1] == (double)all.n_pairs &&
+                  v[2] == (all.separated ? 1.0 : 0.0),
+              "full, mixed: %g %g %g", v[0], v[1], v[2]);
+        /* Refused, naming the argument; `values` left as it was. */
+        uint32_t beyond[2] = {(uint32_t)k_te, HGM_N_OUTPUTS};
+        v[0] = -1;
+        CHECK(hgm_evaluate_outputs(m, 0.0, phi_g, w_p, w_g, beyond, 2, v) ==
+                  HGM_STATUS_INVALID_ARGUMENT, "index HGM_N_OUTPUTS");
+        CHECK(strstr(hgm_last_error(m), "`fields[1]` = 30") != NULL && v[0] == -1,
+              "message: %s", hgm_last_error(m));
+        CHECK(hgm_evaluate_outputs(m, 0.0, phi_g, w_p, w_g, torques, 1, NULL) ==
+                  HGM_STATUS_INVALID_ARGUMENT, "NULL values");
+        CHECK(strstr(hgm_last_error(m), "`values` is NULL") != NULL, "message: %s",
+              hgm_last_error(m));
+        CHECK(hgm_evaluate_outputs(m, 0.0, phi_g, w_p, w_g, NULL, 0, NULL) == HGM_STATUS_OK,
+              "no output requested: %s", hgm_last_error(m));
+        CHECK(hgm_evaluate_outputs(m, 0.0, phi_g, w_p, w_g, torques, 100000, v) ==
+                  HGM_STATUS_INVALID_ARGUMENT, "n_fields beyond its bound");
+        CHECK(strstr(hgm_last_error(m), "<= 1024") != NULL, "message: %s", hgm_last_error(m));
+        CHECK(hgm_evaluate_outputs(m, NAN, phi_g, w_p, w_g, torques, 1, v) ==
+                  HGM_STATUS_INVALID_ARGUMENT, "NaN input");
+
+        CHECK(hgm_create(NULL, 7) == NULL, "fidelity 7");
+        CHECK(strstr(hgm_last_error(NULL), "`fidelity` = 7") != NULL, "message: %s",
+              hgm_last_error(NULL));
+        /* A table-fidelity model builds its table (skipped with the units under valgrind). */
+        const char *skip = getenv("HGM_TEST_SKIP_UNITS");
+        HgmModel *t = skip && strcmp(skip, "1") == 0 ? NULL : hgm_create(NULL, HGM_FIDELITY_TABLE);
+        CHECK(t != NULL || skip != NULL, "table model: %s", hgm_last_error(NULL));
+        if (t != NULL) {
+            for (int i = 0; i < 8; i++) {
+                double phi_p = 0.013 * i, te = (5.0 + 7.0 * i) * 1e-6;
+                double pg = phi_g_for(phi_p, te);
+                CHECK(hgm_evaluate(t, phi_p, pg, w_p, w_g, &all) == HGM_STATUS_OK, "%s",
+                      hgm_last_error(t));
+                uint32_t set[5] = {0, 1, 2, 3, (uint32_t)k_te};
+                double u[5];
+                CHECK(hgm_evaluate_outputs(t, phi_p, pg, w_p, w_g, set, 5, u) == HGM_STATUS_OK,
+                      "%s", hgm_last_error(t));
+                CHECK(u[0] == all.m_f_p && u[1] == all.m_f_g && u[2] == all.m_d_p &&
+                          u[3] == all.m_d_g && u[4] == all.te,
+                      "table, torques path at %d: %g vs %g", i, u[0], all.m_f_p);
+                CHECK(hgm_evaluate_outputs(t, phi_p, pg, w_p, w_g, mixed, 3, u) ==
+                          HGM_STATUS_OK, "%s", hgm_last_error(t));
+                CHECK(u[0] == all.f_n && u[1] == (double)all.n_pairs, "table, complete at %d", i);
+            }
+            hgm_free(t);
+        }
+    }
+
     /* Error paths with a model: the handle stays usable. */
     CHECK(hgm_evaluate(m, NAN, 0, 0, 0, &out) == HGM_STATUS_INVALID_ARGUMENT, "NaN input");
     CHECK(strstr(hgm_last_error(m), "`phi_p` = NaN") != NULL, "message: %s", hgm_last_error(m));
@@ -552,8 +632,9 @@ int main(int argc, char **argv) {
     test_fmi2(argv[1]);
     test_me_mesh(argv[1]);
     test_capi();
-    /* The units build a mesh table (about 2 s natively, minutes under valgrind): the valgrind
-     * run of tests/python/test_c_api.py sets HGM_TEST_SKIP_UNITS=1. */
+    /* The units (and the table-fidelity model of test_capi) build a mesh table (about 2 s
+     * natively, minutes under valgrind): the valgrind run of tests/python/test_c_api.py sets
+     * HGM_TEST_SKIP_UNITS=1. */
     const char *skip_units = getenv("HGM_TEST_SKIP_UNITS");
     if (!(skip_units && strcmp(skip_units, "1") == 0)) {
         test_units();

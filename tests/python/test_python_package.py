@@ -179,6 +179,34 @@ def test_vectorised_evaluate_equals_the_c_api_bit_for_bit(capi):
         model.evaluate([0.0, np.nan], 0.0, 0.0, 0.0)
 
 
+def test_evaluate_computes_only_the_outputs_asked_for():
+    # `outputs=`: the keys asked for, in their order, each value bit for bit as the complete
+    # evaluation gives it: on the table's torques path (torques outputs only, friction on) and
+    # on the complete path (any other output among them); unknown names are refused by name.
+    assert hg.TORQUES_OUTPUTS == ("M_F_p", "M_F_g", "M_D_p", "M_D_g", "TE", "contact_length",
+                                  "M_R_p", "M_R_g", "P_loss")
+    assert set(hg.TORQUES_OUTPUTS) <= set(hg.OUTPUT_NAMES)
+    pair = hg.GearPair()
+    g = hg.geometry(pair)
+    gp, gg = g.base_radius_p_m, g.base_radius_g_m
+    phi_p = np.linspace(0.0, 3.0 * g.angular_pitch_p_rad, 40)
+    te = np.linspace(-260e-6, 90e-6, 40)  # back flanks, backlash, driving flanks
+    phi_g = (te - phi_p * gp) / gg
+    for fidelity in ("table", "full"):
+        model = hg.MeshModel(pair, fidelity=fidelity, slices=60,
+                             friction={"model": "constant", "mu": 0.05})
+        full = model.evaluate(phi_p, phi_g, 300.0, -190.0)
+        for ask in (["TE", "M_F_p"], list(hg.TORQUES_OUTPUTS), ["F_n", "M_F_g", "n_pairs"]):
+            part = model.evaluate(phi_p, phi_g, 300.0, -190.0, outputs=ask)
+            assert list(part) == ask
+            for k in ask:
+                assert part[k].tobytes() == full[k].tobytes(), (fidelity, k)
+        assert list(model.evaluate(0.0, 0.0, outputs="TE")) == ["TE"]
+        assert list(model.evaluate(0.0, 0.0, outputs=["TE", "TE"])) == ["TE"]
+        with pytest.raises(hg.ParameterError, match='"colour"'):
+            model.evaluate(0.0, 0.0, outputs=["TE", "colour"])
+
+
 def test_state_outside_the_validity_range_raises():
     # Flank overlaps beyond 0.2 m_n (TE of 2 mm, back flanks 3 mm past the backlash) and pinion
     # angles beyond 2^53 pitches are errors, never a torque or "separated".
