@@ -32,7 +32,9 @@ use helical_gear_mesh::dynamics::{
 };
 use helical_gear_mesh::iso6336::nominal_root_stress;
 use helical_gear_mesh::mesh::bearings::BearingArrangement;
-use helical_gear_mesh::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS, OutputKind, real_fields};
+use helical_gear_mesh::mesh::outputs::{
+    FieldAccess, MESH_OUTPUT_FIELDS, OutputKind, first_non_finite, real_fields,
+};
 use helical_gear_mesh::mesh::{
     EquilibriumSettings, Fidelity, Friction, Mesh as RustMesh, MeshError, MeshOptions, MeshState,
     MeshTorques as _, static_curve_with,
@@ -620,22 +622,21 @@ impl MeshModel {
                 p.shape()
             )));
         }
-        let states: Vec<MeshState> = (0..n)
-            .map(|i| {
-                let mut s = MeshState {
-                    phi_p: inputs[0][i],
-                    phi_g: inputs[1][i],
-                    w_p: inputs[2][i],
-                    w_g: inputs[3][i],
-                    ..Default::default()
-                };
-                if let Some(p) = &pose {
-                    let v: [f64; 20] = std::array::from_fn(|k| p[[i, k]]);
-                    helical_gear_mesh::mesh::pose::set_inputs(&mut s, &v);
-                }
-                s
-            })
-            .collect();
+        // State i, built where it is evaluated (not all n first: 192 bytes each).
+        let state = |i: usize| {
+            let mut s = MeshState {
+                phi_p: inputs[0][i],
+                phi_g: inputs[1][i],
+                w_p: inputs[2][i],
+                w_g: inputs[3][i],
+                ..Default::default()
+            };
+            if let Some(p) = &pose {
+                let v: [f64; 20] = std::array::from_fn(|k| p[[i, k]]);
+                helical_gear_mesh::mesh::pose::set_inputs(&mut s, &v);
+            }
+            s
+        };
         // One column per field of the core's table of the mesh outputs, in its order.
         enum Column {
             Real(Vec<f64>),
@@ -652,7 +653,8 @@ impl MeshModel {
                     OutputKind::Boolean => Column::Boolean(Vec::with_capacity(n)),
                 })
                 .collect();
-            for (i, s) in states.iter().enumerate() {
+            for i in 0..n {
+                let s = &state(i);
                 check_state(i, s)?;
                 let o = if torques_only { m.torques(s).map(|(o, _)| o) } else { m.evaluate(s) };
                 let o = o.map_err(|e| match Failure::from(e) {
@@ -660,7 +662,9 @@ impl MeshModel {
                     Failure::Solver(msg) => Failure::Solver(format!("state {i}: {msg}")),
                     other => other,
                 })?;
-                finite_outputs(&format!("state {i}"), &o)?;
+                if first_non_finite(&o).is_some() {
+                    finite_outputs(&format!("state {i}"), &o)?;
+                }
                 for (c, &k) in cols.iter_mut().zip(&fields) {
                     match (c, MESH_OUTPUT_FIELDS[k].access) {
                         (Column::Real(c), FieldAccess::Real { get, .. }) => c.push(get(&o)),
