@@ -96,6 +96,19 @@
 //! fresh factorisation. On a Table 1 trajectory this cut the factorisations per solve from 4.3
 //! to 2.9 (at 1.5 more cheap iterations). [`LoadReport::factorizations`] counts them.
 //!
+//! Bordered solves: a working set W that is the held factors' set H less a few slices R
+//! (at most 8) is solved from those factors too, by the complementary-minor (capacitance)
+//! identity — the system on H with δ_R fixed at −q_R and the rows of R relaxed by
+//! multipliers, 1 + |R| solves with the held factors and an |R| × |R| elimination
+//! (`LoadSolver::bordered_solve`). It serves the second pass of a step, after entering slices
+//! with a non-positive step left W (the same matrix: an exact Newton step), and a simplified
+//! Newton step under the rule above. det J_W = det J_H · det (J_H⁻¹)_RR, so the sign check of
+//! the factorisation carries over when the small determinant is positive; otherwise W is
+//! factorised afresh. Where the loaded ends of partly loaded contact lines move from state to
+//! state, W shrinks and grows by a few slices over several Newton steps; measured on the Table
+//! 1 benchmark sweep (64 phases × 3 loads, warm) the factorisations per solve went from 3.2 to
+//! 2.4 at 200 slices and from 2.5 to 1.7 at 100, the evaluations 9–12 % and 7 % faster.
+//!
 //! Cost: one factorisation of the working block per full iteration (O(m³), m loaded slices)
 //! plus matrix–vector products (O(n²)) per line-search trial. The solver's own buffers are sized at
 //! construction ([`LoadSolver::with_capacity`]) and reused; a warm start from the previous
@@ -438,6 +451,11 @@ pub struct LoadSolver {
     chord: bool,
     /// Shifted approach d − (1 − k/K)·max d of the continuation retry, m.
     approach_part: Vec<f64>,
+    /// Right-hand sides of a bordered solve: the extended right-hand side, then one unit
+    /// column per slice held out ([`LoadSolver::bordered_solve`]).
+    aux: Mat<f64>,
+    /// Positions in the held LU's working set of the slices a bordered solve holds out.
+    held_out: Vec<usize>,
 }
 
 impl fmt::Debug for LoadSolver {
@@ -450,10 +468,14 @@ impl fmt::Debug for LoadSolver {
     }
 }
 
+/// Most slices a bordered solve holds out of the held LU factors' working set; beyond it the
+/// working block is factorised afresh.
+const MAX_HELD_OUT: usize = 8;
+
 fn stack_req(n: usize) -> StackReq {
     let params = Default::default();
     factor::lu_in_place_scratch::<usize, f64>(n, n, Par::Seq, params)
-        .or(solve::solve_in_place_scratch::<usize, f64>(n, 1, Par::Seq))
+        .or(solve::solve_in_place_scratch::<usize, f64>(n, MAX_HELD_OUT + 1, Par::Seq))
         .or(cholesky::cholesky_in_place_scratch::<f64>(n, Par::Seq, Default::default()))
 }
 
@@ -488,6 +510,8 @@ impl LoadSolver {
             lu_valid: false,
             chord: false,
             approach_part: Vec::new(),
+            aux: Mat::zeros(0, MAX_HELD_OUT + 1),
+            held_out: Vec::with_capacity(MAX_HELD_OUT),
         };
         s.reserve(capacity);
         s
@@ -521,6 +545,7 @@ impl LoadSolver {
         self.in_working.resize(n, false);
         self.jac = Mat::zeros(n, n);
         self.rhs = Mat::zeros(n, 1);
+        self.aux = Mat::zeros(n, MAX_HELD_OUT + 1);
         self.perm.resize(n, 0);
         self.perm_inv.resize(n, 0);
         self.lu_working.reserve(n);
@@ -726,12 +751,15 @@ impl LoadSolver {
         }
         // An entering slice (q = 0) whose Newton step is not positive would need a tensile
         // load: it leaves W and the system is solved again (at most |W| times).
+        let mut pass = 0;
         loop {
             let m = self.working.len();
             if m == 0 {
                 return Ok(());
             }
-            self.solve_working(problem, symmetric, iterations, residual)?;
+            // A second pass solves with the matrix of the first (the iterate has not moved).
+            self.solve_working(problem, symmetric, iterations, residual, pass > 0)?;
+            pass += 1;
             let before = m;
             let (delta, q, in_working) = (&self.delta, &self.cur.q, &mut self.in_working);
             self.working.retain(|&i| {
@@ -750,19 +778,27 @@ impl LoadSolver {
         }
     }
 
-    /// One factorisation and solve on the working set; the step goes to `delta`.
+    /// One factorisation and solve on the working set; the step goes to `delta`. With
+    /// `same_matrix` the held factors are of this iterate's Newton matrix on a superset of the
+    /// working set (a later pass of [`LoadSolver::newton_step`]).
     fn solve_working(
         &mut self,
         problem: &LoadProblem<'_>,
         symmetric: bool,
         iterations: usize,
         residual: f64,
+        same_matrix: bool,
     ) -> Result<(), LoadError> {
         let m = self.working.len();
-        if !symmetric && self.chord && self.lu_valid && self.working == self.lu_working {
-            self.fill_rhs(problem);
-            self.lu_resolve(m);
-            return self.take_step(iterations, residual);
+        if !symmetric && self.lu_valid && (self.chord || same_matrix) {
+            if self.working == self.lu_working {
+                self.fill_rhs(problem);
+                self.lu_resolve(m);
+                return self.take_step(iterations, residual);
+            }
+            if self.bordered_solve(problem) {
+                return self.take_step(iterations, residual);
+            }
         }
         self.lu_valid = false;
         self.factorizations += 1;
@@ -819,6 +855,134 @@ impl LoadSolver {
         let stack = MemStack::new(&mut self.stack);
         let rhs = self.rhs.as_mut().submatrix_mut(0, 0, m, 1);
         solve::solve_in_place(jac, jac, perm, rhs, Par::Seq, stack);
+    }
+
+    /// The Newton step on a working set W that is the held LU factors' set H less at most
+    /// [`MAX_HELD_OUT`] slices R, from those factors (no factorisation): the system on W is the
+    /// system on H with δ_R fixed at −q_R (a slice leaving W is set to zero load) and the rows
+    /// of R relaxed by multipliers y,
+    ///
+    /// ```text
+    /// J_H·x = r + E_R·y,   x_R = −q_R   ⇒   x = J_H⁻¹r + Z·y,  Z = J_H⁻¹E_R,  Z_RR·y = −q_R − (J_H⁻¹r)_R
+    /// ```
+    ///
+    /// with r = −g_H plus the loads of the slices outside H, as [`LoadSolver::fill_rhs`] forms
+    /// them: 1 + |R| solves with the held factors and a |R| × |R| elimination instead of an
+    /// O(|W|³) factorisation. Z_RR = (J_H⁻¹)_RR is the complementary minor: det J_W =
+    /// det J_H · det Z_RR, so a positive det Z_RR keeps the P-matrix check of the factorisation
+    /// of H valid for W. Returns false, leaving the step to a fresh factorisation, when W is no
+    /// such subset, when det Z_RR is not clearly positive or when a value is not finite. The
+    /// solution goes to `rhs` in the order of W.
+    fn bordered_solve(&mut self, problem: &LoadProblem<'_>) -> bool {
+        let n = problem.approach.len();
+        let big = self.lu_working.len();
+        let m = self.working.len();
+        if m >= big || big - m > MAX_HELD_OUT {
+            return false;
+        }
+        self.held_out.clear();
+        for (a, &i) in self.lu_working.iter().enumerate() {
+            if !self.in_working[i] {
+                self.held_out.push(a);
+            }
+        }
+        if big - self.held_out.len() != m {
+            return false; // a slice of W is not in H
+        }
+        let k = self.held_out.len();
+        let c = problem.compliance;
+        let w = problem.line_length;
+        // Right-hand side of the system on H: −g_H plus the loads of the slices outside H.
+        for (a, &i) in self.lu_working.iter().enumerate() {
+            self.aux[(a, 0)] = -self.cur.g[i];
+            for (col, _) in self.held_out.iter().enumerate() {
+                self.aux[(a, col + 1)] = 0.0;
+            }
+        }
+        for (col, &a) in self.held_out.iter().enumerate() {
+            self.aux[(a, col + 1)] = 1.0;
+        }
+        for j in 0..n {
+            let fj = w[j] * self.cur.q[j];
+            if fj == 0.0
+                || self.in_working[j]
+                || self.held_out.iter().any(|&a| self.lu_working[a] == j)
+            {
+                continue;
+            }
+            for (a, &i) in self.lu_working.iter().enumerate() {
+                self.aux[(a, 0)] += c[(i, j)] * fj;
+            }
+        }
+        let jac = self.jac.as_ref().submatrix(0, 0, big, big);
+        let perm = faer::perm::PermRef::new_checked(&self.perm[..big], &self.perm_inv[..big], big);
+        let stack = MemStack::new(&mut self.stack);
+        let rhs = self.aux.as_mut().submatrix_mut(0, 0, big, k + 1);
+        solve::solve_in_place(jac, jac, perm, rhs, Par::Seq, stack);
+        // Z_RR·y = −q_R − (J_H⁻¹r)_R by elimination with partial pivoting.
+        let mut zrr = [[0.0; MAX_HELD_OUT]; MAX_HELD_OUT];
+        let mut y = [0.0; MAX_HELD_OUT];
+        for (p, &a) in self.held_out.iter().enumerate() {
+            for (col, z) in zrr[p].iter_mut().enumerate().take(k) {
+                *z = self.aux[(a, col + 1)];
+            }
+            y[p] = -self.cur.q[self.lu_working[a]] - self.aux[(a, 0)];
+        }
+        let scale =
+            zrr.iter().take(k).flat_map(|r| r[..k].iter()).fold(0.0_f64, |x, v| x.max(v.abs()));
+        let mut positive = true;
+        for col in 0..k {
+            let piv = (col..k).max_by(|&a, &b| zrr[a][col].abs().total_cmp(&zrr[b][col].abs()));
+            let piv = piv.unwrap_or(col);
+            // Also a NaN pivot (the comparison is then false).
+            if zrr[piv][col].abs().partial_cmp(&(1e3 * f64::EPSILON * scale))
+                != Some(std::cmp::Ordering::Greater)
+            {
+                return false;
+            }
+            if piv != col {
+                zrr.swap(piv, col);
+                y.swap(piv, col);
+                positive = !positive;
+            }
+            if zrr[col][col] < 0.0 {
+                positive = !positive;
+            }
+            let pivot_row = zrr[col];
+            for r in col + 1..k {
+                let f = zrr[r][col] / pivot_row[col];
+                for (x, &p) in zrr[r][col..k].iter_mut().zip(&pivot_row[col..k]) {
+                    *x -= f * p;
+                }
+                y[r] -= f * y[col];
+            }
+        }
+        if !positive {
+            return false;
+        }
+        for col in (0..k).rev() {
+            let mut v = y[col];
+            for cc in col + 1..k {
+                v -= zrr[col][cc] * y[cc];
+            }
+            y[col] = v / zrr[col][col];
+        }
+        let mut b = 0;
+        for (a, &i) in self.lu_working.iter().enumerate() {
+            if !self.in_working[i] {
+                continue;
+            }
+            let mut x = self.aux[(a, 0)];
+            for (col, &yc) in y.iter().enumerate().take(k) {
+                x += self.aux[(a, col + 1)] * yc;
+            }
+            if !x.is_finite() {
+                return false;
+            }
+            self.rhs[(b, 0)] = x;
+            b += 1;
+        }
+        true
     }
 
     /// Newton matrix and right-hand side on the working set. Unscaled: rows of
@@ -1214,4 +1378,73 @@ pub fn hertz_pressures(
             .map_err(|source| LoadError::Hertz { slice, source })?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bordered solve from the factors of a working set H gives the Newton step on H less
+    /// three slices (one entering at zero load, two leaving with loads that move to the
+    /// right-hand side) as a fresh factorisation of the smaller block does, to round-off; and
+    /// declines a set that is not a subset of H.
+    #[test]
+    fn bordered_solve_equals_a_fresh_factorisation() {
+        let n = 30;
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // Positive definite with a skew part: a P-matrix, not symmetric.
+        let b = Mat::from_fn(n, n, |_, _| rnd() - 0.5);
+        let sk = Mat::from_fn(n, n, |_, _| rnd() - 0.5);
+        let c = Mat::from_fn(n, n, |i, j| {
+            let bbt: f64 = (0..n).map(|k| b[(i, k)] * b[(j, k)]).sum();
+            let diag = if i == j { 0.2 } else { 0.0 };
+            1e-9 * (bbt / n as f64 + 0.3 * (sk[(i, j)] - sk[(j, i)]) + diag)
+        });
+        let w: Vec<f64> = (0..n).map(|_| 0.1e-3 + 1e-3 * rnd()).collect();
+        let d = vec![1e-5; n];
+        let p = LoadProblem { approach: &d, line_length: &w, compliance: c.as_ref(), local: None };
+        let mut s = LoadSolver::with_capacity(n);
+        for i in 0..n {
+            let loaded = i < 20 || (24..28).contains(&i);
+            s.cur.q[i] = if loaded { 1e4 * (1.0 + rnd()) } else { 0.0 };
+            s.cur.g[i] = 1e-6 * (rnd() - 0.5);
+        }
+        let set = |s: &mut LoadSolver, slices: &[usize]| {
+            s.working.clear();
+            s.working.extend_from_slice(slices);
+            s.in_working[..n].fill(false);
+            for &i in slices {
+                s.in_working[i] = true;
+            }
+        };
+        let h: Vec<usize> = (0..26).collect();
+        set(&mut s, &h);
+        s.fill_system(&p, false).unwrap();
+        s.lu_solve(h.len(), 1, 1.0).unwrap();
+        s.lu_working.clone_from(&h);
+        s.lu_valid = true;
+        let sub: Vec<usize> = h.iter().copied().filter(|&i| ![3, 21, 25].contains(&i)).collect();
+        set(&mut s, &sub);
+        assert!(s.bordered_solve(&p));
+        let m = sub.len();
+        let bordered: Vec<f64> = (0..m).map(|a| s.rhs[(a, 0)]).collect();
+        s.fill_system(&p, false).unwrap();
+        s.lu_solve(m, 1, 1.0).unwrap();
+        let scale = bordered.iter().fold(0.0_f64, |x, v| x.max(v.abs()));
+        for (a, x) in bordered.iter().enumerate() {
+            let fresh = s.rhs[(a, 0)];
+            assert!((x - fresh).abs() <= 1e-10 * scale, "slice {}: {x:e} vs {fresh:e}", sub[a]);
+        }
+        // Slice 27 is not in H: no bordered solve.
+        let mut not_sub = sub.clone();
+        not_sub.push(27);
+        set(&mut s, &not_sub);
+        assert!(!s.bordered_solve(&p));
+    }
 }
