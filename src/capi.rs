@@ -437,34 +437,32 @@ pub unsafe extern "C" fn hgm_evaluate_outputs(
             return Err(invalid_arg(format!("`{which}` is NULL with `n_fields` = {n_fields}")));
         }
         let state = check_state_inputs(phi_p, phi_g, w_p, w_g)?;
-        let mut index = [0usize; MAX_REQUESTED_OUTPUTS];
-        let index = &mut index[..n_fields];
-        if n_fields > 0 {
+        let requested: &[u32] = if n_fields == 0 {
+            &[]
+        } else {
             // SAFETY: non-null, `n_fields` readable elements (caller contract).
-            let requested = unsafe { std::slice::from_raw_parts(fields, n_fields) };
-            for (k, (slot, &f)) in index.iter_mut().zip(requested).enumerate() {
-                if f as usize >= MESH_OUTPUT_FIELDS.len() {
-                    return Err(invalid_arg(format!(
-                        "`fields[{k}]` = {f}: allowed < HGM_N_OUTPUTS = {}",
-                        MESH_OUTPUT_FIELDS.len()
-                    )));
-                }
-                *slot = f as usize;
-            }
+            unsafe { std::slice::from_raw_parts(fields, n_fields) }
+        };
+        if let Some((k, f)) =
+            requested.iter().enumerate().find(|(_, f)| **f as usize >= MESH_OUTPUT_FIELDS.len())
+        {
+            return Err(invalid_arg(format!(
+                "`fields[{k}]` = {f}: allowed < HGM_N_OUTPUTS = {}",
+                MESH_OUTPUT_FIELDS.len()
+            )));
         }
-        let o = if crate::mesh::outputs::torques_cover(index) {
+        let index = requested.iter().map(|&f| f as usize);
+        let o = if crate::mesh::outputs::torques_cover(index.clone()) {
             m.torques(&state).map(|(o, _)| o)
         } else {
             m.evaluate(&state)
         }
         .map_err(|e| (HgmStatus::ModelError, e.to_string()))?;
-        if let Some(&k) =
-            index.iter().find(|&&k| !crate::mesh::outputs::value_f64(&o, k).is_finite())
-        {
+        for k in index.clone() {
             let f = &MESH_OUTPUT_FIELDS[k];
             check_finite(&[(f.c_field, crate::mesh::outputs::value_f64(&o, k))])?;
         }
-        for (j, &k) in index.iter().enumerate() {
+        for (j, k) in index.enumerate() {
             // SAFETY: non-null (n_fields > 0 here), `n_fields` writable elements (caller
             // contract).
             unsafe { values.add(j).write(crate::mesh::outputs::value_f64(&o, k)) };

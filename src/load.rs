@@ -98,8 +98,8 @@
 //!
 //! Bordered solves: a working set W that is the held factors' set H less a few slices R
 //! (at most 8) is solved from those factors too, by the complementary-minor (capacitance)
-//! identity — the system on H with δ_R fixed at −q_R and the rows of R relaxed by
-//! multipliers, 1 + |R| solves with the held factors and an |R| × |R| elimination
+//! identity — the system on H with the steps of R fixed (their loads moved to the right-hand
+//! side) and the rows of R relaxed by multipliers, 1 + |R| solves with the held factors and an |R| × |R| elimination
 //! (`LoadSolver::bordered_solve`). It serves the second pass of a step, after entering slices
 //! with a non-positive step left W (the same matrix: an exact Newton step), and a simplified
 //! Newton step under the rule above. det J_W = det J_H · det (J_H⁻¹)_RR, so the sign check of
@@ -107,7 +107,7 @@
 //! factorised afresh. Where the loaded ends of partly loaded contact lines move from state to
 //! state, W shrinks and grows by a few slices over several Newton steps; measured on the Table
 //! 1 benchmark sweep (64 phases × 3 loads, warm) the factorisations per solve went from 3.2 to
-//! 2.4 at 200 slices and from 2.5 to 1.7 at 100, the evaluations 9–12 % and 7 % faster.
+//! 2.4 at 200 slices and from 2.5 to 1.7 at 100.
 //!
 //! Cost: one factorisation of the working block per full iteration (O(m³), m loaded slices)
 //! plus matrix–vector products (O(n²)) per line-search trial. The solver's own buffers are sized at
@@ -820,32 +820,14 @@ impl LoadSolver {
     /// Right-hand side of the Newton system on the working set (unscaled): −g_W, plus the
     /// loads of slices leaving W (set to 0), which move to the right-hand side.
     fn fill_rhs(&mut self, problem: &LoadProblem<'_>) {
-        let n = problem.approach.len();
-        let c = problem.compliance;
-        let w = problem.line_length;
         let m = self.working.len();
-        for (a, &i) in self.working.iter().enumerate() {
-            self.rhs[(a, 0)] = -self.cur.g[i];
-        }
-        for k in 0..n {
-            let fk = w[k] * self.cur.q[k];
-            if self.in_working[k] || fk == 0.0 {
-                continue;
-            }
-            let dst = &mut self.rhs.col_as_slice_mut(0)[..m];
-            match column(c, k) {
-                Some(src) => {
-                    for (x, &i) in dst.iter_mut().zip(&self.working) {
-                        *x += src[i] * fk;
-                    }
-                }
-                None => {
-                    for (x, &i) in dst.iter_mut().zip(&self.working) {
-                        *x += c[(i, k)] * fk;
-                    }
-                }
-            }
-        }
+        newton_rhs(
+            problem,
+            &self.cur,
+            &self.in_working,
+            &self.working,
+            &mut self.rhs.col_as_slice_mut(0)[..m],
+        );
     }
 
     /// Solves with the LU factors held from an earlier step of this solve.
@@ -858,23 +840,22 @@ impl LoadSolver {
     }
 
     /// The Newton step on a working set W that is the held LU factors' set H less at most
-    /// [`MAX_HELD_OUT`] slices R, from those factors (no factorisation): the system on W is the
-    /// system on H with δ_R fixed at −q_R (a slice leaving W is set to zero load) and the rows
-    /// of R relaxed by multipliers y,
+    /// [`MAX_HELD_OUT`] slices R, from those factors (no factorisation). The loads of R move to
+    /// the right-hand side as for any slice outside W (a slice leaving W is set to zero load),
+    /// so the system on W is the system on H with x_R = 0 and the rows of R relaxed by
+    /// multipliers y,
     ///
     /// ```text
-    /// J_H·x = r + E_R·y,   x_R = −q_R   ⇒   x = J_H⁻¹r + Z·y,  Z = J_H⁻¹E_R,  Z_RR·y = −q_R − (J_H⁻¹r)_R
+    /// J_H·x = r + E_R·y,   x_R = 0   ⇒   x = J_H⁻¹r + Z·y,  Z = J_H⁻¹E_R,  Z_RR·y = −(J_H⁻¹r)_R
     /// ```
     ///
-    /// with r = −g_H plus the loads of the slices outside H, as [`LoadSolver::fill_rhs`] forms
-    /// them: 1 + |R| solves with the held factors and a |R| × |R| elimination instead of an
+    /// with r the right-hand side of [`LoadSolver::fill_rhs`] at the rows of H: 1 + |R| solves with the held factors and a |R| × |R| elimination instead of an
     /// O(|W|³) factorisation. Z_RR = (J_H⁻¹)_RR is the complementary minor: det J_W =
     /// det J_H · det Z_RR, so a positive det Z_RR keeps the P-matrix check of the factorisation
     /// of H valid for W. Returns false, leaving the step to a fresh factorisation, when W is no
     /// such subset, when det Z_RR is not clearly positive or when a value is not finite. The
     /// solution goes to `rhs` in the order of W.
     fn bordered_solve(&mut self, problem: &LoadProblem<'_>) -> bool {
-        let n = problem.approach.len();
         let big = self.lu_working.len();
         let m = self.working.len();
         if m >= big || big - m > MAX_HELD_OUT {
@@ -890,43 +871,31 @@ impl LoadSolver {
             return false; // a slice of W is not in H
         }
         let k = self.held_out.len();
-        let c = problem.compliance;
-        let w = problem.line_length;
-        // Right-hand side of the system on H: −g_H plus the loads of the slices outside H.
-        for (a, &i) in self.lu_working.iter().enumerate() {
-            self.aux[(a, 0)] = -self.cur.g[i];
-            for (col, _) in self.held_out.iter().enumerate() {
-                self.aux[(a, col + 1)] = 0.0;
-            }
-        }
+        newton_rhs(
+            problem,
+            &self.cur,
+            &self.in_working,
+            &self.lu_working,
+            &mut self.aux.col_as_slice_mut(0)[..big],
+        );
         for (col, &a) in self.held_out.iter().enumerate() {
-            self.aux[(a, col + 1)] = 1.0;
-        }
-        for j in 0..n {
-            let fj = w[j] * self.cur.q[j];
-            if fj == 0.0
-                || self.in_working[j]
-                || self.held_out.iter().any(|&a| self.lu_working[a] == j)
-            {
-                continue;
-            }
-            for (a, &i) in self.lu_working.iter().enumerate() {
-                self.aux[(a, 0)] += c[(i, j)] * fj;
-            }
+            let e = &mut self.aux.col_as_slice_mut(col + 1)[..big];
+            e.fill(0.0);
+            e[a] = 1.0;
         }
         let jac = self.jac.as_ref().submatrix(0, 0, big, big);
         let perm = faer::perm::PermRef::new_checked(&self.perm[..big], &self.perm_inv[..big], big);
         let stack = MemStack::new(&mut self.stack);
         let rhs = self.aux.as_mut().submatrix_mut(0, 0, big, k + 1);
         solve::solve_in_place(jac, jac, perm, rhs, Par::Seq, stack);
-        // Z_RR·y = −q_R − (J_H⁻¹r)_R by elimination with partial pivoting.
+        // Z_RR·y = −(J_H⁻¹r)_R by elimination with partial pivoting.
         let mut zrr = [[0.0; MAX_HELD_OUT]; MAX_HELD_OUT];
         let mut y = [0.0; MAX_HELD_OUT];
         for (p, &a) in self.held_out.iter().enumerate() {
             for (col, z) in zrr[p].iter_mut().enumerate().take(k) {
                 *z = self.aux[(a, col + 1)];
             }
-            y[p] = -self.cur.q[self.lu_working[a]] - self.aux[(a, 0)];
+            y[p] = -self.aux[(a, 0)];
         }
         let scale =
             zrr.iter().take(k).flat_map(|r| r[..k].iter()).fold(0.0_f64, |x, v| x.max(v.abs()));
@@ -1183,6 +1152,41 @@ fn is_symmetric(c: MatRef<'_, f64>) -> bool {
 }
 
 /// Column `j` of `c` as a slice when its rows are contiguous.
+/// The Newton right-hand side at the rows `rows`: −g_i, plus the loads of the slices outside the
+/// working set (`in_working` false), which move to the right-hand side when their step sets
+/// them to zero; into `dst` (one entry per row).
+fn newton_rhs(
+    problem: &LoadProblem<'_>,
+    cur: &Iterate,
+    in_working: &[bool],
+    rows: &[usize],
+    dst: &mut [f64],
+) {
+    let c = problem.compliance;
+    let w = problem.line_length;
+    for (x, &i) in dst.iter_mut().zip(rows) {
+        *x = -cur.g[i];
+    }
+    for k in 0..problem.approach.len() {
+        let fk = w[k] * cur.q[k];
+        if in_working[k] || fk == 0.0 {
+            continue;
+        }
+        match column(c, k) {
+            Some(src) => {
+                for (x, &i) in dst.iter_mut().zip(rows) {
+                    *x += src[i] * fk;
+                }
+            }
+            None => {
+                for (x, &i) in dst.iter_mut().zip(rows) {
+                    *x += c[(i, k)] * fk;
+                }
+            }
+        }
+    }
+}
+
 fn column(c: MatRef<'_, f64>, j: usize) -> Option<&[f64]> {
     c.col(j).try_as_col_major().map(|col| col.as_slice())
 }

@@ -600,8 +600,8 @@ impl MeshModel {
                 fields
             }
         };
-        let torques_only =
-            outputs.is_some() && helical_gear_mesh::mesh::outputs::torques_cover(&fields);
+        let torques_only = outputs.is_some()
+            && helical_gear_mesh::mesh::outputs::torques_cover(fields.iter().copied());
         let inputs = [phi_p.as_array(), phi_g.as_array(), w_p.as_array(), w_g.as_array()];
         let n = inputs[0].len();
         if inputs.iter().any(|a| a.len() != n) {

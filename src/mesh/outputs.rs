@@ -126,8 +126,8 @@ pub fn field_index(name: &str) -> Option<usize> {
 
 /// True when every index of `fields` is a [`OutputField::torques`] output, so that the torques
 /// path gives them all (an index beyond the table is not: the caller checks indices first).
-pub fn torques_cover(fields: &[usize]) -> bool {
-    fields.iter().all(|&k| MESH_OUTPUT_FIELDS.get(k).is_some_and(|f| f.torques))
+pub fn torques_cover(fields: impl IntoIterator<Item = usize>) -> bool {
+    fields.into_iter().all(|k| MESH_OUTPUT_FIELDS.get(k).is_some_and(|f| f.torques))
 }
 
 /// The value of field `index` of `o` as a double: Reals as they are, counts as whole numbers,
