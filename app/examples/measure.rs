@@ -13,7 +13,7 @@
 //! | `jacobian` | `jacobian.md` | cost of one `mesh_jacobian` against one `evaluate`, full and table fidelity | ≈ 30 s |
 //! | `iso` | `iso6336.md` | ISO 6336-3 method B nominal root stress σ_F0 and its factors for Table 1 at 100 N·m and two other designs (geometry only, no FE) | < 1 s |
 //! | `loads` | `loads.md` | Table 1 at 100 N·m: mean and peak-to-peak of each component of the mesh force and tilting moments over a mesh cycle, full and table fidelity, and the bearing loads of `docs/loads/bearings_table1.json` | ≈ 10 s |
-//! | `stress` | `root_stress.md`, `root_stress.csv` | static tooth-root stress (max over the mesh cycle) of Table 1 at 100 N·m for the coarse, default and refined FE meshes, of three designs at the default mesh, and the cost of the root stress per evaluation | a few minutes |
+//! | `stress` | `root_stress.md`, `root_stress.csv` | static tooth-root stress (max over the mesh cycle) of Table 1 at 100 N·m for the coarse, default and refined FE meshes and along a refinement of the root fillet, of three designs at the default mesh, and the cost of the root stress per evaluation | a few minutes |
 //! | `friction` | `friction.md`, `friction_path.png`/`.csv`, `friction_cycle.png`/`.csv` | Table 1 at 100 N·m and 300 rad/s: mean mesh loss and efficiency with a constant μ and with ISO/TR 14179-2's μ beside μ·H_V; the friction force along the path of contact and the loss over a mesh cycle; the effect on the steady dynamic TE and axial force; the cost per evaluation with friction | ≈ 1 min |
 //! | `all` | all of them | | |
 //! | `pages` | `docs/performance.md`, `docs/validation.md` | no measurement: renders the performance page from `docs/bench/bench.json` and the paper-run section of the validation page from `docs/paper/summary.json` ([`helical_gear_app::pages`]; run from the repository root) | instant |
@@ -787,6 +787,28 @@ fn stress_designs() -> [(&'static str, GearPair); 3] {
     ]
 }
 
+/// The refined FE density in four axial layers with the root fillet's region refined further:
+/// elements along the fillet (`fillet`) and across the half tooth (`across`), by name. The root
+/// stress is observed in the fillet, so these are its convergence path beyond the refined mesh;
+/// four layers instead of eight keep the runs short (the root page's refined row in eight
+/// layers shows what the layers change).
+fn fillet_refinements() -> [(&'static str, GearMeshDensity); 6] {
+    let d = |fillet, across| GearMeshDensity {
+        fillet,
+        across,
+        layers: 4,
+        ..GearMeshDensity::refined()
+    };
+    [
+        ("refined, 4 layers (fillet 3, across 4)", d(3, 4)),
+        ("fillet 6, across 4", d(6, 4)),
+        ("fillet 6, across 6", d(6, 6)),
+        ("fillet 8, across 6", d(8, 6)),
+        ("fillet 12, across 6", d(12, 6)),
+        ("fillet 16, across 6", d(16, 6)),
+    ]
+}
+
 /// The static root stress of `pair` at `torque` (N·m) over one pinion pitch (32 points) with
 /// FE data at `density`, full fidelity.
 fn static_root_stress(
@@ -848,6 +870,9 @@ fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut rows = Vec::new();
     let t1 = GearPair::paper_table1();
     for (name, d) in densities() {
+        rows.push(static_root_stress("Table 1 (β = 10°, b = 15 mm)", name, &t1, &d, torque)?);
+    }
+    for (name, d) in fillet_refinements() {
         rows.push(static_root_stress("Table 1 (β = 10°, b = 15 mm)", name, &t1, &d, torque)?);
     }
     for (design, pair) in stress_designs().into_iter().skip(1) {
@@ -912,8 +937,28 @@ fn root_stress(dir: &Path) -> Result<Vec<PathBuf>, String> {
         100.0 * (d.sigma_g / c.sigma_g - 1.0)
     )
     .ok();
+    let nf = fillet_refinements().len();
+    let fillet_rows = &rows[n..n + nf];
+    let finest = &fillet_rows[nf - 1];
+    md.push_str(&format!(
+        "## Refinement of the root fillet (Table 1)\n\n\
+         The refined mesh refines the whole gear, but the fillet, where the stress is observed, \
+         only from 2 to 3 elements along it and from 3 to 4 across the half tooth. Below, \
+         from the refined mesh in four axial layers, the elements along the fillet \
+         (`fillet`) and across the half tooth (`across`) are refined further. The Table 1 \
+         gear's mesh generator makes no valid mesh beyond `across` = 6 (a non-positive \
+         Jacobian in the root block), so the path stops there.\n\n{}\n\
+         Change from the default mesh to the finest row ({}): pinion {:+.1} %, gear {:+.1} %; \
+         from the refined mesh to it: pinion {:+.1} %, gear {:+.1} %.\n\n",
+        table(&mut fillet_rows.iter()),
+        finest.density,
+        100.0 * (finest.sigma_p / d.sigma_p - 1.0),
+        100.0 * (finest.sigma_g / d.sigma_g - 1.0),
+        100.0 * (finest.sigma_p / r.sigma_p - 1.0),
+        100.0 * (finest.sigma_g / r.sigma_g - 1.0),
+    ));
     md.push_str("## Designs at the default FE density\n\n");
-    md.push_str(&table(&mut rows.iter().skip(1).take(1).chain(rows.iter().skip(n))));
+    md.push_str(&table(&mut rows.iter().skip(1).take(1).chain(rows.iter().skip(n + nf))));
     // Cost per evaluation, with and without the root stress.
     md.push_str(&format!(
         "\n## Cost per evaluation\n\nTable 1 along one pitch at TE = 30 µm (64 states, \

@@ -209,6 +209,10 @@ impl GearMeshDensity {
 
     /// A refined mesh for convergence checks: 16 × 17 flank grid, five fine teeth, every count
     /// at or above the default's; for the Table 1 pair 173k DOFs (pinion) and 220k DOFs (gear).
+    /// It converges the compliance, not the root stress: the root fillet gets only one more
+    /// element along it and across the half tooth than the default, and refining those two
+    /// counts further moves the Table 1 root stresses by a few per cent
+    /// (`docs/bench/root_stress.md`, "Refinement of the root fillet").
     pub fn refined() -> Self {
         Self {
             involute: 9,
