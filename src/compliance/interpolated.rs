@@ -477,11 +477,12 @@ impl SliceInfluence {
         }
         #[cfg(not(target_arch = "x86_64"))]
         let _ = vectorised;
-        self.block_kernel(obs, load, t, lo, hi, partial, out, at, entry);
+        self.block_kernel(obs, load, t, lo, hi, partial, out, at);
     }
 
-    /// [`SliceInfluence::block_kernel`] compiled for AVX2, with each entry's 4 × 4 contraction
-    /// on 256-bit vectors ([`entry_avx`]): the same operations in the same order, so the same
+    /// [`SliceInfluence::block_kernel`]'s loops compiled for AVX2, with the entries' 4 × 4
+    /// contractions on 256-bit vectors, four observation slices at a time ([`entries4_avx`],
+    /// the remainder by [`entry_avx`]): the same operations in the same order, so the same
     /// rounding (no fused multiply-adds) and the same matrix, bit for bit.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
@@ -497,10 +498,24 @@ impl SliceInfluence {
         out: &mut Mat<f64>,
         at: (usize, usize),
     ) {
-        // SAFETY: the CPU has AVX2 (this function's contract); block_kernel hands entry_avx
-        // slices of at least 3·nc + 4 values.
-        let entry = |q: &[f64], nc, w: &[f64; 16]| unsafe { entry_avx(q, nc, w) };
-        self.block_kernel(obs, load, t, lo, hi, partial, out, at, entry);
+        let nc = self.cols;
+        let (r0, c0) = at;
+        for (j, l) in load.iter().enumerate() {
+            self.partial_sums(l, t, lo, hi, partial);
+            let col = &mut out.col_as_slice_mut(c0 + j)[r0..r0 + obs.len()];
+            let mut chunks = col.chunks_exact_mut(4);
+            let mut os = obs.chunks_exact(4);
+            for (x, o) in (&mut chunks).zip(&mut os) {
+                // SAFETY: the CPU has AVX2 (this function's contract); every window
+                // `o.base .. o.base + 3·nc + 4` lies in `partial` (the grid's points), and `x`
+                // holds 4 values.
+                unsafe { entries4_avx(partial, nc, [&o[0], &o[1], &o[2], &o[3]], x) };
+            }
+            for (x, o) in chunks.into_remainder().iter_mut().zip(os.remainder()) {
+                // SAFETY: as above; the window holds 3·nc + 4 values.
+                *x += unsafe { entry_avx(&partial[o.base..o.base + 3 * nc + 4], nc, &o.w16) };
+            }
+        }
     }
 
     /// The first contraction for load slice `l` of tooth block `t`: `partial[g]` = Σ_r
@@ -525,10 +540,9 @@ impl SliceInfluence {
     }
 
     /// The two contractions of [`SliceInfluence::add_block`] for tooth block `t`, with the
-    /// partial sums restricted to grid indices `lo..hi` and each entry formed by `entry`
-    /// ([`entry`], or [`entry_avx`] inside [`SliceInfluence::block_avx2`]) from the partial sums
-    /// of its 4 × 4 window (`3·nc + 4` values).
-    #[inline(always)]
+    /// partial sums restricted to grid indices `lo..hi` and each entry formed by [`entry`] from
+    /// the partial sums of its 4 × 4 window (`3·nc + 4` values): the portable kernel, which
+    /// [`SliceInfluence::block_avx2`] reproduces bit for bit.
     #[allow(clippy::too_many_arguments)]
     fn block_kernel(
         &self,
@@ -540,7 +554,6 @@ impl SliceInfluence {
         partial: &mut [f64],
         out: &mut Mat<f64>,
         (r0, c0): (usize, usize),
-        entry: impl Fn(&[f64], usize, &[f64; 16]) -> f64,
     ) {
         let nc = self.cols;
         for (j, l) in load.iter().enumerate() {
@@ -593,6 +606,52 @@ unsafe fn entry_avx(q: &[f64], nc: usize, w16: &[f64; 16]) -> f64 {
     // [s0 + s1, s0 + s1, s2 + s3, s2 + s3]
     let h = _mm256_hadd_pd(s, s);
     _mm_cvtsd_f64(_mm_add_sd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1)))
+}
+
+/// Four consecutive entries of one column by [`entry_avx`]'s arithmetic, added to `x`: lane
+/// e of each observation's vector accumulates s_e over a = 0…3 from zero, and the horizontal
+/// sums of the four are formed together — `hadd` pairs (s₀ + s₁, s₂ + s₃) of two
+/// observations, the 128-bit halves exchanged, one add — as (s₀ + s₁) + (s₂ + s₃) each: the
+/// same values bit for bit as four calls of [`entry`], with one vector add into the column
+/// instead of four scalar ones.
+///
+/// # Safety
+/// The CPU must support AVX; `partial` must hold `o.base + 3·nc + 4` values for each `o`, and
+/// `x` 4 values.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn entries4_avx(partial: &[f64], nc: usize, o: [&SliceWeights; 4], x: &mut [f64]) {
+    use std::arch::x86_64::{
+        __m256d, _mm256_add_pd, _mm256_hadd_pd, _mm256_loadu_pd, _mm256_mul_pd,
+        _mm256_permute2f128_pd, _mm256_setzero_pd, _mm256_storeu_pd,
+    };
+    debug_assert!(x.len() >= 4);
+    let sum = |o: &SliceWeights| -> __m256d {
+        debug_assert!(partial.len() >= o.base + 3 * nc + 4);
+        let (qp, wp) = (partial.as_ptr(), o.w16.as_ptr());
+        let mut s = _mm256_setzero_pd();
+        for a in 0..4 {
+            // SAFETY: o.base + a·nc + 3 < o.base + 3·nc + 4 <= partial.len(), and 4a + 3 < 16.
+            let (v, w) = unsafe {
+                (_mm256_loadu_pd(qp.add(o.base + a * nc)), _mm256_loadu_pd(wp.add(a * 4)))
+            };
+            s = _mm256_add_pd(s, _mm256_mul_pd(w, v));
+        }
+        s
+    };
+    let (a, b, c, d) = (sum(o[0]), sum(o[1]), sum(o[2]), sum(o[3]));
+    // [a0 + a1, b0 + b1, a2 + a3, b2 + b3] and the same for c, d.
+    let (ab, cd) = (_mm256_hadd_pd(a, b), _mm256_hadd_pd(c, d));
+    // [a0 + a1, b0 + b1, c0 + c1, d0 + d1] + [a2 + a3, b2 + b3, c2 + c3, d2 + d3]
+    let lo = _mm256_permute2f128_pd::<0x20>(ab, cd);
+    let hi = _mm256_permute2f128_pd::<0x31>(ab, cd);
+    let e = _mm256_add_pd(lo, hi);
+    // SAFETY: x holds at least 4 values.
+    unsafe {
+        let xp = x.as_mut_ptr();
+        _mm256_storeu_pd(xp, _mm256_add_pd(_mm256_loadu_pd(xp), e));
+    }
 }
 
 /// Scratch memory of [`InterpolatedInfluence::add_matrix`] (grows to the largest sizes used,
