@@ -261,16 +261,21 @@ fn eval<S: OdeSystem + ?Sized>(
 }
 
 /// `out = y + h·Σ_j a_j·k_j` component-wise, then checks `out` is finite (state at time `t`).
-fn combine(
+/// The sum is formed from 0 in the order of `terms` for every method's stages alike; the
+/// number of terms is a constant, so each stage's loop is unrolled over them.
+fn combine<const N: usize>(
     t: f64,
     out: &mut [f64],
     y: &[f64],
     h: f64,
-    terms: &[(f64, &[f64])],
+    terms: &[(f64, &[f64]); N],
 ) -> Result<(), OdeError> {
+    let n = out.len().min(y.len());
+    let (out, y) = (&mut out[..n], &y[..n]);
+    let ks: [&[f64]; N] = terms.map(|(_, k)| &k[..n]);
     for (i, (o, yi)) in out.iter_mut().zip(y).enumerate() {
         let mut s = 0.0;
-        for (a, k) in terms {
+        for (&(a, _), k) in terms.iter().zip(&ks) {
             s += a * k[i];
         }
         *o = yi + h * s;

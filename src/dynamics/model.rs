@@ -397,7 +397,10 @@ pub struct GearDynamics<M> {
     /// are complete (the right-hand side asks only for the torques,
     /// [`MeshTorques::torques`]). Dropped whenever the mesh's warm start is set from outside
     /// ([`Self::set_warm_start`]) or the mesh is changed.
-    cache: Option<([u64; 4], MeshOutputs, bool)>,
+    cache: Option<([u64; 4], bool)>,
+    /// The outputs of the remembered evaluation (valid while `cache` is `Some`), written in
+    /// place, so that a right-hand side's outputs are not moved through return values.
+    cached_outputs: MeshOutputs,
     evaluations: usize,
 }
 
@@ -411,7 +414,15 @@ impl<M: MeshTorques> GearDynamics<M> {
                 return Err(invalid(name, v, "finite and > 0 (mesh base radius, m)"));
             }
         }
-        Ok(Self { mesh, drive, g_p, g_g, cache: None, evaluations: 0 })
+        Ok(Self {
+            mesh,
+            drive,
+            g_p,
+            g_g,
+            cache: None,
+            cached_outputs: MeshOutputs::default(),
+            evaluations: 0,
+        })
     }
 
     /// The drivetrain parameters.
@@ -469,18 +480,19 @@ impl<M: MeshTorques> GearDynamics<M> {
         w_p: f64,
         w_g: f64,
     ) -> Result<MeshOutputs, MeshError> {
-        self.cached(phi_p, phi_g, w_p, w_g, true)
+        self.cached(phi_p, phi_g, w_p, w_g, true).copied()
     }
 
     /// [`Self::mesh_at`] for a right-hand side: M_F, M_D and TE are set (bit for bit those of
-    /// [`Self::mesh_at`]), the rest may be 0 ([`MeshTorques::torques`]).
+    /// [`Self::mesh_at`]), the rest may be 0 ([`MeshTorques::torques`]); borrowed from the
+    /// remembered evaluation.
     pub(crate) fn torques_at(
         &mut self,
         phi_p: f64,
         phi_g: f64,
         w_p: f64,
         w_g: f64,
-    ) -> Result<MeshOutputs, MeshError> {
+    ) -> Result<&MeshOutputs, MeshError> {
         self.cached(phi_p, phi_g, w_p, w_g, false)
     }
 
@@ -491,20 +503,23 @@ impl<M: MeshTorques> GearDynamics<M> {
         w_p: f64,
         w_g: f64,
         complete: bool,
-    ) -> Result<MeshOutputs, MeshError> {
+    ) -> Result<&MeshOutputs, MeshError> {
         let key = [phi_p.to_bits(), phi_g.to_bits(), w_p.to_bits(), w_g.to_bits()];
-        if let Some((k, o, c)) = &self.cache
-            && *k == key
-            && (*c || !complete)
-        {
-            return Ok(*o);
+        let hit = matches!(self.cache, Some((k, c)) if k == key && (c || !complete));
+        if !hit {
+            // Forgotten until the evaluation into the record succeeds.
+            self.cache = None;
+            let state = MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() };
+            self.evaluations += 1;
+            let c = if complete {
+                self.cached_outputs = self.mesh.mesh(&state)?;
+                true
+            } else {
+                self.mesh.torques_into(&state, &mut self.cached_outputs)?
+            };
+            self.cache = Some((key, c));
         }
-        let state = MeshState { phi_p, phi_g, w_p, w_g, ..Default::default() };
-        self.evaluations += 1;
-        let (o, c) =
-            if complete { (self.mesh.mesh(&state)?, true) } else { self.mesh.torques(&state)? };
-        self.cache = Some((key, o, c));
-        Ok(o)
+        Ok(&self.cached_outputs)
     }
 
     /// Makes the mesh start its next evaluation from `warm` ([`MeshTorques::set_warm_start`])
@@ -584,18 +599,38 @@ impl<M: MeshTorques> GearDynamics<M> {
 
     /// Writes the derivative of Eqs. 1–4 at state `y` with mesh outputs `o` into `dydt`.
     pub(crate) fn derivative(&self, y: &[f64], o: &MeshOutputs, dydt: &mut [f64]) {
-        let d = &self.drive;
-        let shaft1 = d.c1 * (y[PHI_1] - y[PHI_P]) + d.d1 * (y[W_1] - y[W_P]);
-        let shaft2 = d.c2 * (y[PHI_G] - y[PHI_2]) + d.d2 * (y[W_G] - y[W_2]);
-        dydt[PHI_1] = y[W_1];
-        dydt[PHI_P] = y[W_P];
-        dydt[PHI_G] = y[W_G];
-        dydt[PHI_2] = y[W_2];
-        dydt[W_1] = (d.torque - shaft1) / d.j1;
-        dydt[W_P] = (shaft1 - o.m_f_p - o.m_d_p) / d.j_p;
-        dydt[W_G] = (-shaft2 - o.m_f_g - o.m_d_g) / d.j_g;
-        dydt[W_2] = (d.brake_torque() + shaft2) / d.j2;
+        derivative(&self.drive, y, MeshLoads::of(o), dydt);
     }
+}
+
+/// The mesh torques a right-hand side reads, N·m: M_F and M_D of pinion and gear (Eqs. 13–14).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MeshLoads {
+    pub(crate) m_f_p: f64,
+    pub(crate) m_f_g: f64,
+    pub(crate) m_d_p: f64,
+    pub(crate) m_d_g: f64,
+}
+
+impl MeshLoads {
+    /// The four torques of `o`.
+    pub(crate) fn of(o: &MeshOutputs) -> Self {
+        Self { m_f_p: o.m_f_p, m_f_g: o.m_f_g, m_d_p: o.m_d_p, m_d_g: o.m_d_g }
+    }
+}
+
+/// Eqs. 1–4: the state derivative `dydt` of drivetrain `d` at state `y` with mesh torques `o`.
+fn derivative(d: &Drivetrain, y: &[f64], o: MeshLoads, dydt: &mut [f64]) {
+    let shaft1 = d.c1 * (y[PHI_1] - y[PHI_P]) + d.d1 * (y[W_1] - y[W_P]);
+    let shaft2 = d.c2 * (y[PHI_G] - y[PHI_2]) + d.d2 * (y[W_G] - y[W_2]);
+    dydt[PHI_1] = y[W_1];
+    dydt[PHI_P] = y[W_P];
+    dydt[PHI_G] = y[W_G];
+    dydt[PHI_2] = y[W_2];
+    dydt[W_1] = (d.torque - shaft1) / d.j1;
+    dydt[W_P] = (shaft1 - o.m_f_p - o.m_d_p) / d.j_p;
+    dydt[W_G] = (-shaft2 - o.m_f_g - o.m_d_g) / d.j_g;
+    dydt[W_2] = (d.brake_torque() + shaft2) / d.j2;
 }
 
 impl<M: MeshTorques> OdeSystem for GearDynamics<M> {
@@ -613,7 +648,8 @@ impl<M: MeshTorques> OdeSystem for GearDynamics<M> {
         }
         let o =
             self.torques_at(y[PHI_P], y[PHI_G], y[W_P], y[W_G]).map_err(|e| OdeError::rhs(t, e))?;
-        self.derivative(y, &o, dydt);
+        let m = MeshLoads::of(o);
+        derivative(&self.drive, y, m, dydt);
         Ok(())
     }
 }

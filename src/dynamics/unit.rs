@@ -133,8 +133,8 @@ use super::integrators::{Dopri5, Dopri5Options, OdeError, OdeSystem, Rk4};
 pub use super::kind::{UnitKind, UnitLinearization, UnitQuantity};
 use super::limits::{MAX_UNIT_SLICE_EVALUATIONS, MAX_UNIT_SUBSTEPS, stable_rk4_step};
 use super::model::{
-    Drivetrain, DynamicsError, GearDynamics, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P, StaticStart,
-    W_1, W_2, W_G, W_P, invalid, mesh_linearisation,
+    Drivetrain, DynamicsError, GearDynamics, MeshLoads, N_STATES, PHI_1, PHI_2, PHI_G, PHI_P,
+    StaticStart, W_1, W_2, W_G, W_P, invalid, mesh_linearisation,
 };
 use super::relative::{InRelative, RelativeCoordinates};
 use crate::mesh::statics::EquilibriumSettings;
@@ -647,9 +647,9 @@ impl<M: MeshTorques> UnitSystem<M> {
     }
 
     /// The mesh torques and TE at `y` (the right-hand side's; [`GearDynamics::torques_at`]).
-    fn torques(&mut self, t: f64, y: &[f64]) -> Result<MeshOutputs, OdeError> {
+    fn torques(&mut self, t: f64, y: &[f64]) -> Result<MeshLoads, OdeError> {
         let [pp, pg, wp, wg] = self.hub(y);
-        self.model.torques_at(pp, pg, wp, wg).map_err(|e| OdeError::rhs(t, e))
+        self.model.torques_at(pp, pg, wp, wg).map(MeshLoads::of).map_err(|e| OdeError::rhs(t, e))
     }
 }
 

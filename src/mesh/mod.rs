@@ -570,6 +570,20 @@ pub trait MeshTorques {
         Ok((self.mesh(state)?, true))
     }
 
+    /// [`Self::torques`] written into `out` (every field: the ones [`Self::torques`] leaves at
+    /// their defaults are reset to them), returning the completeness flag; after an error `out`
+    /// holds nothing valid. For a caller that keeps the outputs in place (a right-hand side's
+    /// cache), without moving the record through return values.
+    fn torques_into(
+        &mut self,
+        state: &MeshState,
+        out: &mut MeshOutputs,
+    ) -> Result<bool, MeshError> {
+        let (o, complete) = self.torques(state)?;
+        *out = o;
+        Ok(complete)
+    }
+
     /// Base radii (g_p, g_g), m, that define TE = φp·g_p + φg·g_g.
     fn base_radii(&self) -> (f64, f64);
 
@@ -887,6 +901,17 @@ impl MeshTorques for Mesh {
         match self {
             Mesh::Full(f) => f.torques(state),
             Mesh::Table(t) => t.torques(state),
+        }
+    }
+
+    fn torques_into(
+        &mut self,
+        state: &MeshState,
+        out: &mut MeshOutputs,
+    ) -> Result<bool, MeshError> {
+        match self {
+            Mesh::Full(f) => f.torques_into(state, out),
+            Mesh::Table(t) => t.torques_into(state, out),
         }
     }
 

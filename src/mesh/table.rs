@@ -1385,16 +1385,28 @@ impl MeshTorques for TableMesh {
     /// for the validity check and the lookup; everything else is complete.
     #[inline]
     fn torques(&mut self, state: &MeshState) -> Result<(MeshOutputs, bool), MeshError> {
+        let mut out = MeshOutputs::default();
+        let complete = self.torques_into(state, &mut out)?;
+        Ok((out, complete))
+    }
+
+    #[inline]
+    fn torques_into(
+        &mut self,
+        state: &MeshState,
+        out: &mut MeshOutputs,
+    ) -> Result<bool, MeshError> {
         let te = self.full.model().check_state_te(state)?;
         if !state.bodies_at_rest() {
-            return Ok((self.evaluate_posed(state)?, true));
+            *out = self.evaluate_posed(state)?;
+            return Ok(true);
         }
-        let mut out = MeshOutputs::default();
-        if let Some(complete) = self.table.evaluate_torques(self.full.model(), state, te, &mut out)
-        {
-            return Ok((out, complete));
+        *out = MeshOutputs::default();
+        if let Some(complete) = self.table.evaluate_torques(self.full.model(), state, te, out) {
+            return Ok(complete);
         }
-        Ok((self.full.evaluate(state)?, true))
+        *out = self.full.evaluate(state)?;
+        Ok(true)
     }
 
     fn base_radii(&self) -> (f64, f64) {
