@@ -210,7 +210,8 @@ fn periodic_in_the_pitch() {
 /// `MeshTorques::torques` (the right-hand side's evaluation) gives every output the table of
 /// outputs marks `torques` (M_F, M_D, TE, the contact length, the friction torques and loss)
 /// bit for bit as `mesh` does, across the table's range (driving flanks, backlash, back
-/// flanks) and outside it (the full model, complete), with and without friction.
+/// flanks) and outside it (the full model, complete), with and without friction; and so does
+/// `torques_into` written over the record of the previous state's complete evaluation.
 #[test]
 fn torques_only_evaluation_matches_the_complete_one() {
     use helical_gear_mesh::mesh::Friction;
@@ -231,6 +232,11 @@ fn torques_only_matches(friction: helical_gear_mesh::mesh::Friction) {
         model(MeshOptions { fidelity: Fidelity::Table, friction, ..MeshOptions::default() });
     let (lo, hi) = table.table().expect("table").te_range();
     let mut partial = 0;
+    // A complete record with friction torques and a loss, at a loaded state.
+    let mut s0 = state(&table, 0.2, 0.5 * hi);
+    (s0.w_p, s0.w_g) = (300.0, -190.0);
+    let mut stale = table.mesh(&s0).unwrap();
+    assert!(stale.m_f_p > 0.0);
     for i in 0..60 {
         let phi = 0.37 * i as f64;
         let te = lo * 1.2 + (hi * 1.2 - lo * 1.2) * (i as f64 / 59.0);
@@ -239,10 +245,25 @@ fn torques_only_matches(friction: helical_gear_mesh::mesh::Friction) {
         s.w_g = -190.0;
         let a = table.mesh(&s).unwrap();
         let (b, complete) = table.torques(&s).unwrap();
+        // In place over a record that holds another state's complete outputs (as a right-hand
+        // side's cache does): the same torques outputs and flag.
+        let mut c = stale;
+        assert_eq!(table.torques_into(&s, &mut c).unwrap(), complete);
         for f in MESH_OUTPUT_FIELDS.iter().filter(|f| f.torques) {
             let (x, y) = (f.real(&a).expect("a Real"), f.real(&b).expect("a Real"));
             assert_eq!(x.to_bits(), y.to_bits(), "{} at TE {te:e}: {x:e} vs {y:e}", f.name);
+            let z = f.real(&c).expect("a Real");
+            assert_eq!(
+                x.to_bits(),
+                z.to_bits(),
+                "{} in place at TE {te:e}: {x:e} vs {z:e}",
+                f.name
+            );
         }
+        if complete {
+            assert_eq!(a, c);
+        }
+        stale = a;
         if complete {
             assert_eq!(a, b);
         } else {

@@ -570,10 +570,12 @@ pub trait MeshTorques {
         Ok((self.mesh(state)?, true))
     }
 
-    /// [`Self::torques`] written into `out` (every field: the ones [`Self::torques`] leaves at
-    /// their defaults are reset to them), returning the completeness flag; after an error `out`
-    /// holds nothing valid. For a caller that keeps the outputs in place (a right-hand side's
-    /// cache), without moving the record through return values.
+    /// [`Self::torques`] written into `out`, returning its completeness flag: every
+    /// [`outputs::OutputField::torques`] output bit for bit as [`Self::mesh`] gives it, and with
+    /// `true` every other field too; with `false` the other fields are unspecified (they may
+    /// hold an earlier evaluation's values). After an error `out` holds nothing valid. For a
+    /// caller that keeps its record in place (a right-hand side's cache): no record is moved
+    /// through return values or reset. The default writes [`Self::torques`]' record.
     fn torques_into(
         &mut self,
         state: &MeshState,

@@ -855,11 +855,13 @@ impl MeshTable {
     /// from the packed node records (32 bytes per node) with the same operations in the same
     /// order as [`MeshTable::evaluate`], so they agree bit for bit; the flag says whether the
     /// outputs are complete. `te` is the state's TE, `dot2(φp, g_p, φg, g_g)`, as the caller
-    /// has it from its validity check. The outputs are written into `out`, whose fields the
-    /// evaluation does not produce are left at their defaults (`out` is expected to hold
-    /// [`MeshOutputs::default`]). Filled in place, they are not built in one stack slot and
-    /// copied to the next on the way out: that copy read back bytes just stored at another
-    /// alignment, a store-forwarding stall on every call.
+    /// has it from its validity check. Every output the table of outputs marks
+    /// [`crate::mesh::outputs::OutputField::torques`] is written into `out`; with the flag
+    /// `false` the other fields are left as they were (a caller that needs them at their
+    /// defaults passes [`MeshOutputs::default`]), so a caller that keeps its record in place
+    /// does not reset 216 bytes per call. Filled in place, the outputs are not built in one
+    /// stack slot and copied to the next on the way out: that copy read back bytes just stored
+    /// at another alignment, a store-forwarding stall on every call.
     #[inline]
     pub fn evaluate_torques(
         &self,
@@ -874,8 +876,7 @@ impl MeshTable {
         }
         let Some(Cell { axis, wp, ip0, dist, it0, wt, nt, .. }) = self.cell(state.phi_p, te)?
         else {
-            out.te = te;
-            out.separated = true;
+            *out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
             return Some(false);
         };
         let np = self.np as i64;
@@ -891,6 +892,8 @@ impl MeshTable {
         if let Some(fc) = model.friction() {
             let f = axis.interpolate_packed(&axis.friction_torques, np, (&wp, ip0), (it0, &wt, nt));
             friction_torques(fc, state, f.map(|x| x * dist), out);
+        } else {
+            (out.m_r_p, out.m_r_g, out.p_loss) = (0.0, 0.0, 0.0);
         }
         Some(false)
     }
@@ -1401,7 +1404,6 @@ impl MeshTorques for TableMesh {
             *out = self.evaluate_posed(state)?;
             return Ok(true);
         }
-        *out = MeshOutputs::default();
         if let Some(complete) = self.table.evaluate_torques(self.full.model(), state, te, out) {
             return Ok(complete);
         }
