@@ -1278,16 +1278,17 @@ fn evaluate(p: &LoadProblem<'_>, it: &mut Iterate, force: &mut [f64]) -> Result<
 /// g = C·f (m) for the compliance C (m/N) and the slice forces f (N), over the columns whose
 /// force is not zero: an unloaded slice (q = 0) adds nothing, and about half the slices of a
 /// contact are unloaded. Columns are taken four at a time, g_i += (f_a·C_ia + f_b·C_ib) +
-/// (f_c·C_ic + f_d·C_id), so g is read and written once per four columns. A matrix whose
-/// columns are not contiguous takes faer's product.
+/// (f_c·C_ic + f_d·C_id), so g is read and written once per four columns. C is the
+/// validated n × n compliance (`validate`); a matrix whose columns are not contiguous takes
+/// faer's product.
 fn compliance_times(c: MatRef<'_, f64>, f: &[f64], g: &mut [f64]) {
     let n = g.len();
-    let col = |j: usize| c.col(j).try_as_col_major().map(|v| &v.as_slice()[..n]);
-    if c.nrows() < n || c.ncols() < f.len() || (n > 0 && col(0).is_none()) {
+    let col = |j: usize| column(c, j).map(|v| &v[..n]);
+    if n > 0 && col(0).is_none() {
         faer::linalg::matmul::matmul(
             ColMut::from_slice_mut(g),
             Accum::Replace,
-            c.subrows(0, n).subcols(0, f.len()),
+            c,
             ColRef::from_slice(f),
             1.0,
             Par::Seq,
@@ -1421,6 +1422,49 @@ pub fn hertz_pressures(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The gap product over the loaded columns is the dense product C·f (zero forces
+    /// included) to round-off, for 0 … 7 loaded columns past the last group of four, and a
+    /// matrix without contiguous columns (a transposed view) takes the dense product.
+    #[test]
+    fn compliance_times_is_the_dense_product() {
+        let n = 23;
+        let c = Mat::<f64>::from_fn(n, n, |i, j| 1.0 / (1.0 + (i as f64 - 0.7 * j as f64).abs()));
+        for loaded in 0..n {
+            let f: Vec<f64> = (0..n)
+                .map(|j| if j % 3 != 1 && j < loaded { 1.0 + j as f64 } else { 0.0 })
+                .collect();
+            let mut dense = vec![0.0; n];
+            faer::linalg::matmul::matmul(
+                ColMut::from_slice_mut(&mut dense),
+                Accum::Replace,
+                c.as_ref(),
+                ColRef::from_slice(&f),
+                1.0,
+                Par::Seq,
+            );
+            let scale = dense.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            let mut g = vec![f64::NAN; n];
+            compliance_times(c.as_ref(), &f, &mut g);
+            let mut t = vec![f64::NAN; n];
+            let ct = c.transpose().to_owned();
+            compliance_times(ct.transpose(), &f, &mut t);
+            for i in 0..n {
+                assert!(
+                    (g[i] - dense[i]).abs() <= 1e-14 * scale,
+                    "{loaded}: {} vs {}",
+                    g[i],
+                    dense[i]
+                );
+                assert!(
+                    (t[i] - dense[i]).abs() <= 1e-14 * scale,
+                    "{loaded}: {} vs {}",
+                    t[i],
+                    dense[i]
+                );
+            }
+        }
+    }
 
     /// A bordered solve from the factors of a working set H gives the Newton step on H less
     /// three slices (one entering at zero load, two leaving with loads that move to the

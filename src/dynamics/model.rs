@@ -393,10 +393,10 @@ pub struct GearDynamics<M> {
     drive: Drivetrain,
     g_p: f64,
     g_g: f64,
-    /// The last evaluation: key (bits of φp, φg, φ̇p, φ̇g), outputs, and whether the outputs
-    /// are complete (the right-hand side asks only for the torques,
-    /// [`MeshTorques::torques`]). Dropped whenever the mesh's warm start is set from outside
-    /// ([`Self::set_warm_start`]) or the mesh is changed.
+    /// The last evaluation: key (bits of φp, φg, φ̇p, φ̇g) and whether its outputs
+    /// (`cached_outputs`) are complete (the right-hand side asks only for the torques,
+    /// [`MeshTorques::torques_into`]). Dropped whenever the mesh's warm start is set from
+    /// outside ([`Self::set_warm_start`]) or the mesh is changed.
     cache: Option<([u64; 4], bool)>,
     /// The outputs of the remembered evaluation (valid while `cache` is `Some`), written in
     /// place, so that a right-hand side's outputs are not moved through return values.
@@ -483,9 +483,9 @@ impl<M: MeshTorques> GearDynamics<M> {
         self.cached(phi_p, phi_g, w_p, w_g, true).copied()
     }
 
-    /// [`Self::mesh_at`] for a right-hand side: M_F, M_D and TE are set (bit for bit those of
-    /// [`Self::mesh_at`]), the rest may be 0 ([`MeshTorques::torques`]); borrowed from the
-    /// remembered evaluation.
+    /// [`Self::mesh_at`] for a right-hand side: the torques outputs (M_F, M_D, TE, …) are set,
+    /// bit for bit those of [`Self::mesh_at`]; the rest is unspecified unless the evaluation
+    /// was complete ([`MeshTorques::torques_into`]). Borrowed from the remembered evaluation.
     pub(crate) fn torques_at(
         &mut self,
         phi_p: f64,
