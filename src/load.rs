@@ -99,8 +99,8 @@
 //! Bordered solves: a working set W that is the held factors' set H less a few slices R
 //! (at most 8) is solved from those factors too, by the complementary-minor (capacitance)
 //! identity — the system on H with the steps of R fixed (their loads moved to the right-hand
-//! side) and the rows of R relaxed by multipliers, 1 + |R| solves with the held factors and an |R| × |R| elimination
-//! (`LoadSolver::bordered_solve`). It serves the second pass of a step, after entering slices
+//! side) and the rows of R relaxed by multipliers, 1 + |R| solves with the held factors and an
+//! |R| × |R| elimination (`LoadSolver::bordered_solve`). It serves the second pass of a step, after entering slices
 //! with a non-positive step left W (the same matrix: an exact Newton step), and a simplified
 //! Newton step under the rule above. det J_W = det J_H · det (J_H⁻¹)_RR, so the sign check of
 //! the factorisation carries over when the small determinant is positive; otherwise W is
@@ -849,8 +849,8 @@ impl LoadSolver {
     /// J_H·x = r + E_R·y,   x_R = 0   ⇒   x = J_H⁻¹r + Z·y,  Z = J_H⁻¹E_R,  Z_RR·y = −(J_H⁻¹r)_R
     /// ```
     ///
-    /// with r the right-hand side of [`LoadSolver::fill_rhs`] at the rows of H: 1 + |R| solves with the held factors and a |R| × |R| elimination instead of an
-    /// O(|W|³) factorisation. Z_RR = (J_H⁻¹)_RR is the complementary minor: det J_W =
+    /// with r the right-hand side of [`LoadSolver::fill_rhs`] at the rows of H: 1 + |R| solves
+    /// with the held factors and a |R| × |R| elimination instead of an O(|W|³) factorisation. Z_RR = (J_H⁻¹)_RR is the complementary minor: det J_W =
     /// det J_H · det Z_RR, so a positive det Z_RR keeps the P-matrix check of the factorisation
     /// of H valid for W. Returns false, leaving the step to a fresh factorisation, when W is no
     /// such subset, when det Z_RR is not clearly positive or when a value is not finite. The
@@ -1151,7 +1151,6 @@ fn is_symmetric(c: MatRef<'_, f64>) -> bool {
     })
 }
 
-/// Column `j` of `c` as a slice when its rows are contiguous.
 /// The Newton right-hand side at the rows `rows`: −g_i, plus the loads of the slices outside the
 /// working set (`in_working` false), which move to the right-hand side when their step sets
 /// them to zero; into `dst` (one entry per row).
@@ -1187,6 +1186,7 @@ fn newton_rhs(
     }
 }
 
+/// Column `j` of `c` as a slice when its rows are contiguous.
 fn column(c: MatRef<'_, f64>, j: usize) -> Option<&[f64]> {
     c.col(j).try_as_col_major().map(|col| col.as_slice())
 }
@@ -1276,8 +1276,8 @@ fn evaluate(p: &LoadProblem<'_>, it: &mut Iterate, force: &mut [f64]) -> Result<
 }
 
 /// g = C·f (m) for the compliance C (m/N) and the slice forces f (N), over the columns whose
-/// force is not zero: an unloaded slice (q = 0) adds nothing, and about half the slices of a
-/// contact are unloaded. Columns are taken four at a time, g_i += (f_a·C_ia + f_b·C_ib) +
+/// force is not zero: an unloaded slice (q = 0) adds nothing (on the Table 1 sweep about a
+/// third of the candidate slices are unloaded). Columns are taken four at a time, g_i += (f_a·C_ia + f_b·C_ib) +
 /// (f_c·C_ic + f_d·C_id), so g is read and written once per four columns. C is the
 /// validated n × n compliance (`validate`); a matrix whose columns are not contiguous takes
 /// faer's product.
@@ -1424,8 +1424,9 @@ mod tests {
     use super::*;
 
     /// The gap product over the loaded columns is the dense product C·f (zero forces
-    /// included) to round-off, for 0 … 7 loaded columns past the last group of four, and a
-    /// matrix without contiguous columns (a transposed view) takes the dense product.
+    /// included) to round-off, for 0 … 15 loaded columns (every remainder after the groups of
+    /// four), and a matrix without contiguous columns (a transposed view) takes the dense
+    /// product.
     #[test]
     fn compliance_times_is_the_dense_product() {
         let n = 23;

@@ -232,7 +232,8 @@ fn torques_only_matches(friction: helical_gear_mesh::mesh::Friction) {
         model(MeshOptions { fidelity: Fidelity::Table, friction, ..MeshOptions::default() });
     let (lo, hi) = table.table().expect("table").te_range();
     let mut partial = 0;
-    // A complete record with friction torques and a loss, at a loaded state.
+    // A complete record at a loaded state (with friction torques and a loss when the model
+    // has friction).
     let mut s0 = state(&table, 0.2, 0.5 * hi);
     (s0.w_p, s0.w_g) = (300.0, -190.0);
     let mut stale = table.mesh(&s0).unwrap();
