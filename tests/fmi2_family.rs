@@ -1,5 +1,6 @@
 //! The stateful models through the exported FMI functions: instantiation by GUID, stepping
-//! from the static equilibrium, bit-for-bit FMU state restore, a failed step's status.
+//! from the static equilibrium, bit-for-bit FMU state restore, a failed step's status; and
+//! every model's evaluation of only the outputs a `fmi2GetReal` reads.
 
 mod common;
 
@@ -9,7 +10,10 @@ use std::ptr::{null, null_mut};
 use helical_gear_mesh::fmi2::exports::*;
 use helical_gear_mesh::fmi2::model::ModelInfo;
 use helical_gear_mesh::fmi2::models::unit::{DRIVE, PAIR, STAGE};
+use helical_gear_mesh::fmi2::models::{gearbox, mesh};
 use helical_gear_mesh::fmi2::types::*;
+use helical_gear_mesh::fmi2::variables::{Access, Causality};
+use helical_gear_mesh::mesh::outputs::MESH_OUTPUT_FIELDS;
 
 use common::fmi::ModelFmu as Fmu;
 
@@ -160,5 +164,96 @@ fn fmu_state_with_input_derivatives_restores_bit_for_bit() {
         assert_eq!(fmi2SetFMUstate(g.0, s2), fmi2Status::Ok);
         assert_eq!(fmi2FreeFMUstate(g.0, &mut s2), fmi2Status::Ok);
         assert_eq!(g.run(2e-4, 3, 1e-4), first);
+    }
+}
+
+/// The FMU evaluates what a `fmi2GetReal` reads. Reading only outputs of the torques path (the
+/// mesh torques, TE, the loaded contact length, the friction torques and loss, a unit's own
+/// outputs) gives them bit for bit as a read of every output does; a later read of the other
+/// outputs at the same state evaluates them, so they too are bit for bit those of an instance
+/// that read everything at once. Every model at table fidelity (the mesh element at a loaded
+/// state, the units after steps from their equilibrium). For the mesh element, whose FMU state
+/// carries complete cached outputs, the serialised state shows which evaluation ran: after the
+/// partial read it is as long as before any read (nothing complete to carry), after the read of
+/// everything it carries the outputs; a state serialised after the partial read restores into
+/// an instance that then reads every output bit for bit.
+#[test]
+fn a_read_of_torques_outputs_evaluates_only_those_and_a_later_read_completes() {
+    let torques: Vec<&str> =
+        MESH_OUTPUT_FIELDS.iter().filter(|f| f.torques).map(|f| f.name).collect();
+    assert_eq!(torques.len(), 9, "{torques:?}");
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    const LOADED: [f64; 4] = [0.01, -0.0060851, 100.0, -100.0 * 30.0 / 47.0];
+    for m in [&mesh::INFO, &PAIR, &STAGE, &DRIVE] {
+        let make = || {
+            let f = Fmu::instantiate(m, FMI2_CO_SIMULATION);
+            let st = unsafe { fmi2SetInteger(f.0, f.vrs(&["fidelity"]).as_ptr(), 1, &1) };
+            assert_eq!(st, fmi2Status::Ok);
+            f.init();
+            if m.stateful {
+                f.run(0.0, 3, 1e-4);
+            } else {
+                f.set(&["phi_p", "phi_g", "w_p", "w_g"], &LOADED);
+            }
+            f
+        };
+        let outputs: Vec<&str> = (m.variables.iter())
+            .filter(|v| v.causality == Causality::Output)
+            .filter(|v| matches!(v.access, Access::RealOutput(_)))
+            .map(|v| v.name)
+            .collect();
+        let mut partial: Vec<&str> = torques.clone();
+        partial.extend(outputs.iter().filter(|n| ["w_p", "a_g", "tau_2", "phi_1"].contains(n)));
+        let (a, b) = (make(), make());
+        let everything = b.get(&outputs);
+        let before = a.serialize().len();
+        let read = a.get(&partial);
+        let after_partial = a.serialize();
+                let expected: Vec<f64> = partial
+            .iter()
+            .map(|n| everything[outputs.iter().position(|o| o == n).unwrap()])
+            .collect();
+        assert_eq!(bits(&read), bits(&expected), "{}: the partial read", m.identifier);
+        assert_eq!(bits(&a.get(&outputs)), bits(&everything), "{}: then all", m.identifier);
+        // The complete read found outputs the partial one had not evaluated.
+        assert!(
+            outputs.iter().any(|n| !partial.contains(n)
+                && everything[outputs.iter().position(|o| o == n).unwrap()] != 0.0),
+            "{}",
+            m.identifier
+        );
+        if m.cached_outputs {
+            assert_eq!(after_partial.len(), before, "{}: nothing complete cached", m.identifier);
+            assert!(a.serialize().len() > before, "{}: complete outputs cached", m.identifier);
+            let c = make();
+            assert_eq!(c.restore(&after_partial), fmi2Status::Ok, "{}", m.identifier);
+            assert_eq!(bits(&c.get(&outputs)), bits(&everything), "{}: restored", m.identifier);
+        }
+    }
+}
+
+/// Which outputs a partial evaluation gives, per model: for the mesh element and the units
+/// the torques path's mesh outputs and the units' own outputs, every state derivative among
+/// them (`fmi2GetDerivatives` reads the partial outputs); none for the gearbox, whose engine
+/// evaluates everything.
+#[test]
+fn partial_outputs_are_the_torques_path_and_include_every_derivative() {
+    for m in [&mesh::INFO, &PAIR, &STAGE, &DRIVE, &gearbox::GEARBOX] {
+        for v in m.variables {
+            let partial = (m.partial_output)(v);
+            let computed = matches!(
+                v.access,
+                Access::RealOutput(_) | Access::IntOutput(_) | Access::BoolOutput(_)
+            );
+            if !computed || std::ptr::eq(m, &gearbox::GEARBOX) {
+                assert!(!partial, "{}: {}", m.identifier, v.name);
+                continue;
+            }
+            let field = MESH_OUTPUT_FIELDS.iter().find(|f| f.name == v.name);
+            assert_eq!(partial, field.is_none_or(|f| f.torques), "{}: {}", m.identifier, v.name);
+            if v.derivative_of.is_some() {
+                assert!(partial, "{}: derivative {}", m.identifier, v.name);
+            }
+        }
     }
 }

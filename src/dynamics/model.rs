@@ -496,6 +496,19 @@ impl<M: MeshTorques> GearDynamics<M> {
         self.cached(phi_p, phi_g, w_p, w_g, false)
     }
 
+    /// [`Self::torques_at`] as a copy, with its completeness flag: `true` when every field
+    /// is as [`Self::mesh_at`] gives it, `false` when only the torques outputs are.
+    pub(crate) fn torques_flagged_at(
+        &mut self,
+        phi_p: f64,
+        phi_g: f64,
+        w_p: f64,
+        w_g: f64,
+    ) -> Result<(MeshOutputs, bool), MeshError> {
+        let o = *self.cached(phi_p, phi_g, w_p, w_g, false)?;
+        Ok((o, self.cache.is_some_and(|(_, c)| c)))
+    }
+
     fn cached(
         &mut self,
         phi_p: f64,

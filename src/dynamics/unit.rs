@@ -646,6 +646,13 @@ impl<M: MeshTorques> UnitSystem<M> {
         self.model.mesh_at(pp, pg, wp, wg).map_err(|e| OdeError::rhs(t, e))
     }
 
+    /// The mesh outputs of the torques path at `y` and whether they are complete
+    /// ([`GearDynamics::torques_flagged_at`]).
+    fn mesh_torques(&mut self, t: f64, y: &[f64]) -> Result<(MeshOutputs, bool), OdeError> {
+        let [pp, pg, wp, wg] = self.hub(y);
+        self.model.torques_flagged_at(pp, pg, wp, wg).map_err(|e| OdeError::rhs(t, e))
+    }
+
     /// The mesh torques and TE at `y` (the right-hand side's; [`GearDynamics::torques_at`]).
     fn torques(&mut self, t: f64, y: &[f64]) -> Result<MeshLoads, OdeError> {
         let [pp, pg, wp, wg] = self.hub(y);
@@ -1172,13 +1179,30 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
     /// start, which it leaves unchanged; see the module doc). Errors: a mesh failure, with the
     /// current time.
     pub fn outputs(&mut self) -> Result<UnitOutputs, DynamicsError> {
+        self.outputs_with(true).map(|(o, _)| o)
+    }
+
+    /// [`Self::outputs`] for a reader of the torques path's mesh outputs
+    /// ([`crate::mesh::outputs::OutputField::torques`]) and the unit's own outputs: those
+    /// bit for bit as [`Self::outputs`] gives them, and whether the other mesh outputs are
+    /// there too (`false`: they are unspecified). At table fidelity this skips the table's
+    /// forces, pressure and root stress.
+    pub fn outputs_partial(&mut self) -> Result<(UnitOutputs, bool), DynamicsError> {
+        self.outputs_with(false)
+    }
+
+    fn outputs_with(&mut self, complete: bool) -> Result<(UnitOutputs, bool), DynamicsError> {
         let n = self.n_states();
         let t = self.t;
         self.sys.extrapolate = true;
         self.sys.model.set_warm_start(&self.warm);
         let mut dydt = self.dydt;
         self.sys.rhs(t, &self.y[..n], &mut dydt[..n]).map_err(DynamicsError::from)?;
-        let o = self.sys.mesh(t, &self.y[..n]).map_err(DynamicsError::from)?;
+        let (o, all) = if complete {
+            (self.sys.mesh(t, &self.y[..n]).map_err(DynamicsError::from)?, true)
+        } else {
+            self.sys.mesh_torques(t, &self.y[..n]).map_err(DynamicsError::from)?
+        };
         let hub = self.sys.hub(&self.y);
         let [.., iwp, iwg] = self.sys.kind.hub_indices();
         let mut out = UnitOutputs {
@@ -1215,7 +1239,7 @@ impl<M: MeshTorques + Clone> DriveUnit<M> {
                 out.tau_g = -s2;
             }
         }
-        Ok(out)
+        Ok((out, all))
     }
 
     /// Model Exchange: state derivative at (`t`, `y`) with the inputs as set (no

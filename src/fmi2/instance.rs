@@ -238,6 +238,9 @@ pub(crate) struct Data {
     /// Outputs for the current inputs and state; `None` when an input, a parameter or the
     /// state changed since.
     outputs: Option<OutputValues>,
+    /// True when `outputs` holds every output ([`Engine::outputs`]); false when it holds only
+    /// the model's partial outputs ([`ModelInfo::partial_output`], [`Engine::outputs_partial`]).
+    outputs_complete: bool,
 }
 
 impl Data {
@@ -251,6 +254,7 @@ impl Data {
             inputs: (model.default_inputs)(),
             built: None,
             outputs: None,
+            outputs_complete: false,
         }
     }
 }
@@ -477,15 +481,25 @@ impl Instance {
     }
 
     /// The outputs for the current inputs and state, evaluating the model if anything
-    /// changed.
-    fn ensure_outputs(&mut self) -> Result<OutputValues, String> {
-        if let Some(o) = self.data.outputs {
+    /// changed: every output when `complete`, else at least the model's partial outputs
+    /// ([`ModelInfo::partial_output`]). Outputs kept from an earlier call serve when they
+    /// hold what is asked for.
+    fn ensure_outputs(&mut self, complete: bool) -> Result<OutputValues, String> {
+        if let Some(o) = self.data.outputs
+            && (self.data.outputs_complete || !complete)
+        {
             return Ok(o);
         }
         self.ensure_started()?;
         let d = &mut self.data;
-        let o = d.built.as_mut().expect("started above").engine.outputs(&d.inputs)?;
+        let engine = &mut d.built.as_mut().expect("started above").engine;
+        let (o, all) = if complete {
+            (engine.outputs(&d.inputs)?, true)
+        } else {
+            engine.outputs_partial(&d.inputs)?
+        };
         self.data.outputs = Some(o);
+        self.data.outputs_complete = all;
         Ok(o)
     }
 
@@ -507,7 +521,8 @@ impl Instance {
             self.ensure_built()?;
         }
         if vars.iter().any(computed) {
-            self.ensure_outputs()?;
+            let partial = self.model.partial_output;
+            self.ensure_outputs(vars.iter().any(|v| computed(v) && !partial(v)))?;
         }
         Ok(())
     }
@@ -862,7 +877,7 @@ impl Instance {
     /// values of the `der(…)` variables).
     pub(crate) fn me_get_derivatives(&mut self, dx: &mut [f64]) -> Result<fmi2Status, String> {
         self.check_nx(dx.len(), "fmi2GetDerivatives")?;
-        let o = self.ensure_outputs()?;
+        let o = self.ensure_outputs(false)?;
         for (d, v) in dx.iter_mut().zip(self.model.derivatives()) {
             *d = match v.access {
                 Access::RealOutput(slot) => o.reals[slot],
@@ -1112,9 +1127,11 @@ pub(crate) fn log_to(
 // has none, + bytes: a unit's snapshot text, warm start included; the mesh element's
 // load-solver warm start, `mesh::WarmStart::to_bytes`, so that a restored element evaluates
 // bit for bit as the original); last the cached outputs (u8 flag, then, for a model with
-// `ModelInfo::cached_outputs`, the value of every output and local variable in table order:
-// Real f64, Integer i32, Boolean u8; models without, the stateful ones, always write 0: their
-// outputs follow from the state). The engine itself (the mesh model) is not serialised: it is
+// `ModelInfo::cached_outputs` whose cached outputs are complete, the value of every output and
+// local variable in table order: Real f64, Integer i32, Boolean u8; models without, the
+// stateful ones, always write 0: their outputs follow from the state; partial outputs,
+// `Engine::outputs_partial`'s, are not written: the element's partial evaluation is the
+// table's, which depends on the inputs alone, or the full model's, which is complete). The engine itself (the mesh model) is not serialised: it is
 // rebuilt from the parameters (or cloned from the instance's last build with the same
 // parameters). The last 8 bytes are the 64-bit FNV-1a checksum (`numeric::fnv1a_64`) of
 // everything before them. A state is refused whole when the magic, the version, the GUID or
@@ -1167,7 +1184,7 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     b.extend_from_slice(&(state.len() as u32).to_le_bytes());
     b.extend_from_slice(&state);
     match &d.outputs {
-        Some(o) if model.cached_outputs => {
+        Some(o) if model.cached_outputs && d.outputs_complete => {
             b.push(1);
             save_outputs(model, o, &mut b);
         }
@@ -1453,6 +1470,7 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         let (o, n) = load_outputs(model, &r.b[r.at..])?;
         r.at += n;
         d.outputs = Some(o);
+        d.outputs_complete = true;
     }
     if r.at != bytes.len() {
         return Err(format!(

@@ -71,6 +71,14 @@ pub trait Engine: Send {
     /// output variables name (the others stay 0), the Model Exchange states and state
     /// derivatives included.
     fn outputs(&mut self, inputs: &InputValues) -> Result<OutputValues, String>;
+    /// The outputs a reader of only the model's partial outputs needs
+    /// ([`ModelInfo::partial_output`]): every one of those as [`Engine::outputs`] gives it,
+    /// and whether the rest is there too (`true`: the whole of [`Engine::outputs`]; `false`:
+    /// the other slots are unspecified and are not read). The default is
+    /// [`Engine::outputs`], complete.
+    fn outputs_partial(&mut self, inputs: &InputValues) -> Result<(OutputValues, bool), String> {
+        self.outputs(inputs).map(|o| (o, true))
+    }
     /// Advances from `t` by `h` (s) with `inputs` held over the step.
     fn step(&mut self, inputs: &InputValues, t: f64, h: f64) -> Result<(), StepFailure>;
     /// The engine's own state (beyond parameters and inputs) as bytes, empty for a stateless
@@ -167,6 +175,12 @@ pub struct ModelInfo {
     /// value of every output variable of the table, in table order); false when they are not
     /// serialised because they follow from the engine's state.
     pub cached_outputs: bool,
+    /// True for an output variable that [`Engine::outputs_partial`] gives: when every
+    /// computed variable a `fmi2Get…` call (or `fmi2GetDerivatives`) reads is one of these,
+    /// the instance evaluates only those, and the whole of [`Engine::outputs`] when it reads
+    /// any other. `fmi2GetDerivatives` asks for the partial outputs: a model whose engine's
+    /// partial evaluation is partial names every derivative variable among them.
+    pub partial_output: fn(&Variable) -> bool,
     /// True when `fmi2GetDirectionalDerivative` is provided (the engine's exact
     /// [`Engine::jacobian`]): the `providesDirectionalDerivative` attribute of both interfaces.
     pub provides_directional_derivative: bool,

@@ -95,30 +95,41 @@ impl Fmu {
 
     /// The serialised FMU state (every call asserted Ok; the state is freed).
     pub fn serialize(&self) -> Vec<fmi2Byte> {
-        let mut st: fmi2FMUstate = null_mut();
-        let mut size = 0usize;
-        unsafe {
-            assert_eq!(fmi2GetFMUstate(self.0, &mut st), fmi2Status::Ok);
-            assert_eq!(fmi2SerializedFMUstateSize(self.0, st, &mut size), fmi2Status::Ok);
-            let mut b = vec![0 as fmi2Byte; size];
-            assert_eq!(fmi2SerializeFMUstate(self.0, st, b.as_mut_ptr(), size), fmi2Status::Ok);
-            assert_eq!(fmi2FreeFMUstate(self.0, &mut st), fmi2Status::Ok);
-            b
-        }
+        serialize(self.0)
     }
 
     /// Deserialises `b` and sets the state; the status of the first call that fails.
     pub fn restore(&self, b: &[fmi2Byte]) -> fmi2Status {
-        let mut st: fmi2FMUstate = null_mut();
-        unsafe {
-            let s = fmi2DeSerializeFMUstate(self.0, b.as_ptr(), b.len(), &mut st);
-            if s != fmi2Status::Ok {
-                return s;
-            }
-            let s = fmi2SetFMUstate(self.0, st);
-            assert_eq!(fmi2FreeFMUstate(self.0, &mut st), fmi2Status::Ok);
-            s
+        restore(self.0, b)
+    }
+}
+
+/// The serialised FMU state of instance `c` (every call asserted Ok; the state is freed).
+fn serialize(c: fmi2Component) -> Vec<fmi2Byte> {
+    let mut st: fmi2FMUstate = null_mut();
+    let mut size = 0usize;
+    unsafe {
+        assert_eq!(fmi2GetFMUstate(c, &mut st), fmi2Status::Ok);
+        assert_eq!(fmi2SerializedFMUstateSize(c, st, &mut size), fmi2Status::Ok);
+        let mut b = vec![0 as fmi2Byte; size];
+        assert_eq!(fmi2SerializeFMUstate(c, st, b.as_mut_ptr(), size), fmi2Status::Ok);
+        assert_eq!(fmi2FreeFMUstate(c, &mut st), fmi2Status::Ok);
+        b
+    }
+}
+
+/// Deserialises `b` into instance `c` and sets the state; the status of the first call that
+/// fails.
+fn restore(c: fmi2Component, b: &[fmi2Byte]) -> fmi2Status {
+    let mut st: fmi2FMUstate = null_mut();
+    unsafe {
+        let s = fmi2DeSerializeFMUstate(c, b.as_ptr(), b.len(), &mut st);
+        if s != fmi2Status::Ok {
+            return s;
         }
+        let s = fmi2SetFMUstate(c, st);
+        assert_eq!(fmi2FreeFMUstate(c, &mut st), fmi2Status::Ok);
+        s
     }
 }
 
@@ -171,6 +182,16 @@ impl ModelFmu {
     pub fn set(&self, names: &[&str], v: &[f64]) {
         let r = self.vrs(names);
         assert_eq!(unsafe { fmi2SetReal(self.0, r.as_ptr(), r.len(), v.as_ptr()) }, fmi2Status::Ok);
+    }
+
+    /// The serialised FMU state (every call asserted Ok; the state is freed).
+    pub fn serialize(&self) -> Vec<fmi2Byte> {
+        serialize(self.0)
+    }
+
+    /// Deserialises `b` and sets the state; the status of the first call that fails.
+    pub fn restore(&self, b: &[fmi2Byte]) -> fmi2Status {
+        restore(self.0, b)
     }
 }
 

@@ -756,6 +756,7 @@ pub static GEARBOX: ModelInfo = ModelInfo {
     build: build_gearbox,
     check_tunable: super::mesh::check_tunable,
     cached_outputs: false,
+    partial_output: super::no_partial_output,
     guid_cell: &GUID,
 };
 

@@ -219,6 +219,7 @@ pub static INFO: ModelInfo = ModelInfo {
     build,
     check_tunable,
     cached_outputs: true,
+    partial_output: super::torques_path_output,
     guid_cell: &GUID,
 };
 
@@ -331,6 +332,18 @@ impl Engine for MeshEngine {
         let mut o = OutputValues::default();
         write_mesh_outputs(&mesh, &mut o);
         Ok(o)
+    }
+
+    /// The torques path ([`MeshTorques::torques`]): at table fidelity the table's torques,
+    /// TE, contact length and friction alone; at full fidelity every output.
+    fn outputs_partial(&mut self, i: &InputValues) -> Result<(OutputValues, bool), String> {
+        let s = mesh_state(i);
+        let (mesh, complete) = self.0.torques(&s).map_err(|e| {
+            format!("mesh evaluation at {}: {}", state_text(&s), mesh_error_text(&e))
+        })?;
+        let mut o = OutputValues::default();
+        write_mesh_outputs(&mesh, &mut o);
+        Ok((o, complete))
     }
 
     fn step(&mut self, _: &InputValues, _: f64, _: f64) -> Result<(), StepFailure> {

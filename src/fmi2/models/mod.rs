@@ -14,9 +14,9 @@ pub mod mesh;
 pub mod unit;
 
 use super::model::ModelInfo;
-use super::variables::{OutputValues, u32_to_i32};
+use super::variables::{Access, OutputValues, Variable, u32_to_i32};
 use crate::mesh::MeshOutputs;
-use crate::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS};
+use crate::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS, OutputKind};
 
 #[cfg(doc)]
 use super::variables::{InputValues, MESH_OUTPUTS};
@@ -42,6 +42,26 @@ pub(crate) fn write_mesh_outputs(m: &MeshOutputs, o: &mut OutputValues) {
             }
         }
     }
+}
+
+/// [`ModelInfo::partial_output`] of a model whose engine's partial evaluation gives the mesh
+/// outputs of the torques path (`OutputField::torques`: M_F, M_D, TE, the loaded contact length,
+/// the friction torques and loss) and every output of its own beyond the mesh outputs' slots
+/// (a unit's angles, speeds, accelerations, torques, states and state derivatives, which
+/// follow from the torques path).
+pub(crate) fn torques_path_output(v: &Variable) -> bool {
+    let (kind, slot) = match v.access {
+        Access::RealOutput(s) => (OutputKind::Real, s),
+        Access::IntOutput(s) => (OutputKind::Integer, s),
+        Access::BoolOutput(s) => (OutputKind::Boolean, s),
+        _ => return false,
+    };
+    (MESH_OUTPUT_FIELDS.iter().filter(|f| f.kind() == kind).nth(slot)).is_none_or(|f| f.torques)
+}
+
+/// [`ModelInfo::partial_output`] of a model whose engine always evaluates every output.
+pub(crate) fn no_partial_output(_: &Variable) -> bool {
+    false
 }
 
 /// Every model of the family, in the order of the documentation.

@@ -753,6 +753,7 @@ pub static PAIR: ModelInfo = ModelInfo {
     build: |s| build_unit(UnitKind::Pair, s),
     check_tunable: super::mesh::check_tunable,
     cached_outputs: false,
+    partial_output: super::torques_path_output,
     guid_cell: &PAIR_GUID,
 };
 
@@ -778,6 +779,7 @@ pub static STAGE: ModelInfo = ModelInfo {
     build: |s| build_unit(UnitKind::Stage, s),
     check_tunable: super::mesh::check_tunable,
     cached_outputs: false,
+    partial_output: super::torques_path_output,
     guid_cell: &STAGE_GUID,
 };
 
@@ -802,6 +804,7 @@ pub static DRIVE: ModelInfo = ModelInfo {
     build: |s| build_unit(UnitKind::Drive, s),
     check_tunable: super::mesh::check_tunable,
     cached_outputs: false,
+    partial_output: super::torques_path_output,
     guid_cell: &DRIVE_GUID,
 };
 
@@ -941,6 +944,33 @@ impl UnitEngine {
         }
         Ok(())
     }
+
+    /// The outputs into their slots ([`out`]): the mesh outputs, the unit's outputs and the
+    /// Model Exchange state and derivative in relative coordinates; every mesh output when
+    /// `complete`, else those of the torques path at least (with the flag of completeness).
+    fn outputs_with(
+        &mut self,
+        inputs: &InputValues,
+        complete: bool,
+    ) -> Result<(OutputValues, bool), String> {
+        self.sync(inputs)?;
+        let (o, all) = if complete {
+            (self.unit.outputs().map_err(|e| format!("outputs: {e}"))?, true)
+        } else {
+            self.unit.outputs_partial().map_err(|e| format!("outputs: {e}"))?
+        };
+        let mut v = OutputValues::default();
+        write_mesh_outputs(&o.mesh, &mut v);
+        let r = &mut v.reals;
+        (r[out::PHI_1], r[out::PHI_P], r[out::PHI_G], r[out::PHI_2]) =
+            (o.phi_1, o.phi_p, o.phi_g, o.phi_2);
+        (r[out::W_1], r[out::W_P], r[out::W_G], r[out::W_2]) = (o.w_1, o.w_p, o.w_g, o.w_2);
+        (r[out::A_P], r[out::A_G], r[out::TAU_1], r[out::TAU_2]) = (o.a_p, o.a_g, o.tau_1, o.tau_2);
+        let n = self.rel.n();
+        self.rel.to_relative(self.unit.state(), &mut r[X..X + n]);
+        self.rel.to_relative(&o.dydt[..n], &mut r[DX..DX + n]);
+        Ok((v, all))
+    }
 }
 
 impl Engine for UnitEngine {
@@ -992,19 +1022,13 @@ impl Engine for UnitEngine {
     /// The mesh outputs, the unit's outputs and the Model Exchange state and derivative in
     /// relative coordinates into their slots ([`out`]).
     fn outputs(&mut self, inputs: &InputValues) -> Result<OutputValues, String> {
-        self.sync(inputs)?;
-        let o = self.unit.outputs().map_err(|e| format!("outputs: {e}"))?;
-        let mut v = OutputValues::default();
-        write_mesh_outputs(&o.mesh, &mut v);
-        let r = &mut v.reals;
-        (r[out::PHI_1], r[out::PHI_P], r[out::PHI_G], r[out::PHI_2]) =
-            (o.phi_1, o.phi_p, o.phi_g, o.phi_2);
-        (r[out::W_1], r[out::W_P], r[out::W_G], r[out::W_2]) = (o.w_1, o.w_p, o.w_g, o.w_2);
-        (r[out::A_P], r[out::A_G], r[out::TAU_1], r[out::TAU_2]) = (o.a_p, o.a_g, o.tau_1, o.tau_2);
-        let n = self.rel.n();
-        self.rel.to_relative(self.unit.state(), &mut r[X..X + n]);
-        self.rel.to_relative(&o.dydt[..n], &mut r[DX..DX + n]);
-        Ok(v)
+        self.outputs_with(inputs, true).map(|(v, _)| v)
+    }
+
+    /// The unit's own outputs and the torques path's mesh outputs
+    /// ([`Unit::outputs_partial`]).
+    fn outputs_partial(&mut self, inputs: &InputValues) -> Result<(OutputValues, bool), String> {
+        self.outputs_with(inputs, false)
     }
 
     fn step(&mut self, inputs: &InputValues, t: f64, h: f64) -> Result<(), StepFailure> {
