@@ -209,7 +209,7 @@ fn a_read_of_torques_outputs_evaluates_only_those_and_a_later_read_completes() {
         let before = a.serialize().len();
         let read = a.get(&partial);
         let after_partial = a.serialize();
-                let expected: Vec<f64> = partial
+        let expected: Vec<f64> = partial
             .iter()
             .map(|n| everything[outputs.iter().position(|o| o == n).unwrap()])
             .collect();

@@ -27,8 +27,8 @@ use std::path::PathBuf;
 use super::model::{Engine, Jacobian, MAX_STATES, ModelInfo, StepFailure};
 use super::types::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status};
 use super::variables::{
-    Access, Causality, Derived, InputValues, LOG_CATEGORIES, OutputValues, Settings, Variability,
-    Variable,
+    Access, Causality, Derived, InputValues, LOG_CATEGORIES, OutputValues, Settings, VarType,
+    Variability, Variable,
 };
 use crate::error::short_num;
 
@@ -287,6 +287,22 @@ pub(crate) struct Instance {
     pub(crate) states: Vec<*mut Snapshot>,
     /// The texts returned by the last `fmi2GetString` (valid until the next call).
     pub(crate) strings: Vec<CString>,
+    /// Index into the model's variable table by value reference (`u16::MAX`: none), so that
+    /// a `fmi2Get…`/`fmi2Set…` finds each variable at once.
+    by_vr: Vec<u16>,
+}
+
+/// The index of each variable of `model` by value reference ([`Instance::by_vr`]); value
+/// references beyond 65 535, or a table of as many variables, are left to
+/// [`ModelInfo::by_vr`].
+fn vr_index(model: &ModelInfo) -> Vec<u16> {
+    let small = |v: &Variable| v.vr < u32::from(u16::MAX);
+    let n = model.variables.iter().filter(|v| small(v)).map(|v| v.vr as usize + 1).max();
+    let mut index = vec![u16::MAX; n.unwrap_or(0)];
+    for (i, v) in model.variables.iter().enumerate().filter(|(_, v)| small(v)) {
+        index[v.vr as usize] = u16::try_from(i).unwrap_or(u16::MAX);
+    }
+    index
 }
 
 /// True when `a` and `b` differ at most in `model`'s tunable parameters (an engine built
@@ -324,6 +340,7 @@ impl Instance {
             pristine: None,
             states: Vec::new(),
             strings: Vec::new(),
+            by_vr: vr_index(model),
         }
     }
 
@@ -480,15 +497,13 @@ impl Instance {
         Ok(built)
     }
 
-    /// The outputs for the current inputs and state, evaluating the model if anything
+    /// Makes `outputs` those of the current inputs and state, evaluating the model if anything
     /// changed: every output when `complete`, else at least the model's partial outputs
     /// ([`ModelInfo::partial_output`]). Outputs kept from an earlier call serve when they
     /// hold what is asked for.
-    fn ensure_outputs(&mut self, complete: bool) -> Result<OutputValues, String> {
-        if let Some(o) = self.data.outputs
-            && (self.data.outputs_complete || !complete)
-        {
-            return Ok(o);
+    fn ensure_outputs(&mut self, complete: bool) -> Result<(), String> {
+        if self.data.outputs.is_some() && (self.data.outputs_complete || !complete) {
+            return Ok(());
         }
         self.ensure_started()?;
         let d = &mut self.data;
@@ -500,31 +515,62 @@ impl Instance {
         };
         self.data.outputs = Some(o);
         self.data.outputs_complete = all;
-        Ok(o)
+        Ok(())
     }
 
-    fn lookup(&self, vr: u32, want: &str) -> Result<&'static Variable, String> {
-        let v = self.model.by_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
-        let ty = v.var_type().as_str();
+    /// The variable of value reference `vr`, of type `want`.
+    fn lookup(&self, vr: u32, want: VarType) -> Result<&'static Variable, String> {
+        let v = self.var(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
+        let ty = v.var_type();
         if ty != want {
-            return Err(format!("value reference {vr} (`{}`) is of type {ty}, not {want}", v.name));
+            return Err(format!(
+                "value reference {vr} (`{}`) is of type {}, not {}",
+                v.name,
+                ty.as_str(),
+                want.as_str()
+            ));
         }
         Ok(v)
     }
 
-    /// Prepares the values that reading `vars` needs (model outputs or derived quantities).
-    fn prepare(&mut self, vars: &[&Variable]) -> Result<(), String> {
-        let computed = |v: &&Variable| {
-            matches!(v.access, Access::RealOutput(_) | Access::IntOutput(_) | Access::BoolOutput(_))
-        };
-        if vars.iter().any(|v| v.causality == Causality::CalculatedParameter) {
+    /// The variable of value reference `vr`, if any (one index, [`Instance::by_vr`]; the
+    /// table's scan for a reference the index does not hold).
+    fn var(&self, vr: u32) -> Option<&'static Variable> {
+        match self.by_vr.get(vr as usize) {
+            Some(&i) if i != u16::MAX => self.model.variables.get(usize::from(i)),
+            _ => self.model.by_vr(vr),
+        }
+    }
+
+    /// Checks that the value references `vrs` are variables of type `ty` and prepares the
+    /// values that reading them needs: the built model for a calculated parameter; for
+    /// outputs, the model's outputs, only its partial ones ([`ModelInfo::partial_output`])
+    /// when every output read is one.
+    fn prepare(&mut self, vrs: &[u32], ty: VarType) -> Result<(), String> {
+        let (mut calculated, mut computed, mut complete) = (false, false, false);
+        for &r in vrs {
+            let v = self.lookup(r, ty)?;
+            calculated |= v.causality == Causality::CalculatedParameter;
+            if matches!(
+                v.access,
+                Access::RealOutput(_) | Access::IntOutput(_) | Access::BoolOutput(_)
+            ) {
+                computed = true;
+                complete |= !(self.model.partial_output)(v);
+            }
+        }
+        if calculated {
             self.ensure_built()?;
         }
-        if vars.iter().any(computed) {
-            let partial = self.model.partial_output;
-            self.ensure_outputs(vars.iter().any(|v| computed(v) && !partial(v)))?;
+        if computed {
+            self.ensure_outputs(complete)?;
         }
         Ok(())
+    }
+
+    /// The variable of a value reference that [`Instance::prepare`] checked.
+    fn checked(&self, vr: u32) -> &'static Variable {
+        self.var(vr).expect("checked by prepare")
     }
 
     fn read_real(&self, v: &Variable) -> f64 {
@@ -539,12 +585,11 @@ impl Instance {
     }
 
     pub(crate) fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<fmi2Status, String> {
-        let vars = vrs.iter().map(|&r| self.lookup(r, "Real")).collect::<Result<Vec<_>, _>>()?;
-        self.prepare(&vars)?;
-        for (o, v) in out.iter_mut().zip(&vars) {
-            *o = self.read_real(v);
+        self.prepare(vrs, VarType::Real)?;
+        for (o, &r) in out.iter_mut().zip(vrs) {
+            *o = self.read_real(self.checked(r));
         }
-        ensure_finite("fmi2GetReal", out, |i| vars[i].name.to_string())?;
+        ensure_finite("fmi2GetReal", out, |i| self.checked(vrs[i]).name.to_string())?;
         Ok(fmi2Status::Ok)
     }
 
@@ -553,10 +598,9 @@ impl Instance {
         vrs: &[u32],
         out: &mut [i32],
     ) -> Result<fmi2Status, String> {
-        let vars = vrs.iter().map(|&r| self.lookup(r, "Integer")).collect::<Result<Vec<_>, _>>()?;
-        self.prepare(&vars)?;
-        for (o, v) in out.iter_mut().zip(&vars) {
-            *o = match v.access {
+        self.prepare(vrs, VarType::Integer)?;
+        for (o, &r) in out.iter_mut().zip(vrs) {
+            *o = match self.checked(r).access {
                 Access::IntParam(get, _) => get(&self.data.settings),
                 Access::IntOutput(slot) => self.data.outputs.as_ref().map_or(0, |o| o.ints[slot]),
                 _ => 0,
@@ -570,10 +614,9 @@ impl Instance {
         vrs: &[u32],
         out: &mut [bool],
     ) -> Result<fmi2Status, String> {
-        let vars = vrs.iter().map(|&r| self.lookup(r, "Boolean")).collect::<Result<Vec<_>, _>>()?;
-        self.prepare(&vars)?;
-        for (o, v) in out.iter_mut().zip(&vars) {
-            *o = match v.access {
+        self.prepare(vrs, VarType::Boolean)?;
+        for (o, &r) in out.iter_mut().zip(vrs) {
+            *o = match self.checked(r).access {
                 Access::BoolParam(get, _) => get(&self.data.settings),
                 Access::BoolOutput(slot) => {
                     self.data.outputs.as_ref().is_some_and(|o| o.bools[slot])
@@ -587,7 +630,8 @@ impl Instance {
     /// The texts of String variables `vrs` (`fmi2GetString` keeps them in
     /// [`Instance::strings`] until its next call).
     pub(crate) fn get_string(&mut self, vrs: &[u32]) -> Result<Vec<String>, String> {
-        let vars = vrs.iter().map(|&r| self.lookup(r, "String")).collect::<Result<Vec<_>, _>>()?;
+        let vars =
+            vrs.iter().map(|&r| self.lookup(r, VarType::String)).collect::<Result<Vec<_>, _>>()?;
         Ok(vars
             .iter()
             .map(|v| match v.access {
@@ -603,7 +647,7 @@ impl Instance {
         values: &[String],
     ) -> Result<fmi2Status, String> {
         for (&r, x) in vrs.iter().zip(values) {
-            let v = self.lookup(r, "String")?;
+            let v = self.lookup(r, VarType::String)?;
             self.check_settable(v)?;
             if let Access::StringParam(_, set) = v.access {
                 let mut settings = self.data.settings.clone();
@@ -646,7 +690,7 @@ impl Instance {
 
     pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<fmi2Status, String> {
         for (&r, &x) in vrs.iter().zip(values) {
-            let v = self.lookup(r, "Real")?;
+            let v = self.lookup(r, VarType::Real)?;
             self.check_settable(v)?;
             match v.access {
                 Access::Input { slot, derivative } => {
@@ -700,7 +744,7 @@ impl Instance {
         values: &[i32],
     ) -> Result<fmi2Status, String> {
         for (&r, &x) in vrs.iter().zip(values) {
-            let v = self.lookup(r, "Integer")?;
+            let v = self.lookup(r, VarType::Integer)?;
             self.check_settable(v)?;
             if let Access::IntParam(get, set) = v.access
                 && get(&self.data.settings) != x
@@ -720,7 +764,7 @@ impl Instance {
         values: &[bool],
     ) -> Result<fmi2Status, String> {
         for (&r, &x) in vrs.iter().zip(values) {
-            let v = self.lookup(r, "Boolean")?;
+            let v = self.lookup(r, VarType::Boolean)?;
             self.check_settable(v)?;
             if let Access::BoolParam(get, set) = v.access
                 && get(&self.data.settings) != x
@@ -794,7 +838,7 @@ impl Instance {
         values: &[f64],
     ) -> Result<fmi2Status, String> {
         for ((&r, &order), &x) in vrs.iter().zip(orders).zip(values) {
-            let v = self.lookup(r, "Real")?;
+            let v = self.lookup(r, VarType::Real)?;
             if v.causality != Causality::Input {
                 return Err(format!("`{}` is not an input: derivatives are set on inputs", v.name));
             }
@@ -877,7 +921,8 @@ impl Instance {
     /// values of the `der(…)` variables).
     pub(crate) fn me_get_derivatives(&mut self, dx: &mut [f64]) -> Result<fmi2Status, String> {
         self.check_nx(dx.len(), "fmi2GetDerivatives")?;
-        let o = self.ensure_outputs(false)?;
+        self.ensure_outputs(false)?;
+        let o = self.data.outputs.as_ref().expect("evaluated above");
         for (d, v) in dx.iter_mut().zip(self.model.derivatives()) {
             *d = match v.access {
                 Access::RealOutput(slot) => o.reals[slot],
@@ -1485,7 +1530,32 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fmi2::models::MODELS;
     use crate::fmi2::models::unit::{PAIR, STAGE};
+
+    /// The index by value reference finds every variable of every model as the table's scan
+    /// does, and nothing for a reference that no variable has (between, beyond, the largest
+    /// u32); the type check names the variable and both types.
+    #[test]
+    fn every_value_reference_is_found_as_by_the_scan_and_no_other() {
+        for &model in MODELS {
+            let inst =
+                Instance::new(model, false, c"i".into(), None, std::ptr::null_mut(), false, None);
+            let largest = model.variables.iter().map(|v| v.vr).max().unwrap();
+            for vr in (0..=largest + 2).chain([u32::from(u16::MAX), u32::MAX]) {
+                let found = inst.var(vr).map(|v| v.name);
+                assert_eq!(found, model.by_vr(vr).map(|v| v.name), "{} {vr}", model.identifier);
+            }
+            for v in model.variables {
+                assert!(inst.lookup(v.vr, v.var_type()).is_ok_and(|w| std::ptr::eq(w, v)));
+            }
+            let v = model.by_name("TE").unwrap();
+            let e = inst.lookup(v.vr, VarType::Integer).err().unwrap();
+            assert!(e.contains("`TE`") && e.contains("Real") && e.contains("Integer"), "{e}");
+            let e = inst.lookup(largest + 1, VarType::Real).err().unwrap();
+            assert!(e.contains("unknown value reference"), "{e}");
+        }
+    }
 
     /// The input derivatives a model uses travel in a serialised state and come back bit for
     /// bit; the state re-serialises to the same bytes.

@@ -16,7 +16,7 @@ pub mod unit;
 use super::model::ModelInfo;
 use super::variables::{Access, OutputValues, Variable, u32_to_i32};
 use crate::mesh::MeshOutputs;
-use crate::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS, OutputKind};
+use crate::mesh::outputs::{FieldAccess, MESH_OUTPUT_FIELDS, OutputField, OutputKind};
 
 #[cfg(doc)]
 use super::variables::{InputValues, MESH_OUTPUTS};
@@ -56,8 +56,25 @@ pub(crate) fn torques_path_output(v: &Variable) -> bool {
         Access::BoolOutput(s) => (OutputKind::Boolean, s),
         _ => return false,
     };
-    (MESH_OUTPUT_FIELDS.iter().filter(|f| f.kind() == kind).nth(slot)).is_none_or(|f| f.torques)
+    TORQUES_BY_SLOT[kind as usize].get(slot).is_none_or(|&t| t != 0)
 }
+
+/// [`TORQUES_BY_SLOT`]: no mesh output at this slot.
+const NOT_MESH: u8 = 2;
+
+/// Per output kind (Real, Integer, Boolean, as `OutputKind` numbers them) and slot: 1 when
+/// the mesh output there is on the torques path, 0 when not, [`NOT_MESH`] beyond the mesh
+/// outputs of that kind.
+const TORQUES_BY_SLOT: [[u8; MESH_OUTPUT_FIELDS.len()]; 3] = {
+    let mut t = [[NOT_MESH; MESH_OUTPUT_FIELDS.len()]; 3];
+    let mut i = 0;
+    while i < MESH_OUTPUT_FIELDS.len() {
+        let f = &MESH_OUTPUT_FIELDS[i];
+        t[f.kind() as usize][OutputField::slot(i)] = f.torques as u8;
+        i += 1;
+    }
+    t
+};
 
 /// [`ModelInfo::partial_output`] of a model whose engine always evaluates every output.
 pub(crate) fn no_partial_output(_: &Variable) -> bool {
