@@ -412,6 +412,56 @@ fn invalid_inputs_are_errors() {
     }
 }
 
+/// The estimate that bounds a mesh before it is built is an upper bound of the elements of
+/// every preset (and of a fillet refined to 16 × 6, the root-stress page's finest) for both
+/// Table 1 gears; a density whose counts are each allowed but together too large (every count
+/// 1000, or the refined mesh in 24 layers) is refused at once with the estimate and the limit,
+/// before anything is allocated.
+#[test]
+fn the_element_estimate_bounds_the_mesh_and_refuses_what_would_not_fit() {
+    use helical_gear_mesh::compliance::fe::gear_mesh::MAX_ESTIMATED_ELEMENTS;
+    let p = GearPair::paper_table1();
+    let geo = PairGeometry::new(&p).expect("geometry");
+    let finest = GearMeshDensity { layers: 4, fillet: 16, across: 6, ..GearMeshDensity::refined() };
+    for g in [&geo.pinion, &geo.gear] {
+        let rim_to_bore = (g.rf - 2.0 * p.normal_module_m) / (0.5 * p.bore_diameter_m);
+        for d in [
+            GearMeshDensity::coarse(),
+            GearMeshDensity::default(),
+            GearMeshDensity::conforming(),
+            GearMeshDensity::refined(),
+            finest,
+        ] {
+            assert_eq!(d.rim_depth_mn, 2.0);
+            let elements = GearMesh::build(g, &p, &d).expect("mesh").mesh.elements.len();
+            let estimate = d.estimated_elements(g.z as usize, rim_to_bore);
+            assert!(estimate >= elements as f64 && estimate < 4.0 * elements as f64, "{d:?}");
+        }
+        let all = GearMeshDensity {
+            involute: 1000,
+            rounding: 1000,
+            across: 1000,
+            fillet: 1000,
+            root: 1000,
+            rim: 1000,
+            coarse_involute: 1000,
+            fine_teeth: 1000,
+            web_min_divisions: 1000,
+            layers: 1000,
+            ..GearMeshDensity::refined()
+        };
+        let tall = GearMeshDensity { layers: 24, ..GearMeshDensity::refined() };
+        for d in [all, tall] {
+            let Err(e) = GearMesh::build(g, &p, &d) else { panic!("{d:?} built") };
+            let e = e.to_string();
+            assert!(
+                e.contains("elements") && e.contains(&MAX_ESTIMATED_ELEMENTS.to_string()),
+                "{e}"
+            );
+        }
+    }
+}
+
 /// The axial Gauss resampling reproduces data that are quadratic in ζ and ζ_F within each
 /// element exactly at the Gauss abscissae, keeps rows and teeth, and rejects grids that are not
 /// node levels of quadratic elements.

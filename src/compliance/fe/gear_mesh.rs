@@ -69,6 +69,21 @@
 //! puts them (a gap of third order in the twist ω·Δz over the layer, ω the twist rate); the
 //! ties are exact for spur gears.
 //!
+//! # Size
+//! Every count of [`GearMeshDensity`] lies in 1 … 1000, and their combination for the gear at
+//! hand is bounded before anything is allocated. The estimate of the hex20 elements is
+//!
+//! `layers · (2·(F·(involute + rounding + fillet + root + rim)·across + C·(coarse_involute + 3
+//! + rim)) + m·(2 + n))`,
+//!
+//! with F the fine teeth (2·`fine_teeth` + 1, at most z), C = z − F the coarse ones,
+//! m = 2·(F·across + C) the divisions of the web's outer circle and n the plain web rings that
+//! the ring ratio gives between the rim radius and the bore. It is an estimate from above:
+//! 1.15–1.6 times the elements of the presets in one conforming extrusion for Table 1, more
+//! with axial coarsening, which it ignores. It must not exceed [`MAX_ESTIMATED_ELEMENTS`]:
+//! beyond it the FE's factorisation would need tens of gigabytes. [`GearMesh::build`] refuses
+//! a larger estimate with both numbers, instead of the process running out of memory.
+//!
 //! # Boundary condition
 //! All nodes on the bore surface r = d_bore/2 are fixed (all three components): the hub is
 //! rigid and its rotation is the reference of the gear angle. Everything else is free.
@@ -88,6 +103,13 @@ use super::error::FeError;
 use super::mesh::Mesh;
 use crate::geometry::{GearGeometry, SegmentKind};
 use crate::params::GearPair;
+
+/// The largest [`GearMeshDensity::estimated_elements`] that [`GearMesh::build`] meshes (module
+/// docs, "Size"): about 2.1 times the `refined` preset's estimate for the Table 1 gear
+/// (18 688; the FE of both Table 1 gears at `refined` takes 14 s and 3.3 GB). Just below it,
+/// `refined` in 16 layers (estimates 28 320 and 37 376, 23 040 and 28 816 elements) takes
+/// 72 s and 9.6 GB for both gears computed together.
+pub const MAX_ESTIMATED_ELEMENTS: usize = 40_000;
 
 /// Mesh density of [`GearMesh`]. Element counts are per tooth (upper half of the pitch sector)
 /// unless stated otherwise. Serialised with its field names (the provenance of cached
@@ -230,6 +252,23 @@ impl GearMeshDensity {
             coarse_layers: None,
             layered_teeth: None,
         }
+    }
+
+    /// The estimated number of hex20 elements of the mesh of a gear with `z` teeth and the ratio
+    /// `rim_to_bore` of the rim radius r_K to the bore radius (module docs, "Size"): an
+    /// estimate from above, exact in its form for the teeth, as a float so that no count can
+    /// overflow it.
+    pub fn estimated_elements(&self, z: usize, rim_to_bore: f64) -> f64 {
+        let z = z as f64;
+        let fine = (2.0 * self.fine_teeth as f64 + 1.0).min(z);
+        let coarse = z - fine;
+        let tooth = (self.involute + self.rounding + self.fillet + self.root + self.rim) as f64;
+        let teeth = 2.0
+            * (fine * tooth * self.across as f64
+                + coarse * (self.coarse_involute as f64 + 3.0 + self.rim as f64));
+        let m = 2.0 * (fine * self.across as f64 + coarse);
+        let rings = (rim_to_bore.max(1.0).ln() / (1.0 / self.web_ring_ratio).ln()).ceil();
+        self.layers as f64 * (teeth + m * (2.0 + rings))
     }
 
     fn validate(&self) -> Result<(), FeError> {
@@ -688,6 +727,13 @@ impl GearMesh {
             )));
         }
         let z = g.z as usize;
+        let estimate = d.estimated_elements(z, r_k / r_bore);
+        if estimate > MAX_ESTIMATED_ELEMENTS as f64 {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh density: about {estimate:.0} elements for this gear (z = {z}), \
+                 allowed at most {MAX_ESTIMATED_ELEMENTS} (fewer layers or elements per tooth)"
+            )));
+        }
         let pitch = g.angular_pitch();
         let fine_half = half_sector(g, d, true, r_k)?;
         let coarse_half = half_sector(g, d, false, r_k)?;
