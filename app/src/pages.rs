@@ -465,7 +465,13 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
         "\n`fidelity = table` replaces the contact search, the compliance matrix and the load \
          solve by one Hermite lookup per call, and fewer `slices` save matrix entries (n²) and \
          factorisations (n³): both are in the mesh table above. The contact search outside the plane of \
-         action is not an option: it is what excites the gears (the point of the paper).\n",
+         action is not an option: it is what excites the gears (the point of the paper). At \
+         table fidelity the outputs read decide the work: the torques path (the mesh torques, \
+         TE, the contact length, the friction torques and loss) interpolates 3 of the table's \
+         13 node values (`table_eval_torques_ns` against `table_eval_ns` in the first table). \
+         Python's `evaluate(..., outputs=...)` and the C API's `hgm_evaluate_outputs` \
+         take it when only those are asked for, and the FMUs when a `fmi2GetReal` reads only \
+         those (and a unit's own outputs) ([FMUs](fmus.md)).\n",
     );
 
     // Dynamics.
