@@ -235,12 +235,23 @@ pub(crate) struct Data {
     pub(crate) settings: Settings,
     pub(crate) inputs: InputValues,
     built: Option<Built>,
-    /// Outputs for the current inputs and state; `None` when an input, a parameter or the
-    /// state changed since.
-    outputs: Option<OutputValues>,
-    /// True when `outputs` holds every output ([`Engine::outputs`]); false when it holds only
-    /// the model's partial outputs ([`ModelInfo::partial_output`], [`Engine::outputs_partial`]).
-    outputs_complete: bool,
+    /// The outputs of the last evaluation, written in place by the engine (every slot 0 until
+    /// it writes it; an engine writes the same slots every time); valid as `held` says.
+    outputs_buf: OutputValues,
+    /// What `outputs_buf` holds for the current inputs and state: nothing when an input, a
+    /// parameter or the state changed since.
+    held: Held,
+}
+
+/// What an instance's output buffer holds for the current inputs and state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Held {
+    /// Nothing valid.
+    Nothing,
+    /// The model's partial outputs ([`ModelInfo::partial_output`], [`Engine::outputs_partial`]).
+    Partial,
+    /// Every output ([`Engine::outputs`]).
+    Complete,
 }
 
 impl Data {
@@ -253,9 +264,19 @@ impl Data {
             settings: (model.default_settings)(),
             inputs: (model.default_inputs)(),
             built: None,
-            outputs: None,
-            outputs_complete: false,
+            outputs_buf: OutputValues::default(),
+            held: Held::Nothing,
         }
+    }
+
+    /// The outputs for the current inputs and state, if evaluated.
+    fn outputs(&self) -> Option<&OutputValues> {
+        (self.held != Held::Nothing).then_some(&self.outputs_buf)
+    }
+
+    /// Forgets the outputs (an input, a parameter or the state changed).
+    fn forget_outputs(&mut self) {
+        self.held = Held::Nothing;
     }
 }
 
@@ -492,7 +513,7 @@ impl Instance {
         if !built.started {
             built.engine.start(&d.settings, &mut d.inputs, d.time)?;
             built.started = true;
-            d.outputs = None;
+            d.held = Held::Nothing;
         }
         Ok(built)
     }
@@ -502,19 +523,21 @@ impl Instance {
     /// ([`ModelInfo::partial_output`]). Outputs kept from an earlier call serve when they
     /// hold what is asked for.
     fn ensure_outputs(&mut self, complete: bool) -> Result<(), String> {
-        if self.data.outputs.is_some() && (self.data.outputs_complete || !complete) {
-            return Ok(());
+        match (self.data.held, complete) {
+            (Held::Complete, _) | (Held::Partial, false) => return Ok(()),
+            _ => {}
         }
         self.ensure_started()?;
         let d = &mut self.data;
         let engine = &mut d.built.as_mut().expect("started above").engine;
-        let (o, all) = if complete {
-            (engine.outputs(&d.inputs)?, true)
+        d.held = Held::Nothing;
+        let all = if complete {
+            engine.outputs(&d.inputs, &mut d.outputs_buf)?;
+            true
         } else {
-            engine.outputs_partial(&d.inputs)?
+            engine.outputs_partial(&d.inputs, &mut d.outputs_buf)?
         };
-        self.data.outputs = Some(o);
-        self.data.outputs_complete = all;
+        d.held = if all { Held::Complete } else { Held::Partial };
         Ok(())
     }
 
@@ -578,7 +601,7 @@ impl Instance {
         match v.access {
             Access::RealParam(get, _) => get(&d.settings),
             Access::Input { slot, .. } => d.inputs.values[slot],
-            Access::RealOutput(slot) => d.outputs.as_ref().map_or(f64::NAN, |o| o.reals[slot]),
+            Access::RealOutput(slot) => d.outputs().map_or(f64::NAN, |o| o.reals[slot]),
             Access::Calculated(get) => d.built.as_ref().map_or(f64::NAN, |b| get(&b.derived)),
             _ => f64::NAN,
         }
@@ -602,7 +625,7 @@ impl Instance {
         for (o, &r) in out.iter_mut().zip(vrs) {
             *o = match self.checked(r).access {
                 Access::IntParam(get, _) => get(&self.data.settings),
-                Access::IntOutput(slot) => self.data.outputs.as_ref().map_or(0, |o| o.ints[slot]),
+                Access::IntOutput(slot) => self.data.outputs().map_or(0, |o| o.ints[slot]),
                 _ => 0,
             };
         }
@@ -618,9 +641,7 @@ impl Instance {
         for (o, &r) in out.iter_mut().zip(vrs) {
             *o = match self.checked(r).access {
                 Access::BoolParam(get, _) => get(&self.data.settings),
-                Access::BoolOutput(slot) => {
-                    self.data.outputs.as_ref().is_some_and(|o| o.bools[slot])
-                }
+                Access::BoolOutput(slot) => self.data.outputs().is_some_and(|o| o.bools[slot]),
                 _ => false,
             };
         }
@@ -685,7 +706,7 @@ impl Instance {
     /// Marks the model stale after a fixed parameter changed.
     fn fixed_parameter_changed(&mut self) {
         self.data.built = None;
-        self.data.outputs = None;
+        self.data.forget_outputs();
     }
 
     pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<fmi2Status, String> {
@@ -702,7 +723,7 @@ impl Instance {
                     }
                     if inputs.values[slot].to_bits() != x.to_bits() {
                         inputs.values[slot] = x;
-                        self.data.outputs = None;
+                        self.data.forget_outputs();
                     }
                 }
                 Access::RealParam(get, set) => {
@@ -726,7 +747,7 @@ impl Instance {
                                 return Err(e);
                             }
                         }
-                        self.data.outputs = None;
+                        self.data.forget_outputs();
                     } else {
                         set(&mut self.data.settings, x);
                         self.fixed_parameter_changed();
@@ -809,7 +830,7 @@ impl Instance {
             let engine = &mut d.built.as_mut().expect("started above").engine;
             match engine.step(&d.inputs, now, h) {
                 Ok(()) => {
-                    d.outputs = None;
+                    d.held = Held::Nothing;
                     d.inputs.fresh = false;
                     // At most MAX_STATES states: no allocation per step.
                     let mut buf = [0.0; MAX_STATES];
@@ -893,7 +914,7 @@ impl Instance {
         }
         self.engine()?.set_time(t)?;
         self.data.time = t;
-        self.data.outputs = None;
+        self.data.forget_outputs();
         Ok(fmi2Status::Ok)
     }
 
@@ -905,7 +926,7 @@ impl Instance {
             return Err(format!("state {} (`{}`) = {v} is not finite", i + 1, names[i]));
         }
         self.engine()?.set_states(x)?;
-        self.data.outputs = None;
+        self.data.forget_outputs();
         Ok(fmi2Status::Ok)
     }
 
@@ -922,7 +943,7 @@ impl Instance {
     pub(crate) fn me_get_derivatives(&mut self, dx: &mut [f64]) -> Result<fmi2Status, String> {
         self.check_nx(dx.len(), "fmi2GetDerivatives")?;
         self.ensure_outputs(false)?;
-        let o = self.data.outputs.as_ref().expect("evaluated above");
+        let o = self.data.outputs().expect("evaluated above");
         for (d, v) in dx.iter_mut().zip(self.model.derivatives()) {
             *d = match v.access {
                 Access::RealOutput(slot) => o.reals[slot],
@@ -1104,12 +1125,12 @@ impl Instance {
                 | Phase::EventMode
                 | Phase::ContinuousTimeMode
         ) || engine_state.is_some()
-            || data.outputs.is_some()
+            || data.outputs().is_some()
         {
             // Attach an engine (a clone of the pristine one when the settings match) with the
             // saved state.
             let saved = std::mem::replace(&mut self.data, data);
-            let cached = self.data.outputs;
+            let cached = self.data.outputs().copied();
             let inputs = self.data.inputs;
             let model = self.model;
             let r = self.ensure_built().and_then(|b| {
@@ -1121,7 +1142,9 @@ impl Instance {
                 // (evaluated on a copy, so the restored warm start stays as it was).
                 match cached {
                     Some(o) => {
-                        check_cached_outputs(model, &o, &b.engine.clone_box().outputs(&inputs)?)
+                        let mut fresh = OutputValues::default();
+                        b.engine.clone_box().outputs(&inputs, &mut fresh)?;
+                        check_cached_outputs(model, &o, &fresh)
                     }
                     None => Ok(()),
                 }
@@ -1228,8 +1251,8 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     };
     b.extend_from_slice(&(state.len() as u32).to_le_bytes());
     b.extend_from_slice(&state);
-    match &d.outputs {
-        Some(o) if model.cached_outputs && d.outputs_complete => {
+    match d.outputs() {
+        Some(o) if model.cached_outputs && d.held == Held::Complete => {
             b.push(1);
             save_outputs(model, o, &mut b);
         }
@@ -1514,8 +1537,8 @@ fn deserialize(model: &ModelInfo, bytes: &[u8]) -> Result<(Data, Option<Vec<u8>>
         }
         let (o, n) = load_outputs(model, &r.b[r.at..])?;
         r.at += n;
-        d.outputs = Some(o);
-        d.outputs_complete = true;
+        d.outputs_buf = o;
+        d.held = Held::Complete;
     }
     if r.at != bytes.len() {
         return Err(format!(

@@ -67,17 +67,22 @@ pub trait Engine: Send {
         inputs: &mut InputValues,
         t0: f64,
     ) -> Result<(), String>;
-    /// The outputs at the current time and state for `inputs`: the model fills the slots its
-    /// output variables name (the others stay 0), the Model Exchange states and state
-    /// derivatives included.
-    fn outputs(&mut self, inputs: &InputValues) -> Result<OutputValues, String>;
+    /// The outputs at the current time and state for `inputs`, written in place into `out`:
+    /// the model fills the slots its output variables name, the Model Exchange states and
+    /// state derivatives included, the same slots at every call (the others keep what they
+    /// held, and are not read). After an error `out` holds nothing valid.
+    fn outputs(&mut self, inputs: &InputValues, out: &mut OutputValues) -> Result<(), String>;
     /// The outputs a reader of only the model's partial outputs needs
-    /// ([`ModelInfo::partial_output`]): every one of those as [`Engine::outputs`] gives it,
-    /// and whether the rest is there too (`true`: the whole of [`Engine::outputs`]; `false`:
-    /// the other slots are unspecified and are not read). The default is
-    /// [`Engine::outputs`], complete.
-    fn outputs_partial(&mut self, inputs: &InputValues) -> Result<(OutputValues, bool), String> {
-        self.outputs(inputs).map(|o| (o, true))
+    /// ([`ModelInfo::partial_output`]), written into `out`: every one of those as
+    /// [`Engine::outputs`] gives it, and whether the rest is there too (`true`: the whole of
+    /// [`Engine::outputs`]; `false`: the other slots are unspecified and are not read). The
+    /// default is [`Engine::outputs`], complete.
+    fn outputs_partial(
+        &mut self,
+        inputs: &InputValues,
+        out: &mut OutputValues,
+    ) -> Result<bool, String> {
+        self.outputs(inputs, out).map(|()| true)
     }
     /// Advances from `t` by `h` (s) with `inputs` held over the step.
     fn step(&mut self, inputs: &InputValues, t: f64, h: f64) -> Result<(), StepFailure>;

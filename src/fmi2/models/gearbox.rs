@@ -972,7 +972,7 @@ impl Engine for GearboxEngine {
         Ok(())
     }
 
-    fn outputs(&mut self, inputs: &InputValues) -> Result<OutputValues, String> {
+    fn outputs(&mut self, inputs: &InputValues, v: &mut OutputValues) -> Result<(), String> {
         self.sync(inputs);
         let torque = self.torque_at(self.t);
         let sys = &mut self.dynamics;
@@ -981,8 +981,7 @@ impl Engine for GearboxEngine {
         sys.set_torque(torque);
         let mut dydt = [0.0; N];
         sys.rhs(self.t, &self.y, &mut dydt).map_err(|e| format!("outputs: {e}"))?;
-        let mut v = OutputValues::default();
-        write_mesh_outputs(&o, &mut v);
+        write_mesh_outputs(&o, v);
         let (y, r) = (&self.y, &mut v.reals);
         (r[out::PHI_1], r[out::PHI_P], r[out::PHI_G], r[out::PHI_2]) = (y[0], y[1], y[2], y[3]);
         (r[out::W_1], r[out::W_P], r[out::W_G], r[out::W_2]) = (y[4], y[5], y[6], y[7]);
@@ -992,7 +991,7 @@ impl Engine for GearboxEngine {
         r[X + 8..X + N].copy_from_slice(&y[8..]);
         self.rel.to_relative(&dydt[..8], &mut r[DX..DX + 8]);
         r[DX + 8..DX + N].copy_from_slice(&dydt[8..]);
-        Ok(v)
+        Ok(())
     }
 
     fn step(&mut self, inputs: &InputValues, t: f64, h: f64) -> Result<(), StepFailure> {

@@ -324,26 +324,24 @@ impl Engine for MeshEngine {
         Ok(())
     }
 
-    fn outputs(&mut self, i: &InputValues) -> Result<OutputValues, String> {
+    fn outputs(&mut self, i: &InputValues, o: &mut OutputValues) -> Result<(), String> {
         let s = mesh_state(i);
         let mesh = self.0.evaluate(&s).map_err(|e| {
             format!("mesh evaluation at {}: {}", state_text(&s), mesh_error_text(&e))
         })?;
-        let mut o = OutputValues::default();
-        write_mesh_outputs(&mesh, &mut o);
-        Ok(o)
+        write_mesh_outputs(&mesh, o);
+        Ok(())
     }
 
     /// The torques path ([`MeshTorques::torques`]): at table fidelity the table's torques,
     /// TE, contact length and friction alone; at full fidelity every output.
-    fn outputs_partial(&mut self, i: &InputValues) -> Result<(OutputValues, bool), String> {
+    fn outputs_partial(&mut self, i: &InputValues, o: &mut OutputValues) -> Result<bool, String> {
         let s = mesh_state(i);
         let (mesh, complete) = self.0.torques(&s).map_err(|e| {
             format!("mesh evaluation at {}: {}", state_text(&s), mesh_error_text(&e))
         })?;
-        let mut o = OutputValues::default();
-        write_mesh_outputs(&mesh, &mut o);
-        Ok((o, complete))
+        write_mesh_outputs(&mesh, o);
+        Ok(complete)
     }
 
     fn step(&mut self, _: &InputValues, _: f64, _: f64) -> Result<(), StepFailure> {

@@ -952,15 +952,15 @@ impl UnitEngine {
         &mut self,
         inputs: &InputValues,
         complete: bool,
-    ) -> Result<(OutputValues, bool), String> {
+        v: &mut OutputValues,
+    ) -> Result<bool, String> {
         self.sync(inputs)?;
         let (o, all) = if complete {
             (self.unit.outputs().map_err(|e| format!("outputs: {e}"))?, true)
         } else {
             self.unit.outputs_partial().map_err(|e| format!("outputs: {e}"))?
         };
-        let mut v = OutputValues::default();
-        write_mesh_outputs(&o.mesh, &mut v);
+        write_mesh_outputs(&o.mesh, v);
         let r = &mut v.reals;
         (r[out::PHI_1], r[out::PHI_P], r[out::PHI_G], r[out::PHI_2]) =
             (o.phi_1, o.phi_p, o.phi_g, o.phi_2);
@@ -969,7 +969,7 @@ impl UnitEngine {
         let n = self.rel.n();
         self.rel.to_relative(self.unit.state(), &mut r[X..X + n]);
         self.rel.to_relative(&o.dydt[..n], &mut r[DX..DX + n]);
-        Ok((v, all))
+        Ok(all)
     }
 }
 
@@ -1021,14 +1021,18 @@ impl Engine for UnitEngine {
 
     /// The mesh outputs, the unit's outputs and the Model Exchange state and derivative in
     /// relative coordinates into their slots ([`out`]).
-    fn outputs(&mut self, inputs: &InputValues) -> Result<OutputValues, String> {
-        self.outputs_with(inputs, true).map(|(v, _)| v)
+    fn outputs(&mut self, inputs: &InputValues, v: &mut OutputValues) -> Result<(), String> {
+        self.outputs_with(inputs, true, v).map(|_| ())
     }
 
     /// The unit's own outputs and the torques path's mesh outputs
     /// ([`Unit::outputs_partial`]).
-    fn outputs_partial(&mut self, inputs: &InputValues) -> Result<(OutputValues, bool), String> {
-        self.outputs_with(inputs, false)
+    fn outputs_partial(
+        &mut self,
+        inputs: &InputValues,
+        v: &mut OutputValues,
+    ) -> Result<bool, String> {
+        self.outputs_with(inputs, false, v)
     }
 
     fn step(&mut self, inputs: &InputValues, t: f64, h: f64) -> Result<(), StepFailure> {
