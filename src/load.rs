@@ -100,9 +100,9 @@
 //! (at most 8) is solved from those factors too, by the complementary-minor (capacitance)
 //! identity — the system on H with the steps of R fixed (their loads moved to the right-hand
 //! side) and the rows of R relaxed by multipliers, 1 + |R| solves with the held factors and an
-//! |R| × |R| elimination (`LoadSolver::bordered_solve`). It serves the second pass of a step, after entering slices
-//! with a non-positive step left W (the same matrix: an exact Newton step), and a simplified
-//! Newton step under the rule above. det J_W = det J_H · det (J_H⁻¹)_RR, so the sign check of
+//! |R| × |R| elimination (`LoadSolver::bordered_solve`). It serves the second pass of a step,
+//! after entering slices with a non-positive step left W (the same matrix: an exact Newton
+//! step), and a simplified Newton step under the rule above. det J_W = det J_H · det (J_H⁻¹)_RR, so the sign check of
 //! the factorisation carries over when the small determinant is positive; otherwise W is
 //! factorised afresh. Where the loaded ends of partly loaded contact lines move from state to
 //! state, W shrinks and grows by a few slices over several Newton steps; measured on the Table
@@ -850,7 +850,8 @@ impl LoadSolver {
     /// ```
     ///
     /// with r the right-hand side of [`LoadSolver::fill_rhs`] at the rows of H: 1 + |R| solves
-    /// with the held factors and a |R| × |R| elimination instead of an O(|W|³) factorisation. Z_RR = (J_H⁻¹)_RR is the complementary minor: det J_W =
+    /// with the held factors and a |R| × |R| elimination instead of an O(|W|³) factorisation.
+    /// Z_RR = (J_H⁻¹)_RR is the complementary minor: det J_W =
     /// det J_H · det Z_RR, so a positive det Z_RR keeps the P-matrix check of the factorisation
     /// of H valid for W. Returns false, leaving the step to a fresh factorisation, when W is no
     /// such subset, when det Z_RR is not clearly positive or when a value is not finite. The
@@ -1277,8 +1278,9 @@ fn evaluate(p: &LoadProblem<'_>, it: &mut Iterate, force: &mut [f64]) -> Result<
 
 /// g = C·f (m) for the compliance C (m/N) and the slice forces f (N), over the columns whose
 /// force is not zero: an unloaded slice (q = 0) adds nothing (on the Table 1 sweep about a
-/// third of the candidate slices are unloaded). Columns are taken four at a time, g_i += (f_a·C_ia + f_b·C_ib) +
-/// (f_c·C_ic + f_d·C_id), so g is read and written once per four columns. C is the
+/// third of the candidate slices are unloaded). Columns are taken four at a time,
+/// g_i += (f_a·C_ia + f_b·C_ib) + (f_c·C_ic + f_d·C_id), so g is read and written once per four
+/// columns. C is the
 /// validated n × n compliance (`validate`); a matrix whose columns are not contiguous takes
 /// faer's product.
 fn compliance_times(c: MatRef<'_, f64>, f: &[f64], g: &mut [f64]) {

@@ -1199,8 +1199,8 @@ pub(crate) fn log_to(
 // local variable in table order: Real f64, Integer i32, Boolean u8; models without, the
 // stateful ones, always write 0: their outputs follow from the state; partial outputs,
 // `Engine::outputs_partial`'s, are not written: the element's partial evaluation is the
-// table's, which depends on the inputs alone, or the full model's, which is complete). The engine itself (the mesh model) is not serialised: it is
-// rebuilt from the parameters (or cloned from the instance's last build with the same
+// table's, which depends on the inputs alone, or the full model's, which is complete). The
+// engine itself (the mesh model) is not serialised: it is rebuilt from the parameters (or cloned from the instance's last build with the same
 // parameters). The last 8 bytes are the 64-bit FNV-1a checksum (`numeric::fnv1a_64`) of
 // everything before them. A state is refused whole when the magic, the version, the GUID or
 // the checksum does not match, and every value read is checked: finite times, parameters and
@@ -1251,12 +1251,11 @@ fn serialize(model: &ModelInfo, d: &Data) -> Vec<u8> {
     };
     b.extend_from_slice(&(state.len() as u32).to_le_bytes());
     b.extend_from_slice(&state);
-    match d.outputs() {
-        Some(o) if model.cached_outputs && d.held == Held::Complete => {
-            b.push(1);
-            save_outputs(model, o, &mut b);
-        }
-        _ => b.push(0),
+    if model.cached_outputs && d.held == Held::Complete {
+        b.push(1);
+        save_outputs(model, &d.outputs_buf, &mut b);
+    } else {
+        b.push(0);
     }
     let sum = crate::numeric::fnv1a_64(&b);
     b.extend_from_slice(&sum.to_le_bytes());
