@@ -539,7 +539,8 @@ fn axial_gauss_resampling() {
 /// block moves by less than 1 % of its largest value, against the default density's own error
 /// of ≈ 3 % (default → refined, the diagonal at mid-face: `docs/bench/fe.md`). Measured:
 /// 3.2·10⁻³, 4.8·10⁻³ and 3.9·10⁻³ (teeth −1, 0, +1), against 1.4·10⁻³, 3.9·10⁻³ and
-/// 1.2·10⁻³ from 7 to 8 (both Coons).
+/// 1.2·10⁻³ from 7 to 8 (both Coons). A combination that still folds is refused by the build
+/// with the block and the counts.
 #[test]
 fn a_folding_root_block_is_relaxed_into_a_valid_mesh() {
     let t1 = GearPair::paper_table1();
@@ -568,6 +569,15 @@ fn a_folding_root_block_is_relaxed_into_a_valid_mesh() {
         }
     }
     let geo = PairGeometry::new(&t1).expect("geometry");
+    // Combinations can still fold after the relaxation (many short root-circle elements beside
+    // a long fillet element); the build refuses them at once, naming the block and the counts.
+    let d = GearMeshDensity { across: 10, fillet: 10, root: 20, ..GearMeshDensity::default() };
+    let Err(e) = GearMesh::build(&geo.gear, &t1, &d) else { panic!("{d:?} built") };
+    let e = e.to_string();
+    assert!(
+        e.contains("root block") && e.contains("across = 10") && e.contains("root = 20"),
+        "{e}"
+    );
     let h = DEFAULT_DEPTH_MN * t1.normal_module_m;
     let fe = |across| {
         fe_influence(

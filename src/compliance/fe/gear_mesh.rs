@@ -57,7 +57,13 @@
 //!
 //! With both, none of the three designs' gears folds with any one count from 1 to 40 (the others
 //! at their defaults), and the Table 1 gear meshes up to `across` = 20 with a positive Jacobian
-//! at every Gauss point (`tests/compliance_gear_fe.rs`). The relaxed root block is a slightly
+//! at every Gauss point (`tests/compliance_gear_fe.rs`). Combinations can still fold: of the 81
+//! with `across` and `fillet` in {10, 20, 40} and `root` and `rim` in {1, 5, 20}, the Table 1
+//! gear's root block folds in 14 even relaxed, all with `root` = 20 (many short root-circle
+//! elements beside a long fillet element; the pinion's in none). [`GearMesh::build`] checks
+//! both blocks of every sector after the relaxation and refuses a fold with an error naming
+//! the block and the counts, before anything else is built (a folded quad is a folded hex20
+//! element at the same points, which the FE would refuse without naming the density). The relaxed root block is a slightly
 //! different discretisation: for the Table 1 gear from `across` 8 (Coons) to 9 (relaxed) each
 //! α* block moves by 3–5·10⁻³ of its largest value (1–4·10⁻³ from 7 to 8), and the relaxation
 //! forced on both Table 1 gears at `fillet` 16, `across` 6 (where the Coons map is valid) moved
@@ -782,6 +788,19 @@ fn half_sector(
     let mut rootb = coons(&side, &left, &bottom, &arc);
     if folds(&rootb) {
         relax(&mut rootb);
+    }
+    for (block, grid) in [("tooth block (flank to centre line)", &tooth), ("root block", &rootb)] {
+        if folds(grid) {
+            return Err(FeError::InvalidInput(format!(
+                "gear mesh density: the {block} of a {} tooth's sector folds (a quad with a \
+                 non-positive Jacobian) for this gear (z = {}) at involute = {involute}, \
+                 rounding = {rounding}, across = {across}, fillet = {fillet}, root = {root}, \
+                 rim = {}: fewer elements across the tooth or along the root circle avoid it",
+                if fine { "fine" } else { "coarse" },
+                g.z,
+                d.rim
+            )));
+        }
     }
     quads.extend(grid_quads(&rootb));
     Ok(HalfSector { quads, tooth_quads, rows })
