@@ -533,14 +533,14 @@ fn axial_gauss_resampling() {
 /// A root block whose Coons map folds (module docs of `gear_mesh`, "Folded blocks") is
 /// relaxed into a valid mesh: the gears of Table 1, of its spur variant and of a 20° / 25 mm
 /// variant at the first `across` whose Coons map folds and at 20 (the other counts at their
-/// defaults, in one conforming extrusion) have a positive Jacobian at every Gauss point, the volume of the exact outline
-/// and flank grid nodes on the exact flank. The relaxed mesh is a slightly different
-/// discretisation: from `across` 8 (the Table 1 gear's last Coons mesh) to 9 (relaxed) each α*
-/// block moves by less than 1 % of its largest value, against the default density's own error
-/// of ≈ 3 % (default → refined, the diagonal at mid-face: `docs/bench/fe.md`). Measured:
-/// 3.2·10⁻³, 4.8·10⁻³ and 3.9·10⁻³ (teeth −1, 0, +1), against 1.4·10⁻³, 3.9·10⁻³ and
-/// 1.2·10⁻³ from 7 to 8 (both Coons). A combination that still folds is refused by the build
-/// with the block and the counts.
+/// defaults, in one conforming extrusion) have a positive Jacobian at every Gauss point, the
+/// volume of the exact outline and flank grid nodes on the exact flank. The relaxed mesh is a
+/// slightly different discretisation: from `across` 8 (the Table 1 gear's last Coons mesh) to
+/// 9 (relaxed) each α* block moves by less than 1 % of its largest value, against the default
+/// density's own error of ≈ 3 % (default → refined, the diagonal at mid-face:
+/// `docs/bench/fe.md`). Measured: 3.2·10⁻³, 4.8·10⁻³ and 3.9·10⁻³ (teeth −1, 0, +1), against
+/// 1.4·10⁻³, 3.9·10⁻³ and 1.2·10⁻³ from 7 to 8 (both Coons). A combination that still folds
+/// is refused by the build with the block and the counts.
 #[test]
 fn a_folding_root_block_is_relaxed_into_a_valid_mesh() {
     let t1 = GearPair::paper_table1();

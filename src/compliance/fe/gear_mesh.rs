@@ -55,19 +55,19 @@
 //!   fine intervals beside a coarse tooth's one, from `across` = 14 on for the Table 1 gear) a
 //!   cell folds, and that group's middle nodes are put at the angles of its outer nodes instead.
 //!
-//! With both, none of the three designs' gears folds with any one count from 1 to 40 (the others
-//! at their defaults), and the Table 1 gear meshes up to `across` = 20 with a positive Jacobian
-//! at every Gauss point (`tests/compliance_gear_fe.rs`). Combinations can still fold: of the 81
-//! with `across` and `fillet` in {10, 20, 40} and `root` and `rim` in {1, 5, 20}, the Table 1
-//! gear's root block folds in 14 even relaxed, all with `root` = 20 (many short root-circle
-//! elements beside a long fillet element; the pinion's in none). [`GearMesh::build`] checks
-//! both blocks of every sector after the relaxation and refuses a fold with an error naming
-//! the block and the counts, before anything else is built (a folded quad is a folded hex20
-//! element at the same points, which the FE would refuse without naming the density). The relaxed root block is a slightly
-//! different discretisation: for the Table 1 gear from `across` 8 (Coons) to 9 (relaxed) each
-//! α* block moves by 3–5·10⁻³ of its largest value (1–4·10⁻³ from 7 to 8), and the relaxation
-//! forced on both Table 1 gears at `fillet` 16, `across` 6 (where the Coons map is valid) moved
-//! the root stresses by −0.8 % (pinion) and −0.7 % (gear) and the static TE by +0.08 %.
+//! With both, none of the three designs' gears folds with any one count from 1 to 40 (the others at
+//! their defaults), and the Table 1 gear meshes up to `across` = 20 with a positive Jacobian at
+//! every Gauss point (`tests/compliance_gear_fe.rs`). Combinations can still fold: of the 81 with
+//! `across` and `fillet` in {10, 20, 40} and `root` and `rim` in {1, 5, 20}, the Table 1 gear's
+//! root block folds in 14 even relaxed, all with `root` = 20 (many short root-circle elements
+//! beside a long fillet element; the pinion's in none). [`GearMesh::build`] checks both blocks of
+//! every sector after the relaxation and refuses a fold with an error naming the block and the
+//! counts, before anything else is built (a folded quad is a folded hex20 element at the same
+//! points, which the FE would refuse without naming the density). The relaxed root block is a
+//! slightly different discretisation: for the Table 1 gear from `across` 8 (Coons) to 9 (relaxed)
+//! each α* block moves by 3–5·10⁻³ of its largest value (1–4·10⁻³ from 7 to 8), and the relaxation
+//! forced on both Table 1 gears at `fillet` 16, `across` 6 (where the Coons map is valid) moved the
+//! root stresses by −0.8 % (pinion) and −0.7 % (gear) and the static TE by +0.08 %.
 //!
 //! # Axial coarsening
 //! With `coarse_layers` set, the quads away from the loaded tooth are extruded in fewer,
