@@ -96,18 +96,18 @@
 //! fresh factorisation. On a Table 1 trajectory this cut the factorisations per solve from 4.3
 //! to 2.9 (at 1.5 more cheap iterations). [`LoadReport::factorizations`] counts them.
 //!
-//! Bordered solves: a working set W that is the held factors' set H less a few slices R
-//! (at most 8) is solved from those factors too, by the complementary-minor (capacitance)
-//! identity — the system on H with the steps of R fixed (their loads moved to the right-hand
-//! side) and the rows of R relaxed by multipliers, 1 + |R| solves with the held factors and an
-//! |R| × |R| elimination (`LoadSolver::bordered_solve`). It serves the second pass of a step,
-//! after entering slices with a non-positive step left W (the same matrix: an exact Newton
-//! step), and a simplified Newton step under the rule above. det J_W = det J_H · det (J_H⁻¹)_RR, so the sign check of
-//! the factorisation carries over when the small determinant is positive; otherwise W is
-//! factorised afresh. Where the loaded ends of partly loaded contact lines move from state to
-//! state, W shrinks and grows by a few slices over several Newton steps; measured on the Table
-//! 1 benchmark sweep (64 phases × 3 loads, warm) the factorisations per solve went from 3.2 to
-//! 2.4 at 200 slices and from 2.5 to 1.7 at 100.
+//! Bordered solves: a working set W that is the held factors' set H less a few slices R (at most 8)
+//! is solved from those factors too, by the complementary-minor (capacitance) identity — the system
+//! on H with the steps of R fixed (their loads moved to the right-hand side) and the rows of R
+//! relaxed by multipliers, 1 + |R| solves with the held factors and an |R| × |R| elimination
+//! (`LoadSolver::bordered_solve`). It serves the second pass of a step, after entering slices with
+//! a non-positive step left W (the same matrix: an exact Newton step), and a simplified Newton step
+//! under the rule above. det J_W = det J_H · det (J_H⁻¹)_RR, so the sign check of the factorisation
+//! carries over when the small determinant is positive; otherwise W is factorised afresh. Where the
+//! loaded ends of partly loaded contact lines move from state to state, W shrinks and grows by a
+//! few slices over several Newton steps; measured on the Table 1 benchmark sweep (64 phases × 3
+//! loads, warm) the factorisations per solve went from 3.2 to 2.4 at 200 slices and from 2.5 to 1.7
+//! at 100.
 //!
 //! Cost: one factorisation of the working block per full iteration (O(m³), m loaded slices)
 //! plus matrix–vector products (O(n²)) per line-search trial. The solver's own buffers are sized at
@@ -850,12 +850,11 @@ impl LoadSolver {
     /// ```
     ///
     /// with r the right-hand side of [`LoadSolver::fill_rhs`] at the rows of H: 1 + |R| solves
-    /// with the held factors and a |R| × |R| elimination instead of an O(|W|³) factorisation.
-    /// Z_RR = (J_H⁻¹)_RR is the complementary minor: det J_W =
-    /// det J_H · det Z_RR, so a positive det Z_RR keeps the P-matrix check of the factorisation
-    /// of H valid for W. Returns false, leaving the step to a fresh factorisation, when W is no
-    /// such subset, when det Z_RR is not clearly positive or when a value is not finite. The
-    /// solution goes to `rhs` in the order of W.
+    /// with the held factors and a |R| × |R| elimination instead of an O(|W|³) factorisation. Z_RR
+    /// = (J_H⁻¹)_RR is the complementary minor: det J_W = det J_H · det Z_RR, so a positive det
+    /// Z_RR keeps the P-matrix check of the factorisation of H valid for W. Returns false, leaving
+    /// the step to a fresh factorisation, when W is no such subset, when det Z_RR is not clearly
+    /// positive or when a value is not finite. The solution goes to `rhs` in the order of W.
     fn bordered_solve(&mut self, problem: &LoadProblem<'_>) -> bool {
         let big = self.lu_working.len();
         let m = self.working.len();
@@ -1280,9 +1279,8 @@ fn evaluate(p: &LoadProblem<'_>, it: &mut Iterate, force: &mut [f64]) -> Result<
 /// force is not zero: an unloaded slice (q = 0) adds nothing (on the Table 1 sweep about a
 /// third of the candidate slices are unloaded). Columns are taken four at a time,
 /// g_i += (f_a·C_ia + f_b·C_ib) + (f_c·C_ic + f_d·C_id), so g is read and written once per four
-/// columns. C is the
-/// validated n × n compliance (`validate`); a matrix whose columns are not contiguous takes
-/// faer's product.
+/// columns. C is the validated n × n compliance (`validate`); a matrix whose columns are not
+/// contiguous takes faer's product.
 fn compliance_times(c: MatRef<'_, f64>, f: &[f64], g: &mut [f64]) {
     let n = g.len();
     let col = |j: usize| column(c, j).map(|v| &v[..n]);

@@ -1200,9 +1200,9 @@ pub(crate) fn log_to(
 // stateful ones, always write 0: their outputs follow from the state; partial outputs,
 // `Engine::outputs_partial`'s, are not written: the element's partial evaluation is the
 // table's, which depends on the inputs alone, or the full model's, which is complete). The
-// engine itself (the mesh model) is not serialised: it is rebuilt from the parameters (or cloned from the instance's last build with the same
-// parameters). The last 8 bytes are the 64-bit FNV-1a checksum (`numeric::fnv1a_64`) of
-// everything before them. A state is refused whole when the magic, the version, the GUID or
+// engine itself (the mesh model) is not serialised: it is rebuilt from the parameters (or
+// cloned from the instance's last build with the same parameters). The last 8 bytes are the
+// 64-bit FNV-1a checksum (`numeric::fnv1a_64`) of everything before them. A state is refused whole when the magic, the version, the GUID or
 // the checksum does not match, and every value read is checked: finite times, parameters and
 // input derivatives (the parameters' ranges when the model is rebuilt), inputs within their
 // stated ranges (`Variable::check_input`), cached outputs finite and flags 0 or 1.

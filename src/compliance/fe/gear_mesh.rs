@@ -552,11 +552,10 @@ fn coons(a: &[P2], c: &[P2], d: &[P2], b: &[P2]) -> Vec<Vec<P2>> {
     x
 }
 
-/// Whether a quad of the quadratic grid `x` has a Jacobian determinant (of the quad8 map) at
-/// one of its 3 × 3 Gauss points that is zero or of the opposite sign to the grid's
-/// orientation (the sign of its total signed corner area).
-fn folds(x: &[Vec<P2>]) -> bool {
-    let quads = grid_quads(x);
+/// Whether one of the quads of a block (as [`grid_quads`] gives them) has a Jacobian
+/// determinant (of the quad8 map) at one of its 3 × 3 Gauss points that is zero or of the
+/// opposite sign to the block's orientation (the sign of its total signed corner area).
+fn folds(quads: &[[P2; 8]]) -> bool {
     let sign = quads.iter().map(signed_area).sum::<f64>().signum();
     quads.iter().any(|q| quad_folds(q, sign))
 }
@@ -786,11 +785,15 @@ fn half_sector(
     let arc: Vec<P2> =
         (0..nj).map(|j| polar(r_k, half_pitch * (1.0 - j as f64 / (nj - 1) as f64))).collect();
     let mut rootb = coons(&side, &left, &bottom, &arc);
-    if folds(&rootb) {
+    let mut root_quads = grid_quads(&rootb);
+    if folds(&root_quads) {
         relax(&mut rootb);
+        root_quads = grid_quads(&rootb);
     }
-    for (block, grid) in [("tooth block (flank to centre line)", &tooth), ("root block", &rootb)] {
-        if folds(grid) {
+    for (block, block_quads) in
+        [("tooth block (flank to centre line)", &quads[..]), ("root block", &root_quads[..])]
+    {
+        if folds(block_quads) {
             return Err(FeError::InvalidInput(format!(
                 "gear mesh density: the {block} of a {} tooth's sector folds (a quad with a \
                  non-positive Jacobian) for this gear (z = {}) at involute = {involute}, \
@@ -802,7 +805,7 @@ fn half_sector(
             )));
         }
     }
-    quads.extend(grid_quads(&rootb));
+    quads.extend(root_quads);
     Ok(HalfSector { quads, tooth_quads, rows })
 }
 
