@@ -44,7 +44,7 @@ pub const TAU_LO: f64 = 2.449_293_598_294_706_4e-16;
 
 /// Knuth's two-sum: returns (s, e) with s = fl(a + b) and a + b = s + e exactly (barring
 /// overflow).
-#[inline]
+#[inline(always)]
 pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
@@ -53,7 +53,7 @@ pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// Dekker's fast two-sum: like [`two_sum`] but requires |a| ≥ |b| (or a = 0).
-#[inline]
+#[inline(always)]
 pub fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let e = b - (s - a);
@@ -62,7 +62,7 @@ pub fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
 
 /// Two-product: returns (p, e) with p = fl(a·b) and a·b = p + e exactly (barring overflow and
 /// underflow of e), via one fused multiply-add.
-#[inline]
+#[inline(always)]
 pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     let e = a.mul_add(b, -p);
@@ -71,7 +71,7 @@ pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
 
 /// `a·b + c·d` computed in twice the working precision and rounded once (see the module docs
 /// for the bound).
-#[inline]
+#[inline(always)]
 pub fn dot2(a: f64, b: f64, c: f64, d: f64) -> f64 {
     let (p1, e1) = two_prod(a, b);
     let (p2, e2) = two_prod(c, d);
@@ -127,8 +127,15 @@ impl Pitch {
     /// than that). Exact for |φ| ≤ [`Pitch::max_angle`];
     /// beyond it k is a whole number of pitches near φ, no longer the nearest, and the
     /// remainder loses digits. Non-finite φ gives a non-finite r.
-    #[inline]
+    #[inline(always)]
     pub fn reduce(&self, phi: f64) -> (f64, f64) {
+        self.reduce_with::<false>(phi)
+    }
+
+    /// [`Pitch::reduce`] with the roundings of [`round_with`]: the same (r, k).
+    #[inline(always)]
+    pub fn reduce_with<const NATIVE: bool>(&self, phi: f64) -> (f64, f64) {
+        let round = round_with::<NATIVE>;
         let k = round(phi * self.inv);
         if k == 0.0 || !k.is_finite() {
             return (phi, if k.is_finite() { 0.0 } else { k });
@@ -146,7 +153,7 @@ impl Pitch {
     }
 
     /// φ − k·(hi + lo), exactly up to the rounding of the result and of k·lo.
-    #[inline]
+    #[inline(always)]
     fn remainder(&self, phi: f64, k: f64) -> f64 {
         let (p1, e1) = two_prod(k, self.hi); // k·hi = p1 + e1 exactly
         let p2 = k * self.lo; // |k·lo| ≤ 2⁻⁵³·|k·hi|: its rounding is far below ulp(r)
@@ -160,7 +167,7 @@ impl Pitch {
 /// that `f64::round` compiles to on a baseline x86-64 target (no SSE4.1 rounding instruction):
 /// below 2⁵² in magnitude the truncation `t` is exact and so is `x − t`; above, every double
 /// is an integer already. The sign of a zero result is that of `x`, as for `f64::round`.
-#[inline]
+#[inline(always)]
 pub fn round(x: f64) -> f64 {
     if x.abs() < 4_503_599_627_370_496.0 {
         let t = x as i64 as f64;
@@ -178,9 +185,24 @@ pub fn round(x: f64) -> f64 {
     }
 }
 
+/// ⌊x⌉ as [`round`]: with `NATIVE` `f64::round` itself, which a caller compiled with SSE4.1
+/// turns into rounding instructions (the library call is what [`round`] avoids on a baseline
+/// target), otherwise [`round`]; the same value either way.
+#[inline(always)]
+pub fn round_with<const NATIVE: bool>(x: f64) -> f64 {
+    if NATIVE { x.round() } else { round(x) }
+}
+
+/// ⌊x⌋ as [`floor`]: with `NATIVE` `f64::floor` itself (one rounding instruction in a caller
+/// compiled with SSE4.1), otherwise [`floor`]; the same value either way.
+#[inline(always)]
+pub fn floor_with<const NATIVE: bool>(x: f64) -> f64 {
+    if NATIVE { x.floor() } else { floor(x) }
+}
+
 /// `x.floor()`, bit for bit, without the library call of a baseline x86-64 target (see
 /// [`round`]).
-#[inline]
+#[inline(always)]
 pub fn floor(x: f64) -> f64 {
     if x.abs() < 4_503_599_627_370_496.0 {
         let t = x as i64 as f64;

@@ -217,7 +217,7 @@ pub struct BenchReport {
     /// ([`DesignCase`]).
     pub design_s: f64,
     /// Builds behind each build time (the tables, the FE compliance): the fastest of this many
-    /// ([`fastest_of`]).
+    /// (`fastest_of`).
     pub build_runs: usize,
     /// The parts of that design.
     pub design: DesignCase,

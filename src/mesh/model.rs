@@ -802,7 +802,7 @@ impl MeshModel {
     }
 
     /// [`Self::check_state`], returning the state's TE (m) on success.
-    #[inline]
+    #[inline(always)]
     pub fn check_state_te(&self, state: &MeshState) -> Result<f64, MeshError> {
         check_state(state)?;
         self.check_angle(state.phi_p)?;

@@ -228,11 +228,24 @@
 //! bit (unit test below); a CPU without them runs the portable code. On Table 1's default table
 //! this takes about a sixth off an evaluation of every output (CHANGELOG, 2026-11-28).
 //!
-//! The right-hand side's [`MeshTorques::torques`] stays portable: compiled so, it lost its
-//! inlining into the drive line's evaluation cache and the Drive unit ran slower (8.3 → 7.7×
-//! real time at 96 RK4 sub-steps), and with the unit's whole RK4 loop compiled for AVX2 it
-//! gained nothing over the portable loop. Its four values per node and the drive line's
-//! latency-bound chain (TE, phase reduction, weights, loads) leave the lanes little to do.
+//! The right-hand side's [`MeshTorques::torques_into`] reads four values per node: the lanes
+//! have little to do, and its time is the latency of one chain of dependent operations (TE,
+//! phase reduction, cell, weights, loads, sums). Where the CPU has FMA and SSE4.1 (detected
+//! once, when the mesh is made) that path runs compiled for them, with the whole chain inlined
+//! into it: the exact products of the TE and of the phase reduction as one `fma` instruction
+//! each instead of a call into the C library (which also spills every float register of the
+//! caller), and the floors and roundings of the cell search ([`crate::numeric::floor_with`],
+//! [`crate::numeric::round_with`]) as the SSE4.1 rounding instructions instead of their
+//! portable equivalents (a conversion to an integer and back, and a compare). The evaluation
+//! of every output uses the same floors in its AVX2 path. Floors, roundings and fused
+//! multiply-adds are exact, so the values are the same bit for bit (the same unit test). The
+//! cell's coordinates multiply by the reciprocal of the phase spacing and of the TE axis's
+//! range (`TeAxis::coordinate`), computed beside the chain, instead of dividing inside it
+//! (a rounding of the coordinate, 10⁻¹⁶ of a node spacing, against the division's).
+//! Together, on Table 1's default table: the torques path 69 → 54 ns, every output
+//! 118 → 105 ns, the Drive unit at 96 RK4 sub-steps 9.2 → 11.2× real time (CHANGELOG,
+//! 2026-11-29). An earlier attempt, the torques path compiled for AVX2 without inlining its
+//! chain, lost its inlining into the drive line's evaluation cache and ran slower.
 
 use std::sync::Arc;
 
@@ -243,6 +256,7 @@ use super::pose::{RelativePose, approach_rate, to_housing};
 use super::{MeshError, MeshJacobian, MeshOutputs, MeshState, MeshTorques};
 use crate::contact::FlankSide;
 use crate::modifications::Separation;
+use crate::numeric::floor_with;
 
 mod build;
 mod pose;
@@ -380,6 +394,15 @@ struct TeAxis {
 }
 
 impl TeAxis {
+    /// The axis coordinate (node units, not clamped) of a state at distance `dist` ≥ 0 (m)
+    /// from the onset: √(δ/range)·(n − 1) (the graded grid). The reciprocal of the range does
+    /// not wait for δ, so the look-up's chain of dependent operations holds a multiply where a
+    /// division was.
+    #[inline(always)]
+    fn coordinate(&self, dist: f64) -> f64 {
+        (dist * (1.0 / self.range)).sqrt() * (self.n - 1) as f64
+    }
+
     fn new(onset: f64, dir: f64, range: f64, n: usize, np: usize) -> Self {
         Self {
             onset,
@@ -671,14 +694,26 @@ fn weights_central_of([h00, h10, h01, h11]: [f64; 4]) -> [f64; 4] {
 /// second-order slopes at the ends).
 #[inline(always)]
 fn axis_weights(x: f64, n: usize) -> (usize, [f64; 4], usize) {
-    let i = axis_cell(x, n);
+    axis_weights_with::<false>(x, n)
+}
+
+/// [`axis_weights`] with the cell found by [`floor_with`].
+#[inline(always)]
+fn axis_weights_with<const NATIVE: bool>(x: f64, n: usize) -> (usize, [f64; 4], usize) {
+    let i = axis_cell_with::<NATIVE>(x, n);
     axis_weights_of(i, n, hermite(x - i as f64))
 }
 
 /// Cell of coordinate `x` (node units) on a non-periodic axis of `n` nodes.
 #[inline(always)]
 fn axis_cell(x: f64, n: usize) -> usize {
-    (crate::numeric::floor(x) as isize).clamp(0, n as isize - 2) as usize
+    axis_cell_with::<false>(x, n)
+}
+
+/// [`axis_cell`] with the floor of [`floor_with`].
+#[inline(always)]
+fn axis_cell_with<const NATIVE: bool>(x: f64, n: usize) -> usize {
+    (floor_with::<NATIVE>(x) as isize).clamp(0, n as isize - 2) as usize
 }
 
 /// [`axis_weights`] in cell `i` for a given basis (the Hermite basis, or its derivative).
@@ -813,17 +848,37 @@ impl MeshTable {
     /// caller then uses the full model).
     #[inline(always)]
     pub fn evaluate(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
+        self.evaluate_with::<false>(model, state)
+    }
+
+    /// [`MeshTable::evaluate`] with the floors and roundings of
+    /// [`crate::numeric::floor_with`]: the same outputs.
+    #[inline(always)]
+    fn evaluate_with<const NATIVE: bool>(
+        &self,
+        model: &MeshModel,
+        state: &MeshState,
+    ) -> Option<MeshOutputs> {
         if let Some(pt) = &self.pairs {
             return self.evaluate_pairs(pt, model, state, None);
         }
-        self.evaluate_periodic(model, state)
+        self.periodic_with_wrench::<NATIVE>(model, state, None)
+    }
+
+    /// The phase coordinate (node units) of a reduced pinion angle `phi_red` (rad), as
+    /// [`TeAxis::coordinate`] with a multiply by the reciprocal spacing.
+    #[inline(always)]
+    fn phase_coordinate(&self, phi_red: f64) -> f64 {
+        (phi_red - self.phase_lo) * (1.0 / self.phase_h)
     }
 
     /// The periodic table's cell of the state at pinion angle `phi_p` (rad) and TE `te` (m):
     /// `None` outside the covered TE range, `Some(None)` between the axes (no flank touches),
     /// otherwise the axis and the interpolation weights in phase (periodic, Catmull–Rom) and TE.
+    /// The floors and roundings are those of [`floor_with`] (`NATIVE` in the paths compiled
+    /// for FMA and SSE4.1, module docs "Vector code"): the same cell either way.
     #[inline(always)]
-    fn cell(&self, phi_p: f64, te: f64) -> Option<Option<Cell<'_>>> {
+    fn cell_with<const NATIVE: bool>(&self, phi_p: f64, te: f64) -> Option<Option<Cell<'_>>> {
         let axis = if te > 0.0 {
             if te > self.drive.end() {
                 return None;
@@ -840,13 +895,13 @@ impl MeshTable {
         };
         // The reduction of ContactSolver::reduce (exact in the given doubles, see
         // crate::numeric), with the constants kept here.
-        let (phi_p_red, _) = self.pitch_p.reduce(phi_p);
-        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
-        let ipf = crate::numeric::floor(xp);
+        let (phi_p_red, _) = self.pitch_p.reduce_with::<NATIVE>(phi_p);
+        let xp = self.phase_coordinate(phi_p_red);
+        let ipf = floor_with::<NATIVE>(xp);
         let wp = weights_central(xp - ipf);
         let dist = (te - axis.onset).abs();
-        let xt = ((dist / axis.range).sqrt() * (axis.n - 1) as f64).clamp(0.0, (axis.n - 1) as f64);
-        let (it0, wt, nt) = axis_weights(xt, axis.n);
+        let xt = axis.coordinate(dist).clamp(0.0, (axis.n - 1) as f64);
+        let (it0, wt, nt) = axis_weights_with::<NATIVE>(xt, axis.n);
         Some(Some(Cell { axis, xp, wp, ip0: ipf as i64 - 1, dist, xt, it0, wt, nt }))
     }
 
@@ -862,8 +917,20 @@ impl MeshTable {
     /// does not reset 216 bytes per call. Filled in place, the outputs are not built in one
     /// stack slot and copied to the next on the way out: that copy read back bytes just stored
     /// at another alignment, a store-forwarding stall on every call.
-    #[inline]
+    #[inline(always)]
     pub fn evaluate_torques(
+        &self,
+        model: &MeshModel,
+        state: &MeshState,
+        te: f64,
+        out: &mut MeshOutputs,
+    ) -> Option<bool> {
+        self.evaluate_torques_with::<false>(model, state, te, out)
+    }
+
+    /// [`MeshTable::evaluate_torques`] with the floors of [`floor_with`].
+    #[inline(always)]
+    fn evaluate_torques_with<const NATIVE: bool>(
         &self,
         model: &MeshModel,
         state: &MeshState,
@@ -874,7 +941,8 @@ impl MeshTable {
             *out = self.evaluate_pairs(pt, model, state, None)?;
             return Some(true);
         }
-        let Some(Cell { axis, wp, ip0, dist, it0, wt, nt, .. }) = self.cell(state.phi_p, te)?
+        let Some(Cell { axis, wp, ip0, dist, it0, wt, nt, .. }) =
+            self.cell_with::<NATIVE>(state.phi_p, te)?
         else {
             *out = MeshOutputs { te, separated: true, ..MeshOutputs::default() };
             return Some(false);
@@ -914,7 +982,7 @@ impl MeshTable {
         let k = k as i64;
         let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
         let axis = &self.drive;
-        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
+        let xp = self.phase_coordinate(phi_p_red);
         let ipf = crate::numeric::floor(xp);
         let wp = weights_central(xp - ipf);
         let dwp = weights_central_of(hermite_dt(xp - ipf));
@@ -942,7 +1010,7 @@ impl MeshTable {
             if dist > axis.range {
                 return None;
             }
-            let xt_raw = (dist / axis.range).sqrt() * (axis.n - 1) as f64;
+            let xt_raw = axis.coordinate(dist);
             let xt = xt_raw.clamp(0.0, (axis.n - 1) as f64);
             let (it0, wt, nt) = axis_weights(xt, axis.n);
             let mut u = [0.0; NV];
@@ -1033,21 +1101,22 @@ impl MeshTable {
     /// [`MeshTable::evaluate`] on the periodic table (no tooth deviations).
     #[inline(always)]
     fn evaluate_periodic(&self, model: &MeshModel, state: &MeshState) -> Option<MeshOutputs> {
-        self.periodic_with_wrench(model, state, None)
+        self.periodic_with_wrench::<false>(model, state, None)
     }
 
     /// [`Self::evaluate_periodic`]; with `wrench_out`, the wrench it wrote into the outputs
     /// goes there too (whole vectors, the moments' z components included; zero when no flank
     /// touches).
     #[inline(always)]
-    fn periodic_with_wrench(
+    fn periodic_with_wrench<const NATIVE: bool>(
         &self,
         model: &MeshModel,
         state: &MeshState,
         wrench_out: Option<&mut MeshWrench>,
     ) -> Option<MeshOutputs> {
         let te = crate::numeric::dot2(state.phi_p, self.rb_p, state.phi_g, self.rb_g);
-        let Some(Cell { axis, xp, wp, ip0, dist, xt, it0, wt, nt }) = self.cell(state.phi_p, te)?
+        let Some(Cell { axis, xp, wp, ip0, dist, xt, it0, wt, nt }) =
+            self.cell_with::<NATIVE>(state.phi_p, te)?
         else {
             if let Some(w) = wrench_out {
                 *w = MeshWrench::default();
@@ -1084,8 +1153,9 @@ impl MeshTable {
             }
         }
         // Nearest node for the discrete outputs.
-        let ipn = wrap_index(crate::numeric::round(xp) as i64, np);
-        let itn = (crate::numeric::round(xt) as usize).min(axis.n - 1);
+        let round = crate::numeric::round_with::<NATIVE>;
+        let ipn = wrap_index(round(xp) as i64, np);
+        let itn = (round(xt) as usize).min(axis.n - 1);
         let f = axis.flags[ipn * axis.n + itn];
         let extent = v[3].max(0.0);
         let (m_d_p, m_d_g) = model.damping_for(state, extent);
@@ -1195,13 +1265,13 @@ impl MeshTable {
             return Some((out, jac));
         };
         let (phi_p_red, _) = self.pitch_p.reduce(state.phi_p);
-        let xp = (phi_p_red - self.phase_lo) / self.phase_h;
+        let xp = self.phase_coordinate(phi_p_red);
         let ipf = crate::numeric::floor(xp);
         let tp = xp - ipf;
         let (wp, dwp) = (weights_central(tp), weights_central_of(hermite_dt(tp)));
         let ip0 = ipf as i64 - 1;
         let dist = (te - axis.onset).abs();
-        let xt_raw = (dist / axis.range).sqrt() * (axis.n - 1) as f64;
+        let xt_raw = axis.coordinate(dist);
         let xt = xt_raw.clamp(0.0, (axis.n - 1) as f64);
         let it = axis_cell(xt, axis.n);
         let (it0, wt, nt) = axis_weights_of(it, axis.n, hermite(xt - it as f64));
@@ -1254,12 +1324,68 @@ impl MeshTable {
 pub struct TableMesh {
     table: Arc<MeshTable>,
     full: FullMesh,
+    /// The CPU has FMA and SSE4.1 ([`native_cpu`]): the torques path runs compiled for them.
+    native: bool,
+}
+
+/// Whether the CPU has the fused multiply-add and SSE4.1's rounding instructions, so that the
+/// table's torques path ([`MeshTorques::torques_into`]) can run compiled for them: the
+/// multiply-adds of the exact TE and phase reduction ([`crate::numeric::two_prod`]) and the
+/// floors and roundings of the cell search become single instructions instead of library
+/// calls or their portable equivalents. Both give the same values bit for bit (a fused
+/// multiply-add is exact either way; floor and round are exact), so the outputs do not depend
+/// on the CPU.
+fn native_cpu() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("fma") && std::arch::is_x86_feature_detected!("sse4.1")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
 }
 
 impl TableMesh {
     /// The table `table` of the model of `full` (built from it, or from its periodic part).
     pub fn new(table: Arc<MeshTable>, full: FullMesh) -> Self {
-        Self { table, full }
+        Self { table, full, native: native_cpu() }
+    }
+
+    /// [`MeshTorques::torques_into`] compiled for FMA and SSE4.1 ([`native_cpu`]).
+    ///
+    /// # Safety
+    /// The CPU must have FMA and SSE4.1.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "fma,sse4.1")]
+    unsafe fn torques_into_native(
+        &mut self,
+        state: &MeshState,
+        out: &mut MeshOutputs,
+    ) -> Result<bool, MeshError> {
+        self.torques_into_with::<true>(state, out)
+    }
+
+    /// [`MeshTorques::torques_into`] with the floors and roundings of
+    /// [`crate::numeric::floor_with`] (`NATIVE` in the [`Self::torques_into_native`] path).
+    #[inline(always)]
+    fn torques_into_with<const NATIVE: bool>(
+        &mut self,
+        state: &MeshState,
+        out: &mut MeshOutputs,
+    ) -> Result<bool, MeshError> {
+        let te = self.full.model().check_state_te(state)?;
+        if !state.bodies_at_rest() {
+            *out = self.evaluate_posed(state)?;
+            return Ok(true);
+        }
+        if let Some(complete) =
+            self.table.evaluate_torques_with::<NATIVE>(self.full.model(), state, te, out)
+        {
+            return Ok(complete);
+        }
+        *out = self.full.evaluate(state)?;
+        Ok(true)
     }
 
     /// The outputs at a state with the bodies displaced (module docs of [`pose`]): the table
@@ -1297,7 +1423,8 @@ impl TableMesh {
             ..Default::default()
         };
         let mut wrench = MeshWrench::default();
-        let Some(mut out) = t.periodic_with_wrench(model, &shifted, Some(&mut wrench)) else {
+        let Some(mut out) = t.periodic_with_wrench::<false>(model, &shifted, Some(&mut wrench))
+        else {
             return self.full.evaluate(state);
         };
         out.te = te;
@@ -1342,23 +1469,28 @@ impl TableMesh {
             // SAFETY: the CPU has AVX2 and FMA (checked just above).
             return unsafe { self.evaluate_avx2(state) };
         }
-        self.evaluate_body(state)
+        self.evaluate_body::<false>(state)
     }
 
     /// [`Self::evaluate`] compiled for AVX2 and FMA (module docs, "Vector code").
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn evaluate_avx2(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
-        self.evaluate_body(state)
+        self.evaluate_body::<true>(state)
     }
 
+    /// [`Self::evaluate`] with the floors and roundings of [`crate::numeric::floor_with`]
+    /// (`NATIVE` in the [`Self::evaluate_avx2`] path, where AVX2 brings SSE4.1's rounding).
     #[inline(always)]
-    fn evaluate_body(&mut self, state: &MeshState) -> Result<MeshOutputs, MeshError> {
+    fn evaluate_body<const NATIVE: bool>(
+        &mut self,
+        state: &MeshState,
+    ) -> Result<MeshOutputs, MeshError> {
         self.full.model().check_state(state)?;
         if !state.bodies_at_rest() {
             return self.evaluate_posed(state);
         }
-        if let Some(o) = self.table.evaluate(self.full.model(), state) {
+        if let Some(o) = self.table.evaluate_with::<NATIVE>(self.full.model(), state) {
             return Ok(o);
         }
         self.full.evaluate(state)
@@ -1399,16 +1531,12 @@ impl MeshTorques for TableMesh {
         state: &MeshState,
         out: &mut MeshOutputs,
     ) -> Result<bool, MeshError> {
-        let te = self.full.model().check_state_te(state)?;
-        if !state.bodies_at_rest() {
-            *out = self.evaluate_posed(state)?;
-            return Ok(true);
+        #[cfg(target_arch = "x86_64")]
+        if self.native {
+            // SAFETY: the CPU has FMA and SSE4.1 (`native`, detected when the mesh was made).
+            return unsafe { self.torques_into_native(state, out) };
         }
-        if let Some(complete) = self.table.evaluate_torques(self.full.model(), state, te, out) {
-            return Ok(complete);
-        }
-        *out = self.full.evaluate(state)?;
-        Ok(true)
+        self.torques_into_with::<false>(state, out)
     }
 
     fn base_radii(&self) -> (f64, f64) {
@@ -1527,9 +1655,11 @@ mod tests {
     use crate::mesh::{Fidelity, Mesh, MeshOptions};
     use crate::params::GearPair;
 
-    /// The vector code ([`TableMesh::evaluate`] where the CPU has AVX2 and FMA) gives the
-    /// portable code's outputs bit for bit: both flank sides, the separated gap between them,
-    /// with and without friction.
+    /// The vector code ([`TableMesh::evaluate`] where the CPU has AVX2 and FMA, the torques
+    /// path where it has FMA and SSE4.1) gives the portable code's outputs bit for bit: both
+    /// flank sides, the separated gap between them, with and without friction, at angles of
+    /// a few pitches and of 10⁹ rad (whole pitches reduced exactly), and at states on the
+    /// table's nodes (where a floor decides the cell).
     #[test]
     fn vector_code_is_bit_for_bit_the_portable_code() {
         for friction in [
@@ -1549,10 +1679,16 @@ mod tests {
             };
             let geo = t.full().model().geometry().clone();
             let pitch = geo.pinion.angular_pitch();
-            let backlash = t.table().backlash_te;
-            for k in 0..97 {
-                let phi_p = (k as f64 * 0.613 - 7.0) * pitch;
-                for te in [1e-7, 9e-6, 31e-6, 62e-6, -0.5 * backlash, -backlash - 4e-6] {
+            let table = t.table().clone();
+            let backlash = table.backlash_te;
+            let mut phis: Vec<f64> = (0..97).map(|k| (k as f64 * 0.613 - 7.0) * pitch).collect();
+            phis.extend((0..16).map(|k| 1e9 + k as f64 * 0.37 * pitch));
+            // On the phase nodes: φ = lo + k·h exactly reduces to a whole node coordinate.
+            phis.extend((0..table.np).map(|k| table.phase_lo + k as f64 * table.phase_h));
+            let mut tes = vec![1e-7, 9e-6, 31e-6, 62e-6, -0.5 * backlash, -backlash - 4e-6];
+            tes.extend((1..table.drive.n).map(|k| table.drive.node_te(k)));
+            for &phi_p in &phis {
+                for &te in &tes {
                     let state = MeshState {
                         phi_p,
                         phi_g: geo.phi_g_for_te(phi_p, te),
@@ -1561,8 +1697,12 @@ mod tests {
                         ..MeshState::default()
                     };
                     let a = t.evaluate(&state).expect("evaluate");
-                    let b = t.evaluate_body(&state).expect("portable evaluate");
+                    let b = t.evaluate_body::<false>(&state).expect("portable evaluate");
                     assert_eq!(format!("{a:?}"), format!("{b:?}"), "{state:?}");
+                    let (mut a, mut b) = (MeshOutputs::default(), MeshOutputs::default());
+                    let ca = t.torques_into(&state, &mut a).expect("torques");
+                    let cb = t.torques_into_with::<false>(&state, &mut b).expect("portable");
+                    assert_eq!((ca, format!("{a:?}")), (cb, format!("{b:?}")), "{state:?}");
                 }
             }
         }
