@@ -243,7 +243,7 @@
 //! range (`TeAxis::coordinate`), computed beside the chain, instead of dividing inside it
 //! (a rounding of the coordinate, 10⁻¹⁶ of a node spacing, against the division's).
 //! Together, on Table 1's default table: the torques path 69 → 54 ns, every output
-//! 118 → 105 ns, the Drive unit at 96 RK4 sub-steps 9.2 → 11.2× real time (CHANGELOG,
+//! 118 → 105 ns, the Drive unit at 96 RK4 sub-steps 9.3 → 11.0× real time (CHANGELOG,
 //! 2026-11-29). An earlier attempt, the torques path compiled for AVX2 without inlining its
 //! chain, lost its inlining into the drive line's evaluation cache and ran slower.
 
