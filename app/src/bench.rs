@@ -53,7 +53,8 @@
 //!
 //! Timing is wall time on the calling thread; run it on an idle machine. An evaluation time is
 //! the fastest of several passes; a build time (a table, the FE compliance, the design's FE and
-//! table) the fastest of three builds (`build_runs`; one in `--quick`).
+//! table) the fastest of three builds (`build_runs`; one in `--quick`); the back-flank axis
+//! (`table_back_build_s`) is sampled once, at its first use.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -243,7 +243,8 @@ pub fn performance_page(bench: &Value) -> Result<String, String> {
     if let Some(n) = bench.get("build_runs").and_then(Value::as_u64).filter(|&n| n > 1) {
         p.push_str(&format!(
             "Each build time (the tables, the FE compliance, the design's FE and table) is the \
-             fastest of {n} builds, as each evaluation time is the fastest of several passes.\n\n"
+             fastest of {n} builds, as each evaluation time is the fastest of several passes; \
+             the back-flank axis is sampled once, at its first use.\n\n"
         ));
     }
 
