@@ -192,7 +192,8 @@ def compliance(
     ``fe_density="default"`` takes the library's default source: the embedded data of the
     Table 1 pair when the compliance parameters match, else the disk cache in `cache_dir`
     (default: the environment variable ``HELICAL_GEAR_CACHE_DIR``), else a fresh FE run at the
-    default mesh density (a few seconds; written to the cache when a directory is set).
+    default mesh density (``fe_compliance_s`` in docs/performance.md; written to the cache
+    when a directory is set).
     ``"coarse"`` (for tests; about 3 % stiffer) and ``"refined"`` always run the FE at that
     density and never touch the cache.
     """
