@@ -85,8 +85,9 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c);
 
 /**
  * Validates the parameters and builds the mesh model (loads the cached compliance for the
- * Table 1 default, or runs the FE for other gears: a few seconds). An invalid parameter gives
- * `fmi2Error` with a message naming it, its value and the allowed range.
+ * Table 1 default, or runs the FE for other gears: its time is `fe_compliance_s` in
+ * docs/performance.md). An invalid parameter gives `fmi2Error` with a message naming it, its
+ * value and the allowed range.
  *
  * # Safety
  * Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with

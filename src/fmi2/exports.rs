@@ -416,9 +416,9 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2St
 }
 
 /// Validates the parameters and builds the mesh model (loads the cached compliance for the
-/// Table 1 default, or runs the FE for other gears, `fe_compliance_s` of the benchmark). An
-/// invalid parameter gives `fmi2Error` with a message naming it, its value and the allowed
-/// range.
+/// Table 1 default, or runs the FE for other gears: its time is `fe_compliance_s` in
+/// docs/performance.md). An invalid parameter gives `fmi2Error` with a message naming it, its
+/// value and the allowed range.
 ///
 /// # Safety
 /// Pointer arguments as the FMI 2.0 standard requires: `c` from `fmi2Instantiate`, arrays with
