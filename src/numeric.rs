@@ -249,6 +249,17 @@ pub fn has_avx2_fma() -> bool {
     std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
 }
 
+/// True when the CPU has FMA and SSE4.1 (x86-64): code compiled for them turns the exact
+/// products of [`two_prod`] into one instruction instead of a library call, and the floors and
+/// roundings of [`floor_with`] and [`round_with`] into SSE4.1 rounding instructions, with the
+/// same values bit for bit (a fused multiply-add is exact either way, floor and round are
+/// exact), so results do not depend on the CPU.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub fn has_fma_sse41() -> bool {
+    std::arch::is_x86_feature_detected!("fma") && std::arch::is_x86_feature_detected!("sse4.1")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1324,35 +1324,22 @@ impl MeshTable {
 pub struct TableMesh {
     table: Arc<MeshTable>,
     full: FullMesh,
-    /// The CPU has FMA and SSE4.1 ([`native_cpu`]): the torques path runs compiled for them.
+    /// The CPU has FMA and SSE4.1 ([`crate::numeric::has_fma_sse41`], asked once, when the
+    /// mesh is made): the torques path runs compiled for them.
     native: bool,
-}
-
-/// Whether the CPU has the fused multiply-add and SSE4.1's rounding instructions, so that the
-/// table's torques path ([`MeshTorques::torques_into`]) can run compiled for them: the
-/// multiply-adds of the exact TE and phase reduction ([`crate::numeric::two_prod`]) and the
-/// floors and roundings of the cell search become single instructions instead of library
-/// calls or their portable equivalents. Both give the same values bit for bit (a fused
-/// multiply-add is exact either way; floor and round are exact), so the outputs do not depend
-/// on the CPU.
-fn native_cpu() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("fma") && std::arch::is_x86_feature_detected!("sse4.1")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
 }
 
 impl TableMesh {
     /// The table `table` of the model of `full` (built from it, or from its periodic part).
     pub fn new(table: Arc<MeshTable>, full: FullMesh) -> Self {
-        Self { table, full, native: native_cpu() }
+        #[cfg(target_arch = "x86_64")]
+        let native = crate::numeric::has_fma_sse41();
+        #[cfg(not(target_arch = "x86_64"))]
+        let native = false;
+        Self { table, full, native }
     }
 
-    /// [`MeshTorques::torques_into`] compiled for FMA and SSE4.1 ([`native_cpu`]).
+    /// [`MeshTorques::torques_into`] compiled for FMA and SSE4.1 (`native`).
     ///
     /// # Safety
     /// The CPU must have FMA and SSE4.1.
